@@ -1,0 +1,141 @@
+"""Diaphragm-spring load–deflection curve (Almen–László) and its characteristic points.
+
+All functions are pure, vectorised over numpy broadcasting and in SI units.
+
+References
+----------
+.. [1] Zhao P. (2026), "Design and engagement simulation of diaphragm spring clutch for
+   unmanned helicopters" (seed 000), eq. (10) and Fig. 6.
+.. [2] Almen J.O., László A. (1936), "The uniform-section disk spring", Trans. ASME 58.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import status as st
+
+__all__ = [
+    "spring_constant",
+    "radius_ratio_k",
+    "almen_laszlo_load",
+    "characteristic_points",
+    "geometry_is_valid",
+]
+
+SQRT2 = np.sqrt(2.0)
+
+
+def radius_ratio_k(outer_radius, inner_radius, load_radius_outer, load_radius_inner):
+    """Lever ratio k = (R − r)/(R₁ − r₁) of eq. (10) in [1] [-]."""
+    return (outer_radius - inner_radius) / (load_radius_outer - load_radius_inner)
+
+
+def spring_constant(*, youngs_modulus, poisson_ratio, sheet_thickness, outer_radius, inner_radius,
+                    load_radius_outer, load_radius_inner):
+    """Leading factor c of eq. (10) in [1]: F = c·λ·[(H − kλ)(H − kλ/2) + h²]  [N/m³].
+
+    c = π·E·h / (6(1 − μ²)) · ln(R/r) / (R₁ − r₁)².
+    """
+    return (np.pi * youngs_modulus * sheet_thickness / (6.0 * (1.0 - poisson_ratio**2))
+            * np.log(outer_radius / inner_radius) / (load_radius_outer - load_radius_inner) ** 2)
+
+
+def almen_laszlo_load(deflection, *, youngs_modulus, poisson_ratio, sheet_thickness, cone_height,
+                      outer_radius, inner_radius, load_radius_outer, load_radius_inner):
+    """Load of a diaphragm spring at its pressure-plate load point, eq. (10) of [1].
+
+    Parameters
+    ----------
+    deflection : array_like
+        Axial deflection λ at the pressure-plate load radius [m].
+    youngs_modulus : array_like
+        E [Pa].
+    poisson_ratio : array_like
+        μ [-].
+    sheet_thickness : array_like
+        Sheet thickness h [m].
+    cone_height : array_like
+        Inner cone height H [m].
+    outer_radius, inner_radius : array_like
+        Outer and inner radius R, r of the spring cone [m].
+    load_radius_outer, load_radius_inner : array_like
+        Pressure-plate load radius R₁ and fulcrum-ring load radius r₁ [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        Load F [N].
+
+    References
+    ----------
+    Eq. (10) of seed 000 ([1] in the module docstring).
+    """
+    c = spring_constant(youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio,
+                        sheet_thickness=sheet_thickness, outer_radius=outer_radius,
+                        inner_radius=inner_radius, load_radius_outer=load_radius_outer,
+                        load_radius_inner=load_radius_inner)
+    k = radius_ratio_k(outer_radius, inner_radius, load_radius_outer, load_radius_inner)
+    lam = np.asarray(deflection, dtype=float)
+    H, h = cone_height, sheet_thickness
+    return c * lam * ((H - k * lam) * (H - 0.5 * k * lam) + h**2)
+
+
+def geometry_is_valid(*, sheet_thickness, cone_height, outer_radius, inner_radius,
+                      load_radius_outer, load_radius_inner):
+    """True where 0 < r ≤ r₁ < R₁ ≤ R and h, H > 0 (load points on the spring)."""
+    return ((inner_radius > 0) & (inner_radius <= load_radius_inner)
+            & (load_radius_inner < load_radius_outer) & (load_radius_outer <= outer_radius)
+            & (sheet_thickness > 0) & (cone_height > 0))
+
+
+def characteristic_points(*, youngs_modulus, poisson_ratio, sheet_thickness, cone_height,
+                          outer_radius, inner_radius, load_radius_outer, load_radius_inner,
+                          operating_point_factor=0.9):
+    """Characteristic points A (local max), C (flattening), D (local min), B (operating) of eq. (10).
+
+    Closed form: with F = c·λ·[(H − kλ)(H − kλ/2) + h²],
+    dF/dλ = c·[(3/2)k²λ² − 3kHλ + H² + h²] vanishes at
+    λ_A,D = [H ∓ √((H² − 2h²)/3)] / k, which are real only for H/h > √2. The inflection point
+    λ_C = H/k is their midpoint (the paper's λ_C = (λ_A + λ_D)/2) and is the position where the
+    spring is pressed flat at the load points; F_C = c·H·h²/k. The operating point of [1] is
+    λ_B = factor·λ_C with factor 0.8…1.0.
+
+    Returns
+    -------
+    dict of numpy.ndarray
+        ``deflection_A/C/D/B`` [m], ``load_A/C/D/B`` [N] and ``status`` (int8, see
+        :mod:`clutchlab.status`): ``monotone_no_hump`` where H/h ≤ √2 (A and D are NaN, B is
+        still given since the flat position C exists), ``snap_through`` where the valley load
+        F_D ≤ 0 (H/h ≥ 2√2: the spring would not spring back) and ``invalid_geometry`` (all NaN).
+    """
+    args = dict(youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio,
+                sheet_thickness=sheet_thickness, cone_height=cone_height, outer_radius=outer_radius,
+                inner_radius=inner_radius, load_radius_outer=load_radius_outer,
+                load_radius_inner=load_radius_inner)
+    geom = dict(args)
+    del geom["youngs_modulus"], geom["poisson_ratio"]
+    valid = geometry_is_valid(**geom)
+    shape = np.broadcast_shapes(*(np.shape(v) for v in args.values()), np.shape(operating_point_factor))
+    valid = np.broadcast_to(valid, shape)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        H = np.broadcast_to(cone_height, shape).astype(float)
+        h = np.broadcast_to(sheet_thickness, shape).astype(float)
+        k = np.broadcast_to(radius_ratio_k(outer_radius, inner_radius, load_radius_outer,
+                                           load_radius_inner), shape)
+        disc = (H**2 - 2.0 * h**2) / 3.0
+        hump = valid & (disc > 0)
+        root = np.sqrt(np.where(hump, disc, np.nan))
+        lam_C = np.where(valid, H / k, np.nan)
+        lam_A = (H - root) / k
+        lam_D = (H + root) / k
+        lam_B = np.broadcast_to(operating_point_factor, shape) * lam_C
+        out = {"deflection_A": lam_A, "deflection_C": lam_C, "deflection_D": lam_D,
+               "deflection_B": lam_B}
+        for p in "ACDB":
+            out[f"load_{p}"] = almen_laszlo_load(out[f"deflection_{p}"], **args)
+    code = np.full(shape, st.CODE["ok"], dtype=st.DTYPE)
+    code[~hump] = st.CODE["monotone_no_hump"]
+    code[hump & ~(out["load_D"] > 0)] = st.CODE["snap_through"]
+    code[~valid] = st.CODE["invalid_geometry"]
+    out["status"] = code
+    return out

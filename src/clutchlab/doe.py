@@ -1,0 +1,163 @@
+"""Design of experiments: build a design, split it into chunks, run a chunk, merge the chunks.
+
+Design kinds (``design`` key of a study section):
+
+* ``factorial`` — full factorial over every factor; each factor is a real dimension of the
+  design and of the merged result (``ds.clamp_load.sel(sheet_thickness=...)`` works).
+* ``lhs`` / ``sobol`` — Latin hypercube / scrambled Sobol' samples from
+  :mod:`scipy.stats.qmc`, seeded and reproducible, on a ``run`` dimension with every factor
+  as a 1-D coordinate.
+
+Parameters that are not factors are fixed and stored as 0-d variables.
+"""
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from . import __version__, studies
+from .config import study_config_text
+
+__all__ = ["build_design", "n_scenarios", "chunk_slice", "chunk_inputs", "run_chunk", "merge", "run_study"]
+
+
+def _param_attrs(param) -> dict:
+    return {"long_name": param.long_name, "units": param.units}
+
+
+def build_design(resolved_study: dict) -> xr.Dataset:
+    """The design Dataset of a resolved study section (see :func:`clutchlab.config.resolve`)."""
+    study = studies.get(resolved_study["name"])
+    kind = resolved_study["design"]
+    factors = resolved_study["factors"]
+    coords, data = {}, {}
+    if kind == "factorial":
+        for name, spec in factors.items():
+            coords[name] = (name, np.asarray(spec["values"], dtype=float), _param_attrs(study.parameter(name)))
+    else:
+        n = resolved_study["samples"]
+        d = len(factors)
+        rng = np.random.default_rng(resolved_study["seed"])
+        if d:
+            from scipy.stats import qmc
+
+            if kind == "lhs":
+                unit = qmc.LatinHypercube(d=d, rng=rng).random(n)
+            elif kind == "sobol":
+                unit = qmc.Sobol(d=d, scramble=True, rng=rng).random(n)
+            else:
+                raise ValueError(f"unknown design kind {kind!r}")
+        coords["run"] = ("run", np.arange(n), {"long_name": "scenario index", "units": "1"})
+        for j, (name, spec) in enumerate(factors.items()):
+            lo, hi = spec["min"], spec["max"]
+            u = unit[:, j]
+            vals = np.exp(np.log(lo) + u * np.log(hi / lo)) if spec["scale"] == "log" else lo + u * (hi - lo)
+            coords[name] = ("run", vals, _param_attrs(study.parameter(name)))
+    for name, value in resolved_study["fixed"].items():
+        data[name] = ((), float(value), _param_attrs(study.parameter(name)))
+    ds = xr.Dataset(data, coords=coords)
+    ds.attrs.update(_provenance(resolved_study))
+    ds.attrs["factors"] = " ".join(factors)
+    return ds
+
+
+def _provenance(resolved_study: dict) -> dict:
+    study = studies.get(resolved_study["name"])
+    return {
+        "Conventions": "CF-1.10",
+        "title": study.description,
+        "study": study.name,
+        "design": resolved_study["design"],
+        "model": study.model,
+        "clutchlab_version": __version__,
+        "config": study_config_text(resolved_study),
+        "source": "clutchlab",
+    }
+
+
+def _factors(design: xr.Dataset) -> list[str]:
+    return design.attrs["factors"].split()
+
+
+def n_scenarios(design: xr.Dataset) -> int:
+    """Number of scenarios in a design."""
+    if design.attrs["design"] == "factorial":
+        return int(np.prod([design.sizes[f] for f in _factors(design)], dtype=np.int64))
+    return int(design.sizes["run"])
+
+
+def chunk_slice(n: int, chunks: int, i: int) -> slice:
+    """Scenarios [start, stop) of chunk ``i`` of ``chunks`` (sizes differ by at most one)."""
+    if not 0 <= i < chunks:
+        raise IndexError(f"chunk {i} out of range 0..{chunks - 1}")
+    bounds = np.linspace(0, n, chunks + 1).round().astype(np.int64)
+    return slice(int(bounds[i]), int(bounds[i + 1]))
+
+
+def chunk_inputs(design: xr.Dataset, chunks: int, i: int) -> tuple[np.ndarray, dict]:
+    """Global scenario indices of chunk ``i`` and its inputs (flat arrays / scalars, SI)."""
+    sl = chunk_slice(n_scenarios(design), chunks, i)
+    idx = np.arange(sl.start, sl.stop)
+    factors = _factors(design)
+    inputs = {}
+    if design.attrs["design"] == "factorial":
+        shape = tuple(design.sizes[f] for f in factors)
+        sub = np.unravel_index(idx, shape) if factors else ()
+        for f, s in zip(factors, sub):
+            inputs[f] = design[f].values[s]
+    else:
+        for f in factors:
+            inputs[f] = design[f].values[sl]
+    for name, var in design.data_vars.items():
+        inputs[name] = float(var.values)
+    return idx, inputs
+
+
+def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int) -> xr.Dataset:
+    """Compute chunk ``i``: a Dataset on ``run`` with every factor as a 1-D coordinate."""
+    study = studies.get(design.attrs["study"])
+    idx, inputs = chunk_inputs(design, chunks, i)
+    ds = study.compute(inputs, options)
+    coords = {"run": ("run", idx, {"long_name": "scenario index", "units": "1"})}
+    for f in _factors(design):
+        coords[f] = ("run", np.asarray(inputs[f]), dict(design[f].attrs))
+    ds = ds.assign_coords(coords)
+    ds.attrs.update(design.attrs)
+    ds.attrs["chunk"] = f"{i + 1} of {chunks}"
+    return ds
+
+
+def merge(design: xr.Dataset, parts: list[xr.Dataset]) -> xr.Dataset:
+    """Merge chunk results into one study Dataset shaped like the design.
+
+    Factorial designs get their factors back as dimensions; sampled designs keep ``run``. The
+    design's fixed values are stored as 0-d input variables.
+    """
+    ds = xr.concat(parts, dim="run", data_vars="minimal", coords="minimal", compat="override",
+                   join="outer", combine_attrs="drop_conflicts").sortby("run")
+    n = n_scenarios(design)
+    if ds.sizes["run"] != n or not np.array_equal(ds["run"].values, np.arange(n)):
+        raise ValueError(f"chunks cover {ds.sizes['run']} scenarios, the design has {n} (missing or duplicated)")
+    ds.attrs.pop("chunk", None)
+    factors = _factors(design)
+    if design.attrs["design"] == "factorial":
+        shape = tuple(design.sizes[f] for f in factors)
+        out = {}
+        for name, var in ds.data_vars.items():
+            if "run" in var.dims:
+                var = var.transpose("run", ...)
+                rest = var.dims[1:]
+                out[name] = (tuple(factors) + rest, var.values.reshape(shape + var.shape[1:]), var.attrs)
+            else:
+                out[name] = var
+        other = {c: v for c, v in ds.coords.items() if "run" not in v.dims}
+        ds = xr.Dataset(out, coords={**{f: design[f] for f in factors}, **other}, attrs=ds.attrs)
+    for name, var in design.data_vars.items():
+        ds[name] = var
+    return ds
+
+
+def run_study(resolved_study: dict) -> xr.Dataset:
+    """Design, compute and merge a whole study in memory (one chunk); for notebooks and tests."""
+    design = build_design(resolved_study)
+    return merge(design, [run_chunk(design, resolved_study["options"], 1, 0)])

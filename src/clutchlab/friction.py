@@ -1,0 +1,104 @@
+"""Friction-clutch sizing and torque capacity (seed 000 eqs. 3, 13–14).
+
+References
+----------
+.. [1] Zhao P. (2026), seed 000, eqs. (3), (13), (14).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "STANDARD_GRAVITY",
+    "lining_outer_diameter",
+    "lining_coefficient",
+    "effective_radius",
+    "torque_capacity",
+    "torque_capacity_eq14_as_printed",
+    "reserve_factor",
+]
+
+STANDARD_GRAVITY = 9.80665  # m/s²
+
+
+def lining_outer_diameter(max_engine_torque, coefficient):
+    """Lining outer diameter D = 100·√(T_emax / A) mm, eq. (3) of [1], returned in [m].
+
+    Parameters
+    ----------
+    max_engine_torque : array_like
+        T_emax [N·m].
+    coefficient : array_like
+        Design constant A [-] (30…36 for a large single-plate UAV-helicopter clutch). The formula
+        is empirical: A carries the units that make D come out in mm for T in N·m.
+    """
+    return 0.1 * np.sqrt(np.asarray(max_engine_torque, dtype=float) / coefficient)
+
+
+def lining_coefficient(max_engine_torque, outer_diameter):
+    """Inverse of eq. (3) of [1]: A = T_emax / (D[mm]/100)² with D given in [m] [-]."""
+    return np.asarray(max_engine_torque, dtype=float) / (10.0 * np.asarray(outer_diameter)) ** 2
+
+
+def effective_radius(outer_radius, inner_radius, assumption="uniform_pressure"):
+    """Friction radius of an annular face [m].
+
+    ``uniform_pressure`` (new lining): R_eff = (2/3)(R₂³ − R₁³)/(R₂² − R₁²), the integral of
+    eqs. (13)–(14) of [1]; ``uniform_wear`` (worn-in lining): R_eff = (R₁ + R₂)/2.
+    """
+    ro = np.asarray(outer_radius, dtype=float)
+    ri = np.asarray(inner_radius, dtype=float)
+    if assumption == "uniform_pressure":
+        return (2.0 / 3.0) * (ro**3 - ri**3) / (ro**2 - ri**2)
+    if assumption == "uniform_wear":
+        return 0.5 * (ro + ri)
+    raise ValueError(f"assumption must be 'uniform_pressure' or 'uniform_wear', got {assumption!r}")
+
+
+def torque_capacity(clamp_force, friction_coefficient, outer_radius, inner_radius, *, faces=2,
+                    assumption="uniform_pressure", stack_mass=0.0, gravity=STANDARD_GRAVITY):
+    """Friction torque capacity T = z_f·μ·(F + m·g)·R_eff [N·m].
+
+    Parameters
+    ----------
+    clamp_force : array_like
+        Axial clamp (spring) force F [N].
+    friction_coefficient : array_like
+        μ [-].
+    outer_radius, inner_radius : array_like
+        Lining radii R₂, R₁ [m].
+    faces : int or array_like
+        Number of friction faces z_f (2 for a single driven plate).
+    assumption : {"uniform_pressure", "uniform_wear"}
+        Pressure distribution for :func:`effective_radius`.
+    stack_mass : array_like
+        Mass m of driven plate, pressure plate and diaphragm that adds its weight to the clamp
+        force on a vertical shaft [kg]; 0 for a horizontal shaft.
+    gravity : float
+        g [m/s²].
+
+    Notes
+    -----
+    Erratum for eq. (14) of [1]: as printed, M = (μ·m·g + F)·R_eff puts μ on the weight term
+    only, omits μ on F, counts one face, and defines R₁, R₂ as diameters while using them as
+    radii. The physically consistent capacity is the one computed here. The paper's value is
+    available from :func:`torque_capacity_eq14_as_printed` (239.3 N·m for the seed design).
+    """
+    f_total = np.asarray(clamp_force, dtype=float) + np.asarray(stack_mass) * gravity
+    return faces * friction_coefficient * f_total * effective_radius(outer_radius, inner_radius, assumption)
+
+
+def torque_capacity_eq14_as_printed(clamp_force, friction_coefficient, stack_mass, outer_radius,
+                                    inner_radius, gravity=STANDARD_GRAVITY):
+    """Eq. (14) of [1] exactly as printed: M = (μ·m·g + F)·R_eff (one face) [N·m].
+
+    Kept only to reproduce the paper's 239.3 N·m; it is dimensionally consistent but physically
+    wrong (see :func:`torque_capacity`). Do not use it for design.
+    """
+    return ((friction_coefficient * np.asarray(stack_mass) * gravity + clamp_force)
+            * effective_radius(outer_radius, inner_radius, "uniform_pressure"))
+
+
+def reserve_factor(torque_capacity, max_engine_torque):
+    """Clutch reserve (backup) factor β = T_capacity / T_emax [-]."""
+    return np.asarray(torque_capacity, dtype=float) / max_engine_torque

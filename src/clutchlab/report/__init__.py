@@ -1,0 +1,71 @@
+"""Report: figures and a PDF built from stored Datasets only (no solver is ever re-run).
+
+:func:`build` writes one PNG per figure, ``report.pdf`` with every figure as a page, and
+``validation.csv`` with every reproduced seed number.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.backends.backend_pdf import PdfPages  # noqa: E402
+
+from .. import __version__, store, studies  # noqa: E402
+from .. import status as st  # noqa: E402
+from ..validation import to_csv  # noqa: E402
+from .common import title_page, validation_table  # noqa: E402
+
+__all__ = ["build", "figure_stems"]
+
+
+def figure_stems(study_names) -> list[str]:
+    """PNG stems the report produces for these studies (for Snakemake outputs)."""
+    stems = ["title"] + [f"{name}_{s}" for name in study_names for s in studies.get(name).figure_stems]
+    return stems + ["validation_table"]
+
+
+def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab report", dpi=120) -> list[Path]:
+    """Build the report from stored results.
+
+    Parameters
+    ----------
+    study_files : dict
+        Study name -> path of its merged HDF5 result.
+    validation_files : list
+        Paths of validation Datasets (one per seed).
+    outdir : path
+        Folder for ``report.pdf``, ``validation.csv`` and the PNGs.
+    """
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    results = {name: store.load(p) for name, p in study_files.items()}
+    validations = [store.load(p) for p in validation_files]
+    pages = [("title", title_page(title, __version__, results, validations))]
+    for name, ds in results.items():
+        pages += [(f"{name}_{stem}", fig) for stem, fig in studies.get(name).figures(ds)]
+    if validations:
+        pages.append(("validation_table", validation_table(validations)))
+        to_csv(validations, outdir / "validation.csv")
+    written = []
+    tmp = outdir / ".report.pdf.tmp"
+    with PdfPages(tmp, metadata={"Title": title, "Creator": f"clutchlab {__version__}",
+                                 "CreationDate": None, "ModDate": None}) as pdf:
+        for stem, fig in pages:
+            png = outdir / f"{stem}.png"
+            fig.savefig(png, dpi=dpi, metadata={"Software": None})
+            pdf.savefig(fig)
+            plt.close(fig)
+            written.append(png)
+    tmp.replace(outdir / "report.pdf")
+    return written + [outdir / "report.pdf"]
+
+
+def status_counts(ds) -> dict[str, int]:
+    """Scenario count per status meaning."""
+    import numpy as np
+
+    codes, counts = np.unique(ds["status"].values, return_counts=True)
+    return {st.FLAGS.get(int(c), str(c)): int(n) for c, n in zip(codes, counts)}

@@ -1,0 +1,71 @@
+"""Report pages shared by every study: title page and validation table."""
+from __future__ import annotations
+
+import textwrap
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+A4_LANDSCAPE = (11.69, 8.27)
+
+
+def title_page(title, version, results, validations):
+    from . import status_counts
+
+    fig = plt.figure(figsize=A4_LANDSCAPE)
+    fig.text(0.06, 0.92, title, fontsize=20, weight="bold")
+    fig.text(0.06, 0.87, f"clutchlab {version}", fontsize=11, color="0.3")
+    y = 0.80
+    for name, ds in results.items():
+        n = int(np.prod([ds.sizes[d] for d in ds["status"].dims])) if ds["status"].dims else 1
+        dims = ", ".join(f"{d} ({ds.sizes[d]})" for d in ds["status"].dims)
+        lines = [f"Study '{name}': {ds.attrs.get('title', '')}",
+                 f"  {n} scenarios, design {ds.attrs.get('design')}, dimensions: {dims}",
+                 f"  model: {ds.attrs.get('model', '')}",
+                 "  status: " + ", ".join(f"{k} {v}" for k, v in status_counts(ds).items())]
+        for line in lines:
+            for wrapped in textwrap.wrap(line, 130, subsequent_indent="    ") or [""]:
+                fig.text(0.06, y, wrapped, fontsize=10, family="monospace")
+                y -= 0.03
+        y -= 0.02
+    if validations:
+        n = sum(v.sizes["row"] for v in validations)
+        ok = sum(int(v["passed"].sum()) for v in validations)
+        fig.text(0.06, y, f"Validation: {ok} of {n} reproduced seed numbers within tolerance "
+                 "(table on the last page, validation.csv).", fontsize=10)
+    fig.text(0.06, 0.04, "Units: SI inside every result file (units attribute on each variable); "
+             "figures use mm, kN and MPa where marked.", fontsize=8, color="0.4")
+    return fig
+
+
+def validation_table(validations):
+    rows = []
+    for v in validations:
+        for i in range(v.sizes["row"]):
+            rows.append([
+                str(v["seed"].values[i]),
+                textwrap.fill(str(v["quantity"].values[i]), 46),
+                textwrap.fill(str(v["source"].values[i]), 20),
+                f"{float(v['published'].values[i]):.5g}",
+                f"{float(v['computed'].values[i]):.5g}",
+                str(v["units"].values[i]),
+                f"{float(v['rel_error'].values[i]):.2e}",
+                f"{float(v['tolerance'].values[i]):.0e}",
+                "yes" if int(v["passed"].values[i]) else "NO",
+                textwrap.fill(str(v["note"].values[i]), 52),
+            ])
+    fig = plt.figure(figsize=A4_LANDSCAPE)
+    ax = fig.add_axes([0.01, 0.02, 0.98, 0.9])
+    ax.axis("off")
+    fig.text(0.02, 0.95, "Validation against the seed papers", fontsize=14, weight="bold")
+    cols = ["seed", "quantity", "source", "published", "computed", "units", "rel. error", "tol.", "pass", "note"]
+    table = ax.table(cellText=rows, colLabels=cols, loc="upper center", cellLoc="left",
+                     colWidths=[0.035, 0.2, 0.09, 0.065, 0.065, 0.06, 0.06, 0.04, 0.035, 0.25])
+    table.auto_set_font_size(False)
+    table.set_fontsize(6.5)
+    for (r, c), cell in table.get_celld().items():
+        text = cell.get_text().get_text()
+        cell.set_height(0.022 * max(1, text.count("\n") + 1) + 0.01)
+        if r > 0 and c == 8 and text == "NO":
+            cell.set_facecolor("#f4c7c3")
+    return fig

@@ -1,0 +1,112 @@
+"""Figures of the diaphragm_spring study: F(λ) family with A/B/C/D, reserve-factor map."""
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.colors import TwoSlopeNorm
+
+from .. import status as st
+from .common import A4_LANDSCAPE
+
+MARKERS = {"A": ("^", "peak A"), "C": ("o", "flat C"), "D": ("v", "valley D"), "B": ("s", "operating B")}
+
+
+def _nearest(ds, **targets):
+    sel = {k: v for k, v in targets.items() if k in ds.dims}
+    return ds.sel(sel, method="nearest") if sel else ds
+
+
+def load_curves(ds):
+    """F(λ) for every cone-height ratio at the middle thickness and radius ratio."""
+    fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
+    if "run" in ds.dims:  # sampled design: a spread of designs ordered by H/h
+        order = np.argsort(ds["cone_height_ratio"].values if "cone_height_ratio" in ds.coords
+                           else ds["run"].values)
+        picks = order[np.linspace(0, len(order) - 1, min(9, len(order))).astype(int)]
+        sub = ds.isel(run=picks)
+        members = [sub.isel(run=i) for i in range(sub.sizes["run"])]
+        fixed = "sampled design: 9 scenarios spread over H/h"
+    else:
+        mid = {d: float(ds[d].values[len(ds[d]) // 2]) for d in ("sheet_thickness", "radius_ratio")
+               if d in ds.dims}
+        sub = _nearest(ds, operating_point_factor=0.9, **mid)
+        if "cone_height_ratio" in sub.dims:
+            members = [sub.isel(cone_height_ratio=i) for i in range(sub.sizes["cone_height_ratio"])]
+        else:
+            members = [sub]
+        fixed = ", ".join([f"h = {float(sub['sheet_thickness']) * 1e3:.3g} mm",
+                           f"R/r = {float(sub['radius_ratio']):.3g}",
+                           f"lambda_B/lambda_C = {float(sub['operating_point_factor']):.2g}"])
+    cmap = plt.get_cmap("viridis")
+    for i, m in enumerate(members):
+        color = cmap(i / max(1, len(members) - 1))
+        ratio = float(m["cone_height_ratio"])
+        ax.plot(m["curve_deflection"] * 1e3, m["curve_load"] / 1e3, color=color, lw=1.4,
+                label=f"H/h = {ratio:.2f}" + ("" if int(m["status"]) == 0 else f" ({st.FLAGS[int(m['status'])]})"))
+        for p, (marker, _) in MARKERS.items():
+            key = {"A": "peak", "C": "flat", "D": "valley", "B": "operating"}[p]
+            x, y = float(m[f"deflection_{key}"]), float(m[{"B": "clamp_load"}.get(p, f"load_{key}")])
+            if np.isfinite(x) and np.isfinite(y):
+                ax.plot(x * 1e3, y / 1e3, marker, color=color, ms=6, mec="k", mew=0.6)
+    for p, (marker, name) in MARKERS.items():
+        ax.plot([], [], marker, color="w", mec="k", label=name)
+    ax.axhline(0, color="0.5", lw=0.6)
+    ax.set_xlabel("deflection at the pressure-plate load point lambda [mm]")
+    ax.set_ylabel("spring load F [kN]")
+    ax.set_title("Diaphragm spring load-deflection curves, Almen-Laszlo eq. (10) of seed 000\n" + fixed)
+    ax.legend(ncol=2, fontsize=8, loc="upper left")
+    ax.grid(alpha=0.3)
+    return fig
+
+
+def reserve_map(ds):
+    """Reserve factor over (h, H/h), one panel per radius ratio, at λ_B = 0.9·λ_C."""
+    if "run" in ds.dims:
+        ok = ds["status"] == st.CODE["ok"]
+        fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
+        sc = ax.scatter(ds["sheet_thickness"] * 1e3, ds["cone_height_ratio"], c=ds["reserve_factor"].where(ok),
+                        cmap="RdYlGn", s=8)
+        ax.scatter((ds["sheet_thickness"] * 1e3).where(~ok), ds["cone_height_ratio"].where(~ok), marker="x",
+                   c="k", s=8, label="status not ok")
+        ax.set_xlabel("sheet thickness h [mm]")
+        ax.set_ylabel("cone height ratio H/h")
+        fig.colorbar(sc, ax=ax, label="reserve factor [-]")
+        ax.legend()
+        ax.set_title("Reserve factor (torque capacity / engine maximum torque)")
+        return fig
+    sub = _nearest(ds, operating_point_factor=0.9)
+    panels = sub["radius_ratio"].values if "radius_ratio" in sub.dims else [None]
+    fig, axes = plt.subplots(1, len(panels), figsize=A4_LANDSCAPE, sharey=True, squeeze=False)
+    rf_all = sub["reserve_factor"].values
+    vmax = float(np.nanmax(rf_all)) if np.isfinite(rf_all).any() else 2.0
+    norm = TwoSlopeNorm(vmin=0.0, vcenter=1.0, vmax=max(vmax, 1.5))
+    for ax, rr in zip(axes[0], panels):
+        p = (sub.sel(radius_ratio=rr) if rr is not None else sub).transpose("cone_height_ratio", "sheet_thickness", ...)
+        rf = p["reserve_factor"].values
+        x = p["sheet_thickness"].values * 1e3
+        y = p["cone_height_ratio"].values
+        mesh = ax.pcolormesh(x, y, rf, cmap="RdYlGn", norm=norm, shading="nearest")
+        if np.nanmax(rf) > 1 > np.nanmin(rf):
+            cs = ax.contour(x, y, rf, levels=[1.0], colors="k", linewidths=1.2)
+            ax.clabel(cs, fmt="1.0", fontsize=7)
+        code = p["status"].values
+        xx, yy = np.meshgrid(x, y)
+        for c, mk in ((st.CODE["monotone_no_hump"], "."), (st.CODE["snap_through"], "x"),
+                      (st.CODE["invalid_geometry"], "*")):
+            sel = code == c
+            if sel.any():
+                ax.plot(xx[sel], yy[sel], mk, color="0.2", ms=4, label=st.FLAGS[c])
+        ax.axhline(np.sqrt(2), color="0.4", ls="--", lw=0.8)
+        ax.set_title(f"R/r = {rr:.3g}" if rr is not None else "")
+    fig.supxlabel("sheet thickness h [mm]")
+    axes[0][0].set_ylabel("cone height ratio H/h  (dashed: sqrt 2)")
+    if axes[0][0].get_legend_handles_labels()[0]:
+        axes[0][0].legend(fontsize=7, loc="upper left")
+    fig.colorbar(mesh, ax=axes[0].tolist(), label="reserve factor = capacity / T_emax [-]  (black line: 1.0)")
+    fig.suptitle("Torque reserve factor at lambda_B = %.2g lambda_C; markers: status (no hump = no wear "
+                 "compensation, snap-through, invalid)" % float(sub["operating_point_factor"]))
+    return fig
+
+
+def figures(ds):
+    return [("load_curves", load_curves(ds)), ("reserve_map", reserve_map(ds))]

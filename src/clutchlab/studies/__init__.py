@@ -1,0 +1,100 @@
+"""Studies: a parameter table plus a pure function from a design chunk to a results Dataset.
+
+A study never touches a file. ``compute(inputs)`` receives a mapping of parameter name to a
+flat numpy array (one entry per scenario of the chunk, or a scalar for a fixed value) in SI
+units and returns an :class:`xarray.Dataset` whose scenario dimension is ``run``; extra
+dimensions (e.g. points of a curve) are allowed. :mod:`clutchlab.doe` does the rest.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+__all__ = ["Parameter", "Study", "REGISTRY", "get", "flat_inputs"]
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """An input of a study: SI unit, description, default (the seed design) and bounds."""
+
+    name: str
+    units: str
+    long_name: str
+    default: float
+    minimum: float | None = 0.0
+    minimum_inclusive: bool = False
+    maximum: float | None = None
+    maximum_inclusive: bool = True
+
+    def check(self, value: float) -> str | None:
+        """Return why ``value`` is non-physical, or None if it is acceptable."""
+        if self.minimum is not None:
+            bad = value < self.minimum if self.minimum_inclusive else value <= self.minimum
+            if bad:
+                op = ">=" if self.minimum_inclusive else ">"
+                return f"must be {op} {self.minimum:g} {self.units}, got {value:g} {self.units}"
+        if self.maximum is not None:
+            bad = value > self.maximum if self.maximum_inclusive else value >= self.maximum
+            if bad:
+                op = "<=" if self.maximum_inclusive else "<"
+                return f"must be {op} {self.maximum:g} {self.units}, got {value:g} {self.units}"
+        return None
+
+
+@dataclass(frozen=True)
+class Study:
+    """A registered study: name, where its merged result goes, inputs and the compute function."""
+
+    name: str
+    output: str  # path of the merged result relative to the results folder
+    description: str
+    parameters: tuple[Parameter, ...]
+    compute: Callable
+    model: str  # which model runs, recorded in the results
+    figures: Callable | None = None  # Dataset -> [(stem, Figure)], stems as in figure_stems
+    figure_stems: tuple[str, ...] = ()
+    validation: Callable | None = None  # () -> validation Dataset (seed rows) or None
+    options: dict = field(default_factory=dict)
+
+    def parameter(self, name: str) -> Parameter:
+        for p in self.parameters:
+            if p.name == name:
+                return p
+        raise KeyError(name)
+
+    @property
+    def defaults(self) -> dict[str, float]:
+        return {p.name: p.default for p in self.parameters}
+
+
+def flat_inputs(inputs) -> dict:
+    """Broadcast a chunk's inputs (flat arrays and scalars) to flat float arrays of one length."""
+    arrays = {k: np.asarray(v, dtype=float) for k, v in inputs.items()}
+    sizes = {a.size for a in arrays.values() if a.ndim}
+    if len(sizes) > 1:
+        raise ValueError(f"inputs of a chunk have different lengths {sorted(sizes)}")
+    n = sizes.pop() if sizes else 1
+    return {k: np.broadcast_to(a.reshape(-1) if a.ndim else a, (n,)) for k, a in arrays.items()}
+
+
+REGISTRY: dict[str, Study] = {}
+
+
+def register(study: Study) -> Study:
+    REGISTRY[study.name] = study
+    return study
+
+
+def get(name: str) -> Study:
+    """The registered study called ``name``."""
+    _load_all()
+    try:
+        return REGISTRY[name]
+    except KeyError:
+        raise KeyError(f"unknown study {name!r}; known: {sorted(REGISTRY)}") from None
+
+
+def _load_all() -> None:
+    from . import diaphragm_spring  # noqa: F401  (registers itself)

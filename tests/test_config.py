@@ -1,0 +1,143 @@
+"""Config validation: each kind of bad config fails with the key named, before any job runs."""
+import copy
+from pathlib import Path
+
+import pytest
+import yaml
+
+from clutchlab import config, studies
+from clutchlab.config import ConfigError
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture
+def raw():
+    return yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+
+
+@pytest.mark.parametrize("name", ["config.yaml", "small.yaml"])
+def test_shipped_configs_resolve(name):
+    cfg = config.load(ROOT / "config" / name)
+    sec = cfg["diaphragm_spring"]
+    assert sec["fixed"]["youngs_modulus"] == pytest.approx(206e9)
+    assert all(isinstance(v, float) for v in sec["fixed"].values())
+
+
+def test_units_converted_and_defaults_filled(raw):
+    raw["diaphragm_spring"]["parameters"] = {"sheet_thickness": "2.5 mm"}
+    sec = config.resolve(raw)["diaphragm_spring"]
+    assert sec["fixed"]["sheet_thickness"] == pytest.approx(2.5e-3)
+    assert sec["fixed"]["friction_coefficient"] == pytest.approx(0.4)  # default from the study table
+    assert sec["chunks"] == config.DEFAULT_CHUNKS and sec["factors"] == {}
+
+
+def test_factor_forms(raw):
+    p = raw["diaphragm_spring"]["parameters"]
+    p["sheet_thickness"] = {"min": "1 mm", "max": "4 mm", "num": 3, "scale": "log"}
+    sec = config.resolve(raw)["diaphragm_spring"]
+    assert sec["factors"]["sheet_thickness"]["values"] == pytest.approx([1e-3, 2e-3, 4e-3])
+
+
+def _expect(raw, key, *fragments):
+    with pytest.raises(ConfigError) as exc:
+        config.resolve(raw)
+    assert exc.value.key == key, str(exc.value)
+    assert f"'{key}'" in str(exc.value)
+    for f in fragments:
+        assert f in str(exc.value)
+
+
+def test_unknown_top_level_key(raw):
+    raw["chunkz"] = 3
+    _expect(raw, "chunkz", "unknown key")
+
+
+def test_unknown_parameter(raw):
+    raw["diaphragm_spring"]["parameters"]["sheet_thicknes"] = "2 mm"
+    _expect(raw, "diaphragm_spring.parameters.sheet_thicknes", "unknown key")
+
+
+def test_wrong_type(raw):
+    raw["chunks"] = "four"
+    _expect(raw, "chunks", "integer")
+
+
+def test_wrong_type_of_parameter(raw):
+    raw["diaphragm_spring"]["parameters"]["poisson_ratio"] = [0.3]
+    _expect(raw, "diaphragm_spring.parameters.poisson_ratio")
+
+
+def test_missing_field(raw):
+    del raw["diaphragm_spring"]["design"]
+    _expect(raw, "diaphragm_spring.design", "missing")
+
+
+def test_missing_studies(raw):
+    del raw["studies"]
+    _expect(raw, "studies", "missing")
+
+
+def test_missing_section(raw):
+    del raw["diaphragm_spring"]
+    _expect(raw, "diaphragm_spring", "section missing")
+
+
+def test_negative_thickness(raw):
+    raw["diaphragm_spring"]["parameters"]["sheet_thickness"] = "-2 mm"
+    _expect(raw, "diaphragm_spring.parameters.sheet_thickness", "must be > 0")
+
+
+def test_negative_value_inside_factor(raw):
+    raw["diaphragm_spring"]["parameters"]["sheet_thickness"] = {"values": ["2 mm", "-1 mm"]}
+    _expect(raw, "diaphragm_spring.parameters.sheet_thickness.values[1]", "must be > 0")
+
+
+def test_wrong_dimension(raw):
+    raw["diaphragm_spring"]["parameters"]["outer_radius"] = "110 kg"
+    _expect(raw, "diaphragm_spring.parameters.outer_radius", "expected something convertible")
+
+
+def test_poisson_above_half(raw):
+    raw["diaphragm_spring"]["parameters"]["poisson_ratio"] = 0.5
+    _expect(raw, "diaphragm_spring.parameters.poisson_ratio", "< 0.5")
+
+
+def test_min_not_below_max(raw):
+    raw["diaphragm_spring"]["parameters"]["sheet_thickness"] = {"min": "3 mm", "max": "2 mm", "num": 3}
+    _expect(raw, "diaphragm_spring.parameters.sheet_thickness", "below max")
+
+
+def test_factorial_needs_num(raw):
+    raw["diaphragm_spring"]["parameters"]["sheet_thickness"] = {"min": "1 mm", "max": "2 mm"}
+    _expect(raw, "diaphragm_spring.parameters.sheet_thickness.num", "required")
+
+
+def test_sampled_design_needs_samples(raw):
+    raw["diaphragm_spring"]["design"] = "lhs"
+    _expect(raw, "diaphragm_spring.samples", "required")
+
+
+def test_sampled_design_rejects_values(raw):
+    raw["diaphragm_spring"]["design"] = "sobol"
+    raw["diaphragm_spring"]["samples"] = 64
+    raw["diaphragm_spring"]["parameters"] = {"radius_ratio": {"values": [1.2, 1.3]}}
+    _expect(raw, "diaphragm_spring.parameters.radius_ratio", "factorial")
+
+
+def test_bad_option(raw):
+    raw["diaphragm_spring"]["options"]["friction_radius"] = "parabolic"
+    _expect(raw, "diaphragm_spring.options.friction_radius")
+
+
+def test_schema_lists_exactly_the_study_parameters():
+    schema = config.schema()
+    for name in schema["properties"]["studies"]["items"]["enum"]:
+        props = schema["properties"][name]["allOf"][1]["properties"]["parameters"]["properties"]
+        assert set(props) == {p.name for p in studies.get(name).parameters}
+
+
+def test_resolve_does_not_mutate_input(raw):
+    before = copy.deepcopy(raw)
+    config.resolve(raw)
+    assert raw == before

@@ -1,0 +1,90 @@
+"""End to end through Snakemake, as a user would run it (slow: each run starts Snakemake)."""
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+import xarray as xr
+
+ROOT = Path(__file__).resolve().parents[1]
+pytestmark = pytest.mark.slow
+
+
+def _workdir(tmp_path: Path) -> Path:
+    for item in ("Snakefile", "workflows", "config"):
+        src = ROOT / item
+        (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp_path / item)
+    (tmp_path / "profiles").symlink_to("workflows/profiles")
+    return tmp_path
+
+
+def _snakemake(cwd, *args, check=True, **kw):
+    cmd = [sys.executable, "-m", "snakemake", "--cores", "2", *args]
+    proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=600, **kw)
+    if check and proc.returncode != 0:
+        raise AssertionError(f"snakemake failed:\n{proc.stdout}\n{proc.stderr}")
+    return proc
+
+
+@pytest.fixture(scope="module")
+def small_run(tmp_path_factory):
+    wd = _workdir(tmp_path_factory.mktemp("run"))
+    _snakemake(wd, "--configfile", "config/small.yaml")
+    return wd
+
+
+def test_outputs_exist_and_open(small_run):
+    for f in ("results/diaphragm/spring.h5", "results/report/report.pdf", "results/report/validation.csv",
+              "results/report/diaphragm_spring_load_curves.png", "results/report/diaphragm_spring_reserve_map.png"):
+        assert (small_run / f).stat().st_size > 0, f
+    with xr.open_dataset(small_run / "results/diaphragm/spring.h5", engine="h5netcdf") as ds:
+        for name, var in {**ds.coords, **ds.data_vars}.items():
+            assert var.attrs.get("units") is not None and var.attrs.get("long_name"), name
+        assert ds["clamp_load"].dims == ("sheet_thickness", "cone_height_ratio", "radius_ratio",
+                                         "operating_point_factor")
+        seed = ds.sel(sheet_thickness=2.334e-3, cone_height_ratio=1.5, radius_ratio=1.294,
+                      operating_point_factor=0.9, method="nearest")
+        assert 2300 < float(seed["clamp_load"]) < 2700
+    assert "yes" in (small_run / "results/report/validation.csv").read_text()
+
+
+def test_bad_config_fails_before_any_job(small_run):
+    target = small_run / "results/diaphragm/spring.h5"
+    before = (target.read_bytes(), target.stat().st_mtime_ns)
+    bad = small_run / "bad.yaml"
+    bad.write_text((small_run / "config/small.yaml").read_text().replace("radius_ratio:", "radius_ration:"))
+    proc = _snakemake(small_run, "--configfile", "bad.yaml", "--forceall", check=False)
+    assert proc.returncode != 0
+    assert "diaphragm_spring.parameters.radius_ration" in proc.stdout + proc.stderr
+    assert "Execute" not in proc.stdout + proc.stderr
+    assert (target.read_bytes(), target.stat().st_mtime_ns) == before
+
+
+def test_same_config_twice_gives_identical_files(small_run, tmp_path):
+    wd = _workdir(tmp_path)
+    _snakemake(wd, "--configfile", "config/small.yaml")
+    for f in ("results/diaphragm/spring.h5", "results/validation/diaphragm_spring.h5",
+              "results/report/validation.csv", "results/report/diaphragm_spring_reserve_map.png"):
+        assert (wd / f).read_bytes() == (small_run / f).read_bytes(), f
+
+
+def test_interrupt_and_resume(tmp_path):
+    wd = _workdir(tmp_path)
+    cmd = [sys.executable, "-m", "snakemake", "--cores", "1", "--configfile", "config/small.yaml",
+           "--config", "chunks=8"]
+    proc = subprocess.Popen(cmd, cwd=wd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    work = wd / "results/work/diaphragm_spring"
+    deadline = time.time() + 120
+    while time.time() < deadline and not list(work.glob("chunk_*.h5")):
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGINT)  # Ctrl-C mid-run
+    proc.wait(timeout=120)
+    assert not (wd / "results/report/report.pdf").exists(), "run finished before it could be interrupted"
+    for f in wd.rglob("*.h5"):  # whatever exists is complete and readable
+        xr.open_dataset(f, engine="h5netcdf").close()
+    _snakemake(wd, "--configfile", "config/small.yaml", "--config", "chunks=8")
+    assert (wd / "results/report/report.pdf").exists()
+    assert not [p for p in wd.rglob("*.tmp")]

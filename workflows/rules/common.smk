@@ -1,0 +1,22 @@
+# Paths and helpers shared by the rules. No physics here.
+from clutchlab import studies as _studies
+
+STUDIES = RESOLVED["studies"]
+RESULTS = "results"
+WORK = f"{RESULTS}/work"
+VALIDATED = [s for s in STUDIES if _studies.get(s).validation is not None]
+
+
+def results(study):
+    """Merged HDF5 result of a study, e.g. results/diaphragm/spring.h5."""
+    return f"{RESULTS}/{_studies.get(study).output}"
+
+
+def chunk_files(study):
+    n = RESOLVED[study]["chunks"]
+    return [f"{WORK}/{study}/chunk_{i:04d}.h5" for i in range(n)]
+
+
+wildcard_constraints:
+    study="|".join(STUDIES),
+    i=r"\d{4}",

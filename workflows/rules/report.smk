@@ -1,0 +1,24 @@
+# Report: figures and PDF from stored results only.
+from clutchlab.report import figure_stems as _figure_stems
+
+REPORT_DIR = f"{RESULTS}/report"
+REPORT_FILES = [f"{REPORT_DIR}/report.pdf", f"{REPORT_DIR}/validation.csv"] + [
+    f"{REPORT_DIR}/{stem}.png" for stem in _figure_stems(STUDIES)
+]
+
+
+rule report:
+    input:
+        studies=[results(s) for s in STUDIES],
+        validation=[f"{RESULTS}/validation/{s}.h5" for s in VALIDATED],
+    output:
+        REPORT_FILES,
+    params:
+        names=STUDIES,
+        title=RESOLVED["report"]["title"],
+        dpi=RESOLVED["report"]["dpi"],
+    resources:
+        runtime=10,
+        mem_mb=4000,
+    script:
+        "../scripts/report.py"

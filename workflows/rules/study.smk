@@ -1,0 +1,55 @@
+# Generic study rules: design -> K chunk jobs -> merge (one HDF5 file per job, never shared).
+
+
+rule design:
+    output:
+        f"{WORK}/{{study}}/design.h5",
+    params:
+        study=lambda wc: RESOLVED[wc.study],
+    resources:
+        runtime=10,
+        mem_mb=2000,
+    script:
+        "../scripts/design.py"
+
+
+rule chunk:
+    input:
+        f"{WORK}/{{study}}/design.h5",
+    output:
+        f"{WORK}/{{study}}/chunk_{{i}}.h5",
+    params:
+        options=lambda wc: RESOLVED[wc.study]["options"],
+        chunks=lambda wc: RESOLVED[wc.study]["chunks"],
+    resources:
+        runtime=60,
+        mem_mb=4000,
+    script:
+        "../scripts/chunk.py"
+
+
+for _study in STUDIES:
+
+    rule:
+        name:
+            f"merge_{_study}"
+        input:
+            design=f"{WORK}/{_study}/design.h5",
+            chunks=chunk_files(_study),
+        output:
+            results(_study),
+        resources:
+            runtime=30,
+            mem_mb=8000,
+        script:
+            "../scripts/merge.py"
+
+
+rule validation:
+    output:
+        f"{RESULTS}/validation/{{study}}.h5",
+    resources:
+        runtime=5,
+        mem_mb=1000,
+    script:
+        "../scripts/validation.py"

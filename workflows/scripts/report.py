@@ -1,0 +1,8 @@
+"""Snakemake script: build the report from stored results."""
+from pathlib import Path
+
+from clutchlab import report
+
+sm = snakemake  # noqa: F821
+report.build(dict(zip(sm.params.names, sm.input.studies)), list(sm.input.validation),
+             Path(sm.output[0]).parent, title=sm.params.title, dpi=sm.params.dpi)
