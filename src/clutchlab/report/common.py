@@ -24,7 +24,7 @@ def title_page(title, version, results, validations):
                  f"  model: {ds.attrs.get('model', '')}",
                  "  status: " + ", ".join(f"{k} {v}" for k, v in status_counts(ds).items())]
         for line in lines:
-            for wrapped in textwrap.wrap(line, 130, subsequent_indent="    ") or [""]:
+            for wrapped in textwrap.wrap(line, 105, subsequent_indent="    ") or [""]:
                 fig.text(0.06, y, wrapped, fontsize=10, family="monospace")
                 y -= 0.03
         y -= 0.02
@@ -44,7 +44,7 @@ def validation_table(validations):
         for i in range(v.sizes["row"]):
             rows.append([
                 str(v["seed"].values[i]),
-                textwrap.fill(str(v["quantity"].values[i]), 46),
+                textwrap.fill(str(v["quantity"].values[i]), 40),
                 textwrap.fill(str(v["source"].values[i]), 20),
                 f"{float(v['published'].values[i]):.5g}",
                 f"{float(v['computed'].values[i]):.5g}",
@@ -52,7 +52,7 @@ def validation_table(validations):
                 f"{float(v['rel_error'].values[i]):.2e}",
                 f"{float(v['tolerance'].values[i]):.0e}",
                 "yes" if int(v["passed"].values[i]) else "NO",
-                textwrap.fill(str(v["note"].values[i]), 52),
+                textwrap.fill(str(v["note"].values[i]), 54),
             ])
     fig = plt.figure(figsize=A4_LANDSCAPE)
     ax = fig.add_axes([0.01, 0.02, 0.98, 0.9])
@@ -63,9 +63,12 @@ def validation_table(validations):
                      colWidths=[0.035, 0.2, 0.09, 0.065, 0.065, 0.06, 0.06, 0.04, 0.035, 0.25])
     table.auto_set_font_size(False)
     table.set_fontsize(6.5)
-    for (r, c), cell in table.get_celld().items():
-        text = cell.get_text().get_text()
-        cell.set_height(0.022 * max(1, text.count("\n") + 1) + 0.01)
-        if r > 0 and c == 8 and text == "NO":
+    cells = table.get_celld()
+    lines = {}
+    for (r, c), cell in cells.items():
+        lines[r] = max(lines.get(r, 1), cell.get_text().get_text().count("\n") + 1)
+    for (r, c), cell in cells.items():
+        cell.set_height(0.022 * lines[r] + 0.01)
+        if r > 0 and c == 8 and cell.get_text().get_text() == "NO":
             cell.set_facecolor("#f4c7c3")
     return fig
