@@ -62,7 +62,7 @@ def clamp_profile(x, kind="ramp"):
 def _capacity(t, c_max, t_r, kind):
     """C(t) = C_max·p(t/t_r); a zero ramp time is a step at t = 0+."""
     with np.errstate(divide="ignore", invalid="ignore"):
-        x = np.where(t_r > 0, t / np.where(t_r > 0, t_r, 1.0), np.where(t > 0, 1.0, 0.0))
+        x = np.where(t_r > 0, t / np.where(t_r > 0, t_r, 1.0), 1.0)  # a step is applied at t = 0
     return c_max * clamp_profile(x, kind)
 
 
@@ -681,6 +681,7 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
         stick = zero_slip & (np.abs(aux_l["t_need"]) <= P["rs"] * C0)
         locked |= stick
         parked &= ~stick
+        initially_stuck = stick
         s[:] = np.where(zero_slip & ~stick, np.where(aux_l["t_need"] >= 0, 1.0, -1.0), s)
 
     # breakpoints: profile end, load step, trace times, end
@@ -694,6 +695,9 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
                                            "accel_jump", "lockup_speed")}
     peaks = {k: np.zeros(n) for k in ("peak_slip_power", "peak_friction_torque", "peak_jerk")}
     res_events = {**res, "peak_slip_power": peaks["peak_slip_power"]}
+    if np.any(zero_slip):
+        res["lockup_time"][initially_stuck] = 0.0
+        res["lockup_speed"][initially_stuck] = P["wc0"][initially_stuck]
     n_steps = np.zeros(n, np.int64)
     code = np.full(n, st.CODE["ok"], dtype=st.DTYPE)
     if tt is not None:
@@ -753,9 +757,11 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
             adv = ~any_f
             if np.any(any_f):
                 fired_rows = np.flatnonzero(any_f)
-                handled = _handle_events(model, acc[fired_rows], tau_hi[fired_rows], tA, yA, gA, dA, PA, MA,
-                                         res_events, idx, record)
-                adv[fired_rows[~handled]] = True  # false alarms: take the step as it was
+                handled, retry_h = _handle_events(model, acc[fired_rows], tau_hi[fired_rows], tA, yA, gA, dA, PA,
+                                                  MA, res_events, idx, record, (rtol, atol))
+                retry = np.isfinite(retry_h)
+                hA[acc[fired_rows[retry]]] = retry_h[retry]  # located step too long: shorter step, again
+                adv[fired_rows[~handled & ~retry]] = True  # false alarms: take the step as it was
             sel = acc[adv]
             tA[sel] = t_right[adv]
             yA[sel] = y1[adv]
@@ -818,7 +824,7 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
     return out
 
 
-def _handle_events(model, ev, tau_hi, tA, yA, gA, dA, PA, MA, res, idx, record):
+def _handle_events(model, ev, tau_hi, tA, yA, gA, dA, PA, MA, res, idx, record, tol):
     """Locate events of the active scenarios ``ev`` by re-integration from the step's left end.
 
     ``tau_hi[:, kind]`` is a step length at which event ``kind`` appeared to have happened (inf
@@ -875,6 +881,18 @@ def _handle_events(model, ev, tau_hi, tA, yA, gA, dA, PA, MA, res, idx, record):
         rb = rows[better]
         best_tau[rb], best_kind[rb], best_y[rb] = hi[better], kind, y_hi[better]
     applied = best_kind >= 0
+    # the located step must itself meet the tolerance; otherwise retry with a shorter step
+    retry_h = np.full(ev.size, np.nan)
+    rows = np.flatnonzero(applied)
+    if rows.size:
+        Pk, Mk = _sub(Pe, rows), tuple(m[rows] for m in Me)
+        y_v, err_v, _ = _dopri_step(model, t0[rows], y0[rows], best_tau[rows], Pk, Mk, k1=d0[rows])
+        norm = np.sqrt(np.mean((err_v / (tol[1] + tol[0] * np.maximum(np.abs(y0[rows]), np.abs(y_v)))) ** 2, axis=1))
+        bad = norm > 1.0
+        with np.errstate(divide="ignore"):
+            retry_h[rows[bad]] = best_tau[rows[bad]] * np.clip(0.9 * norm[bad] ** -0.2, 0.1, 0.9)
+        applied[rows[bad]] = False
+        best_kind[rows[bad]] = -1
     t_ev = t0 + np.where(applied, best_tau, 0.0)
     for kind in range(_N_EVENTS):
         rows = np.flatnonzero(best_kind == kind)
@@ -905,4 +923,4 @@ def _handle_events(model, ev, tau_hi, tA, yA, gA, dA, PA, MA, res, idx, record):
         record(gi, tk, yk, Pk, Mk, dyk, auxk)
     tA[ev[applied]] = t_ev[applied]
     yA[ev[applied]] = best_y[applied]
-    return applied
+    return applied, retry_h
