@@ -32,4 +32,4 @@ def test_report_pages(tmp_path, design):
     pdf = (tmp_path / "report" / "report.pdf").read_bytes()
     assert pdf.startswith(b"%PDF") and pdf.count(b"/Type /Page\n") + pdf.count(b"/Type /Page ") >= len(stems) - 1
     rows = list(csv.DictReader(open(tmp_path / "report" / "validation.csv")))
-    assert len(rows) == 11 and all(r["passed"] == "yes" for r in rows)
+    assert len(rows) == 14 and all(r["passed"] == "yes" for r in rows)

@@ -1,4 +1,6 @@
 # Report: figures and PDF from stored results only.
+import sys
+
 from clutchlab.report import figure_stems as _figure_stems
 
 REPORT_DIR = f"{RESULTS}/report"
@@ -22,3 +24,15 @@ rule report:
         mem_mb=4000,
     script:
         "../scripts/report.py"
+
+
+rule benchmark:
+    # Not part of `all`: `snakemake --cores 1 benchmark` (about 1 minute). Prints speed/error
+    # ratios against scipy measured in the same run and draws the work-precision diagram.
+    output:
+        f"{RESULTS}/benchmark/engagement_benchmark.csv",
+        f"{RESULTS}/benchmark/work_precision.png",
+    params:
+        python=sys.executable,
+    shell:
+        "{params.python} -m clutchlab.benchmark {RESULTS}/benchmark"

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .. import diaphragm, driven_plate, friction
+from .. import diaphragm, driven_plate, engagement, friction
 from .. import status as st
 from ..validation import Row, to_dataset
 from . import Parameter, Study, flat_inputs, register
@@ -162,7 +162,20 @@ def validation() -> xr.Dataset:
             float(pts["load_B"]), "N", 5e-3,
             "spring dimensions not printed: E 206 GPa, nu 0.3, R/r/R1/r1 110/85/108/86 mm, h 2.334, H 3.50 mm"),
     ]
-    return to_dataset(rows, "seed 000 statics: diaphragm spring, damper, spline, capacity")
+    # engagement (eqs. 1-2, 11): engine held at 570 rad/s, capacity ramped 0 -> 239.3 N m (eq. 14 as
+    # printed) over 0.15 s, load 44 N m, driven inertia 0.021 kg m² (inferred, not printed)
+    seed_eng = dict(engine_speed=570.0, engine_inertia=np.inf, engine_torque=156.0, driven_inertia=0.021,
+                    load_torque=44.0, peak_capacity=239.3)
+    r = engagement.closed_form(**seed_eng, ramp_time=0.15)
+    assumption = "engine held at 570 rad/s, J_v = 0.021 kg m2 inferred, linear ramp to 239.3 N m (eq. 14 as printed)"
+    rows += [
+        Row(SEED, "engagement: lock-up time", "section 5.2, Fig. 8", 0.150, float(r["lockup_time"]), "s", 0.01,
+            assumption),
+        Row(SEED, "engagement: driven speed at lock-up", "section 5.2, Fig. 8", 570.0, float(r["lockup_speed"]),
+            "rad s-1", 1e-3),
+        Row(SEED, "engagement: slip work (eq. 11)", "section 5.3, Fig. 9", 5800.0, float(r["slip_work"]), "J", 0.02),
+    ]
+    return to_dataset(rows, "seed 000: diaphragm spring, damper, spline, capacity, engagement")
 
 
 def _figures(ds):

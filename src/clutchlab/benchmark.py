@@ -1,0 +1,168 @@
+"""Engagement benchmark: speed against error, measured in one run (not a unit test).
+
+``python -m clutchlab.benchmark [outdir] [--scenarios N]`` (or ``snakemake benchmark``) prints and
+writes ``engagement_benchmark.csv`` and ``work_precision.png``:
+
+* a random design of N (default 10⁴) scenarios with Stribeck friction, held engine;
+* reference: scipy DOP853 at rtol = atol = 1e-12 (max_step 1 ms) on the smooth pieces of each
+  scenario (from the analytic start of motion, split at the ramp end), for a subset of scenarios;
+* clutchlab's batched solver over the whole design at several tolerances (time per scenario of
+  the whole batch; lock-up error on the reference subset);
+* per-scenario ``scipy.integrate.solve_ivp`` RK45 with a terminal lock-up event at several
+  tolerances on the reference subset (the straightforward way to write the problem);
+* clutchlab's closed form (constant μ) at 10⁶ scenarios (best of 3).
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from . import engagement as eng
+
+RS = 1.3  # μ_s/μ_k
+
+
+def design(n, seed=0):
+    rng = np.random.default_rng(seed)
+    return dict(engine_speed=rng.uniform(300, 600, n), driven_inertia=rng.uniform(0.01, 0.1, n),
+                load_torque=rng.uniform(0, 80, n), peak_capacity=rng.uniform(200, 400, n),
+                ramp_time=rng.uniform(0.05, 0.3, n), stribeck_speed=rng.uniform(5, 50, n))
+
+
+def _rhs_factory(we, cmax, tr, tm, jv, vs):
+    def rhs(t, y):
+        c = cmax * min(t / tr, 1.0)
+        return [(c * (1.0 + (RS - 1.0) * np.exp(-((we - y[0]) / vs) ** 2)) - tm) / jv]
+    return rhs
+
+
+def reference(d, i):
+    we, cmax, tr, tm, jv, vs = (d[k][i] for k in ("engine_speed", "peak_capacity", "ramp_time", "load_torque",
+                                                  "driven_inertia", "stribeck_speed"))
+    rhs = _rhs_factory(we, cmax, tr, tm, jv, vs)
+    t0 = tr * tm / (cmax * (1.0 + (RS - 1.0) * np.exp(-(we / vs) ** 2)))
+    lock = lambda t, y: we - y[0]  # noqa: E731
+    lock.terminal, lock.direction = True, -1
+    y, t = [0.0], t0
+    for t_b in (tr, 5.0):
+        sol = solve_ivp(rhs, (t, t_b), y, method="DOP853", rtol=1e-12, atol=1e-12, events=lock, max_step=1e-3)
+        if sol.t_events[0].size:
+            return sol.t_events[0][0]
+        y, t = sol.y[:, -1], t_b
+    return np.nan
+
+
+def rk45_per_scenario(d, i, rtol):
+    """The usual way: one solve_ivp per scenario, parked driven side inside the RHS, terminal event."""
+    we, cmax, tr, tm, jv, vs = (d[k][i] for k in ("engine_speed", "peak_capacity", "ramp_time", "load_torque",
+                                                  "driven_inertia", "stribeck_speed"))
+    rhs = _rhs_factory(we, cmax, tr, tm, jv, vs)
+
+    def f(t, y):
+        a = rhs(t, y)[0]
+        return [a if (y[0] > 0 or a > 0) else 0.0]
+
+    lock = lambda t, y: we - y[0]  # noqa: E731
+    lock.terminal, lock.direction = True, -1
+    sol = solve_ivp(f, (0.0, 5.0), [0.0], method="RK45", rtol=rtol, atol=rtol * 1e-2, events=lock)
+    return sol.t_events[0][0] if sol.t_events[0].size else np.nan
+
+
+def run(outdir="results/benchmark", n=10_000, n_ref=200):
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    d = design(n)
+    sub = np.arange(n_ref)
+    t = time.perf_counter()
+    ref = np.array([reference(d, i) for i in sub])
+    t_ref = (time.perf_counter() - t) / n_ref
+    rows = [("DOP853 reference (per scenario)", 1e-12, t_ref, 0.0)]
+    print(f"reference: scipy DOP853 rtol 1e-12, {n_ref} scenarios, {t_ref * 1e3:.2f} ms/scenario")
+    for rtol in (1e-6, 1e-8, 1e-10, 1e-12):
+        t = time.perf_counter()
+        s = eng.simulate(**d, engine_inertia=np.inf, engine_torque=0.0, static_ratio=RS, t_end=2.0,
+                         rtol=rtol, atol=rtol)
+        dt = (time.perf_counter() - t) / n
+        err = float(np.max(np.abs(s["lockup_time"][sub] - ref)))
+        rows.append(("clutchlab batched DOPRI5", rtol, dt, err))
+        print(f"clutchlab simulate rtol {rtol:.0e}: {dt * 1e6:8.1f} us/scenario ({n} in one batch), "
+              f"max lock-up error {err:.2e} s")
+    for rtol in (1e-4, 1e-6, 1e-8, 1e-10):
+        t = time.perf_counter()
+        lk = np.array([rk45_per_scenario(d, i, rtol) for i in sub])
+        dt = (time.perf_counter() - t) / n_ref
+        err = float(np.max(np.abs(lk - ref)))
+        rows.append(("scipy solve_ivp RK45 per scenario", rtol, dt, err))
+        print(f"solve_ivp RK45 rtol {rtol:.0e}:    {dt * 1e6:8.1f} us/scenario, max lock-up error {err:.2e} s")
+    # speed ratio at equal or better error
+    ours = [r for r in rows if r[0].startswith("clutchlab")]
+    theirs = [r for r in rows if r[0].startswith("scipy solve_ivp")]
+    best = None
+    for r in theirs:
+        match = [o for o in ours if o[3] <= r[3]]
+        if match:
+            o = min(match, key=lambda o: o[2])
+            ratio = r[2] / o[2]
+            print(f"  at RK45 rtol {r[1]:.0e} (error {r[3]:.1e} s): clutchlab rtol {o[1]:.0e} is {ratio:.0f}x faster "
+                  "per scenario at equal or better error")
+            best = ratio if best is None else min(best, ratio)
+    # closed form at 1e6
+    m = 1_000_000
+    rng = np.random.default_rng(1)
+    cf = dict(engine_speed=rng.uniform(300, 600, m), engine_inertia=np.inf, engine_torque=0.0,
+              driven_inertia=rng.uniform(0.01, 0.1, m), load_torque=rng.uniform(0, 80, m),
+              peak_capacity=rng.uniform(200, 400, m), ramp_time=rng.uniform(0.05, 0.3, m))
+    times = []
+    for _ in range(3):
+        t = time.perf_counter()
+        eng.closed_form(**cf)
+        times.append((time.perf_counter() - t) / m)
+    print(f"closed form (constant mu, ramp), {m} scenarios: {min(times) * 1e6:.3f} us/scenario (best of 3; "
+          f"runs {', '.join(f'{x * 1e6:.3f}' for x in times)})")
+    rows.append(("clutchlab closed form (constant mu), 1e6 scenarios", 0.0, min(times), np.nan))
+    with open(outdir / "engagement_benchmark.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["method", "rtol", "seconds_per_scenario", "max_lockup_error_s"])
+        w.writerows(rows)
+    _plot(rows, outdir / "work_precision.png", n, n_ref)
+    return rows, best
+
+
+def _plot(rows, path, n, n_ref):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    for name, marker in (("clutchlab batched DOPRI5", "o-"), ("scipy solve_ivp RK45 per scenario", "s-")):
+        pts = [(r[2], max(r[3], 1e-16), r[1]) for r in rows if r[0] == name]
+        ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker, label=name)
+        for x, y, tol in pts:
+            ax.annotate(f"{tol:.0e}", (x, y), textcoords="offset points", xytext=(4, 4), fontsize=7)
+    ax.set_xlabel("time per scenario [s]")
+    ax.set_ylabel("max |lock-up time error| [s]\n(reference: scipy DOP853, rtol 1e-12)")
+    ax.set_title(f"Work-precision, Stribeck friction: {n} scenarios batched, errors on {n_ref}")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("outdir", nargs="?", default="results/benchmark")
+    p.add_argument("--scenarios", type=int, default=10_000)
+    p.add_argument("--reference-scenarios", type=int, default=200)
+    a = p.parse_args(argv)
+    run(a.outdir, a.scenarios, a.reference_scenarios)
+
+
+if __name__ == "__main__":
+    main()
