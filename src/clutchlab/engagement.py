@@ -413,6 +413,7 @@ _B = np.array([35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84, 0.0]
 _E = _B - np.array([5179 / 57600, 0.0, 7571 / 16695, 393 / 640, -92097 / 339200, 187 / 2100, 1 / 40])
 
 LOCK, BREAK, UNPARK, PARK, PEAK = range(5)
+EVENT_TIME_TOL = 1e-13  # s: bracket width at which an event time is final (Illinois method)
 _N_EVENTS = 5  # PEAK (slip power maximum) switches no mode: it locates the peak exactly
 
 
@@ -533,6 +534,15 @@ class _Model:
                   + aux["tc"] * (dy[:, self.E] - dy[:, self.H]))
         g[:, PEAK] = np.where(~locked, dpower, np.inf)
         return g
+
+    def may_dip(self, g0, g1, d0, d1, M):
+        """Rows where the LOCK or PARK function is positive at both ends of a step but its slope turns
+        from falling to rising inside it (a dip below zero could hide there)."""
+        out = np.zeros(g0.shape[0], bool)
+        for kind, s0, s1 in ((LOCK, M[2] * (d0[:, self.E] - d0[:, self.H]), M[2] * (d1[:, self.E] - d1[:, self.H])),
+                             (PARK, d0[:, self.R], d1[:, self.R])):
+            out |= (g0[:, kind] > 0) & (g1[:, kind] > 0) & np.isfinite(g0[:, kind]) & (s0 < 0) & (s1 > 0)
+        return out
 
     def extrema(self, g0, g1, d0, d1, h, M):
         """Interior extrema θ in (0, 1) of the cubic Hermite interpolants of the LOCK and PARK event
@@ -745,14 +755,22 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
             d0 = dA[acc]
             g0 = gA[acc]
             tau_hi = np.where((g0 > 0) & (g_right <= 0), ha[:, None], np.inf)
-            for th in [np.full(acc.size, 0.5)] + model.extrema(g0, g_right, d0, d1, ha, Ma):
+            samples = [(np.arange(acc.size), np.full(acc.size, 0.5))]
+            dip = model.may_dip(g0, g_right, d0, d1, Ma)
+            if dip.any():
+                r = np.flatnonzero(dip)
+                samples += [(r, th) for th in model.extrema(g0[r], g_right[r], d0[r], d1[r], ha[r],
+                                                            tuple(m[r] for m in Ma))]
+            for r, th in samples:
                 th = th[:, None]
-                ym = ((2 * th**3 - 3 * th**2 + 1) * y0 + (th**3 - 2 * th**2 + th) * ha[:, None] * d0
-                      + (-2 * th**3 + 3 * th**2) * y1 + (th**3 - th**2) * ha[:, None] * d1)
-                tm_ = ta + th[:, 0] * ha
-                dm, auxm = model.forces(tm_, ym, Pa, Ma)
-                gm = model.events(tm_, ym, Pa, Ma, dm, auxm)
-                tau_hi = np.where((g0 > 0) & (gm <= 0), np.minimum(tau_hi, th * ha[:, None]), tau_hi)
+                hr = ha[r][:, None]
+                ym = ((2 * th**3 - 3 * th**2 + 1) * y0[r] + (th**3 - 2 * th**2 + th) * hr * d0[r]
+                      + (-2 * th**3 + 3 * th**2) * y1[r] + (th**3 - th**2) * hr * d1[r])
+                tm_ = ta[r] + th[:, 0] * ha[r]
+                Pr, Mr = (Pa, Ma) if r.size == acc.size else (_sub(Pa, r), tuple(m[r] for m in Ma))
+                dm, auxm = model.forces(tm_, ym, Pr, Mr)
+                gm = model.events(tm_, ym, Pr, Mr, dm, auxm)
+                tau_hi[r] = np.where((g0[r] > 0) & (gm <= 0), np.minimum(tau_hi[r], th * hr), tau_hi[r])
             any_f = np.isfinite(tau_hi).any(axis=1)
             adv = ~any_f
             if np.any(any_f):
@@ -874,7 +892,7 @@ def _handle_events(model, ev, tau_hi, tA, yA, gA, dA, PA, MA, res, idx, record, 
             hi[r], g_hi[r] = np.where(pos, hi[r], tau), np.where(pos, np.where(stale_hi, 0.5 * g_hi[r], g_hi[r]), g_tau)
             y_hi[r] = np.where(pos[:, None], y_hi[r], y_tau)
             side[r] = np.where(pos, 1.0, -1.0)
-            live[r] = ~((hi[r] - lo[r] <= 4 * eps * (tk[r] + hi[r])) | (g_hi[r] == 0))
+            live[r] = ~((hi[r] - lo[r] <= EVENT_TIME_TOL + 4 * eps * (tk[r] + hi[r])) | (g_hi[r] == 0))
             if not live.any():
                 break
         better = hi < best_tau[rows]
