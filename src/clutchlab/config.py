@@ -64,6 +64,8 @@ def validate_schema(cfg: dict) -> None:
 
 
 def _quantity(value, param, key) -> float:
+    if param.allow_infinite and (value == float("inf") or str(value).strip().lower() in ("inf", ".inf")):
+        return float("inf")
     try:
         v = to_si(value, param.units)
     except UnitError as exc:

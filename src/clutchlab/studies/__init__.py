@@ -27,6 +27,7 @@ class Parameter:
     minimum_inclusive: bool = False
     maximum: float | None = None
     maximum_inclusive: bool = True
+    allow_infinite: bool = False  # e.g. engine inertia (inf = held engine), Stribeck speed (inf = constant mu)
 
     def check(self, value: float) -> str | None:
         """Return why ``value`` is non-physical, or None if it is acceptable."""
@@ -97,4 +98,4 @@ def get(name: str) -> Study:
 
 
 def _load_all() -> None:
-    from . import diaphragm_spring  # noqa: F401  (registers itself)
+    from . import diaphragm_spring, engagement  # noqa: F401  (register themselves)

@@ -1,0 +1,91 @@
+"""Figures of the engagement study: efficiency-smoothness trade-off and maps."""
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from .. import status as st
+from .common import A4_LANDSCAPE
+
+SEED = {"sheet_thickness": 2.334e-3, "ramp_time": 0.15, "friction_coefficient": 0.4, "driven_inertia": 0.021,
+        "load_torque": 44.0}
+
+
+def _flat(ds, name):
+    return ds[name].values.ravel()
+
+
+def pareto_front(x, y):
+    """Indices of the points not dominated in (minimise x, minimise y), sorted by x."""
+    order = np.lexsort((y, x))
+    front, best = [], np.inf
+    for i in order:
+        if y[i] < best:
+            front.append(i)
+            best = y[i]
+    return np.array(front, dtype=int)
+
+
+def tradeoff(ds):
+    ok = (_flat(ds, "status") == st.CODE["ok"]) & np.isfinite(_flat(ds, "peak_jerk"))
+    w, j, t = _flat(ds, "slip_work")[ok], _flat(ds, "peak_jerk")[ok], _flat(ds, "lockup_time")[ok]
+    fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
+    sc = ax.scatter(w / 1e3, j, c=t * 1e3, cmap="viridis", s=28, edgecolor="k", linewidth=0.3)
+    fig.colorbar(sc, ax=ax, label="lock-up time [ms]")
+    if ok.sum() > 1:
+        f = pareto_front(w, j)
+        ax.plot(w[f] / 1e3, j[f], "r-", lw=1.5, label="Pareto front (less slip work, less jerk)")
+    dims = [d for d in SEED if d in ds.dims]
+    if dims and "run" not in ds.dims:
+        seed = ds.sel({d: SEED[d] for d in dims}, method="nearest")
+        if seed["status"].ndim == 0 and int(seed["status"]) == st.CODE["ok"]:
+            ax.plot(float(seed["slip_work"]) / 1e3, float(seed["peak_jerk"]), "*", ms=18, mfc="orange", mec="k",
+                    label="seed 000 design (nearest grid point)")
+    ax.set_yscale("log")
+    ax.set_xlabel("slip work [kJ]  (efficiency: lower is better)")
+    ax.set_ylabel("peak output jerk [rad/s³]  (smoothness: lower is better)")
+    ax.set_title("Efficiency-smoothness trade-off of the engagement (%d locked scenarios, %d not locked)\nmodel: %s"
+                 % (ok.sum(), (~ok).sum(), ds.attrs.get("model_used", ds.attrs.get("model", ""))))
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(loc="upper right")
+    return fig
+
+
+def maps(ds):
+    """Slip work and lock-up time over (ramp time, clamp force) at the other factors' seed values."""
+    fig, axes = plt.subplots(1, 2, figsize=A4_LANDSCAPE, gridspec_kw={"wspace": 0.45})
+    if "run" in ds.dims or not {"ramp_time", "sheet_thickness"} <= set(ds.dims):
+        for ax, name in zip(axes, ("slip_work", "lockup_time")):
+            sc = ax.scatter(_flat(ds, "ramp_time") if "ramp_time" in ds.coords else np.zeros(ds[name].size),
+                            _flat(ds, "clamp_load"), c=_flat(ds, name), s=10)
+            fig.colorbar(sc, ax=ax, label=f"{name} [{ds[name].attrs['units']}]")
+            ax.set_xlabel("ramp time [s]")
+            ax.set_ylabel("clamp force [N]")
+        return fig
+    others = {d: SEED[d] for d in SEED if d in ds.dims and d not in ("ramp_time", "sheet_thickness")}
+    sub = ds.sel(others, method="nearest") if others else ds
+    extra = [d for d in sub.dims if d not in ("ramp_time", "sheet_thickness")]
+    if extra:
+        sub = sub.isel({d: 0 for d in extra})
+    sub = sub.transpose("sheet_thickness", "ramp_time")
+    force = sub["clamp_load"].values[:, 0]
+    order = np.argsort(force)
+    x = sub["ramp_time"].values * 1e3
+    for ax, name, scale, unit in ((axes[0], "slip_work", 1e-3, "kJ"), (axes[1], "lockup_time", 1e3, "ms")):
+        z = sub[name].values[order] * scale
+        m = ax.pcolormesh(x, force[order], z, shading="nearest", cmap="magma_r")
+        fig.colorbar(m, ax=ax, label=f"{name.replace('_', ' ')} [{unit}]")
+        bad = ~np.isfinite(z)
+        if bad.any():
+            xx, yy = np.meshgrid(x, force[order])
+            ax.plot(xx[bad], yy[bad], "kx", label="never locks")
+            ax.legend(fontsize=8)
+        ax.set_xlabel("ramp (engagement) time [ms]")
+        ax.set_ylabel("clamp force from the spring design [N]")
+    fixed = ", ".join(f"{d} = {float(sub[d]):.3g}" for d in others)
+    fig.suptitle("Slip work and lock-up time over ramp time and clamp force" + (f"\n({fixed})" if fixed else ""))
+    return fig
+
+
+def figures(ds):
+    return [("tradeoff", tradeoff(ds)), ("maps", maps(ds))]

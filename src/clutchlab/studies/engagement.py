@@ -1,0 +1,128 @@
+"""Study "engagement": spring design -> clamp force -> capacity -> engagement (seed 000).
+
+The diaphragm spring's clamp load at its operating point (eq. 10) and the friction capacity
+(eqs. 13-14 corrected) set the peak clutch torque; the clamp force rises to it along a profile
+over the ramp (engagement) time; the two-inertia engagement (eqs. 1-2) then gives lock-up time,
+slip work (eq. 11) and, with the compliant driveline (damper springs between plate hub and
+output), the output jerk (eq. 12).
+
+Model choice (recorded in the ``model`` attribute of the result): option ``driveline``
+``compliant`` (default: needed for the output jerk of the efficiency-smoothness trade-off) or
+``rigid``; a rigid driveline with constant μ, no rotor drag and a held engine uses the closed
+form, anything else the batched event-driven solver.
+"""
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from .. import diaphragm, engagement, friction
+from .. import status as st
+from . import Parameter, Study, flat_inputs, register
+from .diaphragm_spring import PARAMETERS as SPRING_PARAMETERS
+
+PARAMETERS = SPRING_PARAMETERS + (
+    Parameter("ramp_time", "s", "clamp force rise (engagement) time", 0.15, minimum_inclusive=True),
+    Parameter("engine_speed", "rad/s", "engine speed at the start of engagement", 570.0),
+    Parameter("engine_inertia", "kg m^2", "engine-side inertia (inf: engine held at its speed)", np.inf,
+              allow_infinite=True),
+    Parameter("engine_torque", "N m", "engine torque (free engine)", 156.0, minimum=None),
+    Parameter("driven_inertia", "kg m^2", "driven-side inertia (plate hub + output)", 0.021),
+    Parameter("load_torque", "N m", "load torque (static while the output is at rest)", 44.0,
+              minimum_inclusive=True),
+    Parameter("aero_coefficient", "N m s^2", "rotor drag coefficient k in k*omega^2", 0.0, minimum_inclusive=True),
+    Parameter("static_ratio", "1", "static over kinetic friction coefficient", 1.0, minimum=1.0,
+              minimum_inclusive=True),
+    Parameter("stribeck_speed", "rad/s", "Stribeck slip speed v_s (inf: constant kinetic mu)", np.inf,
+              allow_infinite=True),
+    Parameter("hub_fraction", "1", "share of the driven inertia on the plate hub (compliant driveline)", 0.5,
+              maximum=1.0, maximum_inclusive=False),
+    Parameter("damper_stiffness", "N m/rad", "damper angular stiffness C_a between hub and output", 4498.0),
+    Parameter("damping_ratio", "1", "damping ratio of the hub-output mode", 0.05, minimum_inclusive=True),
+    Parameter("end_time", "s", "end of the simulated window", 0.5),
+)
+
+OPTIONS = {"driveline": ("compliant", "rigid"), "profile": engagement.PROFILES,
+           "capacity_formula": ("corrected", "eq14_as_printed")}
+
+OUTPUTS = {
+    "clamp_load": ("N", "clamp load at the spring operating point B (eq. 10)"),
+    "peak_capacity": ("N m", "kinetic torque capacity at full clamp"),
+    "lockup_time": ("s", "lock-up time (last transition to stuck)"),
+    "lockup_speed": ("rad/s", "driven (hub) speed at lock-up"),
+    "slip_work": ("J", "slip (friction) work, eq. 11"),
+    "peak_slip_power": ("W", "peak slip power"),
+    "peak_friction_torque": ("N m", "peak transmitted clutch torque"),
+    "clamp_force_at_lockup": ("N", "clamp force at lock-up"),
+    "accel_jump": ("rad/s^2", "driven (rigid) or hub (compliant) acceleration jump at lock-up"),
+    "peak_jerk": ("rad/s^3", "peak output jerk (compliant: from the model equations; rigid: slip phase only)"),
+    "energy_residual": ("1", "input work - kinetic/elastic energy change - slip, load, damping work, relative"),
+}
+
+
+def compute(inputs, options=None) -> xr.Dataset:
+    options = {k: v[0] for k, v in OPTIONS.items()} | (options or {})
+    p = flat_inputs(inputs)
+    h, R = p["sheet_thickness"], p["outer_radius"]
+    r = R / p["radius_ratio"]
+    pts = diaphragm.characteristic_points(
+        youngs_modulus=p["youngs_modulus"], poisson_ratio=p["poisson_ratio"], sheet_thickness=h,
+        cone_height=p["cone_height_ratio"] * h, outer_radius=R, inner_radius=r,
+        load_radius_outer=R - p["load_radius_outer_offset"], load_radius_inner=r + p["load_radius_inner_offset"],
+        operating_point_factor=p["operating_point_factor"])
+    force = pts["load_B"]
+    if options["capacity_formula"] == "eq14_as_printed":
+        cap = friction.torque_capacity_eq14_as_printed(force, p["friction_coefficient"], p["stack_mass"],
+                                                       p["lining_outer_radius"], p["lining_inner_radius"])
+    else:
+        cap = friction.torque_capacity(force, p["friction_coefficient"], p["lining_outer_radius"],
+                                       p["lining_inner_radius"], faces=p["friction_faces"], stack_mass=p["stack_mass"])
+    spring_bad = pts["status"] == st.CODE["invalid_geometry"]
+    cap = np.where(spring_bad | ~np.isfinite(cap), 0.0, cap)
+    common = dict(engine_speed=p["engine_speed"], engine_inertia=p["engine_inertia"],
+                  engine_torque=p["engine_torque"], driven_inertia=p["driven_inertia"], load_torque=p["load_torque"],
+                  peak_capacity=cap, ramp_time=p["ramp_time"], profile=options["profile"],
+                  static_ratio=p["static_ratio"], t_end=p["end_time"])
+    rigid = options["driveline"] == "rigid"
+    closed = (rigid and np.all(~np.isfinite(p["engine_inertia"])) and np.all(p["aero_coefficient"] == 0)
+              and np.all(~np.isfinite(p["stribeck_speed"])))
+    if closed:
+        res = engagement.closed_form(**common)
+        res["peak_jerk"] = res.pop("slip_jerk")
+        model = "rigid two-inertia, closed form"
+    else:
+        res = engagement.simulate(**common, stribeck_speed=p["stribeck_speed"], aero_coefficient=p["aero_coefficient"],
+                                  compliant=not rigid, hub_fraction=p["hub_fraction"],
+                                  damper_stiffness=p["damper_stiffness"], damping_ratio=p["damping_ratio"],
+                                  max_step=np.min(p["end_time"]) / 500)
+        model = ("compliant driveline (damper springs), batched DOPRI5 with exact events" if not rigid
+                 else "rigid two-inertia, batched DOPRI5 with exact events")
+    with np.errstate(invalid="ignore", divide="ignore"):
+        res["clamp_force_at_lockup"] = np.where(cap > 0, res["capacity_at_lockup"] / cap * force, np.nan)
+    res["clamp_load"], res["peak_capacity"] = force, cap
+    code = np.where(spring_bad, st.CODE["invalid_geometry"], res["status"]).astype(st.DTYPE)
+    data = {k: ("run", np.where(spring_bad, np.nan, res[k]), {"units": u, "long_name": ln}) for k, (u, ln) in OUTPUTS.items()}
+    data["status"] = ("run", code, st.attrs("invalid_geometry: spring load points off the spring; "
+                                            "never_locked: slipping at end_time; not_converged: step limit"))
+    ds = xr.Dataset(data)
+    ds.attrs["model_used"] = model
+    return ds
+
+
+def _figures(ds):
+    from ..report import engagement_figures
+
+    return engagement_figures.figures(ds)
+
+
+STUDY = register(Study(
+    name="engagement",
+    output="diaphragm/engagement.h5",
+    description="Diaphragm-spring clutch engagement: lock-up, slip work, jerk (seed 000)",
+    parameters=PARAMETERS,
+    compute=compute,
+    model="chosen by options (see model_used): closed form, or batched DOPRI5 with exact stick-slip events",
+    figures=_figures,
+    figure_stems=("tradeoff", "maps"),
+    options=OPTIONS,
+))
