@@ -191,11 +191,11 @@ def _closed_form_flat(flat, profile):
     t_p = np.where(starts_parked, 0.0, np.inf)
     if np.any(parks_later):
         # ω_c = wc0 + (Ic(t) − T_m t)/J_v is decreasing on [0, t_m]: root by bisection + Newton
-        def w_moving(t):
+        def w_moving(t):  # driven speed and its rate before parking
             c, ic = cap_icap(t)
-            return c, wc0 + inv_jv * (ic - tm * t)
+            return wc0 + inv_jv * (ic - tm * t), (c - tm) * inv_jv
 
-        t_p = np.where(parks_later, _root_monotone(w_moving, np.zeros_like(t_m), t_m, parks_later, inv_jv, tm), t_p)
+        t_p = np.where(parks_later, _newton_bracketed(w_moving, np.zeros_like(t_m), t_m, 0.5 * t_m, parks_later), t_p)
     parked_phase = starts_parked | parks_later
     t0 = np.where(parked_phase, t_m, 0.0)
     moves = moves | ~parked_phase
@@ -230,7 +230,11 @@ def _closed_form_flat(flat, profile):
         t_top = np.where(qa >= 1.0, ramp_end, np.maximum(t0, trs * _invert_profile(np.clip(qa, 0, 1), profile)))
         lo = np.where(root_on_ramp, np.minimum(t_top, ramp_end), 0.0)
         hi = np.where(root_on_ramp, ramp_end, 1.0)
-        t_lock = np.where(root_on_ramp, _root_decreasing(state, lo, hi, root_on_ramp, a_coef, b_coef), t_lock)
+        def slip_rate(t):
+            c, dw, _, _ = state(t)
+            return dw, a_coef - b_coef * c
+
+        t_lock = np.where(root_on_ramp, _newton_bracketed(slip_rate, lo, hi, hi.copy(), root_on_ramp), t_lock)
     rate = b_coef * cmax - a_coef  # −Δω' after the ramp
     after = moves & ~root_on_ramp & (rate > 0)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -343,35 +347,18 @@ def _peak_rate(a, b, c_max, t_r, kind):
     return np.where((t_r > 0) & (xb > xa), c_max * cand / tr, np.where(t_r > 0, 0.0, np.inf))
 
 
-def _root_monotone(fun, lo, hi, mask, inv_jv, tm):
-    """Root of the decreasing driven speed fun(t) on [lo, hi]: Newton safeguarded by bisection."""
-    x = 0.5 * (lo + hi)
+def _newton_bracketed(fun, lo, hi, x, mask):
+    """Root of fun on [lo, hi] where fun(lo) > 0 ≥ fun(hi): Newton safeguarded by bisection.
+
+    ``fun(x)`` returns (value, derivative); vectorised, to round-off.
+    """
     lo, hi = lo.copy(), hi.copy()
     for _ in range(100):
-        c, f = fun(x)
+        f, d = fun(x)
         lo = np.where(f > 0, x, lo)
         hi = np.where(f <= 0, x, hi)
         with np.errstate(divide="ignore", invalid="ignore"):
-            xn = x - f / ((c - tm) * inv_jv)
-        bad = ~((xn >= lo) & (xn <= hi)) | ~np.isfinite(xn)
-        xn = np.where(bad, 0.5 * (lo + hi), xn)
-        done = (np.abs(xn - x) <= 2e-16 * np.abs(x)) | (hi - lo <= 4e-16 * np.abs(hi)) | ~mask
-        x = xn
-        if np.all(done):
-            break
-    return x
-
-
-def _root_decreasing(state, lo, hi, mask, a_coef, b_coef):
-    """Root of Δω(t), decreasing on [lo, hi] (Δω(lo) ≥ 0 ≥ Δω(hi)): Newton safeguarded by bisection."""
-    x = hi.copy()
-    lo, hi = lo.copy(), hi.copy()
-    for _ in range(100):
-        c, f, _, _ = state(x)
-        lo = np.where(f > 0, x, lo)
-        hi = np.where(f <= 0, x, hi)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            xn = x - f / (a_coef - b_coef * c)
+            xn = x - f / d
         bad = ~((xn >= lo) & (xn <= hi)) | ~np.isfinite(xn)
         xn = np.where(bad, 0.5 * (lo + hi), xn)
         done = (np.abs(xn - x) <= 2e-16 * np.abs(x)) | (hi - lo <= 4e-16 * np.abs(hi)) | ~mask

@@ -51,21 +51,23 @@ def _attrs(long_name, units, **extra):
     return {"long_name": long_name, "units": units, **extra}
 
 
+def spring_geometry(p) -> dict:
+    """Almen-Laszlo arguments from the study parameters (h, H/h, R, R/r and load-point offsets)."""
+    h, R = p["sheet_thickness"], p["outer_radius"]
+    r = R / p["radius_ratio"]
+    return dict(youngs_modulus=p["youngs_modulus"], poisson_ratio=p["poisson_ratio"], sheet_thickness=h,
+                cone_height=p["cone_height_ratio"] * h, outer_radius=R, inner_radius=r,
+                load_radius_outer=R - p["load_radius_outer_offset"],
+                load_radius_inner=r + p["load_radius_inner_offset"])
+
+
 def compute(inputs, options=None) -> xr.Dataset:
     """Compute the statics of a chunk of scenarios (see module docstring)."""
     options = options or {}
     assumption = options.get("friction_radius", "uniform_pressure")
     p = flat_inputs(inputs)
-
-    h = p["sheet_thickness"]
-    R = p["outer_radius"]
-    r = R / p["radius_ratio"]
-    spring = dict(
-        youngs_modulus=p["youngs_modulus"], poisson_ratio=p["poisson_ratio"], sheet_thickness=h,
-        cone_height=p["cone_height_ratio"] * h, outer_radius=R, inner_radius=r,
-        load_radius_outer=R - p["load_radius_outer_offset"],
-        load_radius_inner=r + p["load_radius_inner_offset"],
-    )
+    spring = spring_geometry(p)
+    r = spring["inner_radius"]
     pts = diaphragm.characteristic_points(**spring, operating_point_factor=p["operating_point_factor"])
     code = pts["status"]
     capacity = friction.torque_capacity(

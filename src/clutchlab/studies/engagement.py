@@ -20,6 +20,7 @@ from .. import diaphragm, engagement, friction
 from .. import status as st
 from . import Parameter, Study, flat_inputs, register
 from .diaphragm_spring import PARAMETERS as SPRING_PARAMETERS
+from .diaphragm_spring import spring_geometry
 
 PARAMETERS = SPRING_PARAMETERS + (
     Parameter("ramp_time", "s", "clamp force rise (engagement) time", 0.15, minimum_inclusive=True),
@@ -63,13 +64,7 @@ OUTPUTS = {
 def compute(inputs, options=None) -> xr.Dataset:
     options = {k: v[0] for k, v in OPTIONS.items()} | (options or {})
     p = flat_inputs(inputs)
-    h, R = p["sheet_thickness"], p["outer_radius"]
-    r = R / p["radius_ratio"]
-    pts = diaphragm.characteristic_points(
-        youngs_modulus=p["youngs_modulus"], poisson_ratio=p["poisson_ratio"], sheet_thickness=h,
-        cone_height=p["cone_height_ratio"] * h, outer_radius=R, inner_radius=r,
-        load_radius_outer=R - p["load_radius_outer_offset"], load_radius_inner=r + p["load_radius_inner_offset"],
-        operating_point_factor=p["operating_point_factor"])
+    pts = diaphragm.characteristic_points(**spring_geometry(p), operating_point_factor=p["operating_point_factor"])
     force = pts["load_B"]
     if options["capacity_formula"] == "eq14_as_printed":
         cap = friction.torque_capacity_eq14_as_printed(force, p["friction_coefficient"], p["stack_mass"],
