@@ -448,22 +448,18 @@ class _Model:
         slip = we - wh
         f = self.friction_factor(np.abs(slip), P)
         dy = np.zeros_like(y)
+        # torque resisting the hub: damper spring (compliant) or the load itself (rigid)
         if self.compliant:
             ts = P["k"] * y[:, self.TH] + P["c"] * (wh - wr)
-            jh = P["jh"]
-            drive_out = ts
+            jh, hub_side = P["jh"], ts
         else:
-            ts = None
-            jh = P["jv"]
-        out_load = tm
-        # slipping clutch
+            ts, jh, hub_side = None, P["jv"], tm
+        # slipping clutch (a rigid driven side parked by the static load does not move)
         tc_slip = s * f * C
-        if self.compliant:
-            ah_slip = (tc_slip - ts) / jh
-        else:
-            ah_slip = np.where(parked, 0.0, (tc_slip - tm) / jh)
+        ah_slip = (tc_slip - hub_side) / jh
+        if not self.compliant:
+            ah_slip = np.where(parked, 0.0, ah_slip)
         # locked clutch: engine and hub (rigid: whole driven side) move together
-        hub_side = ts if self.compliant else tm
         with np.errstate(invalid="ignore", divide="ignore"):
             a_lock = np.where(held, 0.0, (te - hub_side) * P["inv_je"] / (1.0 + jh * P["inv_je"]))
         t_need = hub_side + jh * a_lock
@@ -473,14 +469,14 @@ class _Model:
         dy[:, self.E] = ae
         dy[:, self.H] = ah
         if self.compliant:
-            ar = np.where(parked, 0.0, (drive_out - out_load) / P["jr"])
+            ar = np.where(parked, 0.0, (ts - tm) / P["jr"])
             dy[:, self.R] = ar
             dy[:, self.TH] = wh - wr
             dy[:, self.WD] = P["c"] * (wh - wr) ** 2
         else:
             ar = ah
         dy[:, self.WS] = np.where(locked, 0.0, tc_slip * slip)
-        dy[:, self.WL] = np.where(parked, 0.0, out_load * wr)
+        dy[:, self.WL] = np.where(parked, 0.0, tm * wr)
         dy[:, self.WI] = np.where(held, tc * we, te * we)
         return dy, {"C": C, "tc": tc, "tm": tm, "ts": ts, "t_need": t_need, "slip": slip, "f": f, "ar": ar,
                     "ah": ah, "ae": ae}
@@ -673,7 +669,7 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
     parked &= model.load_static(np.zeros(n), P) > (aux["ts"] if compliant else aux["f"] * C0)
     zero_slip = P["we0"] == P["wc0"]
     if np.any(zero_slip):
-        Mt = (np.ones(n, bool), parked & False, s)
+        Mt = (np.ones(n, bool), np.zeros(n, bool), s)
         _, aux_l = model.forces(np.zeros(n), y, P, Mt)
         stick = zero_slip & (np.abs(aux_l["t_need"]) <= P["rs"] * C0)
         locked |= stick
@@ -691,7 +687,7 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
     res = {k: np.full(n, np.nan) for k in ("lockup_time", "breakaway_time", "capacity_at_lockup",
                                            "accel_jump", "lockup_speed")}
     peaks = {k: np.zeros(n) for k in ("peak_slip_power", "peak_friction_torque", "peak_jerk")}
-    res_events = {**res, "peak_slip_power": peaks["peak_slip_power"]}
+    res_events = {**res, "peak_slip_power": peaks["peak_slip_power"]}  # same arrays, for the event handler
     if np.any(zero_slip):
         res["lockup_time"][initially_stuck] = 0.0
         res["lockup_speed"][initially_stuck] = P["wc0"][initially_stuck]
@@ -802,7 +798,6 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
             PA = _sub(PA, keep)
             MA = tuple(m[keep] for m in MA)
 
-    res = {k: res_events[k] for k in res}
     locked, parked, s = M
     code[(code == st.CODE["ok"]) & ~locked] = st.CODE["never_locked"]
     res["lockup_time"] = np.where(locked, res["lockup_time"], np.nan)

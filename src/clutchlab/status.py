@@ -34,7 +34,3 @@ def attrs(description: str = "") -> dict:
         out["comment"] = description
     return out
 
-
-def meaning(code) -> np.ndarray:
-    """Vectorised code -> meaning string."""
-    return np.vectorize(lambda c: FLAGS.get(int(c), "unknown"), otypes=[object])(code)
