@@ -9,7 +9,7 @@ output), the output jerk (eq. 12).
 Model choice (recorded in the ``model`` attribute of the result): option ``driveline``
 ``compliant`` (default: needed for the output jerk of the efficiency-smoothness trade-off) or
 ``rigid``; a rigid driveline with constant μ, no rotor drag and a held engine uses the closed
-form, anything else the batched event-driven solver.
+form, anything else the event-driven DOPRI5 solver.
 """
 from __future__ import annotations
 
@@ -90,8 +90,8 @@ def compute(inputs, options=None) -> xr.Dataset:
                                   compliant=not rigid, hub_fraction=p["hub_fraction"],
                                   damper_stiffness=p["damper_stiffness"], damping_ratio=p["damping_ratio"],
                                   max_step=np.min(p["end_time"]) / 500)
-        model = ("compliant driveline (damper springs), batched DOPRI5 with exact events" if not rigid
-                 else "rigid two-inertia, batched DOPRI5 with exact events")
+        model = ("compliant driveline (damper springs), DOPRI5 with exact events" if not rigid
+                 else "rigid two-inertia, DOPRI5 with exact events")
     with np.errstate(invalid="ignore", divide="ignore"):
         res["clamp_force_at_lockup"] = np.where(cap > 0, res["capacity_at_lockup"] / cap * force, np.nan)
     res["clamp_load"], res["peak_capacity"] = force, cap
@@ -116,7 +116,7 @@ STUDY = register(Study(
     description="Diaphragm-spring clutch engagement: lock-up, slip work, jerk (seed 000)",
     parameters=PARAMETERS,
     compute=compute,
-    model="chosen by options (see model_used): closed form, or batched DOPRI5 with exact stick-slip events",
+    model="chosen by options (see model_used): closed form, or DOPRI5 with exact stick-slip events",
     figures=_figures,
     figure_stems=("tradeoff", "maps"),
     options=OPTIONS,
