@@ -7,6 +7,7 @@ import time
 from pathlib import Path
 
 import pytest
+import numpy as np
 import xarray as xr
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -38,7 +39,9 @@ def small_run(tmp_path_factory):
 
 def test_outputs_exist_and_open(small_run):
     for f in ("results/diaphragm/spring.h5", "results/report/report.pdf", "results/report/validation.csv",
-              "results/report/diaphragm_spring_load_curves.png", "results/report/diaphragm_spring_reserve_map.png"):
+              "results/report/diaphragm_spring_load_curves.png", "results/report/diaphragm_spring_reserve_map.png",
+              "results/centrifugal/centrifugal.h5", "results/report/centrifugal_capacity_curves.png",
+              "results/report/centrifugal_release_map.png", "results/report/centrifugal_traces.png"):
         assert (small_run / f).stat().st_size > 0, f
     with xr.open_dataset(small_run / "results/diaphragm/spring.h5", engine="h5netcdf") as ds:
         for name, var in {**ds.coords, **ds.data_vars}.items():
@@ -48,6 +51,12 @@ def test_outputs_exist_and_open(small_run):
         seed = ds.sel(sheet_thickness=2.334e-3, cone_height_ratio=1.5, radius_ratio=1.294,
                       operating_point_factor=0.9, method="nearest")
         assert 2300 < float(seed["clamp_load"]) < 2700
+    with xr.open_dataset(small_run / "results/centrifugal/centrifugal.h5", engine="h5netcdf") as ds:
+        for name, var in {**ds.coords, **ds.data_vars}.items():
+            assert var.attrs.get("units") is not None and var.attrs.get("long_name"), name
+        seed = ds.sel(pressure_angle=np.deg2rad(38.84), friction_coefficient=0.4046, method="nearest")
+        assert abs(float(seed["capacity_forward"]) - 127.84) < 0.2  # seed 001 section 2.3
+        assert (ds["status"].sel(pressure_angle=np.deg2rad(65)).values[-2:] == 5).all()  # f tan(alpha) >= 1: jammed
     assert "yes" in (small_run / "results/report/validation.csv").read_text()
 
 

@@ -17,6 +17,7 @@ FLAGS = {
     5: "jammed",
     6: "not_converged",
     7: "above_allowable",
+    8: "not_engaged",
 }
 CODE = {meaning: code for code, meaning in FLAGS.items()}
 DTYPE = np.int8

@@ -29,6 +29,9 @@ class Row:
 
     @property
     def rel_error(self) -> float:
+        """Relative error; absolute where the published value is 0 (e.g. "capacity at idle")."""
+        if self.published == 0:
+            return abs(self.computed)
         return abs(self.computed - self.published) / abs(self.published)
 
     @property

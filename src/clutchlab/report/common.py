@@ -54,10 +54,13 @@ def validation_table(validations):
                 "yes" if int(v["passed"].values[i]) else "NO",
                 textwrap.fill(str(v["note"].values[i]), 54),
             ])
-    fig = plt.figure(figsize=A4_LANDSCAPE)
-    ax = fig.add_axes([0.01, 0.02, 0.98, 0.9])
+    n_lines = sum(max(c.count("\n") + 1 for c in r) for r in rows) + 1
+    # the page grows with the table (one page for every row, however many seeds report)
+    height = max(A4_LANDSCAPE[1], 0.95 + 0.16 * n_lines + 0.09 * len(rows))
+    fig = plt.figure(figsize=(A4_LANDSCAPE[0], height))
+    ax = fig.add_axes([0.01, 0.02, 0.98, 1.0 - 0.9 / height])
     ax.axis("off")
-    fig.text(0.02, 0.95, "Validation against the seed papers", fontsize=14, weight="bold")
+    fig.text(0.02, 1.0 - 0.45 / height, "Validation against the seed papers", fontsize=14, weight="bold")
     cols = ["seed", "quantity", "source", "published", "computed", "units", "rel. error", "tol.", "pass", "note"]
     table = ax.table(cellText=rows, colLabels=cols, loc="upper center", cellLoc="left",
                      colWidths=[0.035, 0.2, 0.09, 0.065, 0.065, 0.06, 0.06, 0.04, 0.035, 0.25])
@@ -68,7 +71,7 @@ def validation_table(validations):
     for (r, c), cell in cells.items():
         lines[r] = max(lines.get(r, 1), cell.get_text().get_text().count("\n") + 1)
     for (r, c), cell in cells.items():
-        cell.set_height(0.022 * lines[r] + 0.01)
+        cell.set_height((0.022 * lines[r] + 0.01) * A4_LANDSCAPE[1] / height)
         if r > 0 and c == 8 and cell.get_text().get_text() == "NO":
             cell.set_facecolor("#f4c7c3")
     return fig

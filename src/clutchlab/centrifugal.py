@@ -1,0 +1,296 @@
+"""Centrifugal clutch with an overrunning linkage (seed 001 eqs. 1-2), and its release after an
+engine failure.
+
+z shoes of mass m at centroid radius r are held off a drum of radius R by springs (resultant
+F_s) and pulled onto it by the centrifugal force F_r = m·ω_e²·r (the paper prints ω²r without
+m: erratum). Each shoe is linked to the engine hub by a plate at pressure angle α. Per shoe,
+forward (engine drives, eq. 1): F_p + F_s − F_r − F_l·sinα = 0, F_t = F_l·cosα = f·F_p; reverse
+(the rotor back-drives a dead engine, eq. 2): the sign of F_l flips. Hence
+
+    M  = z·f·R·(F_r − F_s)/(1 − f·tanα)      (forward capacity)
+    M′ = z·f·R·(F_r − F_s)/(1 + f·tanα)      (reverse capacity)
+
+both zero below the engagement speed ω₀ = √(F_s/(m·r)). f·tanα ≥ 1 makes the forward linkage
+self-lock (jam): a design failure, flagged, never a number.
+
+Engine failure at rated speed (closed form): while the clutch holds, engine and rotor turn
+together, (J_e + J_r)·ω' = −T_p(ω) − k·ω² with the engine's passive (drag) torque
+T_p(ω) = p₀ + p₂·ω² and rotor drag k·ω². The torque the rotor must send back through the clutch
+to keep the dead engine turning with it is
+
+    T_need(ω) = (J_r·T_p(ω) − J_e·k·ω²)/(J_e + J_r)
+
+and the clutch lets go (release) at the first ω, going down from rated, where T_need ≥ M′(ω): a
+quadratic in ω, solved exactly. The time to get there is the exact integral
+t = (J_e + J_r)·∫ dω/(p₀ + (p₂ + k)·ω²). After release the engine slows under T_p − M′ and, as
+M′ falls with ω_e², the release reinforces itself; below ω₀ the shoes are off the drum.
+
+References
+----------
+.. [1] Sun R. (2017), seed 001, eqs. (1)-(2), Fig. 5 (capacity curves), Figs. 6-8 (speed traces).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import status as st
+
+__all__ = ["centrifugal_force", "engagement_speed", "capacity", "linkage_factor_from_targets",
+           "passive_torque", "needed_reverse_torque", "release_after_failure", "engine_failure_trace",
+           "startup_trace", "design_status"]
+
+
+def centrifugal_force(*, shoe_mass, shoe_radius, speed):
+    """F_r = m·ω²·r [N] per shoe (seed 001 text; the printed ω²r omits m)."""
+    return shoe_mass * np.square(speed) * shoe_radius
+
+
+def engagement_speed(*, shoe_mass, shoe_radius, spring_force):
+    """ω₀ = √(F_s/(m·r)) [rad/s], where the centrifugal force equals the spring resultant."""
+    return np.sqrt(spring_force / (shoe_mass * shoe_radius))
+
+
+def capacity(*, speed, shoes, friction_coefficient, pressure_angle, shoe_mass, shoe_radius, drum_radius,
+             spring_force):
+    """Forward and reverse torque capacity (seed 001 eqs. 1-2) [N m].
+
+    Parameters
+    ----------
+    speed : array_like
+        Engine (shoe carrier) speed ω_e [rad/s].
+    shoes : array_like
+        Number of shoes z [-].
+    friction_coefficient : array_like
+        f [-].
+    pressure_angle : array_like
+        Linkage pressure angle α [rad].
+    shoe_mass, shoe_radius, drum_radius, spring_force : array_like
+        m [kg], centroid radius r [m], drum radius R [m], spring resultant per shoe F_s [N].
+
+    Returns
+    -------
+    forward, reverse : numpy.ndarray
+        M and M′ [N m]; zero below the engagement speed; NaN where f·tanα ≥ 1 (jammed forward
+        linkage, see :func:`status`).
+    """
+    x = friction_coefficient * np.tan(pressure_angle)
+    excess = np.maximum(centrifugal_force(shoe_mass=shoe_mass, shoe_radius=shoe_radius, speed=speed)
+                        - spring_force, 0.0)
+    base = shoes * friction_coefficient * drum_radius * excess
+    with np.errstate(divide="ignore", invalid="ignore"):
+        forward = np.where(x < 1.0, base / (1.0 - x), np.nan)
+    return forward, base / (1.0 + x)
+
+
+def linkage_factor_from_targets(forward_torque, reverse_torque):
+    """f·tanα from the forward and reverse capacity targets M, M′ (eq. 1 over eq. 2):
+    M/M′ = (1 + f·tanα)/(1 − f·tanα) ⇒ f·tanα = (M − M′)/(M + M′) [-]."""
+    return (forward_torque - reverse_torque) / (forward_torque + reverse_torque)
+
+
+def passive_torque(speed, *, rated_passive_torque, rated_speed, static_fraction):
+    """Engine drag when back-driven, T_p(ω) = T_pr·[c₀ + (1 − c₀)(ω/ω_r)²] [N m].
+
+    The paper gives only T_pr = 65.5 N m at 5500 rpm (Fig. 5 curve not tabulated); the shape
+    (friction part c₀, pumping part ∝ ω²) is an assumption.
+    """
+    u = np.asarray(speed, dtype=float) / rated_speed
+    return rated_passive_torque * (static_fraction + (1.0 - static_fraction) * u * u)
+
+
+def needed_reverse_torque(speed, *, engine_inertia, rotor_inertia, rotor_drag, p0, p2):
+    """Torque the rotor must send back through a held clutch to carry the dead engine [N m]."""
+    w2 = np.square(speed)
+    return (rotor_inertia * (p0 + p2 * w2) - engine_inertia * rotor_drag * w2) / (engine_inertia + rotor_inertia)
+
+
+def release_after_failure(*, rated_speed, shoes, friction_coefficient, pressure_angle, shoe_mass, shoe_radius,
+                          drum_radius, spring_force, engine_inertia, rotor_inertia, rotor_load_torque,
+                          rated_passive_torque, static_fraction):
+    """Release speed and time after the engine dies at rated speed (closed form, exact).
+
+    Parameters
+    ----------
+    rated_speed : array_like
+        ω_r, speed at the failure [rad/s].
+    engine_inertia, rotor_inertia : array_like
+        J_e (engine, hub, shoes) and J_r (rotor and drivetrain, referred to the clutch) [kg m²].
+    rotor_load_torque : array_like
+        Rotor drag at rated speed [N m]; k = T_L/ω_r².
+    rated_passive_torque, static_fraction : array_like
+        Passive engine torque, see :func:`passive_torque`.
+    Other parameters as in :func:`capacity`.
+
+    Returns
+    -------
+    dict
+        ``release_speed`` [rad/s] (engine = rotor speed when the clutch lets go), ``release_time``
+        [s] after the failure (0: at once), ``released_at_once`` (bool).
+    """
+    k = rotor_load_torque / np.square(rated_speed)
+    p0 = rated_passive_torque * static_fraction
+    p2 = rated_passive_torque * (1.0 - static_fraction) / np.square(rated_speed)
+    j = engine_inertia + rotor_inertia
+    a_rev = shoes * friction_coefficient * drum_radius / (1.0 + friction_coefficient * np.tan(pressure_angle))
+    w0 = engagement_speed(shoe_mass=shoe_mass, shoe_radius=shoe_radius, spring_force=spring_force)
+    # g(ω) = T_need(ω) − M′(ω) = c2·ω² + c0 on ω ≥ ω₀ (release where g ≥ 0)
+    c2 = (rotor_inertia * p2 - engine_inertia * k) / j - a_rev * shoe_mass * shoe_radius
+    c0 = rotor_inertia * p0 / j + a_rev * spring_force
+    g_rated = c2 * np.square(rated_speed) + c0
+    at_once = g_rated >= 0.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        root = np.sqrt(-c0 / c2)  # c0 > 0: a root in (ω₀, ω_r) needs c2 < 0
+    w_rel = np.where(at_once, rated_speed, np.where((c2 < 0) & (root > w0), np.minimum(root, rated_speed), w0))
+    w_rel = np.minimum(w_rel, rated_speed)
+    t_rel = j * _inverse_quadratic_integral(p0, p2 + k, w_rel, rated_speed)
+    return {"release_speed": w_rel, "release_time": np.where(at_once, 0.0, t_rel), "released_at_once": at_once}
+
+
+def _inverse_quadratic_integral(a, c, lo, hi):
+    """∫_lo^hi dω/(a + c·ω²) for a ≥ 0, c > 0 (a = 0 allowed), exact."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.sqrt(a * c)
+        # atan difference as one atan (no cancellation when lo ≈ hi)
+        at = np.arctan2(np.sqrt(c / np.where(a > 0, a, 1.0)) * (hi - lo),
+                        1.0 + c / np.where(a > 0, a, 1.0) * lo * hi) / np.where(a > 0, s, 1.0)
+        pure = (hi - lo) / (c * lo * hi)
+    return np.where(a > 0, at, pure)
+
+
+def design_status(*, rated_speed, shoes, friction_coefficient, pressure_angle, shoe_mass, shoe_radius, drum_radius,
+           spring_force, rotor_load_torque):
+    """``jammed`` where f·tanα ≥ 1; ``not_engaged`` where the springs beat the centrifugal force at
+    rated speed or the forward capacity there is below the rotor load; else ``ok``."""
+    fwd, _ = capacity(speed=rated_speed, shoes=shoes, friction_coefficient=friction_coefficient,
+                      pressure_angle=pressure_angle, shoe_mass=shoe_mass, shoe_radius=shoe_radius,
+                      drum_radius=drum_radius, spring_force=spring_force)
+    weak = (centrifugal_force(shoe_mass=shoe_mass, shoe_radius=shoe_radius, speed=rated_speed) <= spring_force) | (
+        fwd < rotor_load_torque)
+    jam = friction_coefficient * np.tan(pressure_angle) >= 1.0
+    return np.where(jam, st.CODE["jammed"], np.where(weak, st.CODE["not_engaged"], st.CODE["ok"])).astype(st.DTYPE)
+
+
+def _params(p):
+    """Unpack a scenario dict (scalars) into what the traces need."""
+    k = p["rotor_load_torque"] / p["rated_speed"] ** 2
+    p0 = p["rated_passive_torque"] * p["static_fraction"]
+    p2 = p["rated_passive_torque"] * (1.0 - p["static_fraction"]) / p["rated_speed"] ** 2
+
+    def caps(we):
+        return capacity(speed=we, **{n: p[n] for n in ("shoes", "friction_coefficient", "pressure_angle", "shoe_mass",
+                                                       "shoe_radius", "drum_radius", "spring_force")})
+
+    return k, p0, p2, caps
+
+
+def engine_failure_trace(p, *, t_end=3.0, n=301, rtol=1e-10, atol=1e-10):
+    """Speeds after an engine failure at rated speed for one scenario (seed 001 Fig. 8).
+
+    Held phase (one inertia) until the release event T_need = M′, then engine and rotor apart:
+    J_e·ω_e' = −T_p(ω_e) + M′(ω_e), J_r·ω_r' = −k·ω_r² − M′(ω_e); the engine stops at 0.
+    Integrated with scipy's DOP853 with the release located as an event (a check of the closed
+    form :func:`release_after_failure`). ``p`` holds the scalar parameters of that function.
+
+    Returns
+    -------
+    dict
+        ``time`` [s], ``engine_speed``, ``rotor_speed`` [rad/s], ``clutch_torque`` [N m]
+        (positive forward), ``release_time`` [s], ``release_speed`` [rad/s].
+    """
+    from scipy.integrate import solve_ivp
+
+    k, p0, p2, caps = _params(p)
+    je, jr = p["engine_inertia"], p["rotor_inertia"]
+
+    def need_minus_cap(w):
+        return (needed_reverse_torque(w, engine_inertia=je, rotor_inertia=jr, rotor_drag=k, p0=p0, p2=p2)
+                - caps(w)[1])
+
+    times = np.linspace(0.0, t_end, n)
+    w_r = p["rated_speed"]
+    if need_minus_cap(w_r) >= 0:
+        t_rel, w_rel = 0.0, w_r
+    else:
+        ev = lambda t, y: need_minus_cap(y[0])  # noqa: E731
+        ev.terminal, ev.direction = True, 1
+        sol = solve_ivp(lambda t, y: [-(p0 + (p2 + k) * y[0] ** 2) / (je + jr)], (0.0, t_end), [w_r],
+                        method="DOP853", rtol=rtol, atol=atol, events=ev, dense_output=True)
+        t_rel = float(sol.t_events[0][0]) if sol.t_events[0].size else np.inf
+        w_rel = float(sol.y_events[0][0][0]) if sol.t_events[0].size else np.nan
+    we = np.full(n, np.nan)
+    wr = np.full(n, np.nan)
+    tc = np.full(n, np.nan)
+    held = times <= t_rel
+    if np.any(held) and t_rel > 0:
+        yy = sol.sol(times[held])[0]
+        we[held] = wr[held] = yy
+        tc[held] = -needed_reverse_torque(yy, engine_inertia=je, rotor_inertia=jr, rotor_drag=k, p0=p0, p2=p2)
+    if np.isfinite(t_rel):
+        def free(t, y):
+            e = max(y[0], 0.0)
+            m_rev = caps(e)[1]
+            de = (-(p0 + p2 * e * e) + m_rev) / je if y[0] > 0 else 0.0
+            return [de, (-k * y[1] ** 2 - m_rev) / jr]
+
+        stop = lambda t, y: y[0]  # noqa: E731
+        stop.terminal, stop.direction = True, -1
+        after = times[times > t_rel]
+        s2 = solve_ivp(free, (t_rel, t_end), [w_rel, w_rel], method="DOP853", rtol=rtol, atol=atol, events=stop,
+                       dense_output=True)
+        t_stop = s2.t[-1]
+        moving = after <= t_stop
+        yy = s2.sol(after[moving])
+        sel = np.flatnonzero(times > t_rel)
+        we[sel[moving]], wr[sel[moving]] = yy[0], yy[1]
+        if np.any(~moving):  # engine at rest: the rotor runs down free
+            w_stop = s2.sol(t_stop)[1]
+            tt = after[~moving] - t_stop
+            we[sel[~moving]] = 0.0
+            wr[sel[~moving]] = w_stop / (1.0 + k * w_stop * tt / jr)
+        tc[sel] = -caps(np.maximum(we[sel], 0.0))[1]
+    return {"time": times, "engine_speed": we, "rotor_speed": wr, "clutch_torque": tc, "release_time": t_rel,
+            "release_speed": w_rel}
+
+
+def startup_trace(p, *, idle_speed, startup_time, t_end=None, n=301, rtol=1e-10, atol=1e-10):
+    """Start-up (seed 001 Fig. 6): engine speed ramped from idle to rated over ``startup_time``,
+    the rotor (drag k·ω²) picked up by the forward capacity M(ω_e): slipping while
+    J_r·ω_r' = M(ω_e) − k·ω_r² keeps ω_r < ω_e, then turning with the engine. DOP853 with the
+    lock-up as an event. Returns ``time``, ``engine_speed``, ``rotor_speed``, ``clutch_torque``,
+    ``lockup_time``, ``lockup_speed``.
+    """
+    from scipy.integrate import solve_ivp
+
+    k, _, _, caps = _params(p)
+    jr, w_r = p["rotor_inertia"], p["rated_speed"]
+    t_end = 1.5 * startup_time if t_end is None else t_end
+    rate = (w_r - idle_speed) / startup_time
+
+    def w_e(t):
+        return np.minimum(idle_speed + rate * t, w_r)
+
+    def rhs(t, y):
+        return [(caps(w_e(t))[0] - k * y[0] ** 2) / jr]
+
+    lock = lambda t, y: w_e(t) - y[0]  # noqa: E731
+    lock.terminal, lock.direction = True, -1
+    sol = solve_ivp(rhs, (0.0, startup_time), [0.0], method="DOP853", rtol=rtol, atol=atol, events=lock,
+                    dense_output=True, max_step=startup_time / 200)
+    if not sol.t_events[0].size:
+        s2 = solve_ivp(rhs, (startup_time, t_end), sol.y[:, -1], method="DOP853", rtol=rtol, atol=atol, events=lock,
+                       dense_output=True)
+        t_lock = float(s2.t_events[0][0]) if s2.t_events[0].size else np.inf
+    else:
+        s2, t_lock = None, float(sol.t_events[0][0])
+    times = np.linspace(0.0, t_end, n)
+    we = w_e(times)
+    wr = np.where(times >= t_lock, we, np.nan)
+    slip = times < t_lock
+    first = slip & (times <= startup_time)
+    wr[first] = sol.sol(times[first])[0]
+    if s2 is not None:
+        second = slip & (times > startup_time)
+        wr[second] = s2.sol(times[second])[0]
+    tc = np.where(slip, caps(we)[0], jr * np.where(times < startup_time, rate, 0.0) + k * we**2)
+    return {"time": times, "engine_speed": we, "rotor_speed": wr, "clutch_torque": tc, "lockup_time": t_lock,
+            "lockup_speed": float(w_e(t_lock)) if np.isfinite(t_lock) else np.nan}
