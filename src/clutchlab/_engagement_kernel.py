@@ -337,15 +337,24 @@ def _locate(kind, t, y, d, y1, d1, h, tau_hi, g0, q, locked, parked, s, complian
 
 
 @njit(cache=True)
+def _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk):
+    """Update the running maxima pk = (slip power, |friction torque|, |output jerk|); return the jerk."""
+    jk = _jerk(t, y, q, locked, parked, s, compliant, prof, d, aux)
+    if not locked:
+        pk[0] = max(pk[0], aux[1] * aux[5])
+    pk[1] = max(pk[1], abs(aux[1]))
+    pk[2] = max(pk[2], abs(jk))
+    return jk
+
+
+@njit(cache=True)
 def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_step, max_steps, out, trace):
     """Integrate one scenario over [0, q[TEND]]; fill ``out`` (RESULTS) and ``trace`` (times × TRACES)."""
     nan, inf = np.nan, np.inf
     held = q[HELD] > 0.0
     for i in range(out.size):
         out[i] = nan
-    pk_power = 0.0
-    pk_torque = 0.0
-    pk_jerk = 0.0
+    pk = np.zeros(3)  # running maxima: slip power, |friction torque|, |output jerk|
     y = np.zeros(N_STATE)
     y[E] = q[WE0]
     y[H] = q[WC0]
@@ -389,12 +398,7 @@ def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_st
     h = min(first_step, q[TEND])
     aux = _forces(t, y, q, locked, parked, s, compliant, prof, tx, ty, d)
     _events(t, y, q, locked, parked, s, compliant, prof, d, aux, g)
-    # peaks at the start
-    jk = _jerk(t, y, q, locked, parked, s, compliant, prof, d, aux)
-    if not locked:
-        pk_power = max(pk_power, aux[1] * aux[5])
-    pk_torque = max(pk_torque, abs(aux[1]))
-    pk_jerk = max(pk_jerk, abs(jk))
+    _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk)
     n_steps = 0
     while t < q[TEND] and n_steps < max_steps:
         nb = q[TEND]
@@ -499,24 +503,16 @@ def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_st
                         out[BREAKAWAY_TIME] = t
                     out[LOCKUP_TIME] = nan
                 elif best_kind == PEAK:
-                    pk_power = max(pk_power, abs(aux[1] * aux[5]))
+                    pk[0] = max(pk[0], abs(aux[1] * aux[5]))
                 _events(t, y, q, locked, parked, s, compliant, prof, d, aux, g)
-                jk = _jerk(t, y, q, locked, parked, s, compliant, prof, d, aux)
-                if not locked:
-                    pk_power = max(pk_power, aux[1] * aux[5])
-                pk_torque = max(pk_torque, abs(aux[1]))
-                pk_jerk = max(pk_jerk, abs(jk))
+                _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk)
                 continue
         # no event: take the step as it was
         t = t_right
         y[:] = y1
         d[:] = d1
         g[:] = g1
-        jk = _jerk(t, y, q, locked, parked, s, compliant, prof, d, aux1)
-        if not locked:
-            pk_power = max(pk_power, aux1[1] * aux1[5])
-        pk_torque = max(pk_torque, abs(aux1[1]))
-        pk_jerk = max(pk_jerk, abs(jk))
+        jk = _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux1, pk)
         for i in range(tt.size):
             if tt[i] == t:
                 trace[i, 0] = y[E]
@@ -527,9 +523,7 @@ def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_st
                 trace[i, 5] = y[WS]
                 trace[i, 6] = jk
 
-    out[PEAK_SLIP_POWER] = pk_power
-    out[PEAK_FRICTION_TORQUE] = pk_torque
-    out[PEAK_JERK] = pk_jerk
+    out[PEAK_SLIP_POWER], out[PEAK_FRICTION_TORQUE], out[PEAK_JERK] = pk[0], pk[1], pk[2]
     out[N_STEPS] = n_steps
     out[FINAL_LOCKED] = 1.0 if locked else 0.0
     out[HIT_STEP_LIMIT] = 1.0 if (n_steps >= max_steps and t < q[TEND]) else 0.0
