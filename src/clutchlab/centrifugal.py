@@ -104,6 +104,14 @@ def needed_reverse_torque(speed, *, engine_inertia, rotor_inertia, rotor_drag, p
     return (rotor_inertia * (p0 + p2 * w2) - engine_inertia * rotor_drag * w2) / (engine_inertia + rotor_inertia)
 
 
+def _drag_coefficients(rated_speed, rotor_load_torque, rated_passive_torque, static_fraction):
+    """Rotor drag k [N m s²] of k·ω² and passive-torque coefficients p₀ [N m], p₂ [N m s²] of
+    T_p = p₀ + p₂·ω² (see :func:`passive_torque`)."""
+    w2 = np.square(rated_speed)
+    return (rotor_load_torque / w2, rated_passive_torque * static_fraction,
+            rated_passive_torque * (1.0 - static_fraction) / w2)
+
+
 def release_after_failure(*, rated_speed, shoes, friction_coefficient, pressure_angle, shoe_mass, shoe_radius,
                           drum_radius, spring_force, engine_inertia, rotor_inertia, rotor_load_torque,
                           rated_passive_torque, static_fraction):
@@ -127,9 +135,7 @@ def release_after_failure(*, rated_speed, shoes, friction_coefficient, pressure_
         ``release_speed`` [rad/s] (engine = rotor speed when the clutch lets go), ``release_time``
         [s] after the failure (0: at once), ``released_at_once`` (bool).
     """
-    k = rotor_load_torque / np.square(rated_speed)
-    p0 = rated_passive_torque * static_fraction
-    p2 = rated_passive_torque * (1.0 - static_fraction) / np.square(rated_speed)
+    k, p0, p2 = _drag_coefficients(rated_speed, rotor_load_torque, rated_passive_torque, static_fraction)
     j = engine_inertia + rotor_inertia
     a_rev = shoes * friction_coefficient * drum_radius / (1.0 + friction_coefficient * np.tan(pressure_angle))
     w0 = engagement_speed(shoe_mass=shoe_mass, shoe_radius=shoe_radius, spring_force=spring_force)
@@ -172,9 +178,8 @@ def design_status(*, rated_speed, shoes, friction_coefficient, pressure_angle, s
 
 def _params(p):
     """Unpack a scenario dict (scalars) into what the traces need."""
-    k = p["rotor_load_torque"] / p["rated_speed"] ** 2
-    p0 = p["rated_passive_torque"] * p["static_fraction"]
-    p2 = p["rated_passive_torque"] * (1.0 - p["static_fraction"]) / p["rated_speed"] ** 2
+    k, p0, p2 = _drag_coefficients(p["rated_speed"], p["rotor_load_torque"], p["rated_passive_torque"],
+                                   p["static_fraction"])
 
     def caps(we):
         return capacity(speed=we, **{n: p[n] for n in ("shoes", "friction_coefficient", "pressure_angle", "shoe_mass",
