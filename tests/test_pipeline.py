@@ -41,7 +41,9 @@ def test_outputs_exist_and_open(small_run):
     for f in ("results/diaphragm/spring.h5", "results/report/report.pdf", "results/report/validation.csv",
               "results/report/diaphragm_spring_load_curves.png", "results/report/diaphragm_spring_reserve_map.png",
               "results/centrifugal/centrifugal.h5", "results/report/centrifugal_capacity_curves.png",
-              "results/report/centrifugal_release_map.png", "results/report/centrifugal_traces.png"):
+              "results/report/centrifugal_release_map.png", "results/report/centrifugal_traces.png",
+              "results/sprag/sprag.h5", "results/report/sprag_stress_vs_torque.png",
+              "results/report/sprag_pass_map.png", "results/report/sprag_impact_torque.png"):
         assert (small_run / f).stat().st_size > 0, f
     with xr.open_dataset(small_run / "results/diaphragm/spring.h5", engine="h5netcdf") as ds:
         for name, var in {**ds.coords, **ds.data_vars}.items():
@@ -57,6 +59,12 @@ def test_outputs_exist_and_open(small_run):
         seed = ds.sel(pressure_angle=np.deg2rad(38.84), friction_coefficient=0.4046, method="nearest")
         assert abs(float(seed["capacity_forward"]) - 127.84) < 0.2  # seed 001 section 2.3
         assert (ds["status"].sel(pressure_angle=np.deg2rad(65)).values[-2:] == 5).all()  # f tan(alpha) >= 1: jammed
+    with xr.open_dataset(small_run / "results/sprag/sprag.h5", engine="h5netcdf") as ds:
+        for name, var in {**ds.coords, **ds.data_vars}.items():
+            assert var.attrs.get("units") is not None and var.attrs.get("long_name"), name
+        seed = ds.sel(torque=750.0, sprags=18, sprag_length=16.891e-3)
+        assert abs(np.rad2deg(float(seed["gripping_angle"])) - 5.097) < 1e-6  # seed 002 Table 2, the fit target
+        assert int(seed["status"]) == 10  # pop_out_risk: V above 5 deg (seed 002 section 2.2)
     assert "yes" in (small_run / "results/report/validation.csv").read_text()
 
 

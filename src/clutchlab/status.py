@@ -18,6 +18,8 @@ FLAGS = {
     6: "not_converged",
     7: "above_allowable",
     8: "not_engaged",
+    9: "roll_over",
+    10: "pop_out_risk",
 }
 CODE = {meaning: code for code, meaning in FLAGS.items()}
 DTYPE = np.int8

@@ -36,3 +36,14 @@ rule benchmark:
         python=sys.executable,
     shell:
         "{params.python} -m clutchlab.benchmark {RESULTS}/benchmark"
+
+
+rule benchmark_sprag:
+    # Not part of `all`: `snakemake --cores 1 benchmark_sprag` (about 30 s). Sprag statics
+    # throughput at 1e5 and 1e6 scenarios and the ratio against per-scenario scipy brentq.
+    output:
+        f"{RESULTS}/benchmark/sprag_benchmark.csv",
+    params:
+        python=sys.executable,
+    shell:
+        "{params.python} -m clutchlab.benchmark_sprag {RESULTS}/benchmark"

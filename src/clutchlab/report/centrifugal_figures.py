@@ -7,32 +7,14 @@ import numpy as np
 
 from .. import status as st
 from ..studies.centrifugal import PARAMETERS, RPM
-from .common import A4_LANDSCAPE
+from .common import A4_LANDSCAPE, fixed_text
+from .common import seed_view as _seed_view
 
 SEED = {p.name: p.default for p in PARAMETERS}
 
 
 def seed_view(ds, keep=()):
-    """The scenario(s) nearest the seed design: factorial dims other than ``keep`` selected at the
-    seed value; a sampled design gives the run nearest in normalised distance."""
-    if "run" in ds.dims:
-        dist = np.zeros(ds.sizes["run"])
-        for name in ds.attrs.get("factors", "").split():
-            v = ds[name].values
-            dist += ((v - SEED[name]) / (np.ptp(v) or 1.0)) ** 2
-        return ds.isel(run=int(np.argmin(dist)))
-    sel = {d: SEED[d] for d in ds.dims if d in SEED and d not in keep}
-    return ds.sel(sel, method="nearest") if sel else ds
-
-
-def _fixed_text(sub, dims):
-    out = []
-    for d in dims:
-        if d in sub.coords and sub[d].ndim == 0:
-            v, u = float(sub[d]), sub[d].attrs.get("units", "")
-            v, u = (np.rad2deg(v), "deg") if u == "rad" else (v, "" if u == "1" else u)
-            out.append(f"{d} = {v:.4g} {u}".rstrip())
-    return ", ".join(out)
+    return _seed_view(ds, SEED, keep)
 
 
 def capacity_curves(ds):
@@ -64,7 +46,7 @@ def capacity_curves(ds):
     ax.set_title("Capacity curves of the seed design (nearest grid point): forward M, reverse M' and engine torques\n"
                  f"M = {float(sub['capacity_forward']):.1f} N m, M' = {float(sub['capacity_reverse']):.1f} N m, "
                  f"reserve {float(sub['reserve_factor']):.2f} at rated speed; "
-                 + _fixed_text(sub, ("pressure_angle", "friction_coefficient")))
+                 + fixed_text(sub, ("pressure_angle", "friction_coefficient")))
     return fig
 
 
@@ -111,7 +93,7 @@ def release_map(ds):
         ax.set_xlabel("linkage pressure angle alpha [deg]")
         ax.set_ylabel("friction coefficient f")
         ax.legend(loc="lower left", fontsize=8)
-    fixed = _fixed_text(sub, [d for d in ds.dims if d not in keep])
+    fixed = fixed_text(sub, [d for d in ds.dims if d not in keep])
     fig.suptitle("Release margin and forward reserve over (alpha, f)" + (f"\n({fixed})" if fixed else ""))
     return fig
 

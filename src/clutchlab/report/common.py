@@ -1,4 +1,4 @@
-"""Report pages shared by every study: title page and validation table."""
+"""Report pages and helpers shared by every study: seed selection, title page, validation table."""
 from __future__ import annotations
 
 import textwrap
@@ -7,6 +7,31 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 A4_LANDSCAPE = (11.69, 8.27)
+
+
+def seed_view(ds, seed, keep=()):
+    """The scenario(s) nearest the ``seed`` design (parameter -> value): factorial dims other
+    than ``keep`` selected at the seed value; a sampled design gives the run nearest in normalised
+    distance."""
+    if "run" in ds.dims:
+        dist = np.zeros(ds.sizes["run"])
+        for name in ds.attrs.get("factors", "").split():
+            v = ds[name].values
+            dist += ((v - seed[name]) / (np.ptp(v) or 1.0)) ** 2
+        return ds.isel(run=int(np.argmin(dist)))
+    sel = {d: seed[d] for d in ds.dims if d in seed and d not in keep}
+    return ds.sel(sel, method="nearest") if sel else ds
+
+
+def fixed_text(sub, dims):
+    """"name = value unit" for the scalar coordinates ``dims`` of a selection (angles in deg)."""
+    out = []
+    for d in dims:
+        if d in sub.coords and sub[d].ndim == 0:
+            v, u = float(sub[d]), sub[d].attrs.get("units", "")
+            v, u = (np.rad2deg(v), "deg") if u == "rad" else (v, "" if u == "1" else u)
+            out.append(f"{d} = {v:.4g} {u}".rstrip())
+    return ", ".join(out)
 
 
 def title_page(title, version, results, validations):

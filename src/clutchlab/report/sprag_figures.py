@@ -1,0 +1,144 @@
+"""Figures of the sprag study: stresses and gripping angle against torque with the allowables
+(seed 002 Table 2), the map of geometries that pass every allowable, impact-torque curves (Fig. 4)."""
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.colors import BoundaryNorm, ListedColormap
+
+from .. import status as st
+from ..studies.sprag import CHECKS, PARAMETERS
+from .common import A4_LANDSCAPE, fixed_text, seed_view
+
+SEED = {p.name: p.default for p in PARAMETERS}
+MPA = 1e6
+TABLE2 = {750.0: (3482, 2928, 673.8, 582.0, 5.097), 267.5: (2314, 1945, 295.2, 255.4, 4.093)}
+STRESSES = (("contact_stress_inner", "contact inner", "C0"), ("contact_stress_outer", "contact outer", "C1"),
+            ("vm_stress_inner", "shaft inner (von Mises)", "C2"), ("vm_stress_outer", "outer race (von Mises)", "C3"))
+
+
+def _allowable(sub, name):
+    return float(np.atleast_1d(sub[name].values)[0]) if name in sub else SEED[name]
+
+
+def stress_vs_torque(ds):
+    fig, axes = plt.subplots(1, 2, figsize=A4_LANDSCAPE, gridspec_kw={"wspace": 0.28})
+    if "torque" not in ds.dims:
+        for ax in axes:
+            ax.text(0.5, 0.5, "torque is not a dimension of this design", ha="center", transform=ax.transAxes)
+        return fig
+    sub = seed_view(ds, SEED, keep=("torque",))
+    t = sub["torque"].values
+    ax = axes[0]
+    for (name, label, colour), k in zip(STRESSES, range(4)):
+        ax.plot(t, sub[name].values / MPA, "-", color=colour, label=label)
+        ax.plot(list(TABLE2), [v[k] for v in TABLE2.values()], "o", mfc="none", color=colour)
+    ax.axhline(_allowable(sub, "contact_allowable") / MPA, color="k", ls="--", lw=1, label="contact allowable")
+    ax.axhline(_allowable(sub, "shaft_allowable") / MPA, color="k", ls=":", lw=1, label="shaft allowable")
+    ax.plot([], [], "ko", mfc="none", label="seed 002 Table 2 (theory)")
+    ax.set_xlabel("torque [N m]")
+    ax.set_ylabel("stress [MPa]")
+    ax.legend(fontsize=8)
+    ax = axes[1]
+    ax.plot(t, np.rad2deg(sub["gripping_angle"].values), "b-", label="V (inner contact)")
+    ax.plot(t, np.rad2deg(sub["gripping_angle_outer"].values), "b--", label="W (outer contact)")
+    ax.plot(list(TABLE2), [v[4] for v in TABLE2.values()], "bo", mfc="none", label="seed 002 Table 2 V (theory)")
+    ax.axhline(np.rad2deg(_allowable(sub, "gripping_angle_allowable")), color="r", ls="--", lw=1,
+               label="allowable V (pop-out beyond)")
+    ax.set_xlabel("torque [N m]")
+    ax.set_ylabel("gripping angle [deg]")
+    ax.legend(fontsize=8)
+    for a in axes:
+        a.grid(alpha=0.3)
+    c = np.unique(sub["compliance_factor_used"].values)
+    fig.suptitle("Seed 002 geometry (nearest grid point): stresses and gripping angle against torque\n"
+                 f"deflection compliance factor {', '.join(f'{x:.4g}' for x in c)} (1 = physical); "
+                 + fixed_text(sub, [d for d in ds.dims if d != "torque"]))
+    return fig
+
+
+CATEGORIES = (("passes every allowable", "#4daf4a"), ("stress above allowable", "#ffb000"),
+              ("pop-out risk (V above allowable)", "#e41a1c"), ("roll-over", "#984ea3"),
+              ("sprag does not span the races", "0.6"), ("not converged", "k"))
+
+
+def _category(status):
+    cat = np.full(status.shape, 5)
+    cat[status == st.CODE["ok"]] = 0
+    cat[status == st.CODE["above_allowable"]] = 1
+    cat[status == st.CODE["pop_out_risk"]] = 2
+    cat[status == st.CODE["roll_over"]] = 3
+    cat[status == st.CODE["invalid_geometry"]] = 4
+    return cat
+
+
+def pass_map(ds):
+    pairs = [p for p in (("sprag_length", "sprags"), ("centre_distance", "sprag_outer_radius"))
+             if set(p) <= set(ds.dims)]
+    fig, axes = plt.subplots(1, max(len(pairs), 1), figsize=A4_LANDSCAPE, squeeze=False,
+                             gridspec_kw={"wspace": 0.3})
+    if not pairs or "run" in ds.dims:
+        axes[0, 0].text(0.5, 0.5, "needs a factorial design over (sprag_length, sprags) or\n"
+                        "(centre_distance, sprag_outer_radius)", ha="center", transform=axes[0, 0].transAxes)
+        return fig
+    torque = None
+    if "torque" in ds.dims:
+        torque = float(ds["torque"].sel(torque=750.0, method="nearest"))
+    cmap = ListedColormap([c for _, c in CATEGORIES])
+    norm = BoundaryNorm(np.arange(len(CATEGORIES) + 1) - 0.5, len(CATEGORIES))
+    for ax, (x, y) in zip(axes[0], pairs):
+        view = ds[["status"] + [f"margin_{k}" for k in CHECKS]]
+        sub = seed_view(view, {**SEED, **({"torque": torque} if torque else {})}, keep=(x, y)).transpose(y, x)
+        cat = _category(sub["status"].values)
+        scale = {n: (1e3, "mm") if sub[n].attrs.get("units") == "m" else (1.0, "") for n in (x, y)}
+        xv, yv = sub[x].values * scale[x][0], sub[y].values * scale[y][0]
+        ax.pcolormesh(xv, yv, cat, cmap=cmap, norm=norm, shading="nearest", edgecolors="w", linewidth=0.5)
+        margin = np.minimum.reduce([sub[f"margin_{k}"].values for k in CHECKS])
+        for j, yy in enumerate(yv):
+            for i, xx in enumerate(xv):
+                if np.isfinite(margin[j, i]):
+                    ax.text(xx, yy, f"{margin[j, i]:+.2f}", ha="center", va="center", fontsize=7)
+        ax.plot(SEED[x] * scale[x][0], SEED[y] * scale[y][0], "*", ms=22, mfc="none", mec="k")
+        ax.set_xlabel(f"{x.replace('_', ' ')} [{scale[x][1] or '-'}]")
+        ax.set_ylabel(f"{y.replace('_', ' ')} [{scale[y][1] or '-'}]")
+        ax.set_title(fixed_text(sub, [d for d in ds.dims if d not in (x, y)]), fontsize=8)
+    for label, colour in CATEGORIES:
+        axes[0, 0].plot([], [], "s", color=colour, ms=10, label=label)
+    axes[0, 0].plot([], [], "*", ms=12, mfc="none", mec="k", label="seed 002 design")
+    fig.legend(loc="lower center", ncol=4, fontsize=8)
+    fig.subplots_adjust(bottom=0.2)
+    fig.suptitle("Which sprag geometries pass every allowable (numbers: smallest margin of safety, "
+                 "allowable/value - 1)")
+    return fig
+
+
+def impact_torque(ds):
+    fig, axes = plt.subplots(2, 3, figsize=A4_LANDSCAPE, gridspec_kw={"wspace": 0.35, "hspace": 0.45})
+    ax = axes[0, 0]
+    ax.plot(ds["impact_time"].values, ds["impact_torque"].values, "k-")
+    ax.axhline(float(ds["impact_steady_torque"]), color="b", ls="--", lw=1, label="sqrt(P0 C)")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("torque T [N m]")
+    ax.set_title("(a) T(t) from the peak T0 at t0", fontsize=10)
+    ax.legend(fontsize=8)
+    panels = (("impact_power", 1e-3, "input power P0 [kW]", "(b)"),
+              ("output_inertia", 1.0, "output inertia J [kg m2]", "(c)"),
+              ("impact_damping", 1.0, "damping C [N m s2]", "(d)"),
+              ("initial_speed", 30 / np.pi, "initial speed w0 [rpm]", "(e)"))
+    for ax, (name, scale, label, tag) in zip(axes.ravel()[1:], panels):
+        ax.plot(ds[f"sweep_{name}"].values * scale, ds[f"peak_torque_vs_{name}"].values, "r-")
+        ax.set_xlabel(label)
+        ax.set_ylabel("peak torque T0 [N m]")
+        ax.set_title(f"{tag} T0 against {label.split('[')[0].strip()}", fontsize=10)
+    axes[1, 2].axis("off")
+    axes[1, 2].text(0, 0.9, "Nominal (assumed, not printed in seed 002):\n"
+                    "P0 = 100 kW, C with sqrt(P0 C) = 267.5 N m,\nJ with T0 = 750 N m at t0 = 0.1 s from rest.\n"
+                    "T0 rises with P0, J, C and falls with w0\n(seed 002 Fig. 4 b-e).", va="top", fontsize=9)
+    for ax in axes.ravel()[:5]:
+        ax.grid(alpha=0.3)
+    fig.suptitle("Impact torque of the starter (seed 002 eqs. 1-5, Fig. 4): J w dw/dt + C w^2 = P0, T = P0/w")
+    return fig
+
+
+def figures(ds):
+    return [("stress_vs_torque", stress_vs_torque(ds)), ("pass_map", pass_map(ds)), ("impact_torque", impact_torque(ds))]

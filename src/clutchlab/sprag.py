@@ -1,0 +1,390 @@
+"""Sprag clutch under transient impact (seed 002): impact torque, gripping angle with race
+deflection, Hertz contact and shaft stresses.
+
+All functions are pure and broadcast over numpy arrays; SI units (m, N, Pa, rad, s).
+
+Geometry (seed 002 Fig. 2, Table 1): O is the clutch centre, A the centre of the sprag's inner
+arc (radius ``r_i``), B the centre of its outer arc (``r_o``), ``|AB| = Z``. The sprag touches the
+inner race (radius ``R_i``) on the ray OA and the outer race (``R_o``) on the ray OB, so
+``|OA| = R_i + r_i`` and ``|OB| = R_o - r_o``; ψ = ∠AOB. A sprag is a two-force member: the load
+acts along the chord between the contact points, at the gripping angle V to the radius at the inner
+contact and W at the outer one, with V = W + ψ and ``R_i sin V = R_o sin W``.
+
+References
+----------
+[1] seed 002: "Analysis on the transient impact and wedging performance of the sprag clutch in
+    the turbine starter", Aeronautical Science & Technology 35(3), 2024. Eqs. (1)-(8), Tables 1-2.
+[2] Harris, T. A., Kotzalas, M. N., Rolling Bearing Analysis, 5th ed., 2007: Palmgren's
+    line-contact approach δ = 3.84e-5 Q^0.9 / l^0.8 (mm, N; steel).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import status as st
+
+__all__ = [
+    "impact_speed", "impact_torque", "steady_torque", "peak_torque", "rise_time_for_peak",
+    "inertia_for_peak", "rest_geometry", "contact_approach", "race_deflections", "gripping_angle",
+    "contact_stress", "shaft_stress", "statics", "fit_compliance_factor", "SEED_GEOMETRY",
+]
+
+#: seed 002 Table 1 [m], sprag count; steel (E, ν not printed: bearing steel 206 GPa, 0.3 assumed)
+SEED_GEOMETRY = dict(
+    inner_bore_radius=15.875e-3, inner_race_radius=22.225e-3, outer_race_radius=30.5562e-3,
+    outer_rim_radius=38.735e-3, sprag_inner_radius=4.4958e-3, sprag_outer_radius=4.5212e-3,
+    centre_distance=0.7468e-3, sprag_length=16.891e-3, sprags=18.0,
+)
+STEEL = dict(youngs_modulus=206e9, poisson_ratio=0.3)
+
+_PALMGREN = 3.84e-5 * 1e-3 / 1e3 ** 0.8  # δ [m] = _PALMGREN * Q[N]^0.9 / l[m]^0.8 (steel)
+_E_STAR_STEEL = 206e9 / (2.0 * (1.0 - 0.3 ** 2))  # reduced modulus the Palmgren constant belongs to
+
+
+# --------------------------------------------------------------------------- impact torque (eqs 1-5)
+
+def impact_speed(time, *, power, inertia, damping, initial_speed=0.0):
+    """Output speed ω(t) under constant input power with quadratic damping (seed 002 eqs. 3-5).
+
+    J ω dω/dt + C ω² = P₀ is linear in ω²:  ω² = [P₀ − (P₀ − C ω₀²) e^(−2Ct/J)] / C.
+
+    Parameters
+    ----------
+    time : array_like [s]
+    power : array_like [W]   constant input power P₀
+    inertia : array_like [kg m^2]   output-side inertia J_r
+    damping : array_like [N m s^2]  quadratic damping coefficient C_t
+    initial_speed : array_like [rad/s]   ω₀
+
+    Returns
+    -------
+    ndarray [rad/s]
+
+    Notes
+    -----
+    Eq. (4) of [1] is printed garbled; this is its exact solution, equivalent to T = P₀/ω.
+    """
+    p0, c = np.asarray(power, float), np.asarray(damping, float)
+    w2 = (p0 - (p0 - c * np.square(initial_speed)) * np.exp(-2.0 * c * np.asarray(time, float) / inertia)) / c
+    return np.sqrt(w2)
+
+
+def impact_torque(time, *, power, inertia, damping, initial_speed=0.0):
+    """Clutch torque T(t) = P₀ / ω(t) (seed 002 eqs. 2, 4, 5) [N m]; infinite at t = 0 for ω₀ = 0,
+    hence the finite rise time t₀ of :func:`peak_torque` (the curve is used for t ≥ t₀)."""
+    with np.errstate(divide="ignore"):
+        return power / impact_speed(time, power=power, inertia=inertia, damping=damping,
+                                    initial_speed=initial_speed)
+
+
+def steady_torque(*, power, damping):
+    """T(∞) = √(P₀ C_t) [N m] (seed 002 section 2.1; the printed "T_e = P₀C_t" is garbled)."""
+    return np.sqrt(np.asarray(power, float) * damping)
+
+
+def peak_torque(*, rise_time, power, inertia, damping, initial_speed=0.0):
+    """Peak torque T₀ = T(t₀) reached at the end of the rise time t₀ (seed 002 section 1.1) [N m].
+
+    Rises with P₀, J and C and falls with ω₀ and t₀ (seed 002 Fig. 4 b-e)."""
+    return impact_torque(rise_time, power=power, inertia=inertia, damping=damping, initial_speed=initial_speed)
+
+
+def rise_time_for_peak(*, peak, power, inertia, damping, initial_speed=0.0):
+    """The rise time t₀ at which T(t₀) equals ``peak`` [s]: the inverse of :func:`peak_torque`.
+
+    t₀ = J/(2C) ln[(P₀ − Cω₀²)/(P₀ − C (P₀/T₀)²)]; NaN unless √(P₀C) < T₀ < P₀/ω₀."""
+    p0, c = np.asarray(power, float), np.asarray(damping, float)
+    w = p0 / np.asarray(peak, float)
+    num, den = p0 - c * np.square(initial_speed), p0 - c * w * w
+    ok = (den > 0) & (num > den)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(ok, inertia / (2.0 * c) * np.log(num / den), np.nan)
+
+
+def inertia_for_peak(*, peak, rise_time, power, damping):
+    """Output inertia J for which T(t₀) = ``peak`` from rest (ω₀ = 0) [kg m^2]:
+    J = 2 C t₀ / −ln(1 − P₀C/T₀²); NaN unless T₀ > √(P₀C)."""
+    x = np.asarray(power, float) * damping / np.square(peak)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(x < 1, -2.0 * damping * rise_time / np.log1p(-x), np.nan)
+
+
+# --------------------------------------------------------------------------- geometry and deflection
+
+def _chord_angles(psi, r_in, r_out):
+    """V and W of the contact chord for central angle ψ between contacts on radii r_in, r_out."""
+    v = np.arctan2(r_out * np.sin(psi), r_out * np.cos(psi) - r_in)
+    return v, v - psi
+
+
+def _central_angle(oa, ob, z):
+    """ψ of the triangle OAB; the sprag's reach ends where |OA| = |OB| (ψ maximal, sprag radial):
+    beyond it (|OB| > |OA|) the angle is held at that maximum and the caller flags roll-over."""
+    ob = np.minimum(ob, oa)
+    c = (oa * oa + ob * ob - z * z) / (2.0 * oa * ob)
+    return np.arccos(np.clip(c, -1.0, 1.0))
+
+
+def rest_geometry(*, inner_race_radius, outer_race_radius, sprag_inner_radius, sprag_outer_radius,
+                  centre_distance, **_):
+    """Unloaded ψ₀, V₀, W₀ [rad] and the radial overlap d₀ = |OA| − |OB| [m].
+
+    The sprag spans the races only for 0 < d₀ < Z (d₀ ≥ Z: it does not reach both races; d₀ ≤ 0: it
+    stands past radial). Seed 002 geometry: ψ₀ = 0.642°, V₀ = 2.354°."""
+    oa = inner_race_radius + sprag_inner_radius
+    ob = outer_race_radius - sprag_outer_radius
+    psi = _central_angle(oa, ob, centre_distance)
+    v, w = _chord_angles(psi, inner_race_radius, outer_race_radius)
+    return dict(psi=psi, V=v, W=w, overlap=oa - ob)
+
+
+def contact_approach(load, *, sprag_length, youngs_modulus=206e9, poisson_ratio=0.3):
+    """Mutual approach of a line contact δ = 3.84e-5 Q^0.9 / l^0.8 (mm, N) [m] (Palmgren, [2]),
+    scaled as (E*_steel / E*)^0.9 for other moduli (the power of Q/(l E*) in that formula)."""
+    e_star = youngs_modulus / (2.0 * (1.0 - np.square(poisson_ratio)))
+    q = np.maximum(load, 0.0)
+    return _PALMGREN * q ** 0.9 / sprag_length ** 0.8 * (_E_STAR_STEEL / e_star) ** 0.9
+
+
+def race_deflections(load_inner, load_outer, *, sprags, sprag_length, inner_bore_radius, inner_race_radius,
+                     outer_race_radius, outer_rim_radius, youngs_modulus=206e9, poisson_ratio=0.3, **_):
+    """Radial displacement of the race surfaces under the smeared sprag pressure [m] (Lamé thick
+    cylinders, plane stress): inner shaft under external pressure p_i = n N_i/(2π R_i l) (u_i < 0),
+    outer race under internal pressure p_o = n N_o/(2π R_o l) (u_o > 0)."""
+    e, nu = youngs_modulus, poisson_ratio
+    a, b = inner_bore_radius, inner_race_radius
+    p_i = sprags * load_inner / (2.0 * np.pi * b * sprag_length)
+    u_i = -p_i * b / e * ((b * b + a * a) / (b * b - a * a) - nu)
+    a, b = outer_race_radius, outer_rim_radius
+    p_o = sprags * load_outer / (2.0 * np.pi * a * sprag_length)
+    u_o = p_o * a / e * ((b * b + a * a) / (b * b - a * a) + nu)
+    return u_i, u_o
+
+
+def _normal_loads(torque, v, w, r_in, r_out, sprags):
+    """Normal load per sprag at the inner and outer contact: N = T cot(angle) / (n R) [N]."""
+    return torque / (sprags * r_in * np.tan(v)), torque / (sprags * r_out * np.tan(w))
+
+
+def _deformed(torque, v, g, compliance_factor, inner_passes=3):
+    """Deformed radii and the new (ψ, V, W) for an assumed gripping angle V (one map of the fixed
+    point). The outer angle W = asin(R̄_i sin V / R̄_o) needs the deformed radii, which need the
+    loads: a few passes (contraction ~1e-3 per pass) make it exact to rounding."""
+    n, l = g["sprags"], g["sprag_length"]
+    mat = dict(youngs_modulus=g["youngs_modulus"], poisson_ratio=g["poisson_ratio"])
+    ri_bar, ro_bar = g["inner_race_radius"], g["outer_race_radius"]
+    for _ in range(inner_passes):
+        w = np.arcsin(ri_bar * np.sin(v) / ro_bar)
+        n_i, n_o = _normal_loads(torque, v, w, ri_bar, ro_bar, n)
+        u_i, u_o = race_deflections(n_i, n_o, **g)
+        ri_bar = g["inner_race_radius"] + compliance_factor * u_i
+        ro_bar = g["outer_race_radius"] + compliance_factor * u_o
+    d_i = compliance_factor * contact_approach(n_i, sprag_length=l, **mat)
+    d_o = compliance_factor * contact_approach(n_o, sprag_length=l, **mat)
+    # the contact approach shortens the sprag's effective arc radii (the r̄ of seed 002 eq. 7)
+    si_bar, so_bar = g["sprag_inner_radius"] - d_i, g["sprag_outer_radius"] - d_o
+    oa, ob = ri_bar + si_bar, ro_bar - so_bar
+    psi = _central_angle(oa, ob, g["centre_distance"])
+    v_new, w_new = _chord_angles(psi, ri_bar, ro_bar)
+    return dict(V=v_new, W=w_new, psi=psi, inner_race_radius=ri_bar, outer_race_radius=ro_bar,
+                sprag_inner_radius=si_bar, sprag_outer_radius=so_bar, overlap=oa - ob,
+                load_inner=n_i, load_outer=n_o)
+
+
+def _geometry(kw):
+    g = {**SEED_GEOMETRY, **STEEL}
+    g.update({k: v for k, v in kw.items() if k in g})
+    return {k: np.asarray(v, float) for k, v in g.items()}
+
+
+def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **geometry):
+    """Gripping angle V under torque with race deflection and contact approach (seed 002 eq. 6).
+
+    Eq. (6) is cited from the Aero-engine Design Manual vol. 13 but not printed. Reconstruction
+    (PHYSICS.md): loads along the contact chord N_i = T cot V/(n R̄_i), N_o = T cot W/(n R̄_o);
+    races deflect as Lamé cylinders under the smeared pressure (:func:`race_deflections`); the
+    contacts approach by Palmgren's line-contact law (:func:`contact_approach`); the deformed
+    |OA| = R̄_i + r̄_i, |OB| = R̄_o − r̄_o give ψ and tan V = R̄_o sin ψ/(R̄_o cos ψ − R̄_i).
+    Deflection ``compliance_factor`` times the physical one (1 = physical; :func:`fit_compliance_factor`
+    fits it to Table 2 at 750 N m: 1.726).
+
+    The fixed point V = V_new(V) is solved as a root of G(V) = V − V_new(V), which increases
+    strictly (more V, less load, less deflection, smaller V_new), by vectorised regula falsi
+    (Illinois) on the bracket [V₀, 80°]: no per-scenario Python loop.
+
+    Parameters
+    ----------
+    torque : array_like [N m]
+    compliance_factor : array_like [1]
+    tol : float [rad]   bracket width at which a scenario is converged
+    **geometry : keyword arrays [m] and sprag count, E [Pa], ν: the keys of ``SEED_GEOMETRY`` and
+        ``youngs_modulus``, ``poisson_ratio``; missing ones take the seed 002 values.
+
+    Returns
+    -------
+    dict of ndarrays: ``V``, ``W``, ``psi`` [rad]; deformed radii ``inner_race_radius``,
+    ``outer_race_radius``, ``sprag_inner_radius``, ``sprag_outer_radius`` [m]; ``load_inner``,
+    ``load_outer`` [N]; ``status`` (ok, invalid_geometry: the sprag does not span the races at rest;
+    roll_over: the loaded races open past the sprag's reach; not_converged).
+    """
+    g = _geometry(geometry)
+    torque = np.asarray(torque, float)
+    shape = np.broadcast_shapes(torque.shape, np.shape(compliance_factor), *(v.shape for v in g.values()))
+    g = {k: np.broadcast_to(v, shape).ravel() for k, v in g.items()}
+    t = np.broadcast_to(torque, shape).ravel()
+    c = np.broadcast_to(np.asarray(compliance_factor, float), shape).ravel()
+    rest = rest_geometry(**g)
+    valid = (rest["overlap"] > 0) & (rest["overlap"] < g["centre_distance"]) & (t > 0)
+
+    lo = np.where(valid, rest["V"], 0.1)
+    hi = np.full_like(lo, np.deg2rad(80.0))
+    f = lambda v: v - _deformed(t, v, g, c)["V"]  # noqa: E731
+    f_lo, f_hi = f(lo), f(hi)
+    side = np.zeros(lo.shape, np.int8)
+    for _ in range(max_iter):
+        active = valid & (hi - lo > tol)
+        if not active.any():
+            break
+        x = np.where(active, (lo * f_hi - hi * f_lo) / (f_hi - f_lo), lo)
+        x = np.where(active & ~((x > lo) & (x < hi)), 0.5 * (lo + hi), x)
+        fx = f(x)
+        right = active & (fx > 0)  # root left of x
+        left = active & (fx <= 0)
+        hi, f_hi = np.where(right, x, hi), np.where(right, fx, f_hi)
+        lo, f_lo = np.where(left, x, lo), np.where(left, fx, f_lo)
+        # Illinois: halve the stale end's value when the same side moves twice
+        f_lo = np.where(right & (side == 1), 0.5 * f_lo, f_lo)
+        f_hi = np.where(left & (side == -1), 0.5 * f_hi, f_hi)
+        side = np.where(right, 1, np.where(left, -1, side)).astype(np.int8)
+        if (fx == 0).any():
+            hi = np.where(active & (fx == 0), x, hi)
+            lo = np.where(active & (fx == 0), x, lo)
+    v = 0.5 * (lo + hi)
+    out = _deformed(t, v, g, c)
+    out["V"] = v
+    out["W"] = np.arcsin(out["inner_race_radius"] * np.sin(v) / out["outer_race_radius"])
+    out["psi"] = v - out["W"]
+    code = np.full(v.shape, st.CODE["ok"], dtype=st.DTYPE)
+    code[valid & (hi - lo > tol)] = st.CODE["not_converged"]
+    code[valid & (out["overlap"] <= 0)] = st.CODE["roll_over"]
+    code[~valid] = st.CODE["invalid_geometry"]
+    bad = code != st.CODE["ok"]
+    res = {k: np.where(bad, np.nan, val).reshape(shape) for k, val in out.items() if k != "overlap"}
+    res["status"] = code.reshape(shape)
+    return res
+
+
+# --------------------------------------------------------------------------- stresses (eqs 7-8)
+
+def contact_stress(torque, *, V, W, sprags, sprag_length, inner_race_radius, outer_race_radius,
+                   sprag_inner_radius, sprag_outer_radius, youngs_modulus=206e9, poisson_ratio=0.3, **_):
+    """Hertz line-contact stress at the inner and outer contact (seed 002 eq. 7) [Pa].
+
+    σ_ci = √[T cot V (1/r̄_i + 1/R̄_i) / (π n l R̄_i · 2(1−ν²)/E)],
+    σ_co = √[T cot W (1/r̄_o − 1/R̄_o) / (π n l R̄_o · 2(1−ν²)/E)] (concave outer race).
+    The square root covers the whole fraction (the printed layout is ambiguous). Pass the deformed
+    radii (:func:`gripping_angle`) as eq. 7 does, or the rest radii; one steel for all three parts
+    (eq. 7 allows E₁, E₂, E₃: the paper prints none).
+    """
+    k = 2.0 * (1.0 - np.square(poisson_ratio)) / youngs_modulus
+    ci = torque / np.tan(V) * (1.0 / sprag_inner_radius + 1.0 / inner_race_radius) / (
+        np.pi * sprags * sprag_length * inner_race_radius * k)
+    co = torque / np.tan(W) * (1.0 / sprag_outer_radius - 1.0 / outer_race_radius) / (
+        np.pi * sprags * sprag_length * outer_race_radius * k)
+    return np.sqrt(ci), np.sqrt(co)
+
+
+def _von_mises(sr, st_, tau):
+    return np.sqrt(sr * sr + st_ * st_ - sr * st_ + 3.0 * tau * tau)
+
+
+def shaft_stress(torque, *, V, W, sprags, sprag_length, inner_bore_radius, inner_race_radius,
+                 outer_race_radius, outer_rim_radius, **_):
+    """Von Mises stress of the inner shaft and the outer race (seed 002 eq. 8) [Pa].
+
+    Plane stress (no axial load): Lamé radial and hoop stress under the smeared sprag pressure
+    (p_i = n N_i/(2π R̄_i l) outside the inner shaft, p_o = n N_o/(2π R̄_o l) inside the outer race)
+    plus the torsional shear T ρ/J_p. Eq. (8) is not legible in the paper; this is its stated
+    content (Fig. 3, "fourth strength theory"). Returns a dict with the stress at both surfaces of
+    each part (``inner_bore``, ``inner_surface``, ``outer_bore``, ``outer_surface``) and the maxima
+    ``inner``, ``outer`` (at the bores for seed-like proportions).
+    """
+    n_i, n_o = _normal_loads(torque, V, W, inner_race_radius, outer_race_radius, sprags)
+    out = {}
+    for name, a, b, p, sign in (("inner", inner_bore_radius, inner_race_radius, n_i, -1.0),
+                                ("outer", outer_race_radius, outer_rim_radius, n_o, 1.0)):
+        r_load = b if sign < 0 else a
+        press = sprags * p / (2.0 * np.pi * r_load * sprag_length)
+        jp = 0.5 * np.pi * (b ** 4 - a ** 4)
+        k = press * r_load * r_load / (b * b - a * a)  # Lamé: σ = A ∓ B/ρ²
+        for where, rho in (("bore", a), ("surface", b)):
+            if sign < 0:  # external pressure on (a, b)
+                sr, sth = -k * (1.0 - a * a / rho ** 2), -k * (1.0 + a * a / rho ** 2)
+            else:  # internal pressure on (a, b)
+                sr, sth = k * (1.0 - b * b / rho ** 2), k * (1.0 + b * b / rho ** 2)
+            out[f"{name}_{where}"] = _von_mises(sr, sth, torque * rho / jp)
+        out[name] = np.maximum(out[f"{name}_bore"], out[f"{name}_surface"])
+    return out
+
+
+ALLOWABLES = dict(contact_allowable=3400e6, shaft_allowable=793e6, gripping_angle_allowable=np.deg2rad(5.0))
+
+
+def statics(torque, *, compliance_factor=1.0, contact_allowable=3400e6, shaft_allowable=793e6,
+            gripping_angle_allowable=np.deg2rad(5.0), **geometry):
+    """Gripping angle, contact and shaft stresses, margins and checks for a torque (seed 002).
+
+    Parameters as :func:`gripping_angle`, plus the allowables of seed 002 Table 2: contact
+    3400 MPa, shaft von Mises 793 MPa, gripping angle 5° [Pa, rad].
+
+    Returns
+    -------
+    dict: ``V``, ``W``, ``psi`` [rad]; ``contact_stress_inner``, ``contact_stress_outer``,
+    ``vm_stress_inner``, ``vm_stress_outer`` [Pa]; ``margin_*`` = allowable/value − 1 for the five
+    checks (``contact_inner``, ``contact_outer``, ``vm_inner``, ``vm_outer``, ``gripping_angle``);
+    ``status``: invalid_geometry / roll_over / not_converged (no numbers), else pop_out_risk when
+    V exceeds its allowable, else above_allowable when a stress does, else ok.
+    """
+    grip = gripping_angle(torque, compliance_factor=compliance_factor, **geometry)
+    g = {**_geometry(geometry), **{k: grip[k] for k in ("inner_race_radius", "outer_race_radius",
+                                                          "sprag_inner_radius", "sprag_outer_radius")}}
+    ci, co = contact_stress(torque, V=grip["V"], W=grip["W"], **g)
+    vm = shaft_stress(torque, V=grip["V"], W=grip["W"], **g)
+    out = dict(V=grip["V"], W=grip["W"], psi=grip["psi"], contact_stress_inner=ci, contact_stress_outer=co,
+               vm_stress_inner=vm["inner"], vm_stress_outer=vm["outer"])
+    checks = dict(contact_inner=(ci, contact_allowable), contact_outer=(co, contact_allowable),
+                  vm_inner=(vm["inner"], shaft_allowable), vm_outer=(vm["outer"], shaft_allowable),
+                  gripping_angle=(grip["V"], gripping_angle_allowable))
+    for name, (value, allowable) in checks.items():
+        out[f"margin_{name}"] = allowable / value - 1.0
+    code = np.array(grip["status"], copy=True)
+    ok = code == st.CODE["ok"]
+    stress_bad = np.zeros(code.shape, bool)
+    for name in ("contact_inner", "contact_outer", "vm_inner", "vm_outer"):
+        stress_bad |= out[f"margin_{name}"] < 0
+    code[ok & stress_bad] = st.CODE["above_allowable"]
+    code[ok & (out["margin_gripping_angle"] < 0)] = st.CODE["pop_out_risk"]
+    out["status"] = code
+    return out
+
+
+def fit_compliance_factor(*, torque=750.0, gripping_angle_target=np.deg2rad(5.097), **geometry):
+    """The compliance factor for which :func:`gripping_angle` gives ``gripping_angle_target`` at
+    ``torque`` (default seed 002 Table 2 theory column at 750 N m: 5.097°) [1].
+
+    V grows monotonically with the factor, so a scalar bracketed root (Brent) finds it."""
+    from scipy.optimize import brentq
+
+    def f(c):
+        v = float(gripping_angle(torque, compliance_factor=c, **geometry)["V"])
+        return v - gripping_angle_target if np.isfinite(v) else 1.0  # roll-over: past any target
+
+    lo, hi = 0.0, 1.0
+    while f(hi) < 0:
+        lo, hi = hi, 1.5 * hi
+        if hi > 100:
+            raise ValueError("no compliance factor up to 100 reaches the target gripping angle")
+    c = brentq(f, lo, hi, xtol=1e-13, rtol=1e-13)
+    if abs(f(c)) > 1e-9:
+        raise ValueError("the target gripping angle lies beyond the sprag's reach (roll-over)")
+    return c
