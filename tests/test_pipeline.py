@@ -43,7 +43,9 @@ def test_outputs_exist_and_open(small_run):
               "results/centrifugal/centrifugal.h5", "results/report/centrifugal_capacity_curves.png",
               "results/report/centrifugal_release_map.png", "results/report/centrifugal_traces.png",
               "results/sprag/sprag.h5", "results/report/sprag_stress_vs_torque.png",
-              "results/report/sprag_pass_map.png", "results/report/sprag_impact_torque.png"):
+              "results/report/sprag_pass_map.png", "results/report/sprag_impact_torque.png",
+              "results/roller/roller.h5", "results/report/roller_stress_engagement.png",
+              "results/report/roller_feasible_region.png", "results/report/roller_engagement_trace.png"):
         assert (small_run / f).stat().st_size > 0, f
     with xr.open_dataset(small_run / "results/diaphragm/spring.h5", engine="h5netcdf") as ds:
         for name, var in {**ds.coords, **ds.data_vars}.items():
@@ -65,6 +67,14 @@ def test_outputs_exist_and_open(small_run):
         seed = ds.sel(torque=750.0, sprags=18, sprag_length=16.891e-3)
         assert abs(np.rad2deg(float(seed["gripping_angle"])) - 5.097) < 1e-6  # seed 002 Table 2, the fit target
         assert int(seed["status"]) == 10  # pop_out_risk: V above 5 deg (seed 002 section 2.2)
+    with xr.open_dataset(small_run / "results/roller/roller.h5", engine="h5netcdf") as ds:
+        for name, var in {**ds.coords, **ds.data_vars}.items():
+            assert var.attrs.get("units") is not None and var.attrs.get("long_name"), name
+        assert ds["status"].dims == ("rollers", "wedge_angle")
+        assert (ds["status"].sel(wedge_angle=np.deg2rad(15)).values == 11).all()  # tan 7.5 deg > 0.12: not self-locking
+        seed = ds.sel(rollers=12, wedge_angle=np.deg2rad(11))
+        assert abs(float(seed["contact_stress"]) / 1e6 - 2865.5) < 3  # seed 003 section 2.2
+        assert 0.1e-3 < float(seed["engagement_time"]) < 0.3e-3
     assert "yes" in (small_run / "results/report/validation.csv").read_text()
 
 

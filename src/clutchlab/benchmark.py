@@ -14,14 +14,13 @@ writes ``engagement_benchmark.csv`` and ``work_precision.png``:
 """
 from __future__ import annotations
 
-import argparse
-import csv
 import time
 from pathlib import Path
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from ._bench import parse, write_rows
 from . import engagement as eng
 
 RS = 1.3  # μ_s/μ_k
@@ -126,10 +125,8 @@ def run(outdir="results/benchmark", n=10_000, n_ref=200):
     print(f"closed form (constant mu, ramp), {m} scenarios: {min(times) * 1e6:.3f} us/scenario (best of 3; "
           f"runs {', '.join(f'{x * 1e6:.3f}' for x in times)})")
     rows.append(("clutchlab closed form (constant mu), 1e6 scenarios", 0.0, min(times), np.nan))
-    with open(outdir / "engagement_benchmark.csv", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["method", "rtol", "seconds_per_scenario", "max_lockup_error_s"])
-        w.writerows(rows)
+    write_rows([dict(zip(("method", "rtol", "seconds_per_scenario", "max_lockup_error_s"), r)) for r in rows],
+               outdir / "engagement_benchmark.csv")
     _plot(rows, outdir / "work_precision.png", n, n_ref)
     return rows, best
 
@@ -157,11 +154,7 @@ def _plot(rows, path, n, n_ref):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("outdir", nargs="?", default="results/benchmark")
-    p.add_argument("--scenarios", type=int, default=10_000)
-    p.add_argument("--reference-scenarios", type=int, default=200)
-    a = p.parse_args(argv)
+    a = parse(__doc__, 10_000, argv, reference_scenarios=200)
     run(a.outdir, a.scenarios, a.reference_scenarios)
 
 

@@ -20,6 +20,8 @@ FLAGS = {
     8: "not_engaged",
     9: "roll_over",
     10: "pop_out_risk",
+    11: "not_self_locking",
+    12: "overrunning",
 }
 CODE = {meaning: code for code, meaning in FLAGS.items()}
 DTYPE = np.int8

@@ -47,3 +47,14 @@ rule benchmark_sprag:
         python=sys.executable,
     shell:
         "{params.python} -m clutchlab.benchmark_sprag {RESULTS}/benchmark"
+
+
+rule benchmark_roller:
+    # Not part of `all`: `snakemake --cores 1 benchmark_roller` (a few minutes: the tight Radau
+    # reference is slow). Compiled SDIRK4 against per-scenario solve_ivp LSODA and Radau.
+    output:
+        f"{RESULTS}/benchmark/roller_benchmark.csv",
+    params:
+        python=sys.executable,
+    shell:
+        "{params.python} -m clutchlab.benchmark_roller {RESULTS}/benchmark"

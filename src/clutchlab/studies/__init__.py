@@ -98,4 +98,4 @@ def get(name: str) -> Study:
 
 
 def _load_all() -> None:
-    from . import centrifugal, diaphragm_spring, engagement, sprag  # noqa: F401  (register themselves)
+    from . import centrifugal, diaphragm_spring, engagement, roller, sprag  # noqa: F401  (register themselves)

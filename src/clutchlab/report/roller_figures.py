@@ -1,0 +1,136 @@
+"""Figures of the roller study: contact stress and engagement time against roller count (seed 003
+allowable band), the feasible region over (z, α), the seed design's engagement trace (Fig. 7)."""
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.colors import BoundaryNorm, ListedColormap
+
+from .. import status as st
+from ..studies.roller import PARAMETERS, RPM
+from .common import A4_LANDSCAPE, fixed_text, seed_view
+
+SEED = {p.name: p.default for p in PARAMETERS}
+BAND = (3041.0, 3247.0)  # MPa, seed 003 section 2.2 (10^6 wedging cycles)
+
+
+def _needs(ds, dims):
+    if "run" in ds.dims or not set(dims) <= set(ds.dims):
+        fig = plt.figure(figsize=A4_LANDSCAPE)
+        fig.text(0.5, 0.5, f"needs a factorial design over {', '.join(dims)}", ha="center")
+        return fig
+    return None
+
+
+def stress_engagement(ds):
+    fig = _needs(ds, ("rollers",))
+    if fig is not None:
+        return fig
+    keep = ("rollers", "wedge_angle") if "wedge_angle" in ds.dims else ("rollers",)
+    sub = seed_view(ds, SEED, keep=keep)
+    z = sub["rollers"].values
+    fig, axes = plt.subplots(1, 2, figsize=A4_LANDSCAPE, gridspec_kw={"wspace": 0.3})
+    angles = sub["wedge_angle"].values if "wedge_angle" in sub.dims else [None]
+    cmap = plt.get_cmap("viridis")
+    for i, a in enumerate(angles):
+        c = sub.sel(wedge_angle=a) if a is not None else sub
+        colour = cmap(i / max(len(angles) - 1, 1))
+        label = f"alpha {np.rad2deg(a):.1f} deg" if a is not None else None
+        locks = c["status"].values != st.CODE["not_self_locking"]
+        if not locks.any():
+            continue
+        axes[1].plot(z[locks], c["engagement_time"].values[locks] * 1e3, "o-", color=colour, label=label)
+        if i == 0 or a is None:
+            axes[0].plot(z, c["contact_stress"].values / 1e6, "ko-", label="static, eq. 3 at T_c")
+        axes[0].plot(z[locks], c["peak_contact_stress"].values[locks] / 1e6, "s--", color=colour, ms=4,
+                     label=f"peak dynamic, {label}" if label else "peak dynamic")
+    axes[0].axhspan(*BAND, color="r", alpha=0.2, label="allowable 3041-3247 MPa (10^6 cycles)")
+    axes[0].set_yscale("log")
+    axes[0].set_ylabel("contact stress [MPa]")
+    axes[1].set_ylabel("engagement time [ms]")
+    for ax in axes:
+        ax.set_xlabel("number of rollers z")
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=7)
+    axes[0].set_title("Static (eq. 3, independent of alpha) and peak dynamic contact stress", fontsize=10)
+    axes[1].set_title("Engagement time (self-locking wedge angles only)", fontsize=10)
+    fig.suptitle("Roller count: contact stress and engagement time at the seed d, b, mu "
+                 f"({fixed_text(sub, [d for d in ds.dims if d not in keep])})", fontsize=10)
+    return fig
+
+
+CATEGORIES = (("ok", "#4daf4a"), ("static stress above allowable", "#ffb000"), ("not self-locking", "#e41a1c"),
+              ("never engaged / not converged", "k"), ("overrunning (mode)", "0.7"))
+
+
+def feasible_region(ds):
+    fig = _needs(ds, ("rollers", "wedge_angle"))
+    if fig is not None:
+        return fig
+    sub = seed_view(ds[["status", "contact_stress", "engagement_time", "limit_wedge_angle"]], SEED,
+                    keep=("rollers", "wedge_angle")).transpose("wedge_angle", "rollers")
+    code = sub["status"].values
+    cat = np.full(code.shape, 3)
+    cat[code == st.CODE["ok"]] = 0
+    cat[code == st.CODE["above_allowable"]] = 1
+    cat[code == st.CODE["not_self_locking"]] = 2
+    cat[code == st.CODE["overrunning"]] = 4
+    z, a = sub["rollers"].values, np.rad2deg(sub["wedge_angle"].values)
+    fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
+    ax.pcolormesh(z, a, cat, shading="nearest", cmap=ListedColormap([c for _, c in CATEGORIES]),
+                  norm=BoundaryNorm(np.arange(len(CATEGORIES) + 1) - 0.5, len(CATEGORIES)), edgecolors="w", lw=0.5)
+    for j, aa in enumerate(a):
+        for i, zz in enumerate(z):
+            te = sub["engagement_time"].values[j, i]
+            if np.isfinite(te):
+                ax.text(zz, aa, f"{te * 1e3:.2f}", ha="center", va="center", fontsize=7)
+    lim = np.rad2deg(np.unique(sub["limit_wedge_angle"].values))
+    for v in lim:
+        ax.axhline(v, color="k", ls="--", lw=1)
+    ax.plot([], [], "k--", label=f"self-locking limit 2 atan(mu) = {', '.join(f'{v:.2f}' for v in lim)} deg")
+    ax.plot(SEED["rollers"], np.rad2deg(SEED["wedge_angle"]), "*", ms=22, mfc="none", mec="k", label="seed 003 design")
+    for label, colour in CATEGORIES:
+        ax.plot([], [], "s", color=colour, ms=10, label=label)
+    ax.set_xlabel("number of rollers z")
+    ax.set_ylabel("wedge angle alpha [deg]")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+    fig.subplots_adjust(right=0.72)
+    ax.set_title("Feasible region (numbers: engagement time in ms); "
+                 + fixed_text(sub, [d for d in ds.dims if d not in ("rollers", "wedge_angle")]), fontsize=9)
+    return fig
+
+
+def engagement_trace(ds):
+    fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
+    if "trace_driven_speed" not in ds:
+        ax.text(0.5, 0.5, "the seed design does not self-lock: no trace", ha="center", transform=ax.transAxes)
+        return fig
+    t = ds["trace_time"].values * 1e3
+    for name, style in (("driving", "k-"), ("wedge", "b--"), ("driven", "r-")):
+        ax.plot(t, ds[f"trace_{name}_speed"].values / RPM, style, label=f"{name} ring")
+    ax.set_xlabel("time [ms]")
+    ax.set_ylabel("speed [rpm]")
+    ax2 = ax.twinx()
+    ax2.plot(t, ds["trace_contact_force"].values / 1e3, color="0.6", lw=0.8, label="contact force per roller")
+    ax2.set_ylabel("contact force [kN]")
+    marks = (("trace_stick_time", "B: wedge ring synchronous", "b"), ("trace_engagement_time", "C: engaged", "r"))
+    for name, label, colour in marks:
+        v = float(ds[name])
+        if np.isfinite(v):
+            ax.axvline(v * 1e3, color=colour, ls=":", label=f"{label} {v * 1e3:.3f} ms")
+    stop, rel = float(ds["trace_control_stop_time"]), float(ds["trace_release_time"])
+    if np.isfinite(rel):
+        ax.axvspan(stop * 1e3, (stop + rel) * 1e3, color="g", alpha=0.2,
+                   label=f"release: control ring stopped at {stop * 1e3:.2f} ms, free after {rel * 1e3:.3f} ms")
+    h1, l1 = ax.get_legend_handles_labels()
+    h2, l2 = ax2.get_legend_handles_labels()
+    ax.legend(h1 + h2, l1 + l2, loc="center right", fontsize=8)
+    ax.grid(alpha=0.3)
+    ax.set_title("Seed 003 design: engagement from rest at 2000 rpm under T_c = 1848 N m (cf. Figs. 7 and 9); "
+                 "inertias and penetration depth assumed", fontsize=10)
+    return fig
+
+
+def figures(ds):
+    return [("stress_engagement", stress_engagement(ds)), ("feasible_region", feasible_region(ds)),
+            ("engagement_trace", engagement_trace(ds))]

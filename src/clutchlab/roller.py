@@ -1,0 +1,191 @@
+"""Roller-type controllable overrunning clutch (seed 003): statics, self-locking and the wedging
+dynamics with stiff Hertz contact.
+
+Pure functions of numpy arrays (broadcasting), SI units; the dynamics runs compiled
+(:mod:`clutchlab._contact_kernel`) one scenario after another inside one call.
+
+Reduced dynamic model (seed 003 section 3.1, Table 2: the ADAMS model's joints). The driving ring
+turns at a constant speed ω_d; it drives the wedge ring (inertia J_w) through their flat
+interface by Coulomb friction μ·(axial load)·R_C while they slip, and carries it when they stick;
+the wedge ring's slopes (wedge angle α) press the loaded rollers onto the flat driven ring
+(inertia J_o, load torque T_L). A roller is a two-force member: each contact carries a normal
+force N and a tangential force N·tan(α/2), and its compression at each contact is
+δ = δ₀ + tan(α/2)·u/2 where u = R_C·(θ_w − θ_o) is the tangential travel of the wedge ring over
+the driven ring (virtual work; rollers rolling without slip, massless on this time scale). The
+spring preload F_T holds the rollers in the wedge at the start: N₀ = F_T / (2·sin(α/2)).
+
+    q' = R_C (ω_d − ω_w)                      (slip at the friction interface; 0 when stuck)
+    J_w ω_w' = z R_C (μ − tan(α/2)) N         (0 when stuck: ω_w = ω_d)
+    u' = R_C (ω_w − ω_o)
+    J_o ω_o' = z R_C tan(α/2) N − T_L
+
+N follows :func:`clutchlab.contact.impact_force` (k·δ^1.5, damping through a cubic step over the
+penetration depth, never pulling). Events, located by re-stepping the integrator: the wedge ring
+reaching ω_d (stick: it stays stuck because tan(α/2) < μ), the driven ring reaching ω_d
+(engagement time; total backlash (q + u)/R_C; the driving/wedge part q/R_C frozen at the stick),
+the peaks of N, and the release. Release: when the control ring is stopped its claws hold the
+rollers, which (after a claw clearance) move toward the wide end of the wedge at the relative speed
+R_C·ω_d, opening each contact by tan(α)/2 per unit travel; released when N reaches 0.
+
+Integrator: L-stable SDIRK4 with an analytic Jacobian (:mod:`clutchlab._contact_kernel`): the
+contact damping makes the problem stiff (eigenvalues ~ −z·c·(tan(α/2)R_C/2)²/J_o ≈ −10⁷ s⁻¹ for the
+seed design).
+
+References
+----------
+[1] seed 003: Wang P. et al., "Design of a new roller-type control-separated overrunning
+    clutch", Sci Sin Tech 2013. Eqs. (1)-(4), Table 1, section 3.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import _contact_kernel as _k
+from . import status as st
+from .contact import hertz_stiffness
+
+__all__ = ["computed_torque", "loaded_rollers", "normal_force", "equivalent_radius", "contact_stress",
+           "roller_mass", "spring_preload", "self_locking_margin", "limit_wedge_angle", "simulate",
+           "parameter_rows", "MODES", "engages", "RPM"]
+
+RPM = np.pi / 30.0
+STEEL_DENSITY = 7850.0
+MODES = ("bidirectional_lock", "bidirectional_overrun", "overrun_forward", "overrun_reverse")
+
+
+def computed_torque(max_torque, *, k1=1.0, k2=1.1, k3=1.1):
+    """T_c = K₃(K₁ + K₂)·T_i (seed 003 eq. 1) [N m]. The paper prints only T_c = 1848 N m for
+    T_i = 800 N m, i.e. K₃(K₁+K₂) = 2.31; the split K₁ = 1.0, K₂ = 1.1, K₃ = 1.1 is assumed."""
+    return k3 * (k1 + k2) * np.asarray(max_torque, float)
+
+
+def loaded_rollers(rollers, reading="one_flank"):
+    """Rollers carrying the torque in one direction.
+
+    ``one_flank`` (clutchlab): the wedge ring is symmetric for both directions, and in either
+    direction only the rollers on one flank of each wedge lock, z/2 of them — the reading that gives
+    the published σ_H = 2865.5 MPa; ``all``: eq. (2) as printed, every roller loaded (2026 MPa)."""
+    z = np.asarray(rollers, float)
+    return 0.5 * z if reading == "one_flank" else z
+
+
+def normal_force(torque, *, contact_radius, friction_coefficient, rollers):
+    """N_A = T_c / (R_C·μ_A·z) (seed 003 eq. 2) [N]: the normal force per roller that lets the
+    friction interface carry T_c (``rollers`` = the loaded ones)."""
+    return np.asarray(torque, float) / (contact_radius * friction_coefficient * rollers)
+
+
+def equivalent_radius(roller_diameter, counter_diameter=np.inf):
+    """ρ_v = 0.5·D_v·d/(D_v − d) (seed 003, after eq. 3) [m]; d/2 on a flat face (D_v = ∞)."""
+    d = np.asarray(roller_diameter, float)
+    dv = np.asarray(counter_diameter, float)
+    return np.where(np.isinf(dv), 0.5 * d, 0.5 * dv * d / np.where(np.isinf(dv), 1.0, dv - d))
+
+
+def contact_stress(force, *, roller_length, radius, youngs_modulus=206e9, poisson_ratio=0.3):
+    """Hertz line-contact stress σ_H = √(N·E / (2π(1−ν²)·b·ρ_v)) (seed 003 eq. 3: 0.418 = 1/√(2π(1−ν²))
+    for steel, ν = 0.3) [Pa]."""
+    return np.sqrt(np.asarray(force, float) * youngs_modulus
+                   / (2 * np.pi * (1 - np.square(poisson_ratio)) * roller_length * radius))
+
+
+def roller_mass(*, roller_diameter, roller_length, density=STEEL_DENSITY):
+    """Mass of a solid roller [kg] (10 x 15 mm steel: 9.25 g)."""
+    return density * np.pi / 4 * np.square(roller_diameter) * roller_length
+
+
+def spring_preload(*, roller_mass, contact_radius, friction_coefficient, speed, formula="exact"):
+    """Spring force that keeps a roller in the wedge against friction of its centrifugal force [N]
+    (seed 003 eq. 4): F_T ≥ μ·m·ω²·R_C (``exact``). The printed form 2R_Cμmn²/(18·10⁴) (R_C in mm,
+    n in rpm; ``eq4``) is the same with π² taken as 10 (1.3 % higher): 800·m for seed 003, so the
+    published 3.7 N implies m = 4.6 g, half the 9.25 g of a solid 10 x 15 mm roller."""
+    if formula == "eq4":
+        n = np.asarray(speed, float) / RPM
+        return 2 * (np.asarray(contact_radius) * 1e3) * friction_coefficient * roller_mass * n ** 2 / 18e4
+    return friction_coefficient * roller_mass * np.square(speed) * contact_radius
+
+
+def self_locking_margin(*, wedge_angle, friction_coefficient):
+    """μ / tan(α/2) [1]: the roller locks without slipping at its contacts only if > 1 (seed 003
+    section 1.1 step 4: tan(α/2) < μ at every contact; 11°, μ 0.12: 1.25)."""
+    return np.asarray(friction_coefficient, float) / np.tan(0.5 * np.asarray(wedge_angle, float))
+
+
+def limit_wedge_angle(friction_coefficient):
+    """Largest self-locking wedge angle 2·atan(μ) [rad] (13.69° for μ = 0.12)."""
+    return 2.0 * np.arctan(friction_coefficient)
+
+
+def engages(mode, direction=1):
+    """Whether a working mode lets the clutch lock when driven in ``direction`` (+1 forward, −1
+    reverse): bidirectional lock both; bidirectional overrun neither; one-way overrun forward
+    locks only in reverse, and vice versa (the control ring holds the rollers out of the wedges of
+    the overrunning direction)."""
+    if mode not in MODES:
+        raise ValueError(f"mode must be one of {MODES}, got {mode!r}")
+    d = np.asarray(direction)
+    if mode == "bidirectional_lock":
+        return np.ones(d.shape, bool)
+    if mode == "bidirectional_overrun":
+        return np.zeros(d.shape, bool)
+    return d < 0 if mode == "overrun_forward" else d > 0
+
+
+def parameter_rows(*, driving_speed, load_torque, wedge_inertia, driven_inertia, contact_radius, rollers_loaded,
+                   wedge_angle, friction_coefficient, spring_force, stiffness, exponent=1.5, damping=2.1e6,
+                   penetration_depth=1e-4, control_stop_time=np.inf, claw_clearance=0.0, end_time=2e-3,
+                   sync_tolerance=0.01, max_step=np.inf):
+    """The compiled kernel's parameter rows (one per scenario, broadcast) and their shape; see
+    :func:`simulate` for the arguments."""
+    args = np.broadcast_arrays(*(np.asarray(a, float) for a in (
+        driving_speed, load_torque, wedge_inertia, driven_inertia, contact_radius, rollers_loaded, wedge_angle,
+        friction_coefficient, spring_force, stiffness, exponent, damping, penetration_depth, control_stop_time,
+        claw_clearance, end_time, max_step, sync_tolerance)))
+    (wd, tl, jw, jo, rc, z, alpha, mu, ft, k, e, c, dmax, trel, clr, tend, hmax, eps) = (a.ravel() for a in args)
+    n0 = ft / (2.0 * np.sin(0.5 * alpha))  # preload normal force of the spring-held roller
+    P = np.zeros((wd.size, _k.N_PARAM))
+    cols = {_k.WD: wd, _k.TL: tl, _k.JW: jw, _k.JO: jo, _k.RC: rc, _k.Z: z, _k.TH: np.tan(0.5 * alpha),
+            _k.TA: np.tan(alpha), _k.MU: mu, _k.K: k, _k.EXP: e, _k.CD: c, _k.DMAX: dmax, _k.D0: (n0 / k) ** (1.0 / e),
+            _k.TREL: trel, _k.CLR: clr, _k.TEND: tend, _k.HMAX: hmax, _k.WSYNC: (1.0 - eps) * wd}
+    for col, v in cols.items():
+        P[:, col] = v
+    return P, args[0].shape
+
+
+def simulate(*, rtol=1e-8, max_steps=200_000, trace_index=None, trace_points=20_000, **scenario):
+    """Wedging (and release) of the roller clutch for a batch of scenarios (broadcast arrays).
+
+    Parameters (keyword arrays)
+    ---------------------------
+    driving_speed [rad/s], load_torque [N m], wedge_inertia, driven_inertia [kg m^2],
+    contact_radius [m], rollers_loaded [1], wedge_angle [rad], friction_coefficient [1],
+    spring_force [N] (preload per roller), stiffness [N/m^exponent], exponent [1] (1.5),
+    damping [N s/m] (2.1e6), penetration_depth [m] (1e-4), control_stop_time [s] (inf: no
+    release), claw_clearance [m] (0), end_time [s] (2e-3), sync_tolerance [1] (0.01: engaged when
+    the driven ring first reaches 99 % of the driving speed), max_step [s]; rtol: integrator
+    tolerance.
+
+    Returns
+    -------
+    dict of arrays: ``engagement_time`` [s], ``backlash`` [rad] (driving minus driven ring
+    rotation at engagement), ``slip_backlash`` [rad] (its driving/wedge ring part), ``stick_time``
+    [s], ``peak_contact_force`` [N] (per roller, peaks located exactly), ``release_time`` [s] after
+    the control ring stops, ``final_contact_force`` [N], ``n_steps``, ``n_fev``, ``status`` (ok;
+    never_locked; not_converged; not_self_locking: tan(α/2) ≥ μ, not simulated); and ``trace``
+    (columns t, ω_d, ω_w, ω_o, N) of scenario ``trace_index``.
+    """
+    P, shape = parameter_rows(**scenario)
+    th, mu = P[:, _k.TH], P[:, _k.MU]
+    locks = th < mu
+    idx = np.flatnonzero(locks)
+    row = -1 if trace_index is None else int(np.searchsorted(idx, trace_index))
+    if trace_index is not None and (row >= idx.size or idx[row] != trace_index):
+        row = -1
+    out, trace = _k.simulate_roller(P[idx], float(rtol), int(max_steps), row, int(trace_points))
+    full = np.full((P.shape[0], len(_k.RESULTS)), np.nan)
+    full[idx] = out
+    full[~locks, _k.STATUS] = st.CODE["not_self_locking"]
+    res = {name: full[:, i].reshape(shape) for i, name in enumerate(_k.RESULTS)}
+    res["status"] = res["status"].astype(st.DTYPE)
+    res["trace"] = trace
+    return res
