@@ -25,6 +25,10 @@ def test_seed000_through_the_whole_chain():
     assert float(ds["peak_capacity"]) == pytest.approx(239.3, rel=2e-3)
     assert float(ds["lockup_time"]) == pytest.approx(0.150, rel=0.01)
     assert float(ds["slip_work"]) == pytest.approx(5800.0, rel=0.02)
+    # the seed design's traces (Figs. 7-11) are the same scenario: their end values agree with it
+    assert float(ds["trace_lockup_time"]) == pytest.approx(float(ds["lockup_time"]), abs=1e-9)
+    assert float(ds["trace_slip_work"][-1]) == pytest.approx(float(ds["slip_work"]), rel=1e-8)
+    assert float(ds["trace_clamp_force"].max()) == pytest.approx(float(ds["clamp_load"]), rel=1e-12)
 
 
 def test_default_study_energy_and_metadata(tmp_path):
@@ -37,7 +41,21 @@ def test_default_study_energy_and_metadata(tmp_path):
     assert bool((ds["peak_jerk"].values[ok.values] > 0).all())
     path = store.write(ds, tmp_path / "engagement.h5")  # checks units and long_name everywhere
     written = report.build({"engagement": path}, [], tmp_path / "report")
-    assert {p.stem for p in written} >= {"engagement_tradeoff", "engagement_maps"}
+    assert {p.stem for p in written} >= {"engagement_tradeoff", "engagement_maps", "engagement_traces"}
+
+
+def test_work_precision_page_from_stored_benchmark(tmp_path):
+    """The report's work-precision page is drawn from the benchmark's CSV (no solver re-run)."""
+    from clutchlab import benchmark
+
+    rows = [dict(method=benchmark.CLUTCHLAB, rtol=r, seconds_per_scenario=5e-5 * (1 + i), max_lockup_error_s=r,
+                 scenarios=10_000) for i, r in enumerate((1e-4, 1e-8))]
+    rows += [dict(method=benchmark.RK45, rtol=1e-6, seconds_per_scenario=2e-3, max_lockup_error_s=5e-3, scenarios=200)]
+    benchmark.write_rows(rows, tmp_path / "engagement_benchmark.csv")
+    assert benchmark.read_rows(tmp_path / "engagement_benchmark.csv") == rows
+    written = report.build({}, [], tmp_path / "report", benchmark_csv=tmp_path / "engagement_benchmark.csv")
+    assert {p.stem for p in written} == {"title", "engagement_work_precision", "report"}
+    assert report.figure_stems([], benchmark=True) == ["title", "engagement_work_precision", "validation_table"]
 
 
 def test_infinite_only_where_allowed():

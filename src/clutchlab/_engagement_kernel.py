@@ -48,7 +48,7 @@ _E = _B - np.array([5179 / 57600, 0.0, 7571 / 16695, 393 / 640, -92097 / 339200,
 _EPS = np.finfo(float).eps
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _profile(x, prof):
     if prof == 0:
         return x
@@ -57,7 +57,7 @@ def _profile(x, prof):
     return x * x * x * (10.0 + x * (-15.0 + 6.0 * x))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _capacity(t, q, prof):
     """C(t) = C_max·p(t/t_r); a zero ramp time is a step at t = 0+."""
     x = 1.0
@@ -66,7 +66,7 @@ def _capacity(t, q, prof):
     return q[CMAX] * _profile(x, prof)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _capacity_rate(t, q, prof):
     """dC/dt, one-sided from the right at breakpoints."""
     if q[TR] <= 0.0:
@@ -83,7 +83,7 @@ def _capacity_rate(t, q, prof):
     return q[CMAX] * dp / q[TR]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _interp(x, xp, fp):
     """np.interp for a scalar (constant beyond the ends); numba's np.interp costs ~50 ns a call
     here even when not reached."""
@@ -102,12 +102,12 @@ def _interp(x, xp, fp):
     return fp[lo] + (fp[hi] - fp[lo]) * (x - xp[lo]) / (xp[hi] - xp[lo])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _load_static(t, q):
     return q[TM0] + (q[DTM] if t >= q[TSTEP] else 0.0)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _forces(t, y, q, locked, parked, s, compliant, prof, tx, ty, dy):
     """Fill dy; return (C, tc, tm, ts, t_need, slip, f, ar)."""
     held = q[HELD] > 0.0
@@ -162,7 +162,7 @@ def _forces(t, y, q, locked, parked, s, compliant, prof, tx, ty, dy):
     return C, tc, tm, ts, t_need, slip, f, ar
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _slip_torque_rate(t, q, s, prof, dy, C, slip, f):
     """d/dt of the slipping clutch torque s·f(|Δω|)·C(t) by the chain rule [N m/s]."""
     rate = _capacity_rate(t, q, prof)
@@ -174,7 +174,7 @@ def _slip_torque_rate(t, q, s, prof, dy, C, slip, f):
     return s * (f * rate + C * dfdv * sgn * (dy[E] - dy[H]))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _jerk(t, y, q, locked, parked, s, compliant, prof, dy, aux):
     """Output-side jerk from the state (chain rule, never by differencing) [rad/s³]."""
     C, tc, tm, ts, t_need, slip, f, ar = aux
@@ -191,7 +191,7 @@ def _jerk(t, y, q, locked, parked, s, compliant, prof, dy, aux):
     return (_slip_torque_rate(t, q, s, prof, dy, C, slip, f) - dtm) / q[JV]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _events(t, y, q, locked, parked, s, compliant, prof, dy, aux, g):
     C, tc, tm, ts, t_need, slip, f, ar = aux
     inf = np.inf
@@ -202,7 +202,7 @@ def _events(t, y, q, locked, parked, s, compliant, prof, dy, aux, g):
     g[PEAK] = inf if locked else (_slip_torque_rate(t, q, s, prof, dy, C, slip, f) * slip + tc * (dy[E] - dy[H]))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _dopri(t, y, h, q, locked, parked, s, compliant, prof, tx, ty, d0, kk, yi, y_new, err):
     """One DOPRI5 step from (t, y) with first stage d0; fills y_new and err."""
     kk[0, :] = d0
@@ -223,7 +223,7 @@ def _dopri(t, y, h, q, locked, parked, s, compliant, prof, tx, ty, d0, kk, yi, y
         err[m] = e
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _err_norm(y0, y1, err, rtol, atol, compliant):
     acc = 0.0
     n = 0
@@ -236,7 +236,7 @@ def _err_norm(y0, y1, err, rtol, atol, compliant):
     return math.sqrt(acc / n)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _hermite(y0, d0, y1, d1, h, th, out):
     h00 = 2 * th**3 - 3 * th**2 + 1
     h10 = th**3 - 2 * th**2 + th
@@ -246,7 +246,7 @@ def _hermite(y0, d0, y1, d1, h, th, out):
         out[m] = h00 * y0[m] + h10 * h * d0[m] + h01 * y1[m] + h11 * h * d1[m]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _g_true(kind, t, y, d, tau, q, locked, parked, s, compliant, prof, tx, ty, rtol, atol, kk, yi, dm, gm, yout, err):
     """Event function ``kind`` at t + tau by re-integration from (t, y): (g, error norm of that step)."""
     _dopri(t, y, tau, q, locked, parked, s, compliant, prof, tx, ty, d, kk, yi, yout, err)
@@ -255,7 +255,7 @@ def _g_true(kind, t, y, d, tau, q, locked, parked, s, compliant, prof, tx, ty, r
     return gm[kind], _err_norm(y, yout, err, rtol, atol, compliant)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _locate(kind, t, y, d, y1, d1, h, tau_hi, g0, q, locked, parked, s, compliant, prof, tx, ty, rtol, atol, kk,
             yi, dm, gm, ya, yb, err):
     """Time (from t) at which event ``kind`` falls through zero in (0, tau_hi], or inf (false alarm).
@@ -336,7 +336,7 @@ def _locate(kind, t, y, d, y1, d1, h, tau_hi, g0, q, locked, parked, s, complian
     return hi, n_hi
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk):
     """Update the running maxima pk = (slip power, |friction torque|, |output jerk|); return the jerk."""
     jk = _jerk(t, y, q, locked, parked, s, compliant, prof, d, aux)
@@ -347,7 +347,21 @@ def _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk):
     return jk
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
+def _store_trace(trace, tt, t, y, wr_col, aux, jk):
+    """Record the state at the trace times equal to t (they are breakpoints: no interpolation)."""
+    for i in range(tt.size):
+        if tt[i] == t:
+            trace[i, 0] = y[E]
+            trace[i, 1] = y[H]
+            trace[i, 2] = y[wr_col]
+            trace[i, 3] = aux[1]
+            trace[i, 4] = aux[0]
+            trace[i, 5] = y[WS]
+            trace[i, 6] = jk
+
+
+@njit(cache=True, error_model="numpy")
 def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_step, max_steps, out, trace):
     """Integrate one scenario over [0, q[TEND]]; fill ``out`` (RESULTS) and ``trace`` (times × TRACES)."""
     nan, inf = np.nan, np.inf
@@ -398,7 +412,8 @@ def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_st
     h = min(first_step, q[TEND])
     aux = _forces(t, y, q, locked, parked, s, compliant, prof, tx, ty, d)
     _events(t, y, q, locked, parked, s, compliant, prof, d, aux, g)
-    _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk)
+    jk = _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk)
+    _store_trace(trace, tt, t, y, wr_col, aux, jk)
     n_steps = 0
     while t < q[TEND] and n_steps < max_steps:
         nb = q[TEND]
@@ -513,15 +528,7 @@ def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_st
         d[:] = d1
         g[:] = g1
         jk = _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux1, pk)
-        for i in range(tt.size):
-            if tt[i] == t:
-                trace[i, 0] = y[E]
-                trace[i, 1] = y[H]
-                trace[i, 2] = y[wr_col]
-                trace[i, 3] = aux1[1]
-                trace[i, 4] = aux1[0]
-                trace[i, 5] = y[WS]
-                trace[i, 6] = jk
+        _store_trace(trace, tt, t, y, wr_col, aux1, jk)
 
     out[PEAK_SLIP_POWER], out[PEAK_FRICTION_TORQUE], out[PEAK_JERK] = pk[0], pk[1], pk[2]
     out[N_STEPS] = n_steps
@@ -548,7 +555,7 @@ def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_st
     out[ENERGY_RESIDUAL] = (w_in - dke - w_s - w_l - w_d) / max(abs(w_in), abs(w_s), 1e-300)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def simulate_batch(Q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_step, max_steps):
     """Run every row of the parameter table Q; returns (results, traces)."""
     n = Q.shape[0]

@@ -138,7 +138,7 @@ def resolve(raw: dict) -> dict:
     validate_schema(cfg)
     default_chunks = int(cfg.get("chunks", DEFAULT_CHUNKS))
     resolved = {"studies": list(cfg["studies"]), "chunks": default_chunks,
-                "report": {"title": "clutchlab report", "dpi": 120, **cfg.get("report", {})}}
+                "report": {"title": "clutchlab report", "dpi": 120, "benchmark": False, **cfg.get("report", {})}}
     for name in cfg["studies"]:
         if name not in cfg:
             raise ConfigError(name, "section missing for a study listed in 'studies'")

@@ -4,8 +4,9 @@ import sys
 from clutchlab.report import figure_stems as _figure_stems
 
 REPORT_DIR = f"{RESULTS}/report"
+BENCHMARK_PAGE = RESOLVED["report"]["benchmark"]  # the engagement work-precision page (runs the benchmark)
 REPORT_FILES = [f"{REPORT_DIR}/report.pdf", f"{REPORT_DIR}/validation.csv"] + [
-    f"{REPORT_DIR}/{stem}.png" for stem in _figure_stems(STUDIES)
+    f"{REPORT_DIR}/{stem}.png" for stem in _figure_stems(STUDIES, BENCHMARK_PAGE)
 ]
 
 
@@ -13,6 +14,7 @@ rule report:
     input:
         studies=[results(s) for s in STUDIES],
         validation=[f"{RESULTS}/validation/{s}.h5" for s in VALIDATED],
+        benchmark=[f"{RESULTS}/benchmark/engagement_benchmark.csv"] if BENCHMARK_PAGE else [],
     output:
         REPORT_FILES,
     params:
@@ -27,11 +29,13 @@ rule report:
 
 
 rule benchmark:
-    # Not part of `all`: `snakemake --cores 1 benchmark` (about 1 minute). Prints speed/error
-    # ratios against scipy measured in the same run and draws the work-precision diagram.
+    # `snakemake --cores 1 benchmark` (about 1 minute); part of `all` when report.benchmark is true
+    # (the report's work-precision page). Prints speed/error ratios against scipy measured in the
+    # same run and draws the work-precision diagram.
     output:
         f"{RESULTS}/benchmark/engagement_benchmark.csv",
         f"{RESULTS}/benchmark/work_precision.png",
+    threads: workflow.cores  # alone on the machine: timings are not disturbed by other jobs
     params:
         python=sys.executable,
     shell:
@@ -43,6 +47,7 @@ rule benchmark_sprag:
     # throughput at 1e5 and 1e6 scenarios and the ratio against per-scenario scipy brentq.
     output:
         f"{RESULTS}/benchmark/sprag_benchmark.csv",
+    threads: workflow.cores
     params:
         python=sys.executable,
     shell:
@@ -54,6 +59,7 @@ rule benchmark_roller:
     # reference is slow). Compiled SDIRK4 against per-scenario solve_ivp LSODA and Radau.
     output:
         f"{RESULTS}/benchmark/roller_benchmark.csv",
+    threads: workflow.cores
     params:
         python=sys.executable,
     shell:

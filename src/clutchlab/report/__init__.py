@@ -21,13 +21,14 @@ from .common import title_page, validation_table  # noqa: E402
 __all__ = ["build", "figure_stems"]
 
 
-def figure_stems(study_names) -> list[str]:
+def figure_stems(study_names, benchmark=False) -> list[str]:
     """PNG stems the report produces for these studies (for Snakemake outputs)."""
     stems = ["title"] + [f"{name}_{s}" for name in study_names for s in studies.get(name).figure_stems]
-    return stems + ["validation_table"]
+    return stems + (["engagement_work_precision"] if benchmark else []) + ["validation_table"]
 
 
-def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab report", dpi=120) -> list[Path]:
+def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab report", dpi=120,
+          benchmark_csv=None) -> list[Path]:
     """Build the report from stored results.
 
     Parameters
@@ -36,6 +37,8 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
         Study name -> path of its merged HDF5 result.
     validation_files : list
         Paths of validation Datasets (one per seed).
+    benchmark_csv : path or None
+        ``engagement_benchmark.csv`` of :mod:`clutchlab.benchmark`: adds the work-precision page.
     outdir : path
         Folder for ``report.pdf``, ``validation.csv`` and the PNGs.
     """
@@ -46,6 +49,10 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
     pages = [("title", title_page(title, __version__, results, validations))]
     for name, ds in results.items():
         pages += [(f"{name}_{stem}", fig) for stem, fig in studies.get(name).figures(ds)]
+    if benchmark_csv is not None:
+        from ..benchmark import read_rows, work_precision_figure
+
+        pages.append(("engagement_work_precision", work_precision_figure(read_rows(benchmark_csv))))
     if validations:
         pages.append(("validation_table", validation_table(validations)))
         to_csv(validations, outdir / "validation.csv")

@@ -87,5 +87,44 @@ def maps(ds):
     return fig
 
 
+def traces(ds):
+    """Seed design traces (seed 000 Figs. 7-11): clamp force, speeds, torque and slip work, jerk."""
+    fig, axes = plt.subplots(2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.35, "wspace": 0.3})
+    if "trace_time" not in ds.dims:
+        axes[0, 0].text(0.5, 0.5, "no seed design traces (invalid spring)", ha="center", transform=axes[0, 0].transAxes)
+        return fig
+    t = ds["trace_time"].values * 1e3
+    ax = axes[0, 0]
+    ax.plot(t, ds["trace_clamp_force"].values / 1e3, "k-")
+    ax.set_ylabel("clamp force [kN]")
+    ax.set_title("(a) clamp force (cf. Fig. 7)", fontsize=10)
+    ax = axes[0, 1]
+    for name, style in (("engine_speed", "k-"), ("hub_speed", "b--"), ("output_speed", "r-")):
+        ax.plot(t, ds[f"trace_{name}"].values, style, label=name.replace("_", " "))
+    ax.set_ylabel("speed [rad/s]")
+    ax.legend(fontsize=8)
+    ax.set_title("(b) speeds (cf. Fig. 8)", fontsize=10)
+    ax = axes[1, 0]
+    ax.plot(t, ds["trace_friction_torque"].values, "b-", label="clutch torque [N m]")
+    ax2 = ax.twinx()
+    ax2.plot(t, ds["trace_slip_work"].values / 1e3, "r-", label="slip work [kJ]")
+    ax.set_ylabel("clutch torque [N m]")
+    ax2.set_ylabel("slip work [kJ]")
+    ax.set_title("(c) clutch torque and slip work (cf. Figs. 9-10)", fontsize=10)
+    ax = axes[1, 1]
+    ax.plot(t, ds["trace_jerk"].values, "k-")
+    ax.set_ylabel("output jerk [rad/s³]")
+    ax.set_title("(d) output jerk (cf. Fig. 11)", fontsize=10)
+    t_lock = float(ds["trace_lockup_time"]) * 1e3
+    for ax in axes.ravel():
+        ax.set_xlabel("time [ms]")
+        ax.grid(alpha=0.3)
+        if np.isfinite(t_lock):
+            ax.axvline(t_lock, color="g", ls=":", lw=1)
+    fig.suptitle(f"Seed 000 design traces (lock-up at {t_lock:.1f} ms, green); model: "
+                 f"{ds.attrs.get('model_used', '')}", fontsize=10)
+    return fig
+
+
 def figures(ds):
-    return [("tradeoff", tradeoff(ds)), ("maps", maps(ds))]
+    return [("tradeoff", tradeoff(ds)), ("maps", maps(ds)), ("traces", traces(ds))]

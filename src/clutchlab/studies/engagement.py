@@ -61,9 +61,9 @@ OUTPUTS = {
 }
 
 
-def compute(inputs, options=None) -> xr.Dataset:
-    options = {k: v[0] for k, v in OPTIONS.items()} | (options or {})
-    p = flat_inputs(inputs)
+def capacity(p, options):
+    """Clamp load at the spring's operating point (eq. 10), peak kinetic capacity (eqs. 13-14) and
+    the spring status, for flat parameter arrays ``p``."""
     pts = diaphragm.characteristic_points(**spring_geometry(p), operating_point_factor=p["operating_point_factor"])
     force = pts["load_B"]
     if options["capacity_formula"] == "eq14_as_printed":
@@ -73,23 +73,36 @@ def compute(inputs, options=None) -> xr.Dataset:
         cap = friction.torque_capacity(force, p["friction_coefficient"], p["lining_outer_radius"],
                                        p["lining_inner_radius"], faces=p["friction_faces"], stack_mass=p["stack_mass"])
     spring_bad = pts["status"] == st.CODE["invalid_geometry"]
-    cap = np.where(spring_bad | ~np.isfinite(cap), 0.0, cap)
-    common = dict(engine_speed=p["engine_speed"], engine_inertia=p["engine_inertia"],
-                  engine_torque=p["engine_torque"], driven_inertia=p["driven_inertia"], load_torque=p["load_torque"],
-                  peak_capacity=cap, ramp_time=p["ramp_time"], profile=options["profile"],
-                  static_ratio=p["static_ratio"], t_end=p["end_time"])
+    return force, np.where(spring_bad | ~np.isfinite(cap), 0.0, cap), spring_bad
+
+
+def _solver_inputs(p, cap, options):
+    """Keyword arguments of :func:`clutchlab.engagement.simulate` shared by the study and its traces."""
+    rigid = options["driveline"] == "rigid"
+    return dict(engine_speed=p["engine_speed"], engine_inertia=p["engine_inertia"], engine_torque=p["engine_torque"],
+                driven_inertia=p["driven_inertia"], load_torque=p["load_torque"], peak_capacity=cap,
+                ramp_time=p["ramp_time"], profile=options["profile"], static_ratio=p["static_ratio"],
+                t_end=p["end_time"], stribeck_speed=p["stribeck_speed"], aero_coefficient=p["aero_coefficient"],
+                compliant=not rigid, hub_fraction=p["hub_fraction"], damper_stiffness=p["damper_stiffness"],
+                damping_ratio=p["damping_ratio"], max_step=np.min(p["end_time"]) / 500)
+
+
+def compute(inputs, options=None) -> xr.Dataset:
+    options = {k: v[0] for k, v in OPTIONS.items()} | (options or {})
+    p = flat_inputs(inputs)
+    force, cap, spring_bad = capacity(p, options)
     rigid = options["driveline"] == "rigid"
     closed = (rigid and np.all(~np.isfinite(p["engine_inertia"])) and np.all(p["aero_coefficient"] == 0)
               and np.all(~np.isfinite(p["stribeck_speed"])))
+    kw = _solver_inputs(p, cap, options)
     if closed:
-        res = engagement.closed_form(**common)
+        res = engagement.closed_form(**{k: kw[k] for k in ("engine_speed", "engine_inertia", "engine_torque",
+                                                           "driven_inertia", "load_torque", "peak_capacity",
+                                                           "ramp_time", "profile", "static_ratio", "t_end")})
         res["peak_jerk"] = res.pop("slip_jerk")
         model = "rigid two-inertia, closed form"
     else:
-        res = engagement.simulate(**common, stribeck_speed=p["stribeck_speed"], aero_coefficient=p["aero_coefficient"],
-                                  compliant=not rigid, hub_fraction=p["hub_fraction"],
-                                  damper_stiffness=p["damper_stiffness"], damping_ratio=p["damping_ratio"],
-                                  max_step=np.min(p["end_time"]) / 500)
+        res = engagement.simulate(**kw)
         model = ("compliant driveline (damper springs), DOPRI5 with exact events" if not rigid
                  else "rigid two-inertia, DOPRI5 with exact events")
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -99,9 +112,36 @@ def compute(inputs, options=None) -> xr.Dataset:
     data = {k: ("run", np.where(spring_bad, np.nan, res[k]), {"units": u, "long_name": ln}) for k, (u, ln) in OUTPUTS.items()}
     data["status"] = ("run", code, st.attrs("invalid_geometry: spring load points off the spring; "
                                             "never_locked: slipping at end_time; not_converged: step limit"))
-    ds = xr.Dataset(data)
+    ds = xr.Dataset(data).merge(seed_traces(inputs, options))
     ds.attrs["model_used"] = model
     return ds
+
+
+TRACE_POINTS = 401
+
+
+def seed_traces(inputs, options) -> xr.Dataset:
+    """Time traces of the seed design (parameter defaults overridden by the chunk's fixed inputs),
+    the equivalents of seed 000 Figs. 7-11: clamp force, speeds, slip work, friction torque, jerk."""
+    seed = {q.name: q.default for q in PARAMETERS}
+    seed.update({k: float(v) for k, v in inputs.items() if np.ndim(v) == 0})
+    p = {k: np.atleast_1d(v) for k, v in seed.items()}
+    force, cap, bad = capacity(p, options)
+    if bad[0] or cap[0] <= 0:
+        return xr.Dataset()
+    times = np.linspace(0.0, float(p["end_time"][0]), TRACE_POINTS)
+    res = engagement.simulate(**_solver_inputs(p, cap, options), trace_times=times)
+    tr = {k: v[0] for k, v in res["trace"].items()}
+    dim = "trace_time"
+    meta = {"engine_speed": ("rad/s", "engine speed"), "hub_speed": ("rad/s", "driven plate (hub) speed"),
+            "output_speed": ("rad/s", "output speed (after the damper springs)"),
+            "friction_torque": ("N m", "transmitted clutch torque"), "slip_work": ("J", "slip work so far (eq. 11)"),
+            "jerk": ("rad/s^3", "output jerk (eq. 12)")}
+    data = {f"trace_{k}": (dim, tr[k], {"units": u, "long_name": f"{ln} (seed design)"}) for k, (u, ln) in meta.items()}
+    data["trace_clamp_force"] = (dim, tr["capacity"] / cap[0] * force[0], {
+        "units": "N", "long_name": "clamp force (seed design; its rise follows the ramp profile)"})
+    data["trace_lockup_time"] = ((), float(res["lockup_time"][0]), {"units": "s", "long_name": "lock-up time (seed)"})
+    return xr.Dataset(data, coords={dim: (dim, times, {"units": "s", "long_name": "time (seed design traces)"})})
 
 
 def _figures(ds):
@@ -118,6 +158,6 @@ STUDY = register(Study(
     compute=compute,
     model="chosen by options (see model_used): closed form, or DOPRI5 with exact stick-slip events",
     figures=_figures,
-    figure_stems=("tradeoff", "maps"),
+    figure_stems=("tradeoff", "maps", "traces"),
     options=OPTIONS,
 ))
