@@ -18,9 +18,11 @@ from numba import njit
 (WE0, JE, TE, JV, TM0, CMAX, TR, RS, VS, WC0, KA, DTM, TSTEP, PHI, K, ZETA, TEND, HELD, INV_JE, JH, JR,
  CD) = range(22)
 N_PARAM = 22
+NTAB = N_PARAM  # engine torque table: count, then speeds, then torques (shared, appended to every row)
 # state columns: engine, hub, output speed, damper twist, slip/load/input/damping work
 E, H, R, TH, WS, WL, WI, WD = range(8)
 N_STATE = 8
+N_WORK = 24  # rows of the per-scenario scratch array (see _simulate_one)
 # events (falling through zero from > 0)
 LOCK, BREAK, UNPARK, PARK, PEAK = range(5)
 N_EVENTS = 5
@@ -84,22 +86,24 @@ def _capacity_rate(t, q, prof):
 
 
 @njit(cache=True, error_model="numpy")
-def _interp(x, xp, fp):
-    """np.interp for a scalar (constant beyond the ends); numba's np.interp costs ~50 ns a call
-    here even when not reached."""
-    if x <= xp[0]:
-        return fp[0]
-    n = xp.size
-    if x >= xp[n - 1]:
-        return fp[n - 1]
+def _interp(x, q):
+    """np.interp for a scalar (constant beyond the ends) on the engine torque table stored in the
+    parameter row after its N_PARAM columns: count, speeds, torques. (The table is not a separate
+    array argument: an array argument merely touched in the right-hand side cost ~55 ns a call.)"""
+    n = int(q[NTAB])
+    x0, y0 = NTAB + 1, NTAB + 1 + n
+    if x <= q[x0]:
+        return q[y0]
+    if x >= q[x0 + n - 1]:
+        return q[y0 + n - 1]
     lo, hi = 0, n - 1
     while hi - lo > 1:
         mid = (lo + hi) // 2
-        if xp[mid] <= x:
+        if q[x0 + mid] <= x:
             lo = mid
         else:
             hi = mid
-    return fp[lo] + (fp[hi] - fp[lo]) * (x - xp[lo]) / (xp[hi] - xp[lo])
+    return q[y0 + lo] + (q[y0 + hi] - q[y0 + lo]) * (x - q[x0 + lo]) / (q[x0 + hi] - q[x0 + lo])
 
 
 @njit(cache=True, error_model="numpy")
@@ -108,7 +112,7 @@ def _load_static(t, q):
 
 
 @njit(cache=True, error_model="numpy")
-def _forces(t, y, q, locked, parked, s, compliant, prof, tx, ty, dy):
+def _forces(t, y, q, locked, parked, s, compliant, prof, dy):
     """Fill dy; return (C, tc, tm, ts, t_need, slip, f, ar)."""
     held = q[HELD] > 0.0
     we, wh = y[E], y[H]
@@ -118,8 +122,8 @@ def _forces(t, y, q, locked, parked, s, compliant, prof, tx, ty, dy):
     te = 0.0
     if not held:
         te = q[TE]
-        if tx.size > 0:
-            te += _interp(we, tx, ty)
+        if q[NTAB] > 0.0:
+            te += _interp(we, q)
     slip = we - wh
     f = 1.0
     if math.isfinite(q[VS]):
@@ -203,7 +207,7 @@ def _events(t, y, q, locked, parked, s, compliant, prof, dy, aux, g):
 
 
 @njit(cache=True, error_model="numpy")
-def _dopri(t, y, h, q, locked, parked, s, compliant, prof, tx, ty, d0, kk, yi, y_new, err):
+def _dopri(t, y, h, q, locked, parked, s, compliant, prof, d0, kk, yi, y_new, err):
     """One DOPRI5 step from (t, y) with first stage d0; fills y_new and err."""
     kk[0, :] = d0
     for i in range(1, 7):
@@ -212,7 +216,7 @@ def _dopri(t, y, h, q, locked, parked, s, compliant, prof, tx, ty, d0, kk, yi, y
             for j in range(i):
                 acc += h * _A[i, j] * kk[j, m]
             yi[m] = acc
-        _forces(t + _C[i] * h, yi, q, locked, parked, s, compliant, prof, tx, ty, kk[i])
+        _forces(t + _C[i] * h, yi, q, locked, parked, s, compliant, prof, kk[i])
     for m in range(N_STATE):
         a = y[m]
         e = 0.0
@@ -247,17 +251,17 @@ def _hermite(y0, d0, y1, d1, h, th, out):
 
 
 @njit(cache=True, error_model="numpy")
-def _g_true(kind, t, y, d, tau, q, locked, parked, s, compliant, prof, tx, ty, rtol, atol, kk, yi, dm, gm, yout, err):
+def _g_true(kind, t, y, d, tau, q, locked, parked, s, compliant, prof, rtol, atol, kk, yi, dm, gm, yout, err):
     """Event function ``kind`` at t + tau by re-integration from (t, y): (g, error norm of that step)."""
-    _dopri(t, y, tau, q, locked, parked, s, compliant, prof, tx, ty, d, kk, yi, yout, err)
-    aux = _forces(t + tau, yout, q, locked, parked, s, compliant, prof, tx, ty, dm)
+    _dopri(t, y, tau, q, locked, parked, s, compliant, prof, d, kk, yi, yout, err)
+    aux = _forces(t + tau, yout, q, locked, parked, s, compliant, prof, dm)
     _events(t + tau, yout, q, locked, parked, s, compliant, prof, dm, aux, gm)
     return gm[kind], _err_norm(y, yout, err, rtol, atol, compliant)
 
 
 @njit(cache=True, error_model="numpy")
-def _locate(kind, t, y, d, y1, d1, h, tau_hi, g0, q, locked, parked, s, compliant, prof, tx, ty, rtol, atol, kk,
-            yi, dm, gm, ya, yb, err):
+def _locate(kind, t, y, d, y1, d1, h, tau_hi, g0, q, locked, parked, s, compliant, prof, rtol, atol, kk,
+            yi, dm, gm, ya, yb, err, interpolant_only=False):
     """Time (from t) at which event ``kind`` falls through zero in (0, tau_hi], or inf (false alarm).
 
     1. Illinois on the event function along the step's cubic Hermite interpolant (cheap: no
@@ -266,12 +270,14 @@ def _locate(kind, t, y, d, y1, d1, h, tau_hi, g0, q, locked, parked, s, complian
        which (almost always) brackets the true crossing tightly;
     3. Illinois on the true function in the remaining bracket until it is ≤ EVENT_TIME_TOL wide.
     Returns (tau, error norm of the re-integrated step to tau); ``ya`` holds the state at t + tau.
+    With ``interpolant_only`` (events that only record a value, e.g. a maximum, whose value is
+    insensitive to the time to second order) step 1 only, then one re-integration to its root.
     """
     inf = np.inf
     # 1. on the interpolant
     lo, hi, g_lo, side = 0.0, tau_hi, g0, 0.0
     _hermite(y, d, y1, d1, h, hi / h, yb)
-    aux = _forces(t + hi, yb, q, locked, parked, s, compliant, prof, tx, ty, dm)
+    aux = _forces(t + hi, yb, q, locked, parked, s, compliant, prof, dm)
     _events(t + hi, yb, q, locked, parked, s, compliant, prof, dm, aux, gm)
     g_hi = gm[kind]
     for _ in range(60):
@@ -281,7 +287,7 @@ def _locate(kind, t, y, d, y1, d1, h, tau_hi, g0, q, locked, parked, s, complian
         if not (lo < tau < hi):
             tau = 0.5 * (lo + hi)
         _hermite(y, d, y1, d1, h, tau / h, yb)
-        aux = _forces(t + tau, yb, q, locked, parked, s, compliant, prof, tx, ty, dm)
+        aux = _forces(t + tau, yb, q, locked, parked, s, compliant, prof, dm)
         _events(t + tau, yb, q, locked, parked, s, compliant, prof, dm, aux, gm)
         if gm[kind] > 0:
             if side > 0:
@@ -293,12 +299,16 @@ def _locate(kind, t, y, d, y1, d1, h, tau_hi, g0, q, locked, parked, s, complian
             hi, g_hi, side = tau, gm[kind], -1.0
     slope = (g_hi - g_lo) / (hi - lo) if hi > lo else 0.0
     guess = hi - g_hi / slope if (slope < 0 and lo < hi - g_hi / slope < hi) else 0.5 * (lo + hi)
+    if interpolant_only:
+        _, nv = _g_true(kind, t, y, d, guess, q, locked, parked, s, compliant, prof, rtol, atol, kk, yi, dm, gm,
+                        ya, err)
+        return guess, nv
     # 2. the true function: bracket (lo, hi) with g(lo) > 0 >= g(hi); hi's value is not known yet
     lo, g_lo, hi, g_hi, hi_known, n_hi = 0.0, g0, tau_hi, 0.0, False, 0.0
     for attempt in range(2):
         if not (lo < guess < hi):
             break
-        g_t, nv = _g_true(kind, t, y, d, guess, q, locked, parked, s, compliant, prof, tx, ty, rtol, atol, kk, yi,
+        g_t, nv = _g_true(kind, t, y, d, guess, q, locked, parked, s, compliant, prof, rtol, atol, kk, yi,
                           dm, gm, yb, err)
         if g_t > 0:
             lo, g_lo = guess, g_t
@@ -310,7 +320,7 @@ def _locate(kind, t, y, d, y1, d1, h, tau_hi, g0, q, locked, parked, s, complian
         if slope < 0:
             guess = guess - 2.0 * g_t / slope  # secant (interpolant slope) overshooting to the other side
     if not hi_known:
-        g_hi, n_hi = _g_true(kind, t, y, d, hi, q, locked, parked, s, compliant, prof, tx, ty, rtol, atol, kk, yi,
+        g_hi, n_hi = _g_true(kind, t, y, d, hi, q, locked, parked, s, compliant, prof, rtol, atol, kk, yi,
                              dm, gm, ya, err)
         if g_hi > 0:
             return inf, 0.0  # false alarm (the interpolant dipped, the solution does not)
@@ -322,7 +332,7 @@ def _locate(kind, t, y, d, y1, d1, h, tau_hi, g0, q, locked, parked, s, complian
         tau = hi - g_hi * (hi - lo) / (g_hi - g_lo)
         if not (lo < tau < hi):
             tau = 0.5 * (lo + hi)
-        g_tau, nv = _g_true(kind, t, y, d, tau, q, locked, parked, s, compliant, prof, tx, ty, rtol, atol, kk, yi,
+        g_tau, nv = _g_true(kind, t, y, d, tau, q, locked, parked, s, compliant, prof, rtol, atol, kk, yi,
                             dm, gm, yb, err)
         if g_tau > 0:
             if side > 0:
@@ -362,45 +372,37 @@ def _store_trace(trace, tt, t, y, wr_col, aux, jk):
 
 
 @njit(cache=True, error_model="numpy")
-def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_step, max_steps, out, trace):
-    """Integrate one scenario over [0, q[TEND]]; fill ``out`` (RESULTS) and ``trace`` (times × TRACES)."""
+def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_steps, out, trace, work):
+    """Integrate one scenario over [0, q[TEND]]; fill ``out`` (RESULTS) and ``trace`` (times × TRACES).
+    ``work``: a (N_WORK, N_STATE) scratch array shared by all scenarios (allocating the ~18 small
+    arrays per scenario cost more than a short engagement's integration)."""
     nan, inf = np.nan, np.inf
     held = q[HELD] > 0.0
     for i in range(out.size):
         out[i] = nan
-    pk = np.zeros(3)  # running maxima: slip power, |friction torque|, |output jerk|
-    y = np.zeros(N_STATE)
+    y, d, d1, dm, y1, ym, err, yi, ya, yb, y_best = (work[0], work[1], work[2], work[3], work[4], work[5], work[6],
+                                                      work[7], work[8], work[9], work[10])
+    kk = work[11:18]
+    g, g1, gm, tau_hi = work[18, :N_EVENTS], work[19, :N_EVENTS], work[20, :N_EVENTS], work[21, :N_EVENTS]
+    pk = work[22, :3]  # running maxima: slip power, |friction torque|, |output jerk|
+    pk[:] = 0.0
+    ths = work[23, :5]  # Hermite sample points in a step (fractions of it)
+    y[:] = 0.0
     y[E] = q[WE0]
     y[H] = q[WC0]
     y[R] = q[WC0]
-    d = np.empty(N_STATE)
-    d1 = np.empty(N_STATE)
-    dm = np.empty(N_STATE)
-    y1 = np.empty(N_STATE)
-    ym = np.empty(N_STATE)
-    err = np.empty(N_STATE)
-    kk = np.empty((7, N_STATE))
-    yi = np.empty(N_STATE)
-    g = np.empty(N_EVENTS)
-    g1 = np.empty(N_EVENTS)
-    gm = np.empty(N_EVENTS)
-    tau_hi = np.empty(N_EVENTS)
-    ya = np.empty(N_STATE)   # event location work arrays
-    yb = np.empty(N_STATE)
-    y_best = np.empty(N_STATE)
     wr_col = R if compliant else H
-    ths = np.empty(5)  # Hermite sample points in a step (fractions of it)
     ths[0] = 0.5
 
     # initial modes, decided from torques (never from sign(0))
     locked = False
     parked = q[WC0] <= 0.0
     s = 1.0
-    aux = _forces(0.0, y, q, locked, parked, s, compliant, prof, tx, ty, d)
+    aux = _forces(0.0, y, q, locked, parked, s, compliant, prof, d)
     drive0 = aux[3] if compliant else aux[6] * aux[0]
     parked = parked and _load_static(0.0, q) > drive0
     if q[WE0] == q[WC0]:
-        aux_l = _forces(0.0, y, q, True, False, s, compliant, prof, tx, ty, d)
+        aux_l = _forces(0.0, y, q, True, False, s, compliant, prof, d)
         if abs(aux_l[4]) <= q[RS] * aux[0]:
             locked, parked = True, False
             out[LOCKUP_TIME] = 0.0
@@ -410,7 +412,7 @@ def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_st
 
     t = 0.0
     h = min(first_step, q[TEND])
-    aux = _forces(t, y, q, locked, parked, s, compliant, prof, tx, ty, d)
+    aux = _forces(t, y, q, locked, parked, s, compliant, prof, d)
     _events(t, y, q, locked, parked, s, compliant, prof, d, aux, g)
     jk = _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk)
     _store_trace(trace, tt, t, y, wr_col, aux, jk)
@@ -425,7 +427,7 @@ def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_st
                 nb = b
         h_try = min(h, max_step, nb - t)
         hit = h_try >= nb - t
-        _dopri(t, y, h_try, q, locked, parked, s, compliant, prof, tx, ty, d, kk, yi, y1, err)
+        _dopri(t, y, h_try, q, locked, parked, s, compliant, prof, d, kk, yi, y1, err)
         norm = _err_norm(y, y1, err, rtol, atol, compliant)
         n_steps += 1
         fac = 5.0 if norm == 0.0 else min(max(0.9 * norm ** -0.2, 0.2), 5.0)
@@ -434,7 +436,7 @@ def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_st
             continue
         h = h_try * fac
         t_right = nb if hit else t + h_try
-        aux1 = _forces(t_right, y1, q, locked, parked, s, compliant, prof, tx, ty, d1)
+        aux1 = _forces(t_right, y1, q, locked, parked, s, compliant, prof, d1)
         _events(t_right, y1, q, locked, parked, s, compliant, prof, d1, aux1, g1)
         # detection: the event functions at the step end, its middle and, where a LOCK or PARK
         # function could dip below zero and back inside the step (slope turning from falling to
@@ -465,7 +467,7 @@ def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_st
             th = ths[i]
             _hermite(y, d, y1, d1, h_try, th, ym)
             tm_ = t + th * h_try
-            auxm = _forces(tm_, ym, q, locked, parked, s, compliant, prof, tx, ty, dm)
+            auxm = _forces(tm_, ym, q, locked, parked, s, compliant, prof, dm)
             _events(tm_, ym, q, locked, parked, s, compliant, prof, dm, auxm, gm)
             for kind in range(N_EVENTS):
                 if g[kind] > 0 and gm[kind] <= 0 and th * h_try < tau_hi[kind]:
@@ -477,11 +479,21 @@ def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_st
             for kind in range(N_EVENTS):
                 if tau_hi[kind] == inf:
                     continue
+                if kind == PEAK:  # records a value only (below): the step is not cut there
+                    continue
                 tau, nv = _locate(kind, t, y, d, y1, d1, h_try, tau_hi[kind], g[kind], q, locked, parked, s,
-                                  compliant, prof, tx, ty, rtol, atol, kk, yi, dm, gm, ya, yb, err)
+                                  compliant, prof, rtol, atol, kk, yi, dm, gm, ya, yb, err)
                 if tau < best_tau:
                     best_tau, best_kind, best_norm = tau, kind, nv
                     y_best[:] = ya
+            if tau_hi[PEAK] < inf:
+                # the slip-power maximum: root of its derivative on the interpolant, value from a
+                # re-integration to it (valid only before a switching event in the same step)
+                tau_p, _ = _locate(PEAK, t, y, d, y1, d1, h_try, tau_hi[PEAK], g[PEAK], q, locked, parked, s,
+                                   compliant, prof, rtol, atol, kk, yi, dm, gm, yb, ya, err, True)
+                if tau_p < best_tau:
+                    aux_p = _forces(t + tau_p, yb, q, locked, parked, s, compliant, prof, dm)
+                    pk[0] = max(pk[0], abs(aux_p[1] * aux_p[5]))
             if best_kind >= 0:
                 # the located step must meet the tolerance itself; else retry with a shorter step
                 if best_norm > 1.0:
@@ -489,7 +501,7 @@ def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_st
                     continue
                 t = t + best_tau
                 y[:] = y_best
-                a_before = _forces(t, y, q, locked, parked, s, compliant, prof, tx, ty, dm)
+                a_before = _forces(t, y, q, locked, parked, s, compliant, prof, dm)
                 if best_kind == LOCK:
                     locked = True
                     jh = q[JH] if compliant else q[JV]
@@ -507,7 +519,7 @@ def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_st
                     parked = True
                     y[wr_col] = 0.0
                 acc_before = dm[wr_col]
-                aux = _forces(t, y, q, locked, parked, s, compliant, prof, tx, ty, d)
+                aux = _forces(t, y, q, locked, parked, s, compliant, prof, d)
                 if best_kind == LOCK:
                     out[LOCKUP_TIME] = t
                     out[LOCKUP_SPEED] = y[H]
@@ -517,8 +529,6 @@ def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_st
                     if math.isnan(out[BREAKAWAY_TIME]):
                         out[BREAKAWAY_TIME] = t
                     out[LOCKUP_TIME] = nan
-                elif best_kind == PEAK:
-                    pk[0] = max(pk[0], abs(aux[1] * aux[5]))
                 _events(t, y, q, locked, parked, s, compliant, prof, d, aux, g)
                 _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk)
                 continue
@@ -556,12 +566,13 @@ def _simulate_one(q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_st
 
 
 @njit(cache=True, error_model="numpy")
-def simulate_batch(Q, compliant, prof, tx, ty, tt, rtol, atol, max_step, first_step, max_steps):
+def simulate_batch(Q, compliant, prof, tt, rtol, atol, max_step, first_step, max_steps):
     """Run every row of the parameter table Q; returns (results, traces)."""
     n = Q.shape[0]
     out = np.empty((n, N_RESULTS))
     trace = np.full((n, tt.size, N_TRACES), np.nan)
+    work = np.empty((N_WORK, N_STATE))
     for i in range(n):
-        _simulate_one(Q[i], compliant, prof, tx, ty, tt, rtol, atol, max_step, first_step, max_steps, out[i],
-                      trace[i])
+        _simulate_one(Q[i], compliant, prof, tt, rtol, atol, max_step, first_step, max_steps, out[i],
+                      trace[i], work)
     return out, trace

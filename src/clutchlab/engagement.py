@@ -452,9 +452,16 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
             _k.TEND: t_end}
     arrs = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in vals.values()))
     shape = arrs[0].shape
-    Q = np.empty((arrs[0].size, _k.N_PARAM))
+    if engine_torque_table is None:
+        tx = ty = np.zeros(0)
+    else:
+        tx, ty = (np.asarray(a, dtype=float).ravel() for a in engine_torque_table)
+    Q = np.empty((arrs[0].size, _k.N_PARAM + 1 + 2 * tx.size))  # the shared table rides on every row
     for col, a in zip(vals, arrs):
         Q[:, col] = a.ravel()
+    Q[:, _k.NTAB] = tx.size
+    Q[:, _k.NTAB + 1:_k.NTAB + 1 + tx.size] = tx
+    Q[:, _k.NTAB + 1 + tx.size:] = ty
     held = ~np.isfinite(Q[:, _k.JE])
     Q[:, _k.HELD] = held
     Q[:, _k.INV_JE] = np.where(held, 0.0, 1.0 / np.where(held, 1.0, Q[:, _k.JE]))
@@ -463,12 +470,8 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
     with np.errstate(invalid="ignore"):
         Q[:, _k.CD] = np.where(np.isfinite(Q[:, _k.K]),
                                2.0 * Q[:, _k.ZETA] * np.sqrt(Q[:, _k.K] * Q[:, _k.JH] * Q[:, _k.JR] / Q[:, _k.JV]), 0.0)
-    if engine_torque_table is None:
-        tx = ty = np.zeros(0)
-    else:
-        tx, ty = (np.ascontiguousarray(a, dtype=float) for a in engine_torque_table)
     tt = np.zeros(0) if trace_times is None else np.ascontiguousarray(trace_times, dtype=float).ravel()
-    res, trace = _k.simulate_batch(Q, bool(compliant), PROFILES.index(profile), tx, ty, tt, float(rtol), float(atol),
+    res, trace = _k.simulate_batch(Q, bool(compliant), PROFILES.index(profile), tt, float(rtol), float(atol),
                                    float(max_step), float(first_step), int(max_steps))
     out = {name: res[:, i].reshape(shape) for i, name in enumerate(_k.RESULTS)
            if name not in ("final_locked", "hit_step_limit")}
