@@ -182,6 +182,8 @@ def test_study_compute_labels_and_statuses():
     assert ds["compliance_factor_used"].values[0] == pytest.approx(sp.fit_compliance_factor())
     ok = ds["status"].values == st.CODE["ok"]
     assert np.array_equal(ok, ds["passes_all"].values == 1)
+    each = np.all([ds[f"pass_{c}"].values == 1 for c in study.CHECKS], axis=0)
+    assert np.array_equal(each, ok)
     assert ds["status"].values[-1] in (st.CODE["pop_out_risk"], st.CODE["above_allowable"])
     imp = study.compute({**inputs, "torque": np.ones(2)}, {"torque_source": "impact_peak"})
     assert imp["torque_applied"].values[0] == pytest.approx(750.0, rel=1e-6)  # the assumed nominal impact

@@ -98,12 +98,14 @@ def compute(inputs, options=None) -> xr.Dataset:
     res["torque_applied"] = torque
     names = {"gripping_angle": "V", "gripping_angle_outer": "W", "central_angle": "psi"}
     data = {k: ("run", res[names.get(k, k)], {"units": u, "long_name": ln}) for k, (u, ln) in OUTPUTS.items()}
-    for name in CHECKS:
-        data[f"margin_{name}"] = ("run", res[f"margin_{name}"], {
-            "units": "1", "long_name": f"margin of safety {name.replace('_', ' ')}: allowable/value - 1"})
     passed = np.ones(torque.shape, bool)
     for name in CHECKS:
-        passed &= res[f"margin_{name}"] >= 0
+        label = name.replace("_", " ")
+        data[f"margin_{name}"] = ("run", res[f"margin_{name}"], {
+            "units": "1", "long_name": f"margin of safety {label}: allowable/value - 1"})
+        ok = res[f"margin_{name}"] >= 0
+        data[f"pass_{name}"] = ("run", ok.astype(np.int8), {"units": "1", "long_name": f"{label} check passed (1) or not (0)"})
+        passed &= ok
     data["passes_all"] = ("run", passed.astype(np.int8), {
         "units": "1", "long_name": "1 if every allowable (contact, shaft, gripping angle) is met"})
     data["compliance_factor_used"] = ("run", np.broadcast_to(c, torque.shape).copy(), {
