@@ -30,10 +30,11 @@ EVENT_TIME_TOL = 1e-13  # s: bracket width at which an event time is final (Illi
 # result columns
 (LOCKUP_TIME, BREAKAWAY_TIME, CAPACITY_AT_LOCKUP, ACCEL_JUMP, LOCKUP_SPEED, PEAK_SLIP_POWER,
  PEAK_FRICTION_TORQUE, PEAK_JERK, SLIP_WORK, LOAD_WORK, INPUT_WORK, KINETIC_ENERGY_CHANGE, DAMPING_WORK,
- ENERGY_RESIDUAL, N_STEPS, FINAL_LOCKED, HIT_STEP_LIMIT) = range(17)
+ ENERGY_RESIDUAL, N_STEPS, FINAL_LOCKED, HIT_STEP_LIMIT, N_REJECTED, N_LOCATE, N_FALSE_ALARMS) = range(20)
 RESULTS = ("lockup_time", "breakaway_time", "capacity_at_lockup", "accel_jump", "lockup_speed", "peak_slip_power",
            "peak_friction_torque", "peak_jerk", "slip_work", "load_work", "input_work", "kinetic_energy_change",
-           "damping_work", "energy_residual", "n_steps", "final_locked", "hit_step_limit")
+           "damping_work", "energy_residual", "n_steps", "final_locked", "hit_step_limit",
+           "n_rejected", "n_locate", "n_false_alarms")
 TRACES = ("engine_speed", "hub_speed", "output_speed", "friction_torque", "capacity", "slip_work", "jerk")
 N_RESULTS, N_TRACES = len(RESULTS), len(TRACES)
 
@@ -380,6 +381,7 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
     held = q[HELD] > 0.0
     for i in range(out.size):
         out[i] = nan
+    out[N_REJECTED] = out[N_LOCATE] = out[N_FALSE_ALARMS] = 0.0
     y, d, d1, dm, y1, ym, err, yi, ya, yb, y_best = (work[0], work[1], work[2], work[3], work[4], work[5], work[6],
                                                       work[7], work[8], work[9], work[10])
     kk = work[11:18]
@@ -432,6 +434,7 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
         n_steps += 1
         fac = 5.0 if norm == 0.0 else min(max(0.9 * norm ** -0.2, 0.2), 5.0)
         if norm > 1.0:
+            out[N_REJECTED] += 1
             h = h_try * min(fac, 0.9)
             continue
         h = h_try * fac
@@ -481,8 +484,11 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                     continue
                 if kind == PEAK:  # records a value only (below): the step is not cut there
                     continue
+                out[N_LOCATE] += 1
                 tau, nv = _locate(kind, t, y, d, y1, d1, h_try, tau_hi[kind], g[kind], q, locked, parked, s,
                                   compliant, prof, rtol, atol, kk, yi, dm, gm, ya, yb, err)
+                if tau == inf:
+                    out[N_FALSE_ALARMS] += 1
                 if tau < best_tau:
                     best_tau, best_kind, best_norm = tau, kind, nv
                     y_best[:] = ya
@@ -497,6 +503,7 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
             if best_kind >= 0:
                 # the located step must meet the tolerance itself; else retry with a shorter step
                 if best_norm > 1.0:
+                    out[N_REJECTED] += 1
                     h = best_tau * min(max(0.9 * best_norm ** -0.2, 0.1), 0.9)
                     continue
                 t = t + best_tau

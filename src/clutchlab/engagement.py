@@ -439,9 +439,10 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
         lock-up; NaN if slipping at t_end), plus ``breakaway_time`` (first re-slip after a
         lock-up), ``damping_work`` [J], ``peak_jerk`` [rad/s³] (output side, from the model
         equations at every step node and event; the Dirac jerk of a rigid lock-up is reported as
-        ``accel_jump``), ``n_steps`` and, with ``trace_times``, a ``trace`` dict of arrays
-        (scenario..., time): engine, hub and output speed [rad/s], friction torque and capacity
-        [N m], slip work [J], output jerk [rad/s³].
+        ``accel_jump``), solver counts ``n_steps`` (attempted), ``n_rejected``, ``n_locate`` (event
+        locations), ``n_false_alarms`` (candidates the solution did not confirm) and, with
+        ``trace_times``, a ``trace`` dict of arrays (scenario..., time): engine, hub and output
+        speed [rad/s], friction torque and capacity [N m], slip work [J], output jerk [rad/s³].
     """
     if profile not in PROFILES:
         raise ValueError(f"profile must be one of {PROFILES}, got {profile!r}")
