@@ -12,7 +12,7 @@ from typing import Callable
 
 import numpy as np
 
-__all__ = ["Parameter", "Study", "REGISTRY", "get", "flat_inputs"]
+__all__ = ["Parameter", "Study", "REGISTRY", "get", "flat_inputs", "seed_design"]
 
 
 @dataclass(frozen=True)
@@ -78,6 +78,14 @@ def flat_inputs(inputs) -> dict:
         raise ValueError(f"inputs of a chunk have different lengths {sorted(sizes)}")
     n = sizes.pop() if sizes else 1
     return {k: np.broadcast_to(a.reshape(-1) if a.ndim else a, (n,)) for k, a in arrays.items()}
+
+
+def seed_design(parameters, inputs) -> dict:
+    """The seed design of a chunk: the parameters' defaults (the seed paper's design), overridden by
+    the chunk's fixed (scalar) inputs; the scenario a study draws its traces for."""
+    out = {p.name: p.default for p in parameters}
+    out.update({k: float(v) for k, v in inputs.items() if np.ndim(v) == 0 and k in out})
+    return out
 
 
 REGISTRY: dict[str, Study] = {}

@@ -18,7 +18,7 @@ import xarray as xr
 
 from .. import centrifugal as cf
 from .. import status as st
-from . import Parameter, Study, flat_inputs, register
+from . import Parameter, Study, flat_inputs, register, seed_design
 
 RPM = np.pi / 30.0
 
@@ -110,16 +110,9 @@ def compute(inputs, options=None) -> xr.Dataset:
     return ds
 
 
-def seed_design(inputs) -> dict:
-    """The seed design: parameter defaults, overridden by the chunk's fixed (scalar) inputs."""
-    out = {p.name: p.default for p in PARAMETERS}
-    out.update({k: float(v) for k, v in inputs.items() if np.ndim(v) == 0})
-    return out
-
-
 def seed_traces(inputs) -> xr.Dataset:
     """Start-up and engine-failure traces of the seed design (identical in every chunk)."""
-    p = seed_design(inputs)
+    p = seed_design(PARAMETERS, inputs)
     coords = {}
     data = {}
     if cf.design_status(**{k: p[k] for k in _CAP}, rated_speed=p["rated_speed"],

@@ -18,7 +18,7 @@ import xarray as xr
 
 from .. import diaphragm, engagement, friction
 from .. import status as st
-from . import Parameter, Study, flat_inputs, register
+from . import Parameter, Study, flat_inputs, register, seed_design
 from .diaphragm_spring import PARAMETERS as SPRING_PARAMETERS
 from .diaphragm_spring import spring_geometry
 
@@ -123,9 +123,7 @@ TRACE_POINTS = 401
 def seed_traces(inputs, options) -> xr.Dataset:
     """Time traces of the seed design (parameter defaults overridden by the chunk's fixed inputs),
     the equivalents of seed 000 Figs. 7-11: clamp force, speeds, slip work, friction torque, jerk."""
-    seed = {q.name: q.default for q in PARAMETERS}
-    seed.update({k: float(v) for k, v in inputs.items() if np.ndim(v) == 0})
-    p = {k: np.atleast_1d(v) for k, v in seed.items()}
+    p = {k: np.atleast_1d(v) for k, v in seed_design(PARAMETERS, inputs).items()}
     force, cap, bad = capacity(p, options)
     if bad[0] or cap[0] <= 0:
         return xr.Dataset()

@@ -25,7 +25,7 @@ import xarray as xr
 from .. import roller as rl
 from .. import status as st
 from ..contact import hertz_stiffness
-from . import Parameter, Study, flat_inputs, register
+from . import Parameter, Study, flat_inputs, register, seed_design
 
 RPM = rl.RPM
 PARAMETERS = (
@@ -154,16 +154,9 @@ def compute(inputs, options=None) -> xr.Dataset:
     return ds
 
 
-def seed_design(inputs) -> dict:
-    """The seed design: parameter defaults, overridden by the chunk's fixed (scalar) inputs."""
-    out = {q.name: q.default for q in PARAMETERS}
-    out.update({k: float(v) for k, v in inputs.items() if np.ndim(v) == 0})
-    return out
-
-
 def seed_trace(inputs, options) -> xr.Dataset:
     """Engagement (and release) trace of the seed design, like seed 003 Figs. 7 and 9."""
-    p = {k: np.atleast_1d(v) for k, v in seed_design(inputs).items()}
+    p = {k: np.atleast_1d(v) for k, v in seed_design(PARAMETERS, inputs).items()}
     s = statics(p, options["stress_reading"])
     if s["self_locking_margin"][0] <= 1.0:
         return xr.Dataset()

@@ -24,7 +24,7 @@ import xarray as xr
 
 from .. import sprag as sp
 from .. import status as st
-from . import Parameter, Study, flat_inputs, register
+from . import Parameter, Study, flat_inputs, register, seed_design
 
 MM = 1e-3
 _G = sp.SEED_GEOMETRY
@@ -126,8 +126,7 @@ def _k(name):
 def impact_curves(inputs) -> xr.Dataset:
     """Seed 002 Fig. 4: T(t) after the peak, and the peak T₀ against P₀, J, C, ω₀ one at a time
     around the nominal impact parameters (defaults overridden by the chunk's fixed inputs)."""
-    nom = {p.name: p.default for p in PARAMETERS if p.name in _IMPACT + ("rise_time",)}
-    nom.update({k: float(v) for k, v in inputs.items() if k in nom and np.ndim(v) == 0})
+    nom = seed_design(PARAMETERS, inputs)
     imp = {_k(k): nom[k] for k in _IMPACT}
     t0 = nom["rise_time"]
     te = float(sp.steady_torque(power=imp["power"], damping=imp["damping"]))
