@@ -22,7 +22,7 @@ NTAB = N_PARAM  # engine torque table: count, then speeds, then torques (shared,
 # state columns: engine, hub, output speed, damper twist, slip/load/input/damping work
 E, H, R, TH, WS, WL, WI, WD = range(8)
 N_STATE = 8
-N_WORK = 24  # rows of the per-scenario scratch array (see _simulate_one)
+N_WORK = 29  # rows of the per-scenario scratch array (see _simulate_one)
 # events (falling through zero from > 0)
 LOCK, BREAK, UNPARK, PARK, PEAK = range(5)
 N_EVENTS = 5
@@ -49,6 +49,9 @@ for _i, _row in enumerate([[], [1 / 5], [3 / 40, 9 / 40], [44 / 45, -56 / 15, 32
 _B = np.array([35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84, 0.0])
 _E = _B - np.array([5179 / 57600, 0.0, 7571 / 16695, 393 / 640, -92097 / 339200, 187 / 2100, 1 / 40])
 _EPS = np.finfo(float).eps
+# DOPRI5 continuous extension of order 4 (Hairer, Norsett & Wanner, dopri5.f)
+_D = np.array([-12715105075 / 11282082432, 0.0, 87487479700 / 32700410799, -10690763975 / 1880347072,
+               701980252875 / 199316789632, -1453857185 / 822651844, 69997945 / 29380423])
 
 
 @njit(cache=True, error_model="numpy")
@@ -252,6 +255,30 @@ def _hermite(y0, d0, y1, d1, h, th, out):
 
 
 @njit(cache=True, error_model="numpy")
+def _dense_coefficients(y0, y1, kk, h, rc):
+    """Coefficients of the step's order-4 continuous extension (stages kk of the step from y0)."""
+    for m in range(N_STATE):
+        ydiff = y1[m] - y0[m]
+        bspl = h * kk[0, m] - ydiff
+        acc = 0.0
+        for j in range(7):
+            acc += _D[j] * kk[j, m]
+        rc[0, m] = y0[m]
+        rc[1, m] = ydiff
+        rc[2, m] = bspl
+        rc[3, m] = ydiff - h * kk[6, m] - bspl
+        rc[4, m] = h * acc
+
+
+@njit(cache=True, error_model="numpy")
+def _dense(rc, th, out):
+    """The state at the fraction ``th`` of the step (continuous extension)."""
+    u = 1.0 - th
+    for m in range(N_STATE):
+        out[m] = rc[0, m] + th * (rc[1, m] + u * (rc[2, m] + th * (rc[3, m] + u * rc[4, m])))
+
+
+@njit(cache=True, error_model="numpy")
 def _g_true(kind, t, y, d, tau, q, locked, parked, s, compliant, prof, rtol, atol, kk, yi, dm, gm, yout, err):
     """Event function ``kind`` at t + tau by re-integration from (t, y): (g, error norm of that step)."""
     _dopri(t, y, tau, q, locked, parked, s, compliant, prof, d, kk, yi, yout, err)
@@ -261,15 +288,16 @@ def _g_true(kind, t, y, d, tau, q, locked, parked, s, compliant, prof, rtol, ato
 
 
 @njit(cache=True, error_model="numpy")
-def _locate(kind, t, y, d, y1, d1, h, tau_hi, g0, q, locked, parked, s, compliant, prof, rtol, atol, kk,
+def _locate(kind, t, y, d, rc, h, tau_hi, g0, q, locked, parked, s, compliant, prof, rtol, atol, kk,
             yi, dm, gm, ya, yb, err, interpolant_only=False):
     """Time (from t) at which event ``kind`` falls through zero in (0, tau_hi], or inf (false alarm).
 
-    1. Illinois on the event function along the step's cubic Hermite interpolant (cheap: no
+    1. Illinois on the event function along the step's order-4 continuous extension (cheap: no
        integration), which brackets the crossing there;
     2. the true event function by re-integration from t at that guess and at a secant step past it,
        which (almost always) brackets the true crossing tightly;
-    3. Illinois on the true function in the remaining bracket until it is ≤ EVENT_TIME_TOL wide.
+    3. Illinois on the true function in the remaining bracket until it is narrower than
+       max(EVENT_TIME_TOL, 0.01·rtol·h): far below the error of the solution itself.
     Returns (tau, error norm of the re-integrated step to tau); ``ya`` holds the state at t + tau.
     With ``interpolant_only`` (events that only record a value, e.g. a maximum, whose value is
     insensitive to the time to second order) step 1 only, then one re-integration to its root.
@@ -277,7 +305,7 @@ def _locate(kind, t, y, d, y1, d1, h, tau_hi, g0, q, locked, parked, s, complian
     inf = np.inf
     # 1. on the interpolant
     lo, hi, g_lo, side = 0.0, tau_hi, g0, 0.0
-    _hermite(y, d, y1, d1, h, hi / h, yb)
+    _dense(rc, hi / h, yb)
     aux = _forces(t + hi, yb, q, locked, parked, s, compliant, prof, dm)
     _events(t + hi, yb, q, locked, parked, s, compliant, prof, dm, aux, gm)
     g_hi = gm[kind]
@@ -287,7 +315,7 @@ def _locate(kind, t, y, d, y1, d1, h, tau_hi, g0, q, locked, parked, s, complian
         tau = hi - g_hi * (hi - lo) / (g_hi - g_lo)
         if not (lo < tau < hi):
             tau = 0.5 * (lo + hi)
-        _hermite(y, d, y1, d1, h, tau / h, yb)
+        _dense(rc, tau / h, yb)
         aux = _forces(t + tau, yb, q, locked, parked, s, compliant, prof, dm)
         _events(t + tau, yb, q, locked, parked, s, compliant, prof, dm, aux, gm)
         if gm[kind] > 0:
@@ -328,7 +356,7 @@ def _locate(kind, t, y, d, y1, d1, h, tau_hi, g0, q, locked, parked, s, complian
     # 3. Illinois on the true function
     side = 0.0
     for _ in range(100):
-        if hi - lo <= EVENT_TIME_TOL + 4 * _EPS * (t + hi) or g_hi == 0:
+        if hi - lo <= max(EVENT_TIME_TOL, 0.01 * rtol * h) + 4 * _EPS * (t + hi) or g_hi == 0:
             break
         tau = hi - g_hi * (hi - lo) / (g_hi - g_lo)
         if not (lo < tau < hi):
@@ -389,6 +417,7 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
     pk = work[22, :3]  # running maxima: slip power, |friction torque|, |output jerk|
     pk[:] = 0.0
     ths = work[23, :5]  # Hermite sample points in a step (fractions of it)
+    rc = work[24:29]  # the step's continuous extension
     y[:] = 0.0
     y[E] = q[WE0]
     y[H] = q[WC0]
@@ -477,6 +506,7 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                     tau_hi[kind] = th * h_try
                     fired = True
         if fired:
+            _dense_coefficients(y, y1, kk, h_try, rc)
             # locate every candidate exactly; the earliest wins
             best_tau, best_kind, best_norm = inf, -1, 0.0
             for kind in range(N_EVENTS):
@@ -485,7 +515,7 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                 if kind == PEAK:  # records a value only (below): the step is not cut there
                     continue
                 out[N_LOCATE] += 1
-                tau, nv = _locate(kind, t, y, d, y1, d1, h_try, tau_hi[kind], g[kind], q, locked, parked, s,
+                tau, nv = _locate(kind, t, y, d, rc, h_try, tau_hi[kind], g[kind], q, locked, parked, s,
                                   compliant, prof, rtol, atol, kk, yi, dm, gm, ya, yb, err)
                 if tau == inf:
                     out[N_FALSE_ALARMS] += 1
@@ -495,7 +525,7 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
             if tau_hi[PEAK] < inf:
                 # the slip-power maximum: root of its derivative on the interpolant, value from a
                 # re-integration to it (valid only before a switching event in the same step)
-                tau_p, _ = _locate(PEAK, t, y, d, y1, d1, h_try, tau_hi[PEAK], g[PEAK], q, locked, parked, s,
+                tau_p, _ = _locate(PEAK, t, y, d, rc, h_try, tau_hi[PEAK], g[PEAK], q, locked, parked, s,
                                    compliant, prof, rtol, atol, kk, yi, dm, gm, yb, ya, err, True)
                 if tau_p < best_tau:
                     aux_p = _forces(t + tau_p, yb, q, locked, parked, s, compliant, prof, dm)
