@@ -258,3 +258,37 @@ def test_engine_torque_table_against_dop853():
                      peak_capacity=cmax, ramp_time=tr, engine_torque_table=table, t_end=2.0, rtol=1e-11, atol=1e-11)
     assert s["status"] == st.CODE["ok"]
     assert s["lockup_time"] == pytest.approx(ref.t_events[0][0], abs=1e-8)
+
+
+def test_release_bearing_travel_clamp():
+    """Release-bearing travel model: with an air gap g and cushion travel c the clamp force is
+    F_B max(0, 1 - k(1 - p)), k = (g + c)/c. For a ramp and a held engine this is a ramp of t_r/k
+    starting at t_r(1 - 1/k): the solver equals the shifted closed form (1e-9 s, slip work 1e-8)."""
+    tr, kappa = 0.2, 2.5
+    kw = dict(engine_speed=570.0, engine_inertia=np.inf, engine_torque=0.0, driven_inertia=0.021, load_torque=44.0,
+              peak_capacity=239.3, static_ratio=1.0)
+    s = eng.simulate(**kw, ramp_time=tr, release_ratio=kappa, t_end=0.6, rtol=1e-11, atol=1e-11)
+    c = eng.closed_form(**kw, ramp_time=tr / kappa, t_end=0.6)
+    assert s["lockup_time"] == pytest.approx(tr * (1 - 1 / kappa) + c["lockup_time"], abs=1e-9)
+    assert s["slip_work"] == pytest.approx(c["slip_work"], rel=1e-8)
+    # the kernel's capacity is the documented profile, for every profile shape
+    tt = np.linspace(0.0, tr, 41)
+    for kind in eng.PROFILES:
+        r = eng.simulate(**kw, ramp_time=tr, profile=kind, release_ratio=kappa, t_end=0.3, trace_times=tt)
+        frac = eng.bearing_travel_clamp(tt / tr, air_gap=1.5e-3, cushion_travel=1e-3, kind=kind)
+        np.testing.assert_allclose(r["trace"]["capacity"], 239.3 * frac, rtol=1e-12, atol=1e-9)
+
+
+def test_bearing_force_from_the_spring_curve():
+    """Zero when engaged (spring load = cushion load); at full release the spring's eq. 10 load at
+    lambda_B + g + c over the lever ratio."""
+    from clutchlab import diaphragm
+    from clutchlab.studies import engagement as study
+
+    p = {q.name: np.atleast_1d(q.default) for q in study.PARAMETERS}
+    p["air_gap"] = np.array([0.5e-3])
+    force, cap, bad, pts = study.capacity(p, {"capacity_formula": "corrected"}, with_points=True)
+    fb = study.bearing_force(p, pts)
+    assert fb[0, 0] == pytest.approx(0.0, abs=1e-9 * force[0])
+    full = diaphragm.almen_laszlo_load(pts["deflection_B"] + 1.1e-3, **study.spring_geometry(p)) / 4.0
+    assert fb[0, -1] == pytest.approx(float(full[0]), rel=1e-12)

@@ -16,8 +16,8 @@ from numba import njit
 
 # parameter columns (one row per scenario)
 (WE0, JE, TE, JV, TM0, CMAX, TR, RS, VS, WC0, KA, DTM, TSTEP, PHI, K, ZETA, TEND, HELD, INV_JE, JH, JR,
- CD) = range(22)
-N_PARAM = 22
+ CD, KAPPA, TCON) = range(24)
+N_PARAM = 24
 NTAB = N_PARAM  # engine torque table: count, then speeds, then torques (shared, appended to every row)
 # state columns: engine, hub, output speed, damper twist, slip/load/input/damping work
 E, H, R, TH, WS, WL, WI, WD = range(8)
@@ -65,11 +65,16 @@ def _profile(x, prof):
 
 @njit(cache=True, error_model="numpy")
 def _capacity(t, q, prof):
-    """C(t) = C_max·p(t/t_r); a zero ramp time is a step at t = 0+."""
+    """C(t) = C_max·max(0, 1 − κ(1 − p(t/t_r))); κ = 1: the profile itself (a zero ramp time is a
+    step at t = 0+); κ > 1: the release-bearing travel first closes an air gap (no clamp force
+    until the cushion is touched at t_con), then compresses the lining cushion."""
     x = 1.0
     if q[TR] > 0.0:
         x = min(max(t / q[TR], 0.0), 1.0)
-    return q[CMAX] * _profile(x, prof)
+    p = _profile(x, prof)
+    if q[KAPPA] != 1.0:
+        p = max(0.0, 1.0 - q[KAPPA] * (1.0 - p))
+    return q[CMAX] * p
 
 
 @njit(cache=True, error_model="numpy")
@@ -86,6 +91,8 @@ def _capacity_rate(t, q, prof):
         dp = 6.0 * x * (1.0 - x)
     else:
         dp = 30.0 * x * x * (1.0 - x) * (1.0 - x)
+    if q[KAPPA] != 1.0:
+        dp = q[KAPPA] * dp if t >= q[TCON] else 0.0
     return q[CMAX] * dp / q[TR]
 
 
@@ -450,7 +457,7 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
     n_steps = 0
     while t < q[TEND] and n_steps < max_steps:
         nb = q[TEND]
-        for b in (q[TR], q[TSTEP]):
+        for b in (q[TR], q[TSTEP], q[TCON]):
             if t < b < nb:
                 nb = b
         for b in tt:

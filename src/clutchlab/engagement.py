@@ -32,7 +32,7 @@ import numpy as np
 from . import _engagement_kernel as _k
 from . import status as st
 
-__all__ = ["PROFILES", "clamp_profile", "closed_form", "simulate", "ramp_time_for_lockup"]
+__all__ = ["PROFILES", "clamp_profile", "bearing_travel_clamp", "closed_form", "simulate", "ramp_time_for_lockup"]
 
 PROFILES = ("ramp", "cubic", "quintic")
 # profile p(x) on [0, 1] and its integral P(x) = ∫0^x p, as ascending polynomial coefficients
@@ -73,6 +73,19 @@ def _capacity_rate(t, c_max, t_r, kind):
     tr = np.where(t_r > 0, t_r, 1.0)
     x = t / tr
     return np.where((t_r > 0) & (x < 1.0) & (x >= 0.0), c_max * _polyval(dp, np.clip(x, 0, 1)) / tr, 0.0)
+
+
+def bearing_travel_clamp(x, *, air_gap, cushion_travel, kind="ramp"):
+    """Clamp force fraction F/F_B of the release-bearing travel model [-] at x = t/t_r.
+
+    The bearing travel follows the profile p(x) from full release (p = 0) to engaged (p = 1);
+    the pressure plate lifts by (1 − p)·(g + c) (rigid fingers: travel over lever ratio), g the
+    air gap and c the travel of the lining cushion (a linear spring carrying F_B when fully
+    compressed, F_B = the diaphragm spring's load at its operating point, eq. 10). The clamp force
+    is the cushion force: F/F_B = max(0, 1 − κ(1 − p)), κ = (g + c)/c. The diaphragm curve sets F_B
+    and the bearing force (:func:`clutchlab.studies.engagement.bearing_force`), not the shape."""
+    kappa = (np.asarray(air_gap, float) + cushion_travel) / cushion_travel
+    return np.maximum(0.0, 1.0 - kappa * (1.0 - clamp_profile(x, kind)))
 
 
 def _invert_profile(q, kind):
@@ -393,8 +406,8 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
              ramp_time, profile="ramp", static_ratio=1.0, stribeck_speed=np.inf, driven_speed=0.0,
              aero_coefficient=0.0, load_step=0.0, load_step_time=np.inf, engine_torque_table=None,
              compliant=False, hub_fraction=0.5, damper_stiffness=np.inf, damping_ratio=0.0,
-             t_end=0.5, rtol=1e-10, atol=1e-10, max_step=np.inf, first_step=1e-5, max_steps=200000,
-             trace_times=None):
+             release_ratio=1.0, t_end=0.5, rtol=1e-10, atol=1e-10, max_step=np.inf, first_step=1e-5,
+             max_steps=200000, trace_times=None):
     """Engagement by a Dormand-Prince 5(4) integrator with exact stick-slip events.
 
     Every scenario has its own step sizes; steps end on breakpoints (profile end, load step, trace
@@ -419,6 +432,10 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
     engine_torque_table : (speeds [rad/s], torques [N m]) or None
         Engine torque versus speed (linear interpolation, constant beyond the ends), added to
         ``engine_torque`` (shared by all scenarios).
+    release_ratio : array_like
+        κ [-] of the release-bearing travel model (:func:`bearing_travel_clamp`): the profile is the
+        bearing travel and the capacity C_max·max(0, 1 − κ(1 − p)); 1 (default) is the profile
+        itself, κ > 1 adds the air gap before the lining cushion is touched.
     compliant : bool
         Insert the damper springs between plate hub and output: hub inertia
         ``hub_fraction``·J_v, output inertia (1 − ``hub_fraction``)·J_v, stiffness
@@ -450,7 +467,7 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
             _k.TM0: load_torque, _k.CMAX: peak_capacity, _k.TR: ramp_time, _k.RS: static_ratio,
             _k.VS: stribeck_speed, _k.WC0: driven_speed, _k.KA: aero_coefficient, _k.DTM: load_step,
             _k.TSTEP: load_step_time, _k.PHI: hub_fraction, _k.K: damper_stiffness, _k.ZETA: damping_ratio,
-            _k.TEND: t_end}
+            _k.TEND: t_end, _k.KAPPA: release_ratio}
     arrs = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in vals.values()))
     shape = arrs[0].shape
     if engine_torque_table is None:
@@ -463,6 +480,9 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
     Q[:, _k.NTAB] = tx.size
     Q[:, _k.NTAB + 1:_k.NTAB + 1 + tx.size] = tx
     Q[:, _k.NTAB + 1 + tx.size:] = ty
+    kappa = Q[:, _k.KAPPA]
+    with np.errstate(divide="ignore"):  # the cushion is touched (kink of C(t)) where p = 1 − 1/κ
+        Q[:, _k.TCON] = np.where(kappa > 1.0, Q[:, _k.TR] * _invert_profile(1.0 - 1.0 / kappa, profile), 0.0)
     held = ~np.isfinite(Q[:, _k.JE])
     Q[:, _k.HELD] = held
     Q[:, _k.INV_JE] = np.where(held, 0.0, 1.0 / np.where(held, 1.0, Q[:, _k.JE]))

@@ -6,6 +6,11 @@ over the ramp (engagement) time; the two-inertia engagement (eqs. 1-2) then give
 slip work (eq. 11) and, with the compliant driveline (damper springs between plate hub and
 output), the output jerk (eq. 12).
 
+Clamp force through the release-bearing travel: the profile is the bearing's travel; the plate
+lifts (1 − p)·(g + c) (air gap g, lining cushion travel c) and the clamp force is the cushion's,
+F_B·max(0, 1 − κ(1 − p)) with κ = (g + c)/c (g = 0: the profile itself); the diaphragm curve gives
+F_B and the release-bearing force over the travel (``peak_bearing_force``).
+
 Model choice (recorded in the ``model`` attribute of the result): option ``driveline``
 ``compliant`` (default: needed for the output jerk of the efficiency-smoothness trade-off) or
 ``rigid``; a rigid driveline with constant μ, no rotor drag and a held engine uses the closed
@@ -40,6 +45,10 @@ PARAMETERS = SPRING_PARAMETERS + (
               maximum=1.0, maximum_inclusive=False),
     Parameter("damper_stiffness", "N m/rad", "damper angular stiffness C_a between hub and output", 4498.0),
     Parameter("damping_ratio", "1", "damping ratio of the hub-output mode", 0.05, minimum_inclusive=True),
+    Parameter("air_gap", "m", "pressure-plate travel before the lining cushion is touched (release-bearing model)",
+              0.0, minimum_inclusive=True),
+    Parameter("cushion_travel", "m", "lining cushion travel at full clamp (assumed)", 0.6e-3),
+    Parameter("lever_ratio", "1", "finger lever ratio: bearing travel over plate lift (assumed)", 4.0),
     Parameter("end_time", "s", "end of the simulated window", 0.5),
 )
 
@@ -58,12 +67,25 @@ OUTPUTS = {
     "accel_jump": ("rad/s^2", "driven (rigid) or hub (compliant) acceleration jump at lock-up"),
     "peak_jerk": ("rad/s^3", "peak output jerk (compliant: from the model equations; rigid: slip phase only)"),
     "energy_residual": ("1", "input work - kinetic/elastic energy change - slip, load, damping work, relative"),
+    "peak_bearing_force": ("N", "largest release-bearing force over the release travel (diaphragm curve, eq. 10)"),
 }
 
 
-def capacity(p, options):
+def bearing_force(p, pts, points=41):
+    """Release-bearing force over the plate lift x ∈ [0, g + c] (flat arrays ``p``, characteristic
+    points ``pts``) [N], shape (scenarios, points): (F_s(λ_B + x) − F_c(x)) / i, with F_s the
+    Almen–László load (eq. 10; the plate lifts against the spring, deflecting it further), F_c the
+    cushion force F_B·max(0, 1 − x/c) and i the finger lever ratio; 0 when engaged."""
+    lift = (p["air_gap"] + p["cushion_travel"])[:, None] * np.linspace(0.0, 1.0, points)[None, :]
+    geom = {k: np.asarray(v)[:, None] for k, v in spring_geometry(p).items()}
+    f_spring = diaphragm.almen_laszlo_load(pts["deflection_B"][:, None] + lift, **geom)
+    f_cushion = pts["load_B"][:, None] * np.maximum(0.0, 1.0 - lift / p["cushion_travel"][:, None])
+    return (f_spring - f_cushion) / p["lever_ratio"][:, None]
+
+
+def capacity(p, options, with_points=False):
     """Clamp load at the spring's operating point (eq. 10), peak kinetic capacity (eqs. 13-14) and
-    the spring status, for flat parameter arrays ``p``."""
+    the spring status (and the characteristic points), for flat parameter arrays ``p``."""
     pts = diaphragm.characteristic_points(**spring_geometry(p), operating_point_factor=p["operating_point_factor"])
     force = pts["load_B"]
     if options["capacity_formula"] == "eq14_as_printed":
@@ -73,7 +95,8 @@ def capacity(p, options):
         cap = friction.torque_capacity(force, p["friction_coefficient"], p["lining_outer_radius"],
                                        p["lining_inner_radius"], faces=p["friction_faces"], stack_mass=p["stack_mass"])
     spring_bad = pts["status"] == st.CODE["invalid_geometry"]
-    return force, np.where(spring_bad | ~np.isfinite(cap), 0.0, cap), spring_bad
+    out = force, np.where(spring_bad | ~np.isfinite(cap), 0.0, cap), spring_bad
+    return out + (pts,) if with_points else out
 
 
 def _solver_inputs(p, cap, options):
@@ -84,16 +107,17 @@ def _solver_inputs(p, cap, options):
                 ramp_time=p["ramp_time"], profile=options["profile"], static_ratio=p["static_ratio"],
                 t_end=p["end_time"], stribeck_speed=p["stribeck_speed"], aero_coefficient=p["aero_coefficient"],
                 compliant=not rigid, hub_fraction=p["hub_fraction"], damper_stiffness=p["damper_stiffness"],
-                damping_ratio=p["damping_ratio"], max_step=np.min(p["end_time"]) / 500)
+                damping_ratio=p["damping_ratio"], max_step=np.min(p["end_time"]) / 500,
+                release_ratio=(p["air_gap"] + p["cushion_travel"]) / p["cushion_travel"])
 
 
 def compute(inputs, options=None) -> xr.Dataset:
     options = {k: v[0] for k, v in OPTIONS.items()} | (options or {})
     p = flat_inputs(inputs)
-    force, cap, spring_bad = capacity(p, options)
+    force, cap, spring_bad, pts = capacity(p, options, with_points=True)
     rigid = options["driveline"] == "rigid"
     closed = (rigid and np.all(~np.isfinite(p["engine_inertia"])) and np.all(p["aero_coefficient"] == 0)
-              and np.all(~np.isfinite(p["stribeck_speed"])))
+              and np.all(~np.isfinite(p["stribeck_speed"])) and np.all(p["air_gap"] == 0))
     kw = _solver_inputs(p, cap, options)
     if closed:
         res = engagement.closed_form(**{k: kw[k] for k in ("engine_speed", "engine_inertia", "engine_torque",
@@ -108,6 +132,8 @@ def compute(inputs, options=None) -> xr.Dataset:
     with np.errstate(invalid="ignore", divide="ignore"):
         res["clamp_force_at_lockup"] = np.where(cap > 0, res["capacity_at_lockup"] / cap * force, np.nan)
     res["clamp_load"], res["peak_capacity"] = force, cap
+    with np.errstate(invalid="ignore"):
+        res["peak_bearing_force"] = np.max(bearing_force(p, pts), axis=1)
     code = np.where(spring_bad, st.CODE["invalid_geometry"], res["status"]).astype(st.DTYPE)
     data = {k: ("run", np.where(spring_bad, np.nan, res[k]), {"units": u, "long_name": ln}) for k, (u, ln) in OUTPUTS.items()}
     data["status"] = ("run", code, st.attrs("invalid_geometry: spring load points off the spring; "
