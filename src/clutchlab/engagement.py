@@ -415,9 +415,11 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
     the static capacity μ_s/μ_k·C), UNPARK / PARK (a driven side held by its static load starts or
     stops), PEAK (maximum slip power) — are detected at the step end, the step middle and the
     interior extrema of the cubic Hermite interpolant of the LOCK and PARK functions (so a sign
-    change and back inside one step is not missed), then located by re-integrating from the step's
-    left end (Illinois method, bracket ≤ ``EVENT_TIME_TOL``); a located step must itself meet the
-    tolerance. A state that locks stays stuck until BREAK: no chatter (hysteresis of the Modelica
+    change and back inside one step is not missed), then located: first guess on the step's
+    order-4 continuous extension, then by re-integrating from the step's left end (Illinois method,
+    bracket ≤ max(``EVENT_TIME_TOL``, 0.01·rtol·h)); a located step must itself meet the tolerance
+    (PEAK only records a value: its time from the continuous extension, its value by one
+    re-integration, and the step is not cut there). A state that locks stays stuck until BREAK: no chatter (hysteresis of the Modelica
     friction state machine [2]). The loop over scenarios is compiled with numba.
 
     Parameters are those of :func:`closed_form` plus:
