@@ -3,11 +3,12 @@
 Hairer & Wanner's 5-stage, order-4 singly diagonally implicit Runge-Kutta method (γ = 1/4,
 stiffly accurate, L-stable; Solving ODEs II, Table IV.6.5 "SDIRK4") with its embedded order-3
 solution for the error estimate. Each stage is solved by a simplified Newton iteration with the
-Jacobian evaluated once per step and the matrix I − hγJ inverted once per step (a stage is
-solved when θ/(1 − θ) times the scaled Newton increment, θ the contraction rate, is below 0.03, as
-in Hairer's RADAU5: usually after one iteration) (n ≤ 8: a
-dense inverse written out here: ~10 solves per factorisation). The error estimate is filtered through
-(I − hγJ)⁻¹ as in Hairer's codes, so that stiff components do not force tiny steps.
+Jacobian evaluated once per step and the matrix I − hγJ inverted once per step (n ≤ 8: a dense
+inverse, cheaper than substitution for ~10 solves); a stage is solved when θ/(1 − θ) times the
+scaled Newton increment (θ the contraction rate) is below 0.03, as in Hairer's RADAU5, usually
+after one iteration. The error estimate is filtered through (I − hγJ)⁻¹ as in Hairer's codes, so
+that stiff components do not force tiny steps. All functions use numba's numpy error model (no
+division checks): with Python's, the right-hand side cost 100 ns instead of 6.
 
 Systems (``system`` argument): ``IMPACT`` (a mass hitting a wall through the contact law, the
 analytic Hertz reference case) and ``ROLLER`` (the wedging of the roller clutch of seed 003). The
