@@ -104,6 +104,59 @@ def test_stribeck_against_dop853():
     assert np.max(np.abs(s["energy_residual"])) <= 1e-9
 
 
+def _long_step_setup():
+    """A Stribeck engagement (held engine) and its lock-up time from simulate at rtol 1e-12."""
+    from clutchlab import _engagement_kernel as k
+
+    args = dict(engine_speed=500.0, engine_inertia=np.inf, engine_torque=0.0, driven_inertia=0.05, load_torque=40.0,
+                peak_capacity=300.0, ramp_time=0.2, static_ratio=1.3, stribeck_speed=10.0)
+    tight = dict(rtol=1e-12, atol=1e-12, t_end=1.0)
+    q, _ = eng._parameter_table(**args, profile="ramp", driven_speed=0.0, aero_coefficient=0.0, load_step=0.0,
+                                load_step_time=np.inf, engine_torque_table=None, hub_fraction=0.5,
+                                damper_stiffness=np.inf, damping_ratio=0.0, release_ratio=1.0, t_end=1.0)
+    return k, q[0], args, tight, float(eng.simulate(**args, **tight)["lockup_time"])
+
+
+def test_event_location_over_long_steps():
+    """The LOCK event of one long DOPRI5 step (rtol 1e-2: the continuous extension is far off) located
+    by _locate: the returned state has zero slip, the time is as close to the true lock-up as the
+    root of the step map itself (the integrator's own solution) to within 0.5 ms (a quarter of
+    that step's own lock-up error), the secant on the true function is exercised (more than one
+    re-integration); a located step that fails the tolerance is returned as such (the caller
+    shortens the step)."""
+    k, q, args, tight, t_lock = _long_step_setup()
+
+    def step(t, y, h):
+        d = np.zeros(8)
+        k._forces(t, y, q, False, False, 1.0, False, 0, d)
+        kk, yi, y1, err = np.zeros((7, 8)), np.zeros(8), np.zeros(8), np.zeros(8)
+        k._dopri(t, y, h, q, False, False, 1.0, False, 0, d, kk, yi, y1, err)
+        return d, kk, y1
+
+    n_iterated = n_failed = 0
+    for t, frac, rtol in ((0.05, 0.5, 1e-2), (0.10, 0.5, 1e-2), (0.10, 0.9, 1e-2), (0.12, 0.7, 1e-2),
+                          (0.10, 0.5, 1e-4)):
+        y = np.zeros(8)
+        y[k.E] = 500.0
+        y[k.H] = eng.simulate(**args, **tight, trace_times=[t])["trace"]["hub_speed"][0]
+        h = (t_lock - t) / frac
+        d, kk, y1 = step(t, y, h)
+        rc = np.zeros((5, 8))
+        k._dense_coefficients(y, y1, kk, h, rc)
+        w = [np.zeros(8) for _ in range(6)]
+        tau, nv, n_re = k._locate(k.LOCK, t, y, d, rc, h, h, 500.0 - y[k.H], q, False, False, 1.0, False, 0, rtol,
+                                  rtol, kk, w[0], w[1], np.zeros(5), w[2], w[3], w[4], w[5])
+        assert 0.0 < tau <= h
+        if nv > 1.0:
+            n_failed += 1
+            continue
+        root = brentq(lambda x: 500.0 - step(t, y, x)[2][k.H], 1e-9, h, xtol=1e-15)
+        assert abs(500.0 - w[2][k.H]) <= 1e-9 * 500.0
+        assert abs(t + tau - t_lock) <= abs(t + root - t_lock) + 5e-4
+        n_iterated += n_re > 1
+    assert n_iterated >= 2 and n_failed >= 1
+
+
 # ---- hard cases of PHYSICS.md -------------------------------------------------------------------
 
 @pytest.mark.parametrize("solver", ["closed_form", "simulate"])

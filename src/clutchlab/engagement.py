@@ -12,12 +12,13 @@ Two solvers, one contract (same inputs, same metrics):
 * :func:`closed_form` — constant μ, constant torques, polynomial clamp profile, held or free
   engine: speeds are piecewise polynomials in t, lock-up is a polynomial root (bracketed, to
   machine precision), slip/load/input work are exact Gauss-Legendre integrals.
-  ≈ 0.5 µs per scenario; it is also the reference for the numerical solver.
+  ≈ 0.9 µs per scenario at 10⁶ scenarios; it is also the reference for the numerical solver.
 * :func:`simulate` — everything else (Stribeck μ, rotor drag k·ω², engine torque table, load
   step, compliant driveline): a Dormand-Prince 5(4) integrator (compiled with numba) with per-scenario step
   sizes, breakpoints at the profile end and load step, and an event-driven stick/slip state
-  machine whose events are located by re-integrating from the step's left end (Illinois
-  method), i.e. exactly to the integrator's accuracy, not to the step size.
+  machine whose events are located on the integrator's own solution (re-integration from the
+  step's left end and a Newton correction), i.e. to the integrator's accuracy, not to the step
+  size.
 
 References
 ----------
@@ -402,67 +403,12 @@ def ramp_time_for_lockup(target_lockup_time, **kwargs):
 EVENT_TIME_TOL = _k.EVENT_TIME_TOL
 
 
-def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque, peak_capacity,
-             ramp_time, profile="ramp", static_ratio=1.0, stribeck_speed=np.inf, driven_speed=0.0,
-             aero_coefficient=0.0, load_step=0.0, load_step_time=np.inf, engine_torque_table=None,
-             compliant=False, hub_fraction=0.5, damper_stiffness=np.inf, damping_ratio=0.0,
-             release_ratio=1.0, t_end=0.5, rtol=1e-10, atol=1e-10, max_step=np.inf, first_step=1e-5,
-             max_steps=200000, trace_times=None):
-    """Engagement by a Dormand-Prince 5(4) integrator with exact stick-slip events.
-
-    Every scenario has its own step sizes; steps end on breakpoints (profile end, load step, trace
-    times, end). Events — LOCK (slip reaches zero), BREAK (the torque needed to stay stuck exceeds
-    the static capacity μ_s/μ_k·C), UNPARK / PARK (a driven side held by its static load starts or
-    stops), PEAK (maximum slip power) — are detected at the step end, the step middle and the
-    interior extrema of the cubic Hermite interpolant of the LOCK and PARK functions (so a sign
-    change and back inside one step is not missed), then located: first guess on the step's
-    order-4 continuous extension, then by re-integrating from the step's left end (Illinois method,
-    bracket ≤ max(``EVENT_TIME_TOL``, 0.01·rtol·h)); a located step must itself meet the tolerance
-    (PEAK only records a value: its time from the continuous extension, its value by one
-    re-integration, and the step is not cut there). A state that locks stays stuck until BREAK: no chatter (hysteresis of the Modelica
-    friction state machine [2]). The loop over scenarios is compiled with numba.
-
-    Parameters are those of :func:`closed_form` plus:
-
-    stribeck_speed : array_like
-        v_s [rad/s] of μ(v) = μ_k·[1 + (μ_s/μ_k − 1)·exp(−(v/v_s)²)]; ``inf`` gives constant μ_k
-        while slipping (μ_s then applies only to sticking).
-    aero_coefficient : array_like
-        k_a [N m s²] of the rotor drag k_a·ω_c² added to the load torque.
-    load_step, load_step_time : array_like
-        A load torque step ΔT_m [N m] at t_s [s] (e.g. collective pulled after engagement).
-    engine_torque_table : (speeds [rad/s], torques [N m]) or None
-        Engine torque versus speed (linear interpolation, constant beyond the ends), added to
-        ``engine_torque`` (shared by all scenarios).
-    release_ratio : array_like
-        κ [-] of the release-bearing travel model (:func:`bearing_travel_clamp`): the profile is the
-        bearing travel and the capacity C_max·max(0, 1 − κ(1 − p)); 1 (default) is the profile
-        itself, κ > 1 adds the air gap before the lining cushion is touched.
-    compliant : bool
-        Insert the damper springs between plate hub and output: hub inertia
-        ``hub_fraction``·J_v, output inertia (1 − ``hub_fraction``)·J_v, stiffness
-        ``damper_stiffness`` [N m/rad] and viscous damping of the given ``damping_ratio`` on the
-        hub-output mode. Gives a finite output jerk; as the stiffness grows it tends to the rigid
-        model.
-    rtol, atol : float
-        Error tolerances of the step-size control.
-    max_step : float
-        Largest step [s] (bounds the node spacing of peak metrics).
-    trace_times : array_like or None
-        Times [s] at which to record the state (they become breakpoints, so no interpolation).
-
-    Returns
-    -------
-    dict of numpy.ndarray
-        The metrics of :func:`closed_form` over [0, t_end] (``lockup_time`` is the last
-        lock-up; NaN if slipping at t_end), plus ``breakaway_time`` (first re-slip after a
-        lock-up), ``damping_work`` [J], ``peak_jerk`` [rad/s³] (output side, from the model
-        equations at every step node and event; the Dirac jerk of a rigid lock-up is reported as
-        ``accel_jump``), solver counts ``n_steps`` (attempted), ``n_rejected``, ``n_locate`` (event
-        locations), ``n_false_alarms`` (candidates the solution did not confirm) and, with
-        ``trace_times``, a ``trace`` dict of arrays (scenario..., time): engine, hub and output
-        speed [rad/s], friction torque and capacity [N m], slip work [J], output jerk [rad/s³].
-    """
+def _parameter_table(*, engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque, peak_capacity,
+                     ramp_time, profile, static_ratio, stribeck_speed, driven_speed, aero_coefficient, load_step,
+                     load_step_time, engine_torque_table, hub_fraction, damper_stiffness, damping_ratio,
+                     release_ratio, t_end):
+    """The kernel's parameter table (one row per scenario, columns of :mod:`._engagement_kernel`)
+    and the scenarios' broadcast shape."""
     if profile not in PROFILES:
         raise ValueError(f"profile must be one of {PROFILES}, got {profile!r}")
     vals = {_k.WE0: engine_speed, _k.JE: engine_inertia, _k.TE: engine_torque, _k.JV: driven_inertia,
@@ -493,9 +439,88 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
     with np.errstate(invalid="ignore"):
         Q[:, _k.CD] = np.where(np.isfinite(Q[:, _k.K]),
                                2.0 * Q[:, _k.ZETA] * np.sqrt(Q[:, _k.K] * Q[:, _k.JH] * Q[:, _k.JR] / Q[:, _k.JV]), 0.0)
+    return Q, shape
+
+
+def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque, peak_capacity,
+             ramp_time, profile="ramp", static_ratio=1.0, stribeck_speed=np.inf, driven_speed=0.0,
+             aero_coefficient=0.0, load_step=0.0, load_step_time=np.inf, engine_torque_table=None,
+             compliant=False, hub_fraction=0.5, damper_stiffness=np.inf, damping_ratio=0.0,
+             release_ratio=1.0, t_end=0.5, rtol=1e-10, atol=1e-10, max_step=np.inf, first_step=None,
+             max_steps=200000, trace_times=None):
+    """Engagement by a Dormand-Prince 5(4) integrator with exact stick-slip events.
+
+    Every scenario has its own step sizes; steps end on breakpoints (profile end, load step, trace
+    times, end). Events — LOCK (slip reaches zero), BREAK (the torque needed to stay stuck exceeds
+    the static capacity μ_s/μ_k·C), UNPARK / PARK (a driven side held by its static load starts or
+    stops), PEAK (maximum slip power) — are detected at the step end, the step middle and the
+    interior extrema of the cubic Hermite interpolant of the LOCK and PARK functions (so a sign
+    change and back inside one step is not missed), then located: root on the step's order-4
+    continuous extension, one re-integration from the step's left end to it, then Newton
+    (secant) along the local Taylor line y + σ·f(y), accepted when the line's own error is
+    below 10 % of the tolerance (else re-integrate to the corrected time and repeat; Illinois
+    with re-integration, bracket ≤ max(``EVENT_TIME_TOL``, 0.01·rtol·h), as the last resort); a
+    located step must itself meet the tolerance (PEAK only records a value: its time and value
+    from the continuous extension, and the step is not cut there). A state that locks stays
+    stuck until BREAK: no chatter (hysteresis of the Modelica friction state machine [2]). The
+    loop over scenarios is compiled with numba; a fresh starting step (Hairer's HINIT) is
+    estimated at t = 0 and after every mode switch.
+
+    Parameters are those of :func:`closed_form` plus:
+
+    stribeck_speed : array_like
+        v_s [rad/s] of μ(v) = μ_k·[1 + (μ_s/μ_k − 1)·exp(−(v/v_s)²)]; ``inf`` gives constant μ_k
+        while slipping (μ_s then applies only to sticking).
+    aero_coefficient : array_like
+        k_a [N m s²] of the rotor drag k_a·ω_c² added to the load torque.
+    load_step, load_step_time : array_like
+        A load torque step ΔT_m [N m] at t_s [s] (e.g. collective pulled after engagement).
+    engine_torque_table : (speeds [rad/s], torques [N m]) or None
+        Engine torque versus speed (linear interpolation, constant beyond the ends), added to
+        ``engine_torque`` (shared by all scenarios).
+    release_ratio : array_like
+        κ [-] of the release-bearing travel model (:func:`bearing_travel_clamp`): the profile is the
+        bearing travel and the capacity C_max·max(0, 1 − κ(1 − p)); 1 (default) is the profile
+        itself, κ > 1 adds the air gap before the lining cushion is touched.
+    compliant : bool
+        Insert the damper springs between plate hub and output: hub inertia
+        ``hub_fraction``·J_v, output inertia (1 − ``hub_fraction``)·J_v, stiffness
+        ``damper_stiffness`` [N m/rad] and viscous damping of the given ``damping_ratio`` on the
+        hub-output mode. Gives a finite output jerk; as the stiffness grows it tends to the rigid
+        model.
+    rtol, atol : float
+        Error tolerances of the step-size control.
+    max_step : float
+        Largest step [s] (bounds the node spacing of peak metrics).
+    first_step : float or None
+        First step [s]; None estimates it from the tolerance (as after every mode switch).
+    trace_times : array_like or None
+        Times [s] at which to record the state (they become breakpoints, so no interpolation).
+
+    Returns
+    -------
+    dict of numpy.ndarray
+        The metrics of :func:`closed_form` over [0, t_end] (``lockup_time`` is the last
+        lock-up; NaN if slipping at t_end), plus ``breakaway_time`` (first re-slip after a
+        lock-up), ``damping_work`` [J], ``peak_jerk`` [rad/s³] (output side, from the model
+        equations at every step node and event; the Dirac jerk of a rigid lock-up is reported as
+        ``accel_jump``), solver counts ``n_steps`` (attempted), ``n_rejected``, ``n_locate`` (event
+        locations), ``n_false_alarms`` (candidates the solution did not confirm),
+        ``n_event_steps`` (re-integrations spent locating events: one per event when the first
+        correction is accepted) and, with
+        ``trace_times``, a ``trace`` dict of arrays (scenario..., time): engine, hub and output
+        speed [rad/s], friction torque and capacity [N m], slip work [J], output jerk [rad/s³].
+    """
+    Q, shape = _parameter_table(
+        engine_speed=engine_speed, engine_inertia=engine_inertia, engine_torque=engine_torque,
+        driven_inertia=driven_inertia, load_torque=load_torque, peak_capacity=peak_capacity, ramp_time=ramp_time,
+        profile=profile, static_ratio=static_ratio, stribeck_speed=stribeck_speed, driven_speed=driven_speed,
+        aero_coefficient=aero_coefficient, load_step=load_step, load_step_time=load_step_time,
+        engine_torque_table=engine_torque_table, hub_fraction=hub_fraction, damper_stiffness=damper_stiffness,
+        damping_ratio=damping_ratio, release_ratio=release_ratio, t_end=t_end)
     tt = np.zeros(0) if trace_times is None else np.ascontiguousarray(trace_times, dtype=float).ravel()
     res, trace = _k.simulate_batch(Q, bool(compliant), PROFILES.index(profile), tt, float(rtol), float(atol),
-                                   float(max_step), float(first_step), int(max_steps))
+                                   float(max_step), float(first_step or 0.0), int(max_steps))
     out = {name: res[:, i].reshape(shape) for i, name in enumerate(_k.RESULTS)
            if name not in ("final_locked", "hit_step_limit")}
     out["n_steps"] = out["n_steps"].astype(np.int64)
