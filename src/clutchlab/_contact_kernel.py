@@ -8,7 +8,11 @@ inverse, cheaper than substitution for ~10 solves); a stage is solved when θ/(1
 scaled Newton increment (θ the contraction rate) is below 0.03, as in Hairer's RADAU5, usually
 after one iteration. The error estimate is filtered through (I − hγJ)⁻¹ as in Hairer's codes, so
 that stiff components do not force tiny steps. All functions use numba's numpy error model (no
-division checks): with Python's, the right-hand side cost 100 ns instead of 6.
+division checks): with Python's, the right-hand side cost 100 ns instead of 6. Every function
+below the per-scenario driver allocates nothing and is compiled without numba's reference
+counting (``_nrt=False``): the atomic count updates on each call with array arguments were
+about half of the run time. (The driver keeps its own small arrays: views of one shared scratch
+array, which would let it run without reference counting too, made it 15 % slower.)
 
 Systems (``system`` argument): ``IMPACT`` (a mass hitting a wall through the contact law, the
 analytic Hertz reference case) and ``ROLLER`` (the wedging of the roller clutch of seed 003). The
@@ -38,7 +42,7 @@ NEWTON_MAXIT = 8
 NEWTON_TOL = 0.03  # scaled Newton increment (in units of the local tolerance) at which a stage is solved
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def invert(m, inv):
     """Gauss-Jordan inverse with partial pivoting of a small dense matrix into ``inv`` (``m`` is
     destroyed); False if singular. For n ≤ 8 and ~10 solves per factorisation a matrix-vector
@@ -73,7 +77,7 @@ def invert(m, inv):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def solve(inv, b, out):
     """out = inv @ b (small dense)."""
     n = b.size
@@ -84,7 +88,7 @@ def solve(inv, b, out):
         out[i] = acc
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def scaled_norm(v, y0, y1, rtol, atol):
     """RMS of v / (atol_i + rtol·max(|y0_i|, |y1_i|))."""
     acc = 0.0
@@ -93,13 +97,13 @@ def scaled_norm(v, y0, y1, rtol, atol):
     return math.sqrt(acc / v.size)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def sdirk4_step(system, t, y, h, p, mode, rtol, atol, y_new, work):
     """One SDIRK4 step from (t, y) of size h. Writes y_new; returns (ok, error norm, f evals).
 
-    ``work`` is a (3n + 13, n) scratch array; after the step its row 2n + 11 holds f(t, y) and row
-    2n + 4 the derivative at the step's end (stiffly accurate), for Hermite interpolation. ok is
-    False when the Newton iteration fails (the caller shrinks the step). Newton increments are
+    ``work`` is a (3n + 14, n) scratch array (the last row is the event location's); after the
+    step its row 2n + 11 holds f(t, y) and row 2n + 4 the derivative at the step's end (stiffly
+    accurate), for Hermite interpolation. ok is False when the Newton iteration fails (the caller shrinks the step). Newton increments are
     measured in the weights 1/(atol + rtol·|y|) of the step's start."""
     n = y.size
     jac = work[0:n]
@@ -170,7 +174,7 @@ def sdirk4_step(system, t, y, h, p, mode, rtol, atol, y_new, work):
     return True, scaled_norm(err, y, y_new, rtol, atol), nfev
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def new_step(h, err_norm):
     """Step-size controller for the order-3 embedded estimate (safety 0.9, factor 0.2-5)."""
     if err_norm == 0.0:
@@ -178,7 +182,7 @@ def new_step(h, err_norm):
     return h * min(5.0, max(0.2, 0.9 * err_norm ** (-1.0 / (ORDER_EMBEDDED + 1))))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _hermite(y0, f0, y1, f1, h, th, out):
     a, b = th * th * (2.0 * th - 3.0) + 1.0, th * (th - 1.0) * (th - 1.0)
     c, d = th * th * (3.0 - 2.0 * th), th * th * (th - 1.0)
@@ -186,11 +190,11 @@ def _hermite(y0, f0, y1, f1, h, th, out):
         out[i] = a * y0[i] + b * h * f0[i] + c * y1[i] + d * h * f1[i]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def hermite_root(system, which, t, y, f0, y1, f1, h, g0, g1, p, mode, work):
     """Root θ·h in (0, h] of event ``which`` on the step's cubic Hermite interpolant (Illinois; no
     right-hand-side evaluations except those the event function itself needs)."""
-    yt = np.empty(y.size)
+    yt = work[work.shape[0] - 1]  # the last scratch row (see sdirk4_step)
     lo, hi, glo, ghi, side = 0.0, 1.0, g0, g1, 0
     for _ in range(100):
         if hi - lo <= 1e-14:
@@ -215,7 +219,7 @@ def hermite_root(system, which, t, y, f0, y1, f1, h, g0, g1, p, mode, work):
     return hi * h
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def locate(system, which, t, y, f0, y1, f1, h, g0, g1, p, mode, rtol, atol, y_out, work, time_tol):
     """Event location: the step size h* in (0, h] at which event ``which`` of :func:`event` (g0 at
     the step's start, g1 at its end, opposite signs) is zero on the integrator's own solution: the
@@ -275,7 +279,7 @@ ST_OK, ST_NEVER, ST_FAIL = 0, 4, 6  # clutchlab.status codes: ok, never_locked, 
 EVENT_TIME_TOL = 1e-14  # s
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def contact_force(d, dd, k, e, c, dmax):
     """Scalar contact law: (F, ∂F/∂δ, ∂F/∂δ̇, unclipped F) — see :func:`clutchlab.contact.impact_force`."""
     if d <= 0.0:
@@ -292,7 +296,7 @@ def contact_force(d, dd, k, e, c, dmax):
     return f, k * e * de / d + ds * c * dd, s * c, f
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _claw(t, p):
     """Shift ξ of the rollers toward the wide end of the wedge by the stopped control ring, and its rate."""
     if t <= p[TREL]:
@@ -303,7 +307,7 @@ def _claw(t, p):
     return xi, p[RC] * p[WD]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _roller_contact(t, y, p, mode):
     """Penetration, its rate, and the force law at state y (all loaded rollers alike)."""
     xi, xid = _claw(t, p)
@@ -314,7 +318,7 @@ def _roller_contact(t, y, p, mode):
     return d, dd, contact_force(d, dd, p[K], p[EXP], p[CD], p[DMAX])
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _roller_rhs(t, y, p, mode, f, jac, want_jac):
     rc, th = p[RC], p[TH]
     _, _, (F, dF, dFd, _) = _roller_contact(t, y, p, mode)
@@ -341,7 +345,7 @@ def _roller_rhs(t, y, p, mode, f, jac, want_jac):
         jac[3, 1], jac[3, 2], jac[3, 3] = a_o * g1, a_o * g2, a_o * g3
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _impact_rhs(y, p, f, jac, want_jac):
     m, k, e, c, dmax = p[0], p[1], p[2], p[3], p[4]
     F, dF, dFd, _ = contact_force(y[0], y[1], k, e, c, dmax)
@@ -352,7 +356,7 @@ def _impact_rhs(y, p, f, jac, want_jac):
         jac[1, 0], jac[1, 1] = -dF / m, -dFd / m
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def rhs(system, t, y, p, mode, f, jac, want_jac):
     if system == IMPACT:
         _impact_rhs(y, p, f, jac, want_jac)
@@ -360,7 +364,7 @@ def rhs(system, t, y, p, mode, f, jac, want_jac):
         _roller_rhs(t, y, p, mode, f, jac, want_jac)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def event(system, t, y, p, mode, which, work):
     """Event functions; each event is a fall through zero from > 0."""
     if system == IMPACT:
@@ -386,7 +390,7 @@ def impact(p, v, rtol, atol, h0):
     y = np.array([0.0, v])
     y_new = np.zeros(2)
     y_ev = np.zeros(2)
-    work = np.zeros((19, 2))
+    work = np.zeros((20, 2))
     t, h = 0.0, h0
     dmax_pen, t_max = 0.0, 0.0
     nfev = 0
@@ -422,7 +426,7 @@ def _roller_one(p, rtol, max_steps, res, trace, n_trace):
     y_ev = np.zeros(n)
     y_best = np.zeros(n)
     f0, f1 = np.zeros(n), np.zeros(n)
-    work = np.zeros((3 * n + 13, n))
+    work = np.zeros((3 * n + 14, n))
     atol = np.array([rtol * 1e-4, rtol * p[WD], rtol * 1e-4, rtol * p[WD]])
     mode = SLIP
     t = 0.0
