@@ -184,11 +184,11 @@ def test_breakaway_after_lock_and_relock():
     assert 0.35 < r["lockup_time"] < 1.5 and int(r["status"]) == st.CODE["ok"]
     assert abs(r["energy_residual"]) <= 1e-9
     # held engine: the second lock-up follows from the driven's equation (speed back to 570 rad/s)
-    cap = lambda t: 239.3 * min(t / 0.5, 1.0)  # noqa: E731
+    def icap(t):  # ∫0^t C, C = 239.3·min(t/0.5, 1) (exact)
+        return 239.3 * (t * t if t <= 0.5 else 0.25 + (t - 0.5))
 
-    def dw(t):  # driven speed after break-away: 570 + ∫ (C − 104)/J_v
-        return 570.0 + quad(lambda s: (cap(s) - 194.0) / 0.021, 0.35, t, points=[0.5] if t > 0.5 else None,
-                            epsabs=1e-13, epsrel=1e-13)[0]
+    def dw(t):  # driven speed after break-away: 570 + ∫0.35^t (C − 194)/J_v
+        return 570.0 + (icap(t) - icap(0.35) - 194.0 * (t - 0.35)) / 0.021
 
     relock = brentq(lambda t: dw(t) - 570.0, 0.5 * 194.0 / 239.3 + 1e-6, 1.5, xtol=1e-14)
     assert r["lockup_time"] == pytest.approx(relock, abs=1e-9)
