@@ -22,6 +22,8 @@ import math
 import numpy as np
 from numba import njit
 
+from . import _linear_phase as _lp
+
 # parameter columns (one row per scenario)
 (WE0, JE, TE, JV, TM0, CMAX, TR, RS, VS, WC0, KA, DTM, TSTEP, PHI, K, ZETA, TEND, HELD, INV_JE, JH, JR,
  CD, KAPPA, TCON) = range(24)
@@ -30,7 +32,7 @@ NTAB = N_PARAM  # engine torque table: count, then speeds, then torques (shared,
 # state columns: engine, hub, output speed, damper twist, slip/load/input/damping work
 H, WS, WL, WI, E, R, TH, WD = range(8)  # rigid held: the first 4 move; rigid free: 5
 N_STATE = 8
-N_WORK = 30  # rows of the per-scenario scratch array (see _simulate_one)
+N_WORK = 31  # rows of the per-scenario scratch array (see _simulate_one)
 # events (falling through zero from > 0)
 LOCK, BREAK, UNPARK, PARK, PEAK = range(5)
 N_EVENTS = 5
@@ -38,11 +40,12 @@ EVENT_TIME_TOL = 1e-13  # s: bracket width at which an event time is final (Illi
 # result columns
 (LOCKUP_TIME, BREAKAWAY_TIME, CAPACITY_AT_LOCKUP, ACCEL_JUMP, LOCKUP_SPEED, PEAK_SLIP_POWER,
  PEAK_FRICTION_TORQUE, PEAK_JERK, SLIP_WORK, LOAD_WORK, INPUT_WORK, KINETIC_ENERGY_CHANGE, DAMPING_WORK,
- ENERGY_RESIDUAL, N_STEPS, FINAL_LOCKED, HIT_STEP_LIMIT, N_REJECTED, N_LOCATE, N_FALSE_ALARMS, N_EVENT_STEPS) = range(21)
+ ENERGY_RESIDUAL, N_STEPS, FINAL_LOCKED, HIT_STEP_LIMIT, N_REJECTED, N_LOCATE, N_FALSE_ALARMS, N_EVENT_STEPS,
+ TRUNCATED, N_LINEAR) = range(23)
 RESULTS = ("lockup_time", "breakaway_time", "capacity_at_lockup", "accel_jump", "lockup_speed", "peak_slip_power",
            "peak_friction_torque", "peak_jerk", "slip_work", "load_work", "input_work", "kinetic_energy_change",
            "damping_work", "energy_residual", "n_steps", "final_locked", "hit_step_limit",
-           "n_rejected", "n_locate", "n_false_alarms", "n_event_steps")
+           "n_rejected", "n_locate", "n_false_alarms", "n_event_steps", "truncated", "n_linear")
 TRACES = ("engine_speed", "hub_speed", "output_speed", "friction_torque", "capacity", "slip_work", "jerk")
 N_RESULTS, N_TRACES = len(RESULTS), len(TRACES)
 
@@ -533,16 +536,513 @@ def _store_trace(trace, tt, t, y, wr_col, aux, jk):
             trace[i, 6] = jk
 
 
+
+
+# ----------------------------------------------------------------------------------------------
+# Exact linear phases of the compliant model (see clutchlab._linear_phase)
+# ----------------------------------------------------------------------------------------------
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _is_linear(q, locked):
+    """Whether the compliant model's phase is linear with polynomial forcing: no rotor drag, a held
+    engine or one with constant torque, a finite damper stiffness, and constant μ unless locked."""
+    return (q[KA] == 0.0 and (q[HELD] > 0.0 or q[NTAB] == 0.0) and math.isfinite(q[K]) and q[K] > 0.0
+            and (locked or not math.isfinite(q[VS])))
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _peak_slot(form):
+    """Slot of the running maxima (slip power, |friction torque|, |output jerk|) a peak form feeds."""
+    return 0 if form == _lp.F_POW else (1 if form == _lp.F_TORQ else 2)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _form_bounds(ft, fd, i, lo, hi, rh, rd, rate, osc):
+    """(min P, max P, bound of |U·h + W·h'|) of form i over [lo, hi]; hi may be inf (then P beyond
+    degree 1 or non-constant U, W give infinite bounds). Constant U, W of an underdamped response:
+    the exact envelope of U·h + W·h' = e^(−aτ)·(A·cos ω_dτ + B·sin ω_dτ), √(A² + B²)·e^(−a·lo)."""
+    r = 3 * i
+    dp, du, dw = int(fd[r]), int(fd[r + 1]), int(fd[r + 2])
+    if math.isfinite(hi):
+        pmin, pmax = _lp.prange(ft[r], dp, lo, hi, osc[5 + 3 * _lp.N_FORM:])
+    else:
+        if dp > 1 or du > 0 or dw > 0:
+            return -np.inf, np.inf, np.inf
+        p0 = _lp.pvd(ft[r], dp, lo)
+        slope = ft[r, 1] if dp == 1 else 0.0
+        pmin = p0 if slope >= 0.0 else -np.inf
+        pmax = p0 if slope <= 0.0 else np.inf
+    if du == 0 and dw == 0:
+        u, w = ft[r + 1, 0], ft[r + 2, 0]
+        a, w2, h0, h1 = osc[0], osc[1], osc[2], osc[3]
+        if u == 0.0 and w == 0.0:
+            return pmin, pmax, 0.0
+        if w2 > 0.0:
+            wd = math.sqrt(w2)
+            amp = math.hypot(u * h0 + w * h1, (u * (h1 + a * h0) - w * (a * h1 + (w2 + a * a) * h0)) / wd)
+            return pmin, pmax, amp * math.exp(-a * lo)
+        um, wm = abs(u), abs(w)
+    else:
+        u0, u1 = _lp.prange(ft[r + 1], du, lo, hi, osc[5 + 3 * _lp.N_FORM:])
+        w0, w1 = _lp.prange(ft[r + 2], dw, lo, hi, osc[5 + 3 * _lp.N_FORM:])
+        um, wm = max(abs(u0), abs(u1)), max(abs(w0), abs(w1))
+    env = um * rh + wm * rd
+    if env > 0.0:
+        env *= math.exp(-rate * lo)
+    return pmin, pmax, env
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _arm_pending(ft, fd, armed, tau, h, hd):
+    """Arm the pending event forms that are positive at τ."""
+    for i in range(_lp.N_FORM):
+        if armed[i] == 3.0 and _lp.fvald(ft, fd, i, tau, h, hd) > 0.0:
+            armed[i] = 1.0
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _excluded(ft, fd, i, role, lo, hi, rh, rd, rate, pk, osc):
+    """Whether the bounds exclude, on [lo, hi], a root of event form i (role 1) or a value of peak
+    form i (role 2) above the running maximum."""
+    pmin, pmax, env = _form_bounds(ft, fd, i, lo, hi, rh, rd, rate, osc)
+    if role == 1.0:
+        return pmin - env > 0.0
+    return max(abs(pmin), abs(pmax)) + env <= pk[_peak_slot(i)]
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _monotone(ft, fd, i, lo, hi, rh, rd, rate, osc):
+    """Whether the bounds of form i's derivative keep it of one sign on [lo, hi]."""
+    pmin, pmax, env = _form_bounds(ft, fd, i + _lp.N_FORM, lo, hi, rh, rd, rate, osc)
+    return pmin - env > 0.0 or pmax + env < 0.0
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _linear_segment(t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, ft, pw, tq, osc, armed):
+    """Advance a linear phase of the compliant model exactly from t to the first event in (t, t_b]
+    or to t_b (``t_b`` may be inf with ``follow``). Returns (time, event kind or −1, settled):
+    y holds the state there (works updated unless ``follow``), pk the peaks inside the segment.
+    With ``follow`` (after the window) the segment ends, settled, once no armed event can fire and
+    no peak can grow any more (bounds of the decaying free response); unsettled after 10⁵ grid
+    intervals. The load is the static load at ``t_load``."""
+    held = q[HELD] > 0.0
+    k, c, jr, jh = q[K], q[CD], q[JR], q[JH]
+    tm = _load_static(t_load, q)
+    te = 0.0 if held else q[TE]
+    C, D, F, XP, XPD, OM, WE = pw[_lp.R_C], pw[_lp.R_D], pw[_lp.R_F], pw[_lp.R_XP], pw[_lp.R_XPD], pw[_lp.R_OM], pw[_lp.R_WE]
+    T1, T2, ONE, ZERO = pw[_lp.R_T1], pw[_lp.R_T2], pw[_lp.R_T3], pw[_lp.R_T4]
+    _lp._zero(ONE)
+    ONE[0] = 1.0
+    _lp._zero(ZERO)
+    _lp._icap(t, q[TR], q[TCON], q[KAPPA], q[CMAX], prof, C, T1)
+    _lp._zero(D)
+    if locked:
+        ia = 0.0 if held else 1.0 / (q[JE] + jh)
+        D[0] = te
+    else:
+        ia = 1.0 / jh
+        for n in range(_lp.NP):
+            D[n] = s * C[n]
+    th0 = y[TH]
+    thd0 = y[H] - (0.0 if parked else y[R])
+    osc_on = not (parked and ia == 0.0)  # held, locked and parked: the twist grows at the engine speed
+    ra, rr = 1.0, 0.0
+    if parked:
+        m = 1.0 / ia if osc_on else np.inf
+        for n in range(_lp.NP):
+            F[n] = D[n]
+    else:
+        ra = 1.0 / (1.0 + jr * ia)
+        rr = jr * ia * ra
+        m = jr * ra
+        _lp._axpy(rr, D, ra * tm, ONE, F)
+    if osc_on:
+        _lp._partic(F, m, c, k, XP)
+        km, cm = k / m, c / m
+        a = 0.5 * cm
+        w2 = km - a * a
+    else:
+        _lp._zero(XP)
+        XP[0], XP[1] = th0, y[E]
+        km = cm = a = w2 = 0.0
+    _lp._der(XP, XPD)
+    h0, h1 = th0 - XP[0], thd0 - XPD[0]
+    osc[0], osc[1], osc[2], osc[3], osc[4] = a, w2, h0, h1, t
+    # speeds ω_A = PA + uA·θ', ω_R = PR + uR·θ' (PA, PR rows)
+    if parked:
+        PA, PR, uR = (ZERO if osc_on else OM), ZERO, 0.0
+        uA = 1.0 if osc_on else 0.0
+        if not osc_on:
+            _lp._zero(OM)
+            OM[0] = y[E]
+    else:
+        for n in range(_lp.NP):
+            T1[n] = D[n]
+        T1[0] -= tm
+        _lp._integ(T1, OM)
+        for n in range(_lp.NP):
+            OM[n] *= ra * ia
+        OM[0] += ra * y[H] + rr * y[R]
+        PA, PR, uA, uR = OM, OM, rr, -ra
+    if not locked:  # engine speed while slipping (held: constant)
+        _lp._integ(C, T1)
+        _lp._zero(WE)
+        WE[0] = y[E]
+        if not held:
+            for n in range(_lp.NP):
+                WE[n] -= q[INV_JE] * s * T1[n]
+            WE[1] += q[INV_JE] * te
+    # forms
+    for i in range(_lp.N_FORM):
+        armed[i] = 0.0
+    alpha, beta = 1.0 - jh * ia, jh * ia * te  # torque needed to stay locked: α·T_s + β
+    # T2 = T_s's polynomial part k·x_p + c·x_p'
+    _lp._axpy(k, XP, c, XPD, T2)
+    if not locked:
+        for n in range(_lp.NP):
+            T1[n] = s * (WE[n] - PA[n] - uA * XPD[n])
+        _lp._fset(ft, _lp.F_LOCK, T1, -s * uA, -s * uA, ZERO, ONE)
+        armed[_lp.F_LOCK] = 1.0
+        _lp._mul(C, T1, T1)  # slip power C·s·(ω_e − ω_A)
+        for n in range(_lp.NP):
+            ft[3 * _lp.F_POW, n] = T1[n]
+            ft[3 * _lp.F_POW + 1, n] = 0.0
+            ft[3 * _lp.F_POW + 2, n] = -s * uA * C[n]
+        armed[_lp.F_POW] = 2.0  # a peak, not an event
+    else:
+        for form in (_lp.F_BRK_P, _lp.F_BRK_M):
+            sign = 1.0 if form == _lp.F_BRK_P else -1.0
+            for n in range(_lp.NP):
+                T1[n] = q[RS] * C[n] - sign * alpha * T2[n]
+            T1[0] -= sign * beta
+            _lp._fset(ft, form, T1, -sign * alpha * k, -sign * alpha * c, ONE, ONE)
+            armed[form] = 1.0
+        _lp._axpy(alpha, T2, 0.0, T2, T1)
+        T1[0] += beta
+        _lp._fset(ft, _lp.F_TORQ, T1, alpha * k, alpha * c, ONE, ONE)
+        armed[_lp.F_TORQ] = 2.0
+    if parked:
+        _lp._axpy(-1.0, T2, tm, ONE, T1)
+        _lp._fset(ft, _lp.F_UNPARK, T1, -k, -c, ONE, ONE)
+        armed[_lp.F_UNPARK] = 1.0
+    else:
+        for n in range(_lp.NP):
+            T1[n] = PR[n] + uR * XPD[n]
+        _lp._fset(ft, _lp.F_PARK, T1, 0.0, uR, ONE, ONE)
+        armed[_lp.F_PARK] = 1.0
+        # output jerk T_s'/J_R: T_s in the jerk's derivative slot, differentiated into the jerk slot
+        jd = _lp.F_JERK + _lp.N_FORM
+        _lp._fset(ft, jd, T2, k, c, ONE, ONE)
+        _lp._fder(ft, jd, _lp.F_JERK, km, cm)
+        for r in range(3):
+            for n in range(_lp.NP):
+                ft[3 * _lp.F_JERK + r, n] /= jr
+        armed[_lp.F_JERK] = 2.0
+    for i in range(_lp.N_FORM):
+        if armed[i] > 0.0:
+            _lp._fder(ft, i, i + _lp.N_FORM, km, cm)
+            _lp._fder(ft, i + _lp.N_FORM, i + 2 * _lp.N_FORM, km, cm)
+    fd = armed[_lp.N_FORM:]  # degrees of the form rows
+    for i in range(_lp.N_FORM):
+        if armed[i] > 0.0:
+            for j in (i, i + _lp.N_FORM, i + 2 * _lp.N_FORM):
+                for r in range(3 * j, 3 * j + 3):
+                    fd[r] = _lp.degree(ft[r])
+    rh, rd, rate = _lp.envelope(osc)
+    # grid: half of π/ω₀ (ω₀ ≥ ω_d: extrema of the free response are ≥ π/ω₀ apart)
+    T = t_b - t
+    w0 = math.sqrt(km)
+    dg = math.pi / (2.0 * w0) if (osc_on and w0 > 0.0) else (T if math.isfinite(T) else 1.0)
+    if math.isfinite(T) and dg >= T:
+        dg = T
+    period = 2.0 * math.pi / math.sqrt(w2) if w2 > 0.0 else np.inf
+    # events armed only where the function starts above zero (as in the integrator). One that starts
+    # at zero within round-off (slip just after a break-away, output speed just after unparking)
+    # is armed from the first of the times dg·2⁻ᵏ (k = 40 … 0) where it is positive: a restart at
+    # an event never fires at once, and a short episode after it is not stepped over. If it is
+    # not positive by then, it stays pending and is armed at the first grid point where it is.
+    hA, hdA = _lp.hh(0.0, a, w2, h0, h1)
+    t_arm = osc[5 + 2 * _lp.N_FORM:5 + 3 * _lp.N_FORM]
+    for i in range(_lp.N_FORM):
+        t_arm[i] = 0.0
+        if armed[i] == 1.0:
+            r = 3 * i
+            scale = abs(ft[r, 0]) + abs(ft[r + 1, 0] * hA) + abs(ft[r + 2, 0] * hdA)
+            if not _lp.fvald(ft, fd, i, 0.0, hA, hdA) > 64.0 * _lp._EPS * scale:
+                armed[i] = 3.0
+                for kexp in range(40, -1, -1):
+                    ta = dg * 2.0 ** (-kexp)
+                    hT, hdT = _lp.hh(ta, a, w2, h0, h1)
+                    if _lp.fvald(ft, fd, i, ta, hT, hdT) > 0.0:
+                        armed[i], t_arm[i] = 1.0, ta
+                        break
+    t_lo, n_int, settled = 0.0, 0, False
+    hL, hdL = hA, hdA
+    tau_ev, kind_ev = np.inf, -1
+    while True:
+        if not math.isfinite(T):
+            # after the window: forms that can never fire (events) or grow (peaks) again are disarmed
+            n_armed = 0
+            for i in range(_lp.N_FORM):
+                if armed[i] == 0.0 or armed[i] == 3.0:
+                    continue
+                if _excluded(ft, fd, i, armed[i], t_lo, T, rh, rd, rate, pk, osc) or (
+                        rate <= 0.0 and _lp.degree(ft[3 * i]) == 0 and t_lo > period + dg):  # undamped: a period shows all
+                    armed[i] = 0.0
+                else:
+                    n_armed += 1
+            if n_armed == 0:
+                t_end = t_lo
+                settled = True
+                break
+        # skip ahead: the longest [t_lo, t_lo + Δ] (Δ doubling from one grid interval) on which every
+        # armed form is quiet: its bounds exclude a root (events) or a value above the maximum so
+        # far (peaks), or its derivative keeps one sign (then only its end value matters)
+        mode = osc[5:5 + _lp.N_FORM]
+        skip, span = 0.0, dg
+        while span < 1e9 * dg:
+            t_s = min(t_lo + span, T)
+            ok = True
+            for i in range(_lp.N_FORM):
+                if armed[i] == 0.0:
+                    continue
+                if armed[i] == 3.0:  # pending: step the grid until it is armed (no skip over it)
+                    ok = False
+                    break
+                if t_arm[i] > t_lo:  # armed inside the span: step the grid
+                    ok = False
+                    break
+                if _excluded(ft, fd, i, armed[i], t_lo, t_s, rh, rd, rate, pk, osc):
+                    m_i = 1.0
+                elif _monotone(ft, fd, i, t_lo, t_s, rh, rd, rate, osc):
+                    m_i = 2.0
+                else:
+                    ok = False
+                    break
+                mode[i] = m_i
+            if not ok:
+                break
+            for i in range(_lp.N_FORM):
+                mode[i + _lp.N_FORM] = mode[i] if armed[i] != 0.0 else 0.0  # the modes of the accepted span
+            skip = t_s - t_lo
+            if t_s >= T:
+                break
+            span *= 2.0
+        if skip > 0.0:
+            t_s = t_lo + skip
+            hS, hdS = _lp.hh(t_s, a, w2, h0, h1)
+            for i in range(_lp.N_FORM):  # a monotone event function crosses zero at most once
+                if armed[i] == 1.0 and mode[i + _lp.N_FORM] == 2.0 and _lp.fvald(ft, fd, i, t_s, hS, hdS) <= 0.0:
+                    r = _lp._root(ft, i, t_lo, t_s, 0.0, osc)
+                    if r < tau_ev:
+                        tau_ev, kind_ev = r, i
+            t_end = min(t_s, tau_ev)
+            hE, hdE = (hS, hdS) if t_end == t_s else _lp.hh(t_end, a, w2, h0, h1)
+            for i in range(_lp.N_FORM):  # a monotone peak function has its maximum at an end
+                if armed[i] == 2.0 and mode[i + _lp.N_FORM] == 2.0:
+                    pk[_peak_slot(i)] = max(pk[_peak_slot(i)], abs(_lp.fvald(ft, fd, i, t_end, hE, hdE)))
+            if not locked:
+                pk[1] = max(pk[1], abs(_lp.pv(C, t_end)))
+            if kind_ev >= 0:
+                break
+            _arm_pending(ft, fd, armed, t_s, hS, hdS)
+            t_lo = t_s
+            if t_lo >= T:
+                t_end = T
+                break
+            hL, hdL = hS, hdS
+            continue
+        t_hi = t_lo + dg
+        if math.isfinite(T) and T - t_hi < 1e-3 * dg:
+            t_hi = T
+        n_int += 1
+        hB, hdB = _lp.hh(t_hi, a, w2, h0, h1)
+        # events in (t_lo, t_hi]: the earliest root of the armed functions
+        for i in range(_lp.N_FORM):
+            if armed[i] != 1.0 or t_arm[i] >= t_hi:
+                continue
+            lo_i = max(t_lo, t_arm[i])  # (a form armed inside the interval: from its arming time)
+            r_hi = np.inf
+            if _lp.fvald(ft, fd, i, t_hi, hB, hdB) <= 0.0:
+                r_hi = t_hi
+            else:
+                pmin, _, env = _form_bounds(ft, fd, i, lo_i, t_hi, rh, rd, rate, osc)
+                if pmin - env <= 0.0:  # a dip below zero is not excluded: look for a minimum inside
+                    hI, hdI = (hL, hdL) if lo_i == t_lo else _lp.hh(lo_i, a, w2, h0, h1)
+                    d_lo = _lp.fvald(ft, fd, i + _lp.N_FORM, lo_i, hI, hdI)
+                    if d_lo < 0.0 and _lp.fvald(ft, fd, i + _lp.N_FORM, t_hi, hB, hdB) > 0.0:
+                        tmin = _lp._extremum(ft, i, lo_i, t_hi, d_lo, osc)
+                        hM, hdM = _lp.hh(tmin, a, w2, h0, h1)
+                        if _lp.fvald(ft, fd, i, tmin, hM, hdM) <= 0.0:
+                            r_hi = tmin
+            if r_hi < np.inf:
+                r = _lp._root(ft, i, lo_i, r_hi, 0.0, osc)
+                if r < tau_ev:
+                    tau_ev, kind_ev = r, i
+        t_end = min(t_hi, tau_ev)
+        # peaks on (t_lo, t_end]: the end and the extrema inside, where they could exceed the maximum so far
+        hE, hdE = (hB, hdB) if t_end == t_hi else _lp.hh(t_end, a, w2, h0, h1)
+        for i in range(_lp.N_FORM):
+            if armed[i] != 2.0:
+                continue
+            slot = _peak_slot(i)
+            pk[slot] = max(pk[slot], abs(_lp.fvald(ft, fd, i, t_end, hE, hdE)))
+            pmin, pmax, env = _form_bounds(ft, fd, i, t_lo, t_end, rh, rd, rate, osc)
+            if max(abs(pmin), abs(pmax)) + env <= pk[slot]:
+                continue
+            d_lo = _lp.fvald(ft, fd, i + _lp.N_FORM, t_lo, hL, hdL)
+            d_hi = _lp.fvald(ft, fd, i + _lp.N_FORM, t_end, hE, hdE)
+            if (d_lo > 0.0) != (d_hi > 0.0):
+                te_ = _lp._extremum(ft, i, t_lo, t_end, d_lo, osc)
+                hM, hdM = _lp.hh(te_, a, w2, h0, h1)
+                pk[slot] = max(pk[slot], abs(_lp.fvald(ft, fd, i, te_, hM, hdM)))
+        if not locked:
+            pk[1] = max(pk[1], abs(_lp.pv(C, t_end)))
+        if kind_ev >= 0 or (math.isfinite(T) and t_hi >= T):
+            break
+        _arm_pending(ft, fd, armed, t_hi, hB, hdB)
+        t_lo, hL, hdL = t_hi, hB, hdB
+        if follow and n_int > 100_000:
+            t_end = t_lo
+            break
+    tau = t_end
+    hE, hdE = _lp.hh(tau, a, w2, h0, h1)
+    th, thd = _lp.pv(XP, tau) + hE, _lp.pv(XPD, tau) + hdE
+    wa, wr = _lp.pv(PA, tau) + uA * thd, _lp.pv(PR, tau) + uR * thd
+    if not follow:
+        th_a, thd_a = th0, thd0
+        _lp._integ(C, T1)
+        if held:
+            if locked:  # ω_e·∫T_s, ∫θ = ∫x_p + ∫h
+                _lp._integ(XP, T2)
+                ith = _lp.pv(T2, tau) + _lp._int_qh(ONE, m, c, k, tau, hA, hdA, hE, hdE, tq) if osc_on else _lp.pv(T2, tau)
+                y[WI] += y[E] * (k * ith + c * (th - th_a))
+            else:
+                y[WI] += y[E] * s * _lp.pv(T1, tau)
+        else:
+            if locked:
+                _lp._integ(PA, T2)
+                y[WI] += te * (_lp.pv(T2, tau) + uA * (th - th_a))
+            else:
+                _lp._integ(WE, T2)
+                y[WI] += te * _lp.pv(T2, tau)
+        if not parked:
+            _lp._integ(PR, T2)
+            y[WL] += tm * (_lp.pv(T2, tau) + uR * (th - th_a))
+        if not locked:  # ∫C·s(ω_e − ω_A) = ∫C·P_lock − s·uA·([C·h] − ∫C'·h)
+            for n in range(_lp.NP):
+                T1[n] = s * (WE[n] - PA[n] - uA * XPD[n])
+            _lp._mul(C, T1, T1)
+            _lp._integ(T1, T2)
+            ws = _lp.pv(T2, tau)
+            if uA != 0.0:
+                _lp._der(C, T1)
+                ch = _lp.pv(C, tau) * hE - C[0] * hA - _lp._int_qh(T1, m, c, k, tau, hA, hdA, hE, hdE, tq)
+                ws -= s * uA * ch
+            y[WS] += ws
+        if osc_on:  # c∫θ'² = [F·θ] − ∫F'·x_p − ∫F'·h − Δ(½mθ'² + ½kθ²)
+            _lp._der(F, T1)
+            _lp._mul(T1, XP, T2)
+            _lp._integ(T2, T2)
+            ifth = (_lp.pv(F, tau) * th - F[0] * th_a) - _lp.pv(T2, tau) - _lp._int_qh(T1, m, c, k, tau, hA, hdA, hE,
+                                                                                      hdE, tq)
+            y[WD] += ifth - (0.5 * m * (thd * thd - thd_a * thd_a) + 0.5 * k * (th * th - th_a * th_a))
+        else:
+            y[WD] += c * y[E] * y[E] * tau
+    y[TH] = th
+    y[H] = wa
+    y[R] = wr
+    y[E] = wa if locked else _lp.pv(WE, tau)
+    kind = -1
+    if kind_ev == _lp.F_LOCK:
+        kind = LOCK
+    elif kind_ev == _lp.F_PARK:
+        kind = PARK
+    elif kind_ev == _lp.F_UNPARK:
+        kind = UNPARK
+    elif kind_ev == _lp.F_BRK_P or kind_ev == _lp.F_BRK_M:
+        kind = BREAK
+    return t + tau, kind, settled
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _apply_event(kind, t, y, q, locked, parked, s, compliant, prof, d, dm, g, pk, out):
+    """Switch the mode at the located event ``kind`` (state y at t): LOCK joins the sides (momentum
+    kept), BREAK slips in the direction of the needed torque, (UN)PARK holds or frees the output.
+    Records lock-up and break-away; fills d and g at the new mode; returns (locked, parked, s)."""
+    held = q[HELD] > 0.0
+    wr_col = R if compliant else H
+    a_before = _forces(t, y, q, locked, parked, s, compliant, prof, dm)
+    if kind == LOCK:
+        locked = True
+        jh = q[JH] if compliant else q[JV]
+        w = y[E] if held else (y[E] + jh * q[INV_JE] * y[H]) / (1.0 + jh * q[INV_JE])
+        y[E] = w
+        y[H] = w
+        if not compliant:
+            parked = False
+    elif kind == BREAK:
+        locked = False
+        s = 1.0 if a_before[4] >= 0 else -1.0
+    elif kind == UNPARK:
+        parked = False
+    elif kind == PARK:
+        parked = True
+        y[wr_col] = 0.0
+    acc_before = dm[wr_col]
+    aux = _forces(t, y, q, locked, parked, s, compliant, prof, d)
+    if kind == LOCK:
+        out[LOCKUP_TIME] = t
+        out[LOCKUP_SPEED] = y[H]
+        out[CAPACITY_AT_LOCKUP] = aux[0]
+        out[ACCEL_JUMP] = d[wr_col] - acc_before
+    elif kind == BREAK:
+        if math.isnan(out[BREAKAWAY_TIME]):
+            out[BREAKAWAY_TIME] = t
+        out[LOCKUP_TIME] = np.nan
+    _events(t, y, q, locked, parked, s, compliant, prof, d, aux, g)
+    _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk)
+    return locked, parked, s
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _follow_linear(t, y, q, parked, s, prof, pk, ft, pw, tq, osc, armed):
+    """After the window: follow a linear locked phase of the compliant model exactly to t = ∞
+    (through the rest of the clamp profile) for its peaks and for any event. Returns True when it
+    settles with no event (the metrics are final), False when an event (break-away, park, unpark)
+    would change them, or the response does not settle."""
+    while True:
+        nb = np.inf
+        for b in (q[TR], q[TCON]):
+            if t < b < nb:
+                nb = b
+        t, kind, settled = _linear_segment(t, nb, q[TEND], y, q, True, parked, s, prof, True, pk, ft, pw, tq, osc,
+                                           armed)
+        if kind >= 0:
+            return False
+        if nb == np.inf:
+            return settled
+
+
 @njit(cache=True, error_model="numpy", _nrt=False, inline="always")
-def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_steps, out, trace, work):
+def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_steps, out, trace, work,
+                  ft, pw, tq, osc, armed):
     """Integrate one scenario over [0, q[TEND]]; fill ``out`` (RESULTS) and ``trace`` (times × TRACES).
     ``work``: a (N_WORK, N_STATE) scratch array shared by all scenarios (allocating the ~18 small
-    arrays per scenario cost more than a short engagement's integration)."""
+    arrays per scenario cost more than a short engagement's integration); ``ft``, ``pw``, ``tq``,
+    ``osc``, ``armed``: the linear phases' scratch (:func:`_linear_segment`).
+
+    Compliant model: linear phases (:func:`_is_linear`) are advanced exactly, the others by DOPRI5.
+    A scenario locked at the window's end is followed until its peaks are final: a linear locked
+    phase exactly to t = ∞; a nonlinear one (rotor drag, engine torque table) by DOPRI5 until its
+    linearised hub-output oscillation has decayed by 1e-6. An event after the window (break-away,
+    park, unpark) sets TRUNCATED: the metrics of the window would not be final."""
     nan, inf = np.nan, np.inf
     held = q[HELD] > 0.0
     for i in range(out.size):
         out[i] = nan
-    out[N_REJECTED] = out[N_LOCATE] = out[N_FALSE_ALARMS] = out[N_EVENT_STEPS] = 0.0
+    out[N_REJECTED] = out[N_LOCATE] = out[N_FALSE_ALARMS] = out[N_EVENT_STEPS] = out[TRUNCATED] = 0.0
+    out[N_LINEAR] = 0.0
     y, d, d1, dm, y1, ym, err, yi, ya, yb, y_best = (work[0], work[1], work[2], work[3], work[4], work[5], work[6],
                                                       work[7], work[8], work[9], work[10])
     kk = work[11:18]
@@ -552,6 +1052,7 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
     ths = work[23, :5]  # Hermite sample points in a step (fractions of it)
     rc = work[24:29]  # the step's continuous extension
     da = work[29]
+    y_end = work[30]  # the state at the window's end (the works and energies are over the window)
     y[:] = 0.0
     y[E] = q[WE0]
     y[H] = q[WC0]
@@ -585,14 +1086,53 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
     jk = _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk)
     _store_trace(trace, tt, t, y, wr_col, aux, jk)
     n_steps = 0
-    while t < q[TEND] and n_steps < max_steps:
-        nb = q[TEND]
+    t_stop, past = q[TEND], False
+    while n_steps < max_steps:
+        if t >= t_stop:
+            if past:
+                break
+            past = True  # the window's end: keep its state, then follow a locked scenario
+            _copy(y_end, y)
+            if not (locked and compliant):
+                break
+            if _is_linear(q, True):
+                if not _follow_linear(t, y, q, parked, s, prof, pk, ft, pw, tq, osc, armed):
+                    out[TRUNCATED] = 1.0
+                break
+            jd = q[JR] / (1.0 + q[JR] * (0.0 if held else 1.0 / (q[JE] + q[JH])))  # locked oscillator's mass
+            decay = 0.5 * q[CD] / jd
+            if not decay > 0.0:
+                out[TRUNCATED] = 1.0
+                break
+            t_stop = max(t, out[LOCKUP_TIME] + math.log(1e6) / decay)
+            continue
+        nb = t_stop
         for b in (q[TR], q[TSTEP], q[TCON]):
             if t < b < nb:
                 nb = b
         for b in tt:
             if t < b < nb:
                 nb = b
+        if compliant and _is_linear(q, locked):
+            out[N_LINEAR] += 1
+            t_new, kind, _ = _linear_segment(t, nb, t, y, q, locked, parked, s, prof, False, pk, ft, pw, tq, osc,
+                                             armed)
+            t = t_new
+            if kind >= 0:
+                if past:
+                    out[TRUNCATED] = 1.0
+                    break
+                locked, parked, s = _apply_event(kind, t, y, q, locked, parked, s, compliant, prof, d, dm, g, pk, out)
+                h = _initial_step(t, y, d, q, locked, parked, s, compliant, prof, rtol, atol,
+                                  min(max_step, q[TEND]), y1, d1)
+                h_acc, fac_acc, last_rejected = 0.0, 1.0, False
+            else:
+                t = nb
+                aux = _forces(t, y, q, locked, parked, s, compliant, prof, d)
+                _events(t, y, q, locked, parked, s, compliant, prof, d, aux, g)
+                jk = _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk)
+                _store_trace(trace, tt, t, y, wr_col, aux, jk)
+            continue
         h_try = min(h, max_step, nb - t)
         hit = h_try >= nb - t
         _dopri(t, y, h_try, q, locked, parked, s, compliant, prof, d, kk, yi, y1, err)
@@ -685,38 +1225,13 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                     h = best_tau / min(5.0, max(best_norm ** 0.2 / 0.9, 1.0 / 0.9))
                     (h_acc, fac_acc), last_rejected = acc_prev, True
                     continue
+                if past:
+                    out[TRUNCATED] = 1.0
+                    break
                 t = t + best_tau
                 _copy(y, y_best)
-                a_before = _forces(t, y, q, locked, parked, s, compliant, prof, dm)
-                if best_kind == LOCK:
-                    locked = True
-                    jh = q[JH] if compliant else q[JV]
-                    w = y[E] if held else (y[E] + jh * q[INV_JE] * y[H]) / (1.0 + jh * q[INV_JE])
-                    y[E] = w
-                    y[H] = w
-                    if not compliant:
-                        parked = False
-                elif best_kind == BREAK:
-                    locked = False
-                    s = 1.0 if a_before[4] >= 0 else -1.0
-                elif best_kind == UNPARK:
-                    parked = False
-                elif best_kind == PARK:
-                    parked = True
-                    y[wr_col] = 0.0
-                acc_before = dm[wr_col]
-                aux = _forces(t, y, q, locked, parked, s, compliant, prof, d)
-                if best_kind == LOCK:
-                    out[LOCKUP_TIME] = t
-                    out[LOCKUP_SPEED] = y[H]
-                    out[CAPACITY_AT_LOCKUP] = aux[0]
-                    out[ACCEL_JUMP] = d[wr_col] - acc_before
-                elif best_kind == BREAK:
-                    if math.isnan(out[BREAKAWAY_TIME]):
-                        out[BREAKAWAY_TIME] = t
-                    out[LOCKUP_TIME] = nan
-                _events(t, y, q, locked, parked, s, compliant, prof, d, aux, g)
-                _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk)
+                locked, parked, s = _apply_event(best_kind, t, y, q, locked, parked, s, compliant, prof, d, dm, g,
+                                                 pk, out)
                 h = _initial_step(t, y, d, q, locked, parked, s, compliant, prof, rtol, atol, min(max_step, q[TEND]),
                                   y1, d1)
                 h_acc, fac_acc, last_rejected = 0.0, 1.0, False
@@ -732,7 +1247,9 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
     out[PEAK_SLIP_POWER], out[PEAK_FRICTION_TORQUE], out[PEAK_JERK] = pk[0], pk[1], pk[2]
     out[N_STEPS] = n_steps
     out[FINAL_LOCKED] = 1.0 if locked else 0.0
-    out[HIT_STEP_LIMIT] = 1.0 if (n_steps >= max_steps and t < q[TEND]) else 0.0
+    out[HIT_STEP_LIMIT] = 1.0 if (n_steps >= max_steps and t < t_stop) else 0.0
+    if past:
+        _copy(y, y_end)
     if not locked:
         out[LOCKUP_TIME] = nan
         out[ACCEL_JUMP] = nan
@@ -755,15 +1272,18 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _batch_rigid(Q, prof, tt, rtol, atol, max_step, first_step, max_steps, out, trace, work):
+def _batch_rigid(Q, prof, tt, rtol, atol, max_step, first_step, max_steps, out, trace, work, ft, pw, tq, osc, armed):
     for i in range(Q.shape[0]):
-        _simulate_one(Q[i], False, prof, tt, rtol, atol, max_step, first_step, max_steps, out[i], trace[i], work)
+        _simulate_one(Q[i], False, prof, tt, rtol, atol, max_step, first_step, max_steps, out[i], trace[i], work,
+                      ft, pw, tq, osc, armed)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _batch_compliant(Q, prof, tt, rtol, atol, max_step, first_step, max_steps, out, trace, work):
+def _batch_compliant(Q, prof, tt, rtol, atol, max_step, first_step, max_steps, out, trace, work, ft, pw, tq, osc,
+                     armed):
     for i in range(Q.shape[0]):
-        _simulate_one(Q[i], True, prof, tt, rtol, atol, max_step, first_step, max_steps, out[i], trace[i], work)
+        _simulate_one(Q[i], True, prof, tt, rtol, atol, max_step, first_step, max_steps, out[i], trace[i], work,
+                      ft, pw, tq, osc, armed)
 
 
 def simulate_batch(Q, compliant, prof, tt, rtol, atol, max_step, first_step, max_steps):
@@ -773,6 +1293,11 @@ def simulate_batch(Q, compliant, prof, tt, rtol, atol, max_step, first_step, max
     out = np.empty((n, N_RESULTS))
     trace = np.full((n, tt.size, N_TRACES), np.nan)
     work = np.empty((N_WORK, N_STATE))
+    ft = np.zeros((_lp.N_FROWS, _lp.NP))
+    pw = np.zeros((_lp.N_PROWS, _lp.NP))
+    tq = np.zeros((_lp.NP, _lp.NP))
+    osc = np.zeros(5 + 3 * _lp.N_FORM + _lp.NP)  # free response, skip modes (trial, accepted), arming times, scratch
+    armed = np.zeros(_lp.N_FORM + _lp.N_FROWS)  # flags, then the form rows' degrees
     run = _batch_compliant if compliant else _batch_rigid
-    run(Q, prof, tt, rtol, atol, max_step, first_step, max_steps, out, trace, work)
+    run(Q, prof, tt, rtol, atol, max_step, first_step, max_steps, out, trace, work, ft, pw, tq, osc, armed)
     return out, trace

@@ -448,6 +448,12 @@ def _parameter_table(*, engine_speed, engine_inertia, engine_torque, driven_iner
     return Q, shape
 
 
+# metrics an event after the window would change: NaN in a ``truncated`` scenario
+_TRUNCATED_NAN = [getattr(_k, n.upper()) for n in ("lockup_time", "breakaway_time", "capacity_at_lockup",
+                                                    "accel_jump", "lockup_speed", "peak_slip_power",
+                                                    "peak_friction_torque", "peak_jerk", "slip_work")]
+
+
 def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque, peak_capacity,
              ramp_time, profile="ramp", static_ratio=1.0, stribeck_speed=np.inf, driven_speed=0.0,
              aero_coefficient=0.0, load_step=0.0, load_step_time=np.inf, engine_torque_table=None,
@@ -527,11 +533,15 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
     tt = np.zeros(0) if trace_times is None else np.ascontiguousarray(trace_times, dtype=float).ravel()
     res, trace = _k.simulate_batch(Q, bool(compliant), PROFILES.index(profile), tt, float(rtol), float(atol),
                                    float(max_step), float(first_step or 0.0), int(max_steps))
+    truncated = res[:, _k.TRUNCATED] > 0
+    res[truncated[:, None] & np.isin(np.arange(_k.N_RESULTS), _TRUNCATED_NAN)[None, :]] = np.nan
     out = {name: res[:, i].reshape(shape) for i, name in enumerate(_k.RESULTS)
-           if name not in ("final_locked", "hit_step_limit")}
-    out["n_steps"] = out["n_steps"].astype(np.int64)
+           if name not in ("final_locked", "hit_step_limit", "truncated")}
+    for name in ("n_steps", "n_linear"):
+        out[name] = out[name].astype(np.int64)
     code = np.where(res[:, _k.HIT_STEP_LIMIT] > 0, st.CODE["not_converged"],
-                    np.where(res[:, _k.FINAL_LOCKED] > 0, st.CODE["ok"], st.CODE["never_locked"]))
+                    np.where(truncated, st.CODE["truncated"],
+                             np.where(res[:, _k.FINAL_LOCKED] > 0, st.CODE["ok"], st.CODE["never_locked"])))
     out["status"] = code.astype(st.DTYPE).reshape(shape)
     if trace_times is not None:
         out["trace"] = {name: trace[:, :, i].reshape(shape + (tt.size,)) for i, name in enumerate(_k.TRACES)}

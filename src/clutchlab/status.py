@@ -22,6 +22,7 @@ FLAGS = {
     10: "pop_out_risk",
     11: "not_self_locking",
     12: "overrunning",
+    13: "truncated",
 }
 CODE = {meaning: code for code, meaning in FLAGS.items()}
 DTYPE = np.int8

@@ -1,0 +1,346 @@
+"""Exact linear phases of the compliant engagement (seed 000 eqs. 1-2 with the damper springs).
+
+With constant μ, a held engine or a free one with constant torque, no rotor drag and a
+polynomial clamp profile, every phase of the compliant driveline is linear with polynomial
+forcing. Each phase is a body A (the hub while slipping, driven by s·C(t); the engine and hub
+while locked, driven by T_e; held: infinite inertia) joined to the output R (load T_m, or parked)
+by the damper springs (K, c). Its twist θ obeys one damped oscillator
+
+    m·θ'' + c·θ' + K·θ = f(τ),   τ = t − t_a,
+
+(output parked: m = J_A, f = D; output moving: m = J_A·J_R/(J_A + J_R), f = ρ_r·D + ρ_a·T_m,
+ρ_a = J_A/(J_A + J_R), ρ_r = 1 − ρ_a), and the speeds are polynomials plus multiples of θ':
+ω_A = ω_m + ρ_r·θ', ω_R = ω_m − ρ_a·θ' with the mass-weighted speed ω_m' = (D − T_m)/(J_A + J_R).
+θ = x_p + h: x_p the polynomial particular solution, h the free response
+
+    h = e^(−aτ)·[h₀·C(τ) + (h₁ + a·h₀)·S(τ)],   a = c/(2m), ω_d² = K/m − a²,
+
+C = cos ω_dτ, S = sin(ω_dτ)/ω_d (cosh and sinh for ω_d² < 0; 1 and τ at ω_d = 0), so one exp
+and one sin/cos pair give h and h'. Every quantity the engagement needs — slip, output speed,
+the torque needed to stay locked, the output jerk (K·θ' + c·θ'')/J_R, the slip power — is of the
+form F(τ) = P(τ) + U(τ)·h + W(τ)·h' with polynomials P, U, W, and so is its derivative (h'' is
+−(c·h' + K·h)/m). Events (lock-up, break-away, park, unpark) are the first roots of such forms,
+found on a grid of a third of the oscillation's half period (extrema of the free response are
+π/ω_d apart, so a dip below zero and back is seen as a sign change of F') and placed by
+bracketed Newton to round-off; peaks are the roots of F'. Works are exact integrals: of
+polynomials, and of Q·h by the recursion K·∫Q·h = −m[Q·h'] + m[Q'·h] − c[Q·h] + c∫Q'·h − m∫Q''·h;
+the damping work from the oscillator's energy balance c∫θ'² = ∫f·θ' − Δ(½mθ'² + ½Kθ²).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+NP = 14  # polynomial coefficients (ascending); products stay below degree 13
+_EPS = np.finfo(float).eps
+# forms (rows 3i..3i+2 of a form table: P, U, W); each with its derivative and second derivative
+F_LOCK, F_PARK, F_UNPARK, F_BRK_P, F_BRK_M, F_JERK, F_TORQ, F_POW = range(8)
+N_FORM = 8
+N_FROWS = 3 * 3 * N_FORM  # form, derivative, second derivative
+# polynomial scratch rows
+(R_C, R_D, R_F, R_XP, R_XPD, R_OM, R_WE, R_PA, R_PR, R_T1, R_T2, R_T3, R_T4, R_T5) = range(14)
+N_PROWS = 14
+_JNIT = dict(cache=True, error_model="numpy", _nrt=False)
+
+
+@njit(**_JNIT)
+def pv(c, x):
+    """Polynomial value (ascending coefficients, Horner)."""
+    acc = 0.0
+    for i in range(NP - 1, -1, -1):
+        acc = acc * x + c[i]
+    return acc
+
+
+@njit(**_JNIT)
+def pvd(c, deg, x):
+    """Polynomial value up to degree ``deg``."""
+    acc = 0.0
+    for i in range(deg, -1, -1):
+        acc = acc * x + c[i]
+    return acc
+
+
+@njit(**_JNIT)
+def degree(c):
+    for i in range(NP - 1, 0, -1):
+        if c[i] != 0.0:
+            return i
+    return 0
+
+
+@njit(**_JNIT)
+def prange(c, deg, lo, hi, tmp):
+    """Bounds (min, max) of the polynomial on [lo, hi]: exact for degree ≤ 2, else from its Taylor
+    coefficients b_j at lo (|P(lo + u) − P(lo)| ≤ Σ |b_j|·uʲ); ``tmp`` is a scratch row."""
+    a, b = pvd(c, deg, lo), pvd(c, deg, hi)
+    lo_v, hi_v = min(a, b), max(a, b)
+    if deg <= 1:
+        return lo_v, hi_v
+    if deg == 2:
+        if c[2] != 0.0:
+            xv = -0.5 * c[1] / c[2]
+            if lo < xv < hi:
+                v = c[0] + xv * (c[1] + xv * c[2])
+                lo_v, hi_v = min(lo_v, v), max(hi_v, v)
+        return lo_v, hi_v
+    for j in range(deg + 1):
+        tmp[j] = c[j]
+    for k in range(deg):  # Taylor shift to lo (synthetic division)
+        for j in range(deg - 1, k - 1, -1):
+            tmp[j] += lo * tmp[j + 1]
+    du = hi - lo
+    spread, upow = 0.0, 1.0
+    for j in range(1, deg + 1):
+        upow *= du
+        spread += abs(tmp[j]) * upow
+    return a - spread, a + spread
+
+
+@njit(**_JNIT)
+def _zero(c):
+    for i in range(NP):
+        c[i] = 0.0
+
+
+@njit(**_JNIT)
+def _der(src, dst):
+    for i in range(NP - 1):
+        dst[i] = (i + 1) * src[i + 1]
+    dst[NP - 1] = 0.0
+
+
+@njit(**_JNIT)
+def _integ(src, dst):
+    """dst = ∫_0^τ src (src's top coefficient must be zero)."""
+    for i in range(NP - 1, 0, -1):
+        dst[i] = src[i - 1] / i
+    dst[0] = 0.0
+
+
+@njit(**_JNIT)
+def _mul(a, b, dst):
+    """dst = a·b truncated to NP coefficients (callers keep the degrees inside; dst may be a or b)."""
+    for i in range(NP - 1, -1, -1):
+        acc = 0.0
+        for j in range(i + 1):
+            acc += a[j] * b[i - j]
+        dst[i] = acc
+
+
+@njit(**_JNIT)
+def _axpy(alpha, x, beta, y, dst):
+    """dst = alpha·x + beta·y."""
+    for i in range(NP):
+        dst[i] = alpha * x[i] + beta * y[i]
+
+
+@njit(**_JNIT)
+def hh(tau, a, w2, h0, h1):
+    """The free response h and h' at τ ≥ 0 (finite)."""
+    if w2 > 0.0:
+        w = math.sqrt(w2)
+        e = math.exp(-a * tau)
+        cf = e * math.cos(w * tau)
+        sf = e * math.sin(w * tau) / w
+    elif w2 < 0.0:
+        b = math.sqrt(-w2)
+        e1 = math.exp((b - a) * tau)
+        e2 = math.exp(-(a + b) * tau)
+        cf = 0.5 * (e1 + e2)
+        sf = 0.5 * (e1 - e2) / b
+    else:
+        e = math.exp(-a * tau)
+        cf = e
+        sf = e * tau
+    w0sq = w2 + a * a
+    return h0 * cf + (h1 + a * h0) * sf, h1 * cf - (a * h1 + w0sq * h0) * sf
+
+
+@njit(**_JNIT)
+def fval(ft, i, tau, h, hd):
+    """Form i of the table ft at τ given h, h' there."""
+    r = 3 * i
+    return pv(ft[r], tau) + pv(ft[r + 1], tau) * h + pv(ft[r + 2], tau) * hd
+
+
+@njit(**_JNIT)
+def fvald(ft, fd, i, tau, h, hd):
+    """Form i at τ with the rows' degrees ``fd``."""
+    r = 3 * i
+    return (pvd(ft[r], int(fd[r]), tau) + pvd(ft[r + 1], int(fd[r + 1]), tau) * h
+            + pvd(ft[r + 2], int(fd[r + 2]), tau) * hd)
+
+
+@njit(**_JNIT)
+def _fder(ft, i, j, km, cm):
+    """Form j = d/dτ form i (h'' = −km·h − cm·h')."""
+    r, s = 3 * i, 3 * j
+    _der(ft[r], ft[s])
+    _der(ft[r + 1], ft[s + 1])
+    _der(ft[r + 2], ft[s + 2])
+    for n in range(NP):
+        u, w = ft[r + 1, n], ft[r + 2, n]
+        ft[s + 1, n] += -w * km
+        ft[s + 2, n] += u - w * cm
+
+
+@njit(**_JNIT)
+def _fset(ft, i, p, u_scale, w_scale, u_poly, w_poly):
+    """Form i = p + (u_scale·u_poly)·h + (w_scale·w_poly)·h' (polys may be the same row)."""
+    r = 3 * i
+    for n in range(NP):
+        ft[r, n] = p[n]
+        ft[r + 1, n] = u_scale * u_poly[n]
+        ft[r + 2, n] = w_scale * w_poly[n]
+
+
+@njit(**_JNIT)
+def _root(ft, i, lo, hi, f_lo, osc):
+    """Root of form i in (lo, hi] with F(lo) > 0 >= F(hi): Newton on form i+N_FORM, bisection
+    safeguard, to round-off."""
+    a, w2, h0, h1 = osc[0], osc[1], osc[2], osc[3]
+    x = hi
+    for _ in range(200):
+        h, hd = hh(x, a, w2, h0, h1)
+        f = fval(ft, i, x, h, hd)
+        if f > 0:
+            lo = x
+        else:
+            hi = x
+        if hi - lo <= 4 * _EPS * (abs(osc[4]) + hi):
+            break
+        d = fval(ft, i + N_FORM, x, h, hd)
+        xn = x - f / d if d != 0 else 0.5 * (lo + hi)
+        if not (lo < xn < hi):
+            xn = 0.5 * (lo + hi)
+        elif abs(xn - x) <= 2 * _EPS * (abs(osc[4]) + x):
+            x = xn
+            break
+        x = xn
+    # the event time is where the function has crossed (≤ 0), as in the integrator: the next mode
+    # then starts on the right side of its own switching functions
+    step = 2 * _EPS * (abs(osc[4]) + x)
+    for _ in range(60):
+        if x >= hi:
+            return hi
+        h, hd = hh(x, a, w2, h0, h1)
+        if fval(ft, i, x, h, hd) <= 0.0:
+            return x
+        x = min(x + step, hi)
+        step *= 2.0
+    return hi
+
+
+@njit(**_JNIT)
+def _extremum(ft, i, lo, hi, d_lo, osc):
+    """A root of form i's derivative in (lo, hi) where it changes sign (d_lo its value at lo)."""
+    a, w2, h0, h1 = osc[0], osc[1], osc[2], osc[3]
+    sgn = 1.0 if d_lo > 0 else -1.0
+    x = 0.5 * (lo + hi)
+    for _ in range(200):
+        h, hd = hh(x, a, w2, h0, h1)
+        d = sgn * fval(ft, i + N_FORM, x, h, hd)
+        if d > 0:
+            lo = x
+        else:
+            hi = x
+        if hi - lo <= 4 * _EPS * (abs(osc[4]) + hi):
+            break
+        dd = sgn * fval(ft, i + 2 * N_FORM, x, h, hd)
+        xn = x - d / dd if dd != 0 else 0.5 * (lo + hi)
+        if not (lo < xn < hi):
+            xn = 0.5 * (lo + hi)
+        elif abs(xn - x) <= 2 * _EPS * (abs(osc[4]) + x):
+            return xn
+        x = xn
+    return x
+
+
+@njit(**_JNIT)
+def envelope(osc):
+    """Constants of the bounds |h(τ)| ≤ R_h·e^(−rate·τ), |h'(τ)| ≤ R_h'·e^(−rate·τ) (all τ ≥ 0):
+    returns (R_h, R_h', rate); rate ≤ 0 where the free response does not decay."""
+    a, w2, h0, h1 = osc[0], osc[1], osc[2], osc[3]
+    w0sq = w2 + a * a
+    if w2 > 0.0:
+        wd = math.sqrt(w2)
+        rh = math.hypot(h0, (h1 + a * h0) / wd)
+        rd = math.hypot(h1, (a * h1 + w0sq * h0) / wd)
+        rate = a
+    elif w2 < 0.0:
+        b = math.sqrt(-w2)
+        rh = abs(h0) + abs(h1 + a * h0) / b
+        rd = abs(h1) + abs(a * h1 + w0sq * h0) / b
+        rate = a - b
+    else:
+        rh = abs(h0) + abs(h1 + a * h0) * 2.0 / (math.e * a) if a > 0 else np.inf
+        rd = abs(h1) + abs(a * h1 + w0sq * h0) * 2.0 / (math.e * a) if a > 0 else np.inf
+        rate = 0.5 * a
+    return rh, rd, rate
+
+
+@njit(**_JNIT)
+def _icap(t, q_tr, q_tcon, q_kappa, q_cmax, prof, out, tmp):
+    """out = C(t_a + τ) as a polynomial in τ on the clamp profile's piece containing t_a = t
+    (C = C_max·max(0, 1 − κ(1 − p(t/t_r))), p the ramp/cubic/quintic profile, 1 after t_r)."""
+    _zero(out)
+    if q_tr <= 0.0 or t >= q_tr:
+        out[0] = q_cmax
+        return
+    if q_kappa != 1.0 and t < q_tcon:
+        return  # the air gap is still open: no clamp force
+    _zero(tmp)  # p(x) coefficients, then Taylor-shifted to x_a = t/t_r and scaled to τ
+    if prof == 0:
+        tmp[1] = 1.0
+    elif prof == 1:
+        tmp[2], tmp[3] = 3.0, -2.0
+    else:
+        tmp[3], tmp[4], tmp[5] = 10.0, -15.0, 6.0
+    xa = t / q_tr
+    for k in range(6):  # synthetic division: coefficients of p(xa + u) in u
+        for j in range(4, k - 1, -1):
+            tmp[j] += xa * tmp[j + 1]
+    scale = 1.0
+    for j in range(6):
+        out[j] = q_cmax * q_kappa * tmp[j] * scale
+        scale /= q_tr
+    out[0] += q_cmax * (1.0 - q_kappa)
+
+
+@njit(**_JNIT)
+def _partic(f, m, c, k, xp):
+    """Polynomial particular solution of m·x'' + c·x' + k·x = f."""
+    _zero(xp)
+    for j in range(NP - 1, -1, -1):
+        acc = f[j]
+        if j + 1 < NP:
+            acc -= c * (j + 1) * xp[j + 1]
+        if j + 2 < NP:
+            acc -= m * (j + 2) * (j + 1) * xp[j + 2]
+        xp[j] = acc / k
+
+
+@njit(**_JNIT)
+def _int_qh(q, m, c, k, tau, h_a, hd_a, h_b, hd_b, tmp):
+    """∫_0^τ Q·h (the recursion of the module docstring; tmp holds Q's derivatives)."""
+    deg = 0
+    for j in range(NP):
+        if q[j] != 0.0:
+            deg = j
+    # tmp rows: derivatives Q^(j), j = 0..deg
+    for n in range(NP):
+        tmp[0, n] = q[n]
+    for j in range(1, deg + 1):
+        _der(tmp[j - 1], tmp[j])
+    i1 = i2 = 0.0  # I(Q^(j+1)), I(Q^(j+2))
+    for j in range(deg, -1, -1):
+        qa, qb = pv(tmp[j], 0.0), pv(tmp[j], tau)
+        dqa = pv(tmp[j + 1], 0.0) if j + 1 <= deg else 0.0
+        dqb = pv(tmp[j + 1], tau) if j + 1 <= deg else 0.0
+        ij = (-m * (qb * hd_b - qa * hd_a) + m * (dqb * h_b - dqa * h_a) - c * (qb * h_b - qa * h_a)
+              + c * i1 - m * i2) / k
+        i2, i1 = i1, ij
+    return i1
