@@ -523,6 +523,48 @@ def _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
+def _refine_peak(slot, v0, vm, v1, t, h, rc, q, locked, parked, s, compliant, prof, pk, yb, dm):
+    """A maximum of |jerk| (slot 2) or |clutch torque| (slot 1) inside an integrated step, so that
+    a peak does not depend on where the steps fall: the parabola through the step's start, middle
+    and end values flags an interior extremum near the running maximum, which is then found by
+    golden section on the step's continuous extension (order 4: the state to the tolerance)."""
+    a = 2.0 * (v0 - 2.0 * vm + v1)
+    b = -3.0 * v0 + 4.0 * vm - v1
+    if a == 0.0:
+        return
+    th_v = -b / (2.0 * a)
+    if not 0.0 < th_v < 1.0:
+        return
+    if max(abs(v0 - b * b / (4.0 * a)), abs(vm)) < 0.9 * pk[slot]:
+        return
+    lo, hi = max(0.0, th_v - 0.25), min(1.0, th_v + 0.25)
+    gr = 0.5 * (math.sqrt(5.0) - 1.0)
+    x1, x2 = hi - gr * (hi - lo), lo + gr * (hi - lo)
+    f1 = _peak_value(slot, x1, t, h, rc, q, locked, parked, s, compliant, prof, yb, dm)
+    f2 = _peak_value(slot, x2, t, h, rc, q, locked, parked, s, compliant, prof, yb, dm)
+    for _ in range(40):
+        if f1 >= f2:
+            hi, x2, f2 = x2, x1, f1
+            x1 = hi - gr * (hi - lo)
+            f1 = _peak_value(slot, x1, t, h, rc, q, locked, parked, s, compliant, prof, yb, dm)
+        else:
+            lo, x1, f1 = x1, x2, f2
+            x2 = lo + gr * (hi - lo)
+            f2 = _peak_value(slot, x2, t, h, rc, q, locked, parked, s, compliant, prof, yb, dm)
+    pk[slot] = max(pk[slot], f1, f2)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _peak_value(slot, th, t, h, rc, q, locked, parked, s, compliant, prof, yb, dm):
+    """|jerk| (slot 2) or |clutch torque| (slot 1) at the fraction th of a step (continuous extension)."""
+    _dense(rc, th, yb)
+    aux = _forces(t + th * h, yb, q, locked, parked, s, compliant, prof, dm)
+    if slot == 1:
+        return abs(aux[1])
+    return abs(_jerk(t + th * h, yb, q, locked, parked, s, compliant, prof, dm, aux))
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _store_trace(trace, tt, t, y, wr_col, aux, jk):
     """Record the state at the trace times equal to t (they are breakpoints: no interpolation)."""
     for i in range(tt.size):
@@ -608,6 +650,16 @@ def _excluded(ft, fd, i, role, lo, hi, rh, rd, rate, pk, osc):
     if role == 1.0:
         return pmin - env > 0.0
     return max(abs(pmin), abs(pmax)) + env <= pk[_peak_slot(i)]
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _quiet(ft, fd, i, role, lo, hi, rh, rd, rate, pk, osc):
+    """How form i is quiet on [lo, hi]: 1 by its bounds, 2 monotone, 0 not quiet."""
+    if _excluded(ft, fd, i, role, lo, hi, rh, rd, rate, pk, osc):
+        return 1.0
+    if _monotone(ft, fd, i, lo, hi, rh, rd, rate, osc):
+        return 2.0
+    return 0.0
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -777,6 +829,10 @@ def _linear_segment(t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, f
                         armed[i], t_arm[i] = 1.0, ta
                         break
     t_lo, n_int, settled = 0.0, 0, False
+    mode = osc[5:5 + _lp.N_FORM]  # per form: how it is quiet up to its horizon (1 bounds, 2 monotone)
+    quiet_until = osc[5 + _lp.N_FORM:5 + 2 * _lp.N_FORM]
+    for i in range(_lp.N_FORM):
+        mode[i], quiet_until[i] = 0.0, -1.0
     hL, hdL = hA, hdA
     tau_ev, kind_ev = np.inf, -1
     while True:
@@ -795,51 +851,52 @@ def _linear_segment(t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, f
                 t_end = t_lo
                 settled = True
                 break
-        # skip ahead: the longest [t_lo, t_lo + Δ] (Δ doubling from one grid interval) on which every
-        # armed form is quiet: its bounds exclude a root (events) or a value above the maximum so
-        # far (peaks), or its derivative keeps one sign (then only its end value matters)
-        mode = osc[5:5 + _lp.N_FORM]
-        skip, span = 0.0, dg
-        while span < 1e9 * dg:
-            t_s = min(t_lo + span, T)
-            ok = True
-            for i in range(_lp.N_FORM):
-                if armed[i] == 0.0:
-                    continue
-                if armed[i] == 3.0:  # pending: step the grid until it is armed (no skip over it)
-                    ok = False
-                    break
-                if t_arm[i] > t_lo:  # armed inside the span: step the grid
-                    ok = False
-                    break
-                if _excluded(ft, fd, i, armed[i], t_lo, t_s, rh, rd, rate, pk, osc):
-                    m_i = 1.0
-                elif _monotone(ft, fd, i, t_lo, t_s, rh, rd, rate, osc):
-                    m_i = 2.0
+        # skip ahead to the earliest quiet horizon of the armed forms: each form's horizon is the
+        # longest [t_lo, t_lo + Δ] (Δ doubling from one grid interval) on which its bounds exclude a
+        # root (events) or a value above the maximum so far (peaks) — mode 1 — or keep its
+        # derivative of one sign, so that only its end value matters — mode 2. A horizon stays
+        # valid as t_lo advances (the bounds only tighten, the maxima only grow): recomputed once
+        # passed.
+        skip_to = T
+        for i in range(_lp.N_FORM):
+            if armed[i] == 0.0:
+                continue
+            if armed[i] == 3.0 or t_arm[i] > t_lo:  # pending, or armed inside: step the grid
+                skip_to = t_lo
+                break
+            if quiet_until[i] <= t_lo:
+                qu, qm = t_lo, 0.0
+                m_i = _quiet(ft, fd, i, armed[i], t_lo, T, rh, rd, rate, pk, osc) if math.isfinite(T) else 0.0
+                if m_i > 0.0:  # quiet to the segment's end (the common case: one try)
+                    qu, qm = T, m_i
                 else:
-                    ok = False
-                    break
-                mode[i] = m_i
-            if not ok:
+                    span = dg
+                    while span < 65536.0 * dg:
+                        t_s = min(t_lo + span, T)
+                        m_i = _quiet(ft, fd, i, armed[i], t_lo, t_s, rh, rd, rate, pk, osc)
+                        if m_i == 0.0:
+                            break
+                        qu, qm = t_s, m_i
+                        if t_s >= T:
+                            break
+                        span *= 4.0
+                quiet_until[i], mode[i] = qu, qm
+            skip_to = min(skip_to, quiet_until[i])
+            if skip_to <= t_lo:
                 break
-            for i in range(_lp.N_FORM):
-                mode[i + _lp.N_FORM] = mode[i] if armed[i] != 0.0 else 0.0  # the modes of the accepted span
-            skip = t_s - t_lo
-            if t_s >= T:
-                break
-            span *= 2.0
+        skip = skip_to - t_lo if skip_to > t_lo and math.isfinite(skip_to) else 0.0
         if skip > 0.0:
             t_s = t_lo + skip
             hS, hdS = _lp.hh(t_s, a, w2, h0, h1)
             for i in range(_lp.N_FORM):  # a monotone event function crosses zero at most once
-                if armed[i] == 1.0 and mode[i + _lp.N_FORM] == 2.0 and _lp.fvald(ft, fd, i, t_s, hS, hdS) <= 0.0:
+                if armed[i] == 1.0 and mode[i] == 2.0 and _lp.fvald(ft, fd, i, t_s, hS, hdS) <= 0.0:
                     r = _lp._root(ft, i, t_lo, t_s, 0.0, osc)
                     if r < tau_ev:
                         tau_ev, kind_ev = r, i
             t_end = min(t_s, tau_ev)
             hE, hdE = (hS, hdS) if t_end == t_s else _lp.hh(t_end, a, w2, h0, h1)
             for i in range(_lp.N_FORM):  # a monotone peak function has its maximum at an end
-                if armed[i] == 2.0 and mode[i + _lp.N_FORM] == 2.0:
+                if armed[i] == 2.0 and mode[i] == 2.0:
                     pk[_peak_slot(i)] = max(pk[_peak_slot(i)], abs(_lp.fvald(ft, fd, i, t_end, hE, hdE)))
             if not locked:
                 pk[1] = max(pk[1], abs(_lp.pv(C, t_end)))
@@ -989,13 +1046,13 @@ def _apply_event(kind, t, y, q, locked, parked, s, compliant, prof, d, dm, g, pk
     elif kind == PARK:
         parked = True
         y[wr_col] = 0.0
-    acc_before = dm[wr_col]
+    acc_before = dm[H]  # the hub's (rigid: the driven side's); the output's is continuous (compliant)
     aux = _forces(t, y, q, locked, parked, s, compliant, prof, d)
     if kind == LOCK:
         out[LOCKUP_TIME] = t
         out[LOCKUP_SPEED] = y[H]
         out[CAPACITY_AT_LOCKUP] = aux[0]
-        out[ACCEL_JUMP] = d[wr_col] - acc_before
+        out[ACCEL_JUMP] = d[H] - acc_before
     elif kind == BREAK:
         if math.isnan(out[BREAKAWAY_TIME]):
             out[BREAKAWAY_TIME] = t
@@ -1182,11 +1239,14 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                         if den != 0 and 0 < num / den < 1:
                             ths[n_th] = num / den
                             n_th += 1
+        jm = tcm = 0.0
         for i in range(n_th):
             th = ths[i]
             _hermite(y, d, y1, d1, h_try, th, ym)
             tm_ = t + th * h_try
             auxm = _forces(tm_, ym, q, locked, parked, s, compliant, prof, dm)
+            if i == 0:  # the step's middle: jerk and clutch torque for the peaks inside the step
+                jm, tcm = _jerk(tm_, ym, q, locked, parked, s, compliant, prof, dm, auxm), auxm[1]
             _events(tm_, ym, q, locked, parked, s, compliant, prof, dm, auxm, gm)
             for kind in range(N_EVENTS):
                 if g[kind] > 0 and gm[kind] <= 0 and th * h_try < tau_hi[kind]:
@@ -1236,12 +1296,19 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                                   y1, d1)
                 h_acc, fac_acc, last_rejected = 0.0, 1.0, False
                 continue
-        # no event: take the step as it was
+        # no event: take the step as it was, with the peaks inside it
+        aux0 = _forces(t, y, q, locked, parked, s, compliant, prof, dm)
+        j0 = _jerk(t, y, q, locked, parked, s, compliant, prof, dm, aux0)
+        if not fired:
+            _dense_coefficients(y, y1, kk, h_try, rc)
+        t_left = t
         t = t_right
         _copy(y, y1)
         _copy(d, d1)
         _copy(g, g1)
         jk = _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux1, pk)
+        _refine_peak(2, j0, jm, jk, t_left, h_try, rc, q, locked, parked, s, compliant, prof, pk, yb, dm)
+        _refine_peak(1, aux0[1], tcm, aux1[1], t_left, h_try, rc, q, locked, parked, s, compliant, prof, pk, yb, dm)
         _store_trace(trace, tt, t, y, wr_col, aux1, jk)
 
     out[PEAK_SLIP_POWER], out[PEAK_FRICTION_TORQUE], out[PEAK_JERK] = pk[0], pk[1], pk[2]
@@ -1296,7 +1363,7 @@ def simulate_batch(Q, compliant, prof, tt, rtol, atol, max_step, first_step, max
     ft = np.zeros((_lp.N_FROWS, _lp.NP))
     pw = np.zeros((_lp.N_PROWS, _lp.NP))
     tq = np.zeros((_lp.NP, _lp.NP))
-    osc = np.zeros(5 + 3 * _lp.N_FORM + _lp.NP)  # free response, skip modes (trial, accepted), arming times, scratch
+    osc = np.zeros(5 + 3 * _lp.N_FORM + _lp.NP)  # free response, quiet modes and horizons, arming times, scratch
     armed = np.zeros(_lp.N_FORM + _lp.N_FROWS)  # flags, then the form rows' degrees
     run = _batch_compliant if compliant else _batch_rigid
     run(Q, prof, tt, rtol, atol, max_step, first_step, max_steps, out, trace, work, ft, pw, tq, osc, armed)

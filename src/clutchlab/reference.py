@@ -3,7 +3,8 @@
 :func:`compliant` integrates one scenario of the compliant-driveline engagement (seed 000 eqs. 1-2
 with the damper springs between plate hub and output; the model of
 :func:`clutchlab.engagement.simulate` with ``compliant=True``, constant or Stribeck μ, held or free
-engine with constant torque, clamp profile ramp/cubic/quintic, a load step) with
+engine with constant torque, clamp profile ramp/cubic/quintic with the release-bearing air gap,
+a load step) with
 ``scipy.integrate.solve_ivp``: one call per mode (slipping or locked, output parked or moving)
 with terminal events, restarted with the new mode at each event — the only way to keep
 stick-slip exact with solve_ivp (an event function that is zero at the restart fires at once, so a
@@ -44,8 +45,11 @@ def compliant(p, *, method="DOP853", rtol=1e-12, atol=None, jerk_peak="dense", f
     prof = _PROFILES[profile]
     atol = rtol if atol is None else atol
 
+    kappa = p.get("release_ratio", 1.0)
+
     def cap(t):
-        return cmax * (prof(min(max(t / tr, 0.0), 1.0)) if tr > 0 else 1.0)
+        x = prof(min(max(t / tr, 0.0), 1.0)) if tr > 0 else 1.0
+        return cmax * max(0.0, 1.0 - kappa * (1.0 - x))
 
     def mu_f(slip):
         return 1.0 if not np.isfinite(vs) else 1.0 + (rs - 1.0) * math.exp(-(slip / vs) ** 2)
@@ -107,7 +111,8 @@ def compliant(p, *, method="DOP853", rtol=1e-12, atol=None, jerk_peak="dense", f
             events += [armed(lambda tt, yy: yy[2])]
             kinds += ["park"]
         t_b = horizon
-        for b in (tr, t_step):
+        t_con = tr * _invert(prof, 1.0 - 1.0 / kappa) if kappa > 1.0 else 0.0
+        for b in (tr, t_step, t_con):
             if b > t:
                 t_b = min(t_b, b)  # the profile's corner and the load step: breakpoints
         sol = solve_ivp(rhs, (t, t_b), y, method=method, rtol=rtol, atol=atol, events=events,
@@ -159,3 +164,14 @@ def compliant(p, *, method="DOP853", rtol=1e-12, atol=None, jerk_peak="dense", f
     ok = locked and t_lock <= t_end
     return dict(lockup_time=t_lock if ok else np.nan, slip_work=y[4], peak_jerk=peak_jerk,
                 peak_friction_torque=peak_torque, status="ok" if ok else "never_locked")
+
+
+def _invert(prof, q):
+    """x in [0, 1] with prof(x) = q (monotone profile), by bisection to round-off."""
+    lo, hi = 0.0, 1.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if mid in (lo, hi):
+            break
+        lo, hi = (mid, hi) if prof(mid) < q else (lo, mid)
+    return hi
