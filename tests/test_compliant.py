@@ -184,3 +184,41 @@ def test_undamped_locked_phase_settles_after_one_period():
     a, b = eng.simulate(**kw, t_end=0.5), eng.simulate(**kw, t_end=1.7)
     assert a["status"] == b["status"] == st.CODE["ok"]
     assert a["peak_jerk"] == pytest.approx(float(b["peak_jerk"]), rel=1e-12)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("accuracy", [1e-4, 1e-6])
+def test_accuracy_sets_the_tolerance_that_meets_it(accuracy):
+    """Issue 13: the study asks for a relative accuracy of lock-up time, slip work and peak jerk; with
+    Stribeck μ (integrated slip phases) the tolerances of studies.engagement.tolerances meet it
+    against scipy DOP853 at rtol 1e-13."""
+    from clutchlab.studies.engagement import tolerances
+
+    n = 8
+    d = _design(n, 21)
+    d.pop("release_ratio")
+    d["stribeck_speed"] = np.random.default_rng(22).uniform(5, 50, n)
+    rtol, atol = tolerances(accuracy)
+    res = eng.simulate(**d, compliant=True, rtol=rtol, atol=atol)
+    assert np.all(res["n_steps"] > 0)
+    for i in range(n):
+        ref = reference.compliant({k: v[i] for k, v in d.items()}, rtol=1e-13, atol=1e-13)
+        assert ref["status"] == "ok" and res["status"][i] == st.CODE["ok"]
+        for k in METRICS:
+            assert res[k][i] == pytest.approx(ref[k], rel=accuracy), (k, i)
+
+
+def test_study_records_its_tolerances():
+    from clutchlab import config, doe
+
+    sec = config.resolve({"studies": ["engagement"], "engagement": {
+        "design": "factorial", "accuracy": 1e-5, "parameters": {"ramp_time": {"values": ["0.1 s", "0.2 s"]}}}})
+    ds = doe.run_study(sec["engagement"])
+    assert ds.attrs["accuracy"] == 1e-5
+    assert (ds.attrs["rtol"], ds.attrs["atol"]) == pytest.approx((1e-6, 1e-8), rel=1e-12)
+    assert "closed form" in ds.attrs["model_used"]
+    for bad, why in ((1e-9, "within"), (0.5, "within"), ("tight", "number")):
+        with pytest.raises(config.ConfigError, match="engagement.accuracy"):
+            config.resolve({"studies": ["engagement"], "engagement": {"design": "factorial", "accuracy": bad}})
+    with pytest.raises(config.ConfigError, match="sprag.accuracy.*no tolerance"):
+        config.resolve({"studies": ["sprag"], "sprag": {"design": "factorial", "accuracy": 1e-6}})

@@ -58,6 +58,9 @@ class Study:
     figure_stems: tuple[str, ...] = ()
     validation: Callable | None = None  # () -> validation Dataset (seed rows) or None
     options: dict = field(default_factory=dict)
+    # default relative accuracy of the headline outputs (config key ``accuracy``, passed to compute
+    # as options["accuracy"]); None: the study's models have no tolerance to set
+    accuracy: float | None = None
 
     def parameter(self, name: str) -> Parameter:
         for p in self.parameters:
