@@ -222,3 +222,16 @@ def test_study_records_its_tolerances():
             config.resolve({"studies": ["engagement"], "engagement": {"design": "factorial", "accuracy": bad}})
     with pytest.raises(config.ConfigError, match="sprag.accuracy.*no tolerance"):
         config.resolve({"studies": ["sprag"], "sprag": {"design": "factorial", "accuracy": 1e-6}})
+
+
+@pytest.mark.slow
+def test_benchmark_runs_and_reports_ratios(tmp_path, capsys):
+    """The compliant benchmark on a tiny design: CSV, figure, and ratios against solve_ivp printed."""
+    from clutchlab import benchmark_compliant as bc
+
+    rows = bc.run(tmp_path, n=40, n_ref=2)
+    assert (tmp_path / "compliant_work_precision.png").stat().st_size > 0
+    assert bc.read_rows(tmp_path / "compliant_benchmark.csv")[0].keys() == set(bc.COLUMNS)
+    exact = [r for r in rows if r["variant"] == "constant_mu" and r["method"] == bc.CLUTCHLAB]
+    assert len(exact) == 1 and exact[0]["max_rel_error"] < 1e-8
+    assert "smallest ratio" in capsys.readouterr().out

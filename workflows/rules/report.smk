@@ -64,3 +64,17 @@ rule benchmark_roller:
         python=sys.executable,
     shell:
         "{params.python} -m clutchlab.benchmark_roller {RESULTS}/benchmark"
+
+
+rule benchmark_compliant:
+    # Not part of `all`: `snakemake --cores 1 benchmark_compliant` (about 1 minute). The model the
+    # engagement study runs (compliant driveline, constant and Stribeck mu, the default study's
+    # ranges) against per-scenario solve_ivp RK45 and DOP853, errors against DOP853 at rtol 1e-13.
+    output:
+        f"{RESULTS}/benchmark/compliant_benchmark.csv",
+        f"{RESULTS}/benchmark/compliant_work_precision.png",
+    threads: workflow.cores
+    params:
+        python=sys.executable,
+    shell:
+        "{params.python} -m clutchlab.benchmark_compliant {RESULTS}/benchmark"

@@ -1,0 +1,182 @@
+"""Benchmark of the model the engagement study runs: the compliant driveline, speed against error.
+
+``python -m clutchlab.benchmark_compliant [outdir] [--scenarios N] [--reference-scenarios M]`` (or
+``snakemake --cores 1 benchmark_compliant``) prints and writes ``compliant_benchmark.csv`` and
+``compliant_work_precision.png``, all measured in one run:
+
+* design: the default engagement study's ranges (seed 000 engine held at 570 rad/s, driven
+  inertia 0.021-0.05 kg m², load 44-80 N m, peak capacity 150-300 N m, ramp 0.05-0.3 s, damper
+  4498 N m/rad, damping ratio 0.05, hub share 0.5, window 0.6 s); two variants: constant μ (the
+  default study: every phase in closed form) and Stribeck μ (μ_s/μ_k = 1.3, v_s 5-50 rad/s:
+  slip phases integrated);
+* reference: :func:`clutchlab.reference.compliant`, scipy DOP853 at rtol = atol = 1e-13 with
+  per-mode restarts and the jerk peak refined on the dense output, on M scenarios;
+* error: the largest relative error over those M scenarios in lock-up time, slip work and peak
+  output jerk (each column, and their maximum);
+* clutchlab: :func:`clutchlab.engagement.simulate` over N scenarios in one call (median of 3);
+  constant μ has nothing to tune, Stribeck μ is swept over the study's ``accuracy`` 1e-3 to 1e-7
+  (tolerances of :func:`clutchlab.studies.engagement.tolerances`);
+* scipy per scenario, the same model written with ``solve_ivp`` (per-mode restarts, terminal
+  events): RK45 with the jerk taken at its steps (as one usually writes it) and DOP853 with the
+  jerk refined on its dense output (as an expert would), each over a sweep of rtol (atol = rtol/1000).
+"""
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from . import engagement as eng
+from . import reference
+from ._bench import parse, write_rows
+from .studies.engagement import tolerances
+
+METRICS = ("lockup_time", "slip_work", "peak_jerk")
+COLUMNS = ("variant", "method", "setting", "seconds_per_scenario", "err_lockup_time", "err_slip_work",
+           "err_peak_jerk", "max_rel_error", "scenarios")
+CLUTCHLAB = "clutchlab (closed-form phases, DOPRI5 where nonlinear)"
+RK45 = "scipy solve_ivp RK45 per scenario (jerk at steps)"
+DOP853 = "scipy solve_ivp DOP853 per scenario (jerk on dense output)"
+SCIPY_RTOLS = {RK45: (1e-3, 1e-5, 1e-7, 1e-9), DOP853: (1e-5, 1e-7, 1e-9)}
+ACCURACIES = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7)
+
+
+def design(n, variant, seed=0):
+    """Random scenarios in the default engagement study's ranges (keyword arguments of simulate)."""
+    rng = np.random.default_rng(seed)
+    d = dict(engine_speed=570.0, engine_inertia=np.inf, engine_torque=0.0,
+             driven_inertia=rng.uniform(0.021, 0.05, n), load_torque=rng.uniform(44.0, 80.0, n),
+             peak_capacity=rng.uniform(150.0, 300.0, n), ramp_time=rng.uniform(0.05, 0.3, n),
+             damper_stiffness=4498.0, damping_ratio=0.05, hub_fraction=0.5, t_end=0.6)
+    if variant == "stribeck":
+        d.update(static_ratio=1.3, stribeck_speed=rng.uniform(5.0, 50.0, n))
+    return d
+
+
+def _scenario(d, i):
+    return {k: (v[i] if np.ndim(v) else v) for k, v in d.items()}
+
+
+def _errors(values, ref):
+    """Largest relative error of each metric over the scenarios (values, ref: metric -> array)."""
+    return [float(np.max(np.abs(np.asarray(values[k]) - ref[k]) / np.abs(ref[k]))) for k in METRICS]
+
+
+def _row(variant, method, setting, seconds, errs, scenarios):
+    return dict(zip(COLUMNS, (variant, method, setting, seconds, *errs, max(errs), scenarios)))
+
+
+def run(outdir="results/benchmark", n=10_000, n_ref=10):
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    rows = []
+    for variant in ("constant_mu", "stribeck"):
+        d = design(n, variant)
+        ref_d = {k: (v[:n_ref] if np.ndim(v) else v) for k, v in d.items()}
+        t = time.perf_counter()
+        refs = [reference.compliant(_scenario(ref_d, i), rtol=1e-13, atol=1e-13) for i in range(n_ref)]
+        t_ref = (time.perf_counter() - t) / n_ref
+        assert all(r["status"] == "ok" for r in refs), "every reference scenario locks up"
+        ref = {k: np.array([r[k] for r in refs]) for k in METRICS}
+        rows.append(_row(variant, "DOP853 reference (per scenario)", "rtol 1e-13", t_ref, [0.0] * 3, n_ref))
+        print(f"[{variant}] reference: scipy DOP853 rtol 1e-13, {n_ref} scenarios, {t_ref * 1e3:.0f} ms/scenario")
+        m = n if variant == "constant_mu" else max(n // 5, n_ref)  # the Stribeck runs take ~1 ms each
+        dm = {k: (v[:m] if np.ndim(v) else v) for k, v in d.items()}
+        eng.simulate(**{k: (v[:4] if np.ndim(v) else v) for k, v in dm.items()}, compliant=True)  # load the compiled kernel outside the timing
+        for acc in ((None,) if variant == "constant_mu" else ACCURACIES):
+            kw = {} if acc is None else dict(zip(("rtol", "atol"), tolerances(acc)))
+            runs = []
+            for _ in range(3):
+                t = time.perf_counter()
+                res = eng.simulate(**dm, compliant=True, **kw)
+                runs.append((time.perf_counter() - t) / m)
+            errs = _errors({k: res[k][:n_ref] for k in METRICS}, ref)
+            setting = "exact" if acc is None else f"accuracy {acc:.0e}"
+            rows.append(_row(variant, CLUTCHLAB, setting, float(np.median(runs)), errs, m))
+            print(f"[{variant}] clutchlab {setting}: {np.median(runs) * 1e6:8.1f} us/scenario ({m} in one call), "
+                  f"errors lock-up {errs[0]:.1e}, slip work {errs[1]:.1e}, peak jerk {errs[2]:.1e}")
+        for method, rtols in SCIPY_RTOLS.items():
+            for rtol in rtols:
+                t = time.perf_counter()
+                out = [reference.compliant(_scenario(ref_d, i), method=method.split()[2], rtol=rtol, atol=rtol * 1e-3,
+                                           jerk_peak="dense" if method == DOP853 else "steps") for i in range(n_ref)]
+                dt = (time.perf_counter() - t) / n_ref
+                errs = _errors({k: [o[k] for o in out] for k in METRICS}, ref)
+                rows.append(_row(variant, method, f"rtol {rtol:.0e}", dt, errs, n_ref))
+                print(f"[{variant}] {method} rtol {rtol:.0e}: {dt * 1e3:8.1f} ms/scenario, errors lock-up "
+                      f"{errs[0]:.1e}, slip work {errs[1]:.1e}, peak jerk {errs[2]:.1e}")
+    write_rows(rows, outdir / "compliant_benchmark.csv")
+    for variant in ("constant_mu", "stribeck"):
+        ratios = speed_ratios(rows, variant)
+        for r, o, ratio in ratios:
+            print(f"  [{variant}] vs {r['method']} {r['setting']} (max rel. error {r['max_rel_error']:.1e}): clutchlab "
+                  f"{o['setting']} is {ratio:.0f}x faster per scenario at equal or better error")
+        if ratios:
+            target = 200 if variant == "constant_mu" else 50
+            best = min(x[2] for x in ratios)
+            print(f"  [{variant}] smallest ratio {best:.0f}x (target >= {target}x: {'met' if best >= target else 'NOT met'})")
+    fig = work_precision_figure(rows)
+    fig.savefig(outdir / "compliant_work_precision.png", dpi=120)
+    return rows
+
+
+def read_rows(path) -> list[dict]:
+    import csv
+
+    text = ("variant", "method", "setting")
+    with open(path, newline="") as fh:
+        return [{k: (v if k in text else float(v)) for k, v in row.items()} for row in csv.DictReader(fh)]
+
+
+def speed_ratios(rows, variant):
+    """For every scipy row of ``variant``: (that row, the fastest clutchlab row with equal or smaller
+    maximum relative error, the ratio of their times per scenario)."""
+    ours = [r for r in rows if r["variant"] == variant and r["method"] == CLUTCHLAB]
+    out = []
+    for r in rows:
+        if r["variant"] == variant and r["method"].startswith("scipy"):
+            match = [o for o in ours if o["max_rel_error"] <= r["max_rel_error"]]
+            if match:
+                o = min(match, key=lambda o: o["seconds_per_scenario"])
+                out.append((r, o, r["seconds_per_scenario"] / o["seconds_per_scenario"]))
+    return out
+
+
+def work_precision_figure(rows):
+    """Two panels (constant μ, Stribeck μ): max relative error of lock-up time, slip work and peak
+    jerk against time per scenario, one line per method over its tolerances."""
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(11.69, 8.27), sharey=True)
+    colors = {CLUTCHLAB: "C0", RK45: "C1", DOP853: "C2"}
+    for ax, variant, label in zip(axes, ("constant_mu", "stribeck"), ("constant μ (default study)", "Stribeck μ")):
+        for name, marker in ((CLUTCHLAB, "o-"), (RK45, "s-"), (DOP853, "^-")):
+            pts = [r for r in rows if r["variant"] == variant and r["method"] == name]
+            if not pts:
+                continue
+            ax.loglog([r["seconds_per_scenario"] for r in pts], [max(r["max_rel_error"], 1e-16) for r in pts], marker,
+                      label=name if variant == "constant_mu" else None, color=colors[name], ms=8 if len(pts) == 1 else 6)
+            for r in pts:
+                ax.annotate(r["setting"], (r["seconds_per_scenario"], max(r["max_rel_error"], 1e-16)),
+                            textcoords="offset points", xytext=(4, 4), fontsize=7)
+        ratios = [x[2] for x in speed_ratios(rows, variant)]
+        ax.set_title(f"{label}" + (f"\nclutchlab {min(ratios):.0f}-{max(ratios):.0f}x faster at equal or better error"
+                                   if ratios else ""), fontsize=10)
+        ax.set_xlabel("time per scenario [s]")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("max relative error of lock-up time, slip work, peak jerk\n"
+                       "(reference: scipy DOP853, rtol 1e-13)")
+    fig.suptitle("Work-precision of the compliant engagement (the default study's model and ranges)")
+    fig.legend(loc="lower center", ncol=2, fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0.07, 1, 0.95))
+    return fig
+
+
+def main(argv=None):
+    a = parse(__doc__, 10_000, argv, reference_scenarios=10)
+    run(a.outdir, a.scenarios, a.reference_scenarios)
+
+
+if __name__ == "__main__":
+    main()
