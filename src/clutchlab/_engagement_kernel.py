@@ -531,20 +531,31 @@ def _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _refine_peak(slot, v0, vm, v1, t, h, rc, q, locked, parked, s, compliant, prof, pk, yb, dm):
-    """A maximum of |jerk| (slot 2) or |clutch torque| (slot 1) inside an integrated step, so that
-    a peak does not depend on where the steps fall: the parabola through the step's start, middle
-    and end values flags an interior extremum near the running maximum, which is then found by
-    golden section on the step's continuous extension (order 4: the state to the tolerance)."""
+def _jerk_torque(t, y, q, locked, parked, s, compliant, prof, dm):
+    """Output jerk and clutch torque at a state (dm: scratch for the derivatives)."""
+    aux = _forces(t, y, q, locked, parked, s, compliant, prof, dm)
+    return _jerk(t, y, q, locked, parked, s, compliant, prof, dm, aux), aux[1]
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _vertex(v0, vm, v1, peak):
+    """The parabola through a step's start, middle and end values: the fraction of the step at its
+    vertex when that is an interior extremum near the running maximum ``peak``, else −1."""
     a = 2.0 * (v0 - 2.0 * vm + v1)
     b = -3.0 * v0 + 4.0 * vm - v1
     if a == 0.0:
-        return
+        return -1.0
     th_v = -b / (2.0 * a)
-    if not 0.0 < th_v < 1.0:
-        return
-    if max(abs(v0 - b * b / (4.0 * a)), abs(vm)) < 0.9 * pk[slot]:
-        return
+    if not 0.0 < th_v < 1.0 or max(abs(v0 - b * b / (4.0 * a)), abs(vm)) < 0.9 * peak:
+        return -1.0
+    return th_v
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _refine_peak(slot, th_v, t, h, rc, q, locked, parked, s, compliant, prof, pk, yb, dm):
+    """A maximum of |jerk| (slot 2) or |clutch torque| (slot 1) inside an integrated step near the
+    fraction th_v (:func:`_vertex`), so that a peak does not depend on where the steps fall: golden
+    section on the step's continuous extension (order 4: the state to the tolerance)."""
     lo, hi = max(0.0, th_v - 0.25), min(1.0, th_v + 0.25)
     gr = 0.5 * (math.sqrt(5.0) - 1.0)
     x1, x2 = hi - gr * (hi - lo), lo + gr * (hi - lo)
@@ -1150,6 +1161,7 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
     _events(t, y, q, locked, parked, s, compliant, prof, d, aux, g)
     jk = _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk)
     _store_trace(trace, tt, t, y, wr_col, aux, jk)
+    j_left, tc_left = jk, aux[1]  # jerk and clutch torque at the left end of the next step
     n_steps = 0
     t_stop, past = q[TEND], False
     while n_steps < max_steps:
@@ -1188,6 +1200,7 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                     out[TRUNCATED] = 1.0
                     break
                 locked, parked, s = _apply_event(kind, t, y, q, locked, parked, s, compliant, prof, d, dm, g, pk, out)
+                j_left, tc_left = _jerk_torque(t, y, q, locked, parked, s, compliant, prof, dm)
                 h = _initial_step(t, y, d, q, locked, parked, s, compliant, prof, rtol, atol,
                                   min(max_step, q[TEND]), y1, d1)
                 h_acc, fac_acc, last_rejected = 0.0, 1.0, False
@@ -1197,6 +1210,7 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                 _events(t, y, q, locked, parked, s, compliant, prof, d, aux, g)
                 jk = _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk)
                 _store_trace(trace, tt, t, y, wr_col, aux, jk)
+                j_left, tc_left = jk, aux[1]
             continue
         h_try = min(h, max_step, nb - t)
         hit = h_try >= nb - t
@@ -1300,23 +1314,29 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                 _copy(y, y_best)
                 locked, parked, s = _apply_event(best_kind, t, y, q, locked, parked, s, compliant, prof, d, dm, g,
                                                  pk, out)
+                j_left, tc_left = _jerk_torque(t, y, q, locked, parked, s, compliant, prof, dm)
                 h = _initial_step(t, y, d, q, locked, parked, s, compliant, prof, rtol, atol, min(max_step, q[TEND]),
                                   y1, d1)
                 h_acc, fac_acc, last_rejected = 0.0, 1.0, False
                 continue
-        # no event: take the step as it was, with the peaks inside it
-        aux0 = _forces(t, y, q, locked, parked, s, compliant, prof, dm)
-        j0 = _jerk(t, y, q, locked, parked, s, compliant, prof, dm, aux0)
-        if not fired:
-            _dense_coefficients(y, y1, kk, h_try, rc)
-        t_left = t
+        # no event: take the step as it was, with the peaks inside it (compliant: the output jerk and
+        # the clutch torque oscillate; their maxima must not depend on where the steps fall)
+        jk = _record_peaks(t_right, y1, q, locked, parked, s, compliant, prof, d1, aux1, pk)
+        if compliant:
+            th_j = _vertex(j_left, jm, jk, pk[2])
+            th_t = _vertex(tc_left, tcm, aux1[1], pk[1])
+            if th_j > 0.0 or th_t > 0.0:
+                if not fired:
+                    _dense_coefficients(y, y1, kk, h_try, rc)
+                if th_j > 0.0:
+                    _refine_peak(2, th_j, t, h_try, rc, q, locked, parked, s, compliant, prof, pk, yb, dm)
+                if th_t > 0.0:
+                    _refine_peak(1, th_t, t, h_try, rc, q, locked, parked, s, compliant, prof, pk, yb, dm)
+        j_left, tc_left = jk, aux1[1]
         t = t_right
         _copy(y, y1)
         _copy(d, d1)
         _copy(g, g1)
-        jk = _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux1, pk)
-        _refine_peak(2, j0, jm, jk, t_left, h_try, rc, q, locked, parked, s, compliant, prof, pk, yb, dm)
-        _refine_peak(1, aux0[1], tcm, aux1[1], t_left, h_try, rc, q, locked, parked, s, compliant, prof, pk, yb, dm)
         _store_trace(trace, tt, t, y, wr_col, aux1, jk)
 
     out[PEAK_SLIP_POWER], out[PEAK_FRICTION_TORQUE], out[PEAK_JERK] = pk[0], pk[1], pk[2]
