@@ -909,7 +909,7 @@ def _linear_segment(t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, f
             hS, hdS = _lp.hh(t_s, a, w2, h0, h1)
             for i in range(_lp.N_FORM):  # a monotone event function crosses zero at most once
                 if armed[i] == 1.0 and mode[i] == 2.0 and _lp.fvald(ft, fd, i, t_s, hS, hdS) <= 0.0:
-                    r = _lp._root(ft, i, t_lo, t_s, 0.0, osc)
+                    r = _lp._root(ft, i, t_lo, t_s, osc)
                     if r < tau_ev:
                         tau_ev, kind_ev = r, i
             t_end = min(t_s, tau_ev)
@@ -952,7 +952,7 @@ def _linear_segment(t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, f
                         if _lp.fvald(ft, fd, i, tmin, hM, hdM) <= 0.0:
                             r_hi = tmin
             if r_hi < np.inf:
-                r = _lp._root(ft, i, lo_i, r_hi, 0.0, osc)
+                r = _lp._root(ft, i, lo_i, r_hi, osc)
                 if r < tau_ev:
                     tau_ev, kind_ev = r, i
         t_end = min(t_hi, tau_ev)

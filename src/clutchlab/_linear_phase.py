@@ -198,7 +198,7 @@ def _fset(ft, i, p, u_scale, w_scale, u_poly, w_poly):
 
 
 @njit(**_JNIT)
-def _root(ft, i, lo, hi, f_lo, osc):
+def _root(ft, i, lo, hi, osc):
     """Root of form i in (lo, hi] with F(lo) > 0 >= F(hi): Newton on form i+N_FORM, bisection
     safeguard, to round-off."""
     a, w2, h0, h1 = osc[0], osc[1], osc[2], osc[3]

@@ -146,7 +146,7 @@ def compute(inputs, options=None) -> xr.Dataset:
     data["status"] = ("run", code, st.attrs(
         "not_self_locking: tan(alpha/2) >= mu, never simulated; overrunning: the working mode lets this direction "
         "overrun (no engagement); above_allowable: static contact stress above the allowable; never_locked: "
-        "not engaged by end_time"))
+        "not engaged before the control ring is stopped (control_stop_time) or by end_time"))
     ds = xr.Dataset(data).merge(seed_trace(inputs, options))
     ds.attrs["model_used"] = ("statics closed form (eqs. 1-4, reading " + options["stress_reading"] + "); wedging: "
                               "reduced 2-ring model, Hertz contact with IMPACT damping, SDIRK4 with exact events; "
