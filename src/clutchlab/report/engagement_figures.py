@@ -121,7 +121,7 @@ def traces(ds):
         ax.grid(alpha=0.3)
         if np.isfinite(t_lock):
             ax.axvline(t_lock, color="g", ls=":", lw=1)
-    fig.suptitle(f"Seed 000 design traces (lock-up at {t_lock:.1f} ms, green); model: "
+    fig.suptitle(f"Seed 000 design traces (lock-up at {t_lock:.1f} ms, green)\nmodel: "
                  f"{ds.attrs.get('model_used', '')}", fontsize=10)
     return fig
 
