@@ -55,7 +55,8 @@ def test_work_precision_page_from_stored_benchmark(tmp_path):
     assert benchmark.read_rows(tmp_path / "engagement_benchmark.csv") == rows
     written = report.build({}, [], tmp_path / "report", benchmark_csv=tmp_path / "engagement_benchmark.csv")
     assert {p.stem for p in written} == {"title", "engagement_work_precision", "report"}
-    assert report.figure_stems([], benchmark=True) == ["title", "engagement_work_precision", "validation_table"]
+    assert report.figure_stems([], benchmark=True) == ["title", "engagement_work_precision"]
+    assert report.figure_stems(["engagement"]) == ["title", "engagement_tradeoff", "engagement_maps", "engagement_traces"]
 
 
 def test_infinite_only_where_allowed():

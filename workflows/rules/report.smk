@@ -5,7 +5,8 @@ from clutchlab.report import figure_stems as _figure_stems
 
 REPORT_DIR = f"{RESULTS}/report"
 BENCHMARK_PAGE = RESOLVED["report"]["benchmark"]  # the engagement work-precision page (runs the benchmark)
-REPORT_FILES = [f"{REPORT_DIR}/report.pdf", f"{REPORT_DIR}/validation.csv"] + [
+# validation.csv and its page exist only where a study reproduces seed numbers
+REPORT_FILES = [f"{REPORT_DIR}/report.pdf"] + ([f"{REPORT_DIR}/validation.csv"] if VALIDATED else []) + [
     f"{REPORT_DIR}/{stem}.png" for stem in _figure_stems(STUDIES, BENCHMARK_PAGE)
 ]
 

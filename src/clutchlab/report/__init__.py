@@ -22,9 +22,11 @@ __all__ = ["build", "figure_stems"]
 
 
 def figure_stems(study_names, benchmark=False) -> list[str]:
-    """PNG stems the report produces for these studies (for Snakemake outputs)."""
+    """PNG stems the report produces for these studies (for Snakemake outputs); the validation
+    table only where one of them reproduces seed numbers."""
     stems = ["title"] + [f"{name}_{s}" for name in study_names for s in studies.get(name).figure_stems]
-    return stems + (["engagement_work_precision"] if benchmark else []) + ["validation_table"]
+    validated = any(studies.get(name).validation is not None for name in study_names)
+    return stems + (["engagement_work_precision"] if benchmark else []) + (["validation_table"] if validated else [])
 
 
 def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab report", dpi=120,

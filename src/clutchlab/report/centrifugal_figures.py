@@ -7,7 +7,7 @@ import numpy as np
 
 from .. import status as st
 from ..studies.centrifugal import PARAMETERS, RPM
-from .common import A4_LANDSCAPE, fixed_text
+from .common import A4_LANDSCAPE, contour_level, fixed_text
 from .common import seed_view as _seed_view
 
 SEED = {p.name: p.default for p in PARAMETERS}
@@ -74,12 +74,10 @@ def release_map(ds):
         if name == "release_margin":
             lim = np.nanmax(np.abs(z)) if np.isfinite(z).any() else 1.0
             m = ax.pcolormesh(a, f, z, shading="nearest", cmap=cmap, vmin=-lim, vmax=lim)
-            if np.nanmin(z) < 0 < np.nanmax(z):
-                ax.contour(a, f, z, levels=[0.0], colors="k", linewidths=1.5)
+            contour_level(ax, a, f, z, 0.0, colors="k", linewidths=1.5)
         else:
             m = ax.pcolormesh(a, f, z, shading="nearest", cmap=cmap, vmin=0.0, vmax=min(np.nanmax(z), 4.0))
-            if np.nanmin(z) < 1.5 < np.nanmax(z):
-                ax.contour(a, f, z, levels=[1.5], colors="w", linewidths=1.2, linestyles="--")
+            if contour_level(ax, a, f, z, 1.5, colors="w", linewidths=1.2, linestyles="--") is not None:
                 ax.plot([], [], "w--", label="reserve 1.5")
         fig.colorbar(m, ax=ax, label=label)
         # jam region: f tan(alpha) >= 1, drawn exactly as the curve f = 1/tan(alpha)

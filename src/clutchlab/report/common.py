@@ -100,3 +100,12 @@ def validation_table(validations):
         if r > 0 and c == 8 and cell.get_text().get_text() == "NO":
             cell.set_facecolor("#f4c7c3")
     return fig
+
+
+def contour_level(ax, x, y, z, level, **kw):
+    """The contour of ``z`` at ``level`` where the grid can carry one (at least 2 × 2 points) and the
+    level is crossed; None otherwise (a design may hold a single value of a mapped factor)."""
+    z = np.asarray(z, float)
+    if z.ndim != 2 or min(z.shape) < 2 or not (np.nanmin(z) < level < np.nanmax(z)):
+        return None
+    return ax.contour(x, y, z, levels=[level], **kw)

@@ -6,7 +6,7 @@ import numpy as np
 from matplotlib.colors import TwoSlopeNorm
 
 from .. import status as st
-from .common import A4_LANDSCAPE
+from .common import A4_LANDSCAPE, contour_level
 
 MARKERS = {"A": ("^", "peak A"), "C": ("o", "flat C"), "D": ("v", "valley D"), "B": ("s", "operating B")}
 
@@ -86,8 +86,8 @@ def reserve_map(ds):
         x = p["sheet_thickness"].values * 1e3
         y = p["cone_height_ratio"].values
         mesh = ax.pcolormesh(x, y, rf, cmap="RdYlGn", norm=norm, shading="nearest")
-        if np.nanmax(rf) > 1 > np.nanmin(rf):
-            cs = ax.contour(x, y, rf, levels=[1.0], colors="k", linewidths=1.2)
+        cs = contour_level(ax, x, y, rf, 1.0, colors="k", linewidths=1.2)
+        if cs is not None:
             ax.clabel(cs, fmt="1.0", fontsize=7)
         code = p["status"].values
         xx, yy = np.meshgrid(x, y)
