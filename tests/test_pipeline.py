@@ -1,4 +1,5 @@
 """End to end through Snakemake, as a user would run it (slow: each run starts Snakemake)."""
+import os
 import shutil
 import signal
 import subprocess
@@ -169,3 +170,25 @@ def test_every_config_runs_with_any_chunk_count(name, tmp_path):
 
             ds = store.load(wd / "results" / studies.get(s).output)
             assert int(ds["status"].size) == n, (s, chunks)
+
+
+def test_editing_the_physics_reruns_the_studies(small_run, tmp_path):
+    """Issue 14: results say what produced them (the package's source hash, also a param of every
+    physics rule); an edited physics constant makes the next run recompute, where it used to say
+    'Nothing to be done'."""
+    import clutchlab
+    from clutchlab import store
+
+    ds = store.load(small_run / "results/diaphragm/spring.h5")
+    assert ds.attrs["clutchlab_source"] == clutchlab.source_hash()
+    same = _snakemake(small_run, "--configfile", "config/small.yaml", "--dry-run")
+    assert "Nothing to be done" in same.stdout + same.stderr
+    src = tmp_path / "src"
+    shutil.copytree(ROOT / "src" / "clutchlab", src / "clutchlab", ignore=shutil.ignore_patterns("__pycache__"))
+    mod = src / "clutchlab" / "diaphragm.py"
+    mod.write_text(mod.read_text() + "\n_EDITED_CONSTANT = 1.0  # an edit to the physics\n")
+    assert clutchlab.source_hash(src / "clutchlab") != clutchlab.source_hash()
+    env = {**os.environ, "PYTHONPATH": str(src)}
+    edited = _snakemake(small_run, "--configfile", "config/small.yaml", "--dry-run", env=env)
+    out = edited.stdout + edited.stderr
+    assert "Nothing to be done" not in out and "chunk" in out and "merge_diaphragm_spring" in out

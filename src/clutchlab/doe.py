@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from . import __version__, studies
+from . import __version__, source_hash, studies
 from .config import study_config_text
 
 __all__ = ["build_design", "n_scenarios", "chunk_slice", "chunk_inputs", "run_chunk", "merge", "run_study"]
@@ -70,6 +70,7 @@ def _provenance(resolved_study: dict) -> dict:
         "design": resolved_study["design"],
         "model": study.model,
         "clutchlab_version": __version__,
+        "clutchlab_source": source_hash(),
         "config": study_config_text(resolved_study),
         "source": "clutchlab",
     }

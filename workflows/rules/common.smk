@@ -1,5 +1,10 @@
 # Paths and helpers shared by the rules. No physics here.
+import clutchlab as _clutchlab
 from clutchlab import studies as _studies
+
+# the package's source hash: a param of every rule whose output the code determines, so that an
+# edit to the physics (or the figures) reruns what it affects
+SOURCE = _clutchlab.source_hash()
 
 STUDIES = RESOLVED["studies"]
 RESULTS = "results"

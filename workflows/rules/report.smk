@@ -22,6 +22,7 @@ rule report:
         names=STUDIES,
         title=RESOLVED["report"]["title"],
         dpi=RESOLVED["report"]["dpi"],
+        source=SOURCE,
     resources:
         runtime=10,
         mem_mb=4000,

@@ -6,6 +6,7 @@ rule design:
         f"{WORK}/{{study}}/design.h5",
     params:
         study=lambda wc: RESOLVED[wc.study],
+        source=SOURCE,
     resources:
         runtime=10,
         mem_mb=2000,
@@ -21,6 +22,7 @@ rule chunk:
     params:
         options=lambda wc: RESOLVED[wc.study]["options"],
         chunks=lambda wc: RESOLVED[wc.study]["chunks"],
+        source=SOURCE,
     resources:
         runtime=60,
         mem_mb=4000,
@@ -48,6 +50,8 @@ for _study in STUDIES:
 rule validation:
     output:
         f"{RESULTS}/validation/{{study}}.h5",
+    params:
+        source=SOURCE,
     resources:
         runtime=5,
         mem_mb=1000,
