@@ -20,9 +20,11 @@ and one sin/cos pair give h and h'. Every quantity the engagement needs — slip
 the torque needed to stay locked, the output jerk (K·θ' + c·θ'')/J_R, the slip power — is of the
 form F(τ) = P(τ) + U(τ)·h + W(τ)·h' with polynomials P, U, W, and so is its derivative (h'' is
 −(c·h' + K·h)/m). Events (lock-up, break-away, park, unpark) are the first roots of such forms,
-found on a grid of a third of the oscillation's half period (extrema of the free response are
-π/ω_d apart, so a dip below zero and back is seen as a sign change of F') and placed by
-bracketed Newton to round-off; peaks are the roots of F'. Works are exact integrals: of
+found on a grid of half of π/ω₀ (extrema of the free response are ≥ π/ω₀ apart, so a dip below
+zero and back is seen as a sign change of F') and placed by bracketed Newton to round-off; peaks
+are the roots of F'. The grid is skipped wherever bounds (the free response's envelope and the
+polynomials' ranges) exclude a root or a new peak, or keep a form monotone
+(:func:`clutchlab._engagement_kernel._linear_segment`). Works are exact integrals: of
 polynomials, and of Q·h by the recursion K·∫Q·h = −m[Q·h'] + m[Q'·h] − c[Q·h] + c∫Q'·h − m∫Q''·h;
 the damping work from the oscillator's energy balance c∫θ'² = ∫f·θ' − Δ(½mθ'² + ½Kθ²).
 """
