@@ -13,11 +13,19 @@ if not workflow.overwrite_configfiles:
     configfile: "config/config.yaml"
 
 
+import sys
+
 import clutchlab.config
 
-# Schema validation, unit conversion and physical range checks, before any job is scheduled.
-# A ConfigError names the offending key and stops the run here.
-RESOLVED = clutchlab.config.resolve(config)
+# Every config file read again as data (UTF-8, no duplicate key, no template, no alias bomb), then
+# schema validation, unit conversion and physical range checks, before any job is scheduled.
+# A ConfigError names the offending key in one line and stops the run here.
+try:
+    for _path in workflow.overwrite_configfiles or ["config/config.yaml"]:
+        clutchlab.config.read_file(_path)
+    RESOLVED = clutchlab.config.resolve(config)
+except clutchlab.config.ConfigError as _exc:
+    sys.exit(f"clutchlab: {_exc}")
 
 include: "workflows/rules/common.smk"
 include: "workflows/rules/study.smk"

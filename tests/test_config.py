@@ -2,6 +2,7 @@
 import copy
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
@@ -16,12 +17,14 @@ def raw():
     return yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 
 
-@pytest.mark.parametrize("name", ["config.yaml", "small.yaml"])
+@pytest.mark.parametrize("name", sorted(p.name for p in (ROOT / "config").glob("*.yaml")))
 def test_shipped_configs_resolve(name):
     cfg = config.load(ROOT / "config" / name)
-    sec = cfg["diaphragm_spring"]
-    assert sec["fixed"]["youngs_modulus"] == pytest.approx(206e9)
-    assert all(isinstance(v, float) for v in sec["fixed"].values())
+    for study in cfg["studies"]:
+        sec = cfg[study]
+        assert all(isinstance(v, float) for v in sec["fixed"].values())
+        if "youngs_modulus" in sec["fixed"]:
+            assert sec["fixed"]["youngs_modulus"] == pytest.approx(206e9)
 
 
 def test_units_converted_and_defaults_filled(raw):
@@ -151,3 +154,53 @@ def test_seed000_config_reproduces_the_paper():
     ds = doe.run_study(config.load(ROOT / "config" / "seed000.yaml")["engagement"])
     assert ds["lockup_time"].values == pytest.approx([0.1, 0.150, 0.2], rel=0.01)
     assert float(ds["slip_work"].sel(ramp_time=0.15)) == pytest.approx(5800.0, rel=0.02)
+
+
+MALFORMED = sorted((Path(__file__).parent / "malformed").glob("*.yaml"))
+
+
+def _expected_key(path):
+    return path.read_bytes().split(b"\n", 1)[0].decode().removeprefix("# expect:").strip()
+
+
+def test_there_are_malformed_configs_of_every_class():
+    assert len(MALFORMED) >= 40
+
+
+@pytest.mark.parametrize("path", MALFORMED, ids=lambda p: p.stem)
+def test_malformed_config_is_refused_naming_the_key(path):
+    """Each file of tests/malformed/ holds one mistake a user made (its '# why:' line) and the key
+    (or, for a file that is not a config at all, the file) the refusal must name."""
+    with pytest.raises(ConfigError) as exc:
+        config.load(path)
+    key = Path(exc.value.key).name if exc.value.key.endswith(".yaml") else exc.value.key
+    assert key == _expected_key(path), str(exc.value)
+    assert "\n" not in str(exc.value)
+
+
+def test_a_quantity_is_one_number_and_a_unit():
+    from clutchlab.units import UnitError, to_si
+
+    assert to_si("2.3 mm", "m") == pytest.approx(2.3e-3)
+    assert to_si("2.1e3 N s/mm", "N s/m") == pytest.approx(2.1e6)
+    assert to_si("1e-2 kg m^2", "kg m^2") == pytest.approx(1e-2)
+    assert to_si(" 38.84° ", "rad") == pytest.approx(np.deg2rad(38.84))
+    assert to_si("3.7", "N") == 3.7  # a bare number in a string is SI, like a bare number
+    for bad in ("2,3 mm", "2 3 mm", "1/2 mm", "2.3 mm mm", "mm", "inf m", "two mm"):
+        with pytest.raises(UnitError):
+            to_si(bad, "m")
+
+
+def test_the_ceiling_can_be_raised_on_purpose(raw):
+    raw["diaphragm_spring"]["parameters"]["sheet_thickness"] = {"min": "2 mm", "max": "3 mm", "num": 100}
+    n = int(np.prod([len(f["values"]) for f in config.resolve(raw)["diaphragm_spring"]["factors"].values()]))
+    raw["max_scenarios"] = n - 1
+    _expect(raw, "diaphragm_spring", f"the design has {n} scenarios", f"max_scenarios: {n}")
+    raw["max_scenarios"] = n
+    assert config.resolve(raw)["max_scenarios"] == n
+
+
+def test_even_roller_counts_and_any_count_for_the_all_reading():
+    raw = {"studies": ["roller"], "roller": {"design": "factorial", "parameters": {"rollers": {"values": [9, 13]}},
+                                             "options": {"stress_reading": "all"}}}
+    assert config.resolve(raw)["roller"]["factors"]["rollers"]["values"] == [9.0, 13.0]

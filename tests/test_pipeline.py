@@ -91,6 +91,48 @@ def test_bad_config_fails_before_any_job(small_run):
     assert (target.read_bytes(), target.stat().st_mtime_ns) == before
 
 
+def _tree(root):
+    return {p: (p.read_bytes(), p.stat().st_mtime_ns) for p in sorted(root.rglob("*")) if p.is_file()}
+
+
+# refused by Snakemake's own loader before the Snakefile runs (still before any job), with the
+# message's last line as here; clutchlab.config.read_file refuses each in one line naming the file
+SNAKEMAKE_REFUSES_ITSELF = {"not_utf8": "UnicodeDecodeError",
+                            "bad_yaml_indent": "Config file is not valid JSON or YAML",
+                            "python_tag": "Config file is not valid JSON or YAML",
+                            "top_level_list": "Config file must be given as JSON or YAML with keys at top level",
+                            "empty_file": "Config file must be given as JSON or YAML with keys at top level"}
+
+
+def test_malformed_configs_are_refused_before_any_job(small_run):
+    """Every file of tests/malformed/ through Snakemake: one line 'clutchlab: config key ...' naming
+    the key, no traceback, no job, results/ untouched."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    files = sorted((ROOT / "tests/malformed").glob("*.yaml"))
+    before = _tree(small_run / "results")
+
+    def run(path):
+        return path, _snakemake(small_run, "--configfile", str(path), check=False)
+
+    with ThreadPoolExecutor(2) as pool:
+        outcomes = list(pool.map(run, files))
+    wrong = []
+    for path, proc in outcomes:
+        out = "\n".join(line for line in (proc.stdout + proc.stderr).strip().splitlines()
+                        if not line.startswith("Using workflow specific profile"))
+        key = path.read_text(errors="replace").split("\n", 1)[0].removeprefix("# expect:").strip()
+        if path.stem in SNAKEMAKE_REFUSES_ITSELF:
+            ok = SNAKEMAKE_REFUSES_ITSELF[path.stem] in out.splitlines()[-1]
+        else:
+            ok = (len(out.splitlines()) == 1 and out.startswith("clutchlab: config ")
+                  and (f"'{key}'" in out or f"{key}'" in out))
+        if proc.returncode == 0 or "Execute" in out or not ok:
+            wrong.append((path.name, out))
+    assert not wrong, wrong
+    assert _tree(small_run / "results") == before
+
+
 def test_same_config_twice_gives_identical_files(small_run, tmp_path):
     wd = _workdir(tmp_path)
     _snakemake(wd, "--configfile", "config/small.yaml")

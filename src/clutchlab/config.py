@@ -17,18 +17,102 @@ import yaml
 from . import studies
 from .units import UnitError, to_si
 
-__all__ = ["ConfigError", "SCHEMA_PATH", "schema", "load", "resolve", "study_config_text"]
+__all__ = ["ConfigError", "SCHEMA_PATH", "schema", "load", "read_file", "resolve", "study_config_text",
+           "DEFAULT_MAX_SCENARIOS"]
 
 SCHEMA_PATH = files("clutchlab") / "config.schema.yaml"
 DEFAULT_CHUNKS = 4
+# scenarios a study may hold unless the config raises the ceiling on purpose (top-level key
+# max_scenarios): a 2^21 design is about what one 2-core workstation finishes in an hour
+DEFAULT_MAX_SCENARIOS = 2**21
+# YAML nodes a config file may expand to (anchors and aliases counted as often as they are used):
+# the largest shipped config has a few hundred; an alias bomb has billions
+MAX_NODES = 100_000
 
 
 class ConfigError(ValueError):
-    """The config is invalid; the message names the key."""
+    """The config is invalid; the message names the key (or, for a file that cannot be read as a
+    config at all, the file)."""
 
-    def __init__(self, key: str, problem: str):
+    def __init__(self, key: str, problem: str, what: str = "config key"):
         self.key = key
-        super().__init__(f"config key '{key}': {problem}")
+        super().__init__(f"{what} '{key}': {problem}")
+
+
+class _StrictLoader(yaml.SafeLoader):
+    """YAML 1.1 safe loader that refuses a key given twice in one mapping (PyYAML keeps the last)."""
+
+    def construct_mapping(self, node, deep=False):
+        seen = {}
+        for key_node, _ in node.value:
+            if key_node.tag == "tag:yaml.org,2002:merge":
+                continue
+            key = self.construct_object(key_node, deep=True)
+            line = key_node.start_mark.line + 1
+            try:
+                if key in seen:
+                    raise ConfigError(str(key), f"given twice in one mapping (lines {seen[key]} and {line}); "
+                                      "YAML would silently keep the last")
+                seen[key] = line
+            except TypeError:
+                continue  # an unhashable key: SafeLoader refuses it below
+        return super().construct_mapping(node, deep=deep)
+
+
+def _expanded_size(obj, memo=None) -> int:
+    """Nodes of ``obj`` with every alias expanded, counted without expanding (shared objects memoised)."""
+    memo = {} if memo is None else memo
+    if id(obj) in memo:
+        return memo[id(obj)]
+    memo[id(obj)] = 1  # guards recursive structures
+    if isinstance(obj, dict):
+        n = 1 + sum(_expanded_size(k, memo) + _expanded_size(v, memo) for k, v in obj.items())
+    elif isinstance(obj, list):
+        n = 1 + sum(_expanded_size(v, memo) for v in obj)
+    else:
+        n = 1
+    memo[id(obj)] = n
+    return n
+
+
+def read_file(path) -> dict:
+    """Read a config file as data: UTF-8 YAML (or JSON), safe types only, no key twice, no template.
+
+    Snakemake reads ``--configfile`` itself (its loader evaluates a file that starts with
+    ``__use_yte__: true`` as a YTE template, and keeps the last of a duplicated key); the Snakefile
+    reads every config file again through this function and refuses what it finds before any job.
+    """
+    where = str(path)
+    try:
+        data = open(path, "rb").read()
+    except OSError as exc:
+        raise ConfigError(where, f"cannot be read: {exc.strerror}", "config file") from None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ConfigError(where, f"is not UTF-8 text (byte {exc.start} is {data[exc.start:exc.start + 1]!r}); "
+                          "save it as UTF-8", "config file") from None
+    try:
+        raw = yaml.load(text, Loader=_StrictLoader)
+    except ConfigError:
+        raise
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        at = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        raise ConfigError(where, f"is not valid YAML{at}: {problem}", "config file") from None
+    if raw is None:
+        raw = {}
+    if not isinstance(raw, dict):
+        raise ConfigError(where, f"must be a mapping of keys at the top level, got {type(raw).__name__}",
+                          "config file")
+    if _expanded_size(raw) > MAX_NODES:
+        raise ConfigError(where, f"expands to more than {MAX_NODES} YAML nodes (anchors/aliases used as a "
+                          "bomb?); a clutchlab config needs a few hundred", "config file")
+    if "__use_yte__" in raw:
+        raise ConfigError("__use_yte__", "config files are data, not templates: clutchlab refuses YTE "
+                          "templating (Snakemake has already evaluated the template while reading the file)")
+    return raw
 
 
 @functools.lru_cache(maxsize=1)
@@ -68,8 +152,11 @@ def validate_schema(cfg: dict) -> None:
 ACCURACY_RANGE = (1e-7, 1e-2)
 
 
-def _quantity(value, param, key) -> float:
+def _quantity(value, param, key, finite=False) -> float:
     if param.allow_infinite and (value == float("inf") or str(value).strip().lower() in ("inf", ".inf")):
+        if finite:
+            raise ConfigError(key, "a range needs finite bounds (inf is allowed as a fixed value or in a "
+                              "'values' list)")
         return float("inf")
     try:
         v = to_si(value, param.units)
@@ -81,14 +168,22 @@ def _quantity(value, param, key) -> float:
     return v
 
 
-def _resolve_study(name: str, section: dict, default_chunks: int) -> dict:
+def _count(section, key, name):
+    """An integer count of the config (samples, num, seed, chunks): a whole number, never coerced."""
+    v = section[key]
+    if isinstance(v, bool) or not (isinstance(v, int) or (isinstance(v, float) and v.is_integer())):
+        raise ConfigError(name, f"must be a whole number, got {v!r}")
+    return int(v)
+
+
+def _resolve_study(name: str, section: dict, default_chunks: int, max_scenarios: int) -> dict:
     study = studies.get(name)
     design = section["design"]
     out = {
         "name": name,
         "design": design,
-        "chunks": int(section.get("chunks", default_chunks)),
-        "seed": int(section.get("seed", 0)),
+        "chunks": _count(section, "chunks", f"{name}.chunks") if "chunks" in section else default_chunks,
+        "seed": _count(section, "seed", f"{name}.seed") if "seed" in section else 0,
         "options": {},
         "fixed": {},
         "factors": {},
@@ -107,7 +202,14 @@ def _resolve_study(name: str, section: dict, default_chunks: int) -> dict:
     if design != "factorial":
         if "samples" not in section:
             raise ConfigError(f"{name}.samples", f"required for design '{design}'")
-        out["samples"] = int(section["samples"])
+        out["samples"] = _count(section, "samples", f"{name}.samples")
+        if out["samples"] > max_scenarios:
+            raise _ceiling(name, out["samples"], max_scenarios)
+    else:
+        for key in ("samples", "seed"):
+            if key in section:
+                raise ConfigError(f"{name}.{key}", "not used by a factorial design (its scenarios are the "
+                                  "grid of the factors' values); remove it or choose design lhs/sobol")
     given = section.get("parameters", {}) or {}
     for param in study.parameters:
         key = f"{name}.parameters.{param.name}"
@@ -126,44 +228,77 @@ def _resolve_study(name: str, section: dict, default_chunks: int) -> dict:
                 raise ConfigError(f"{key}.values", "values must be distinct")
             out["factors"][param.name] = {"values": vals}
             continue
-        lo = _quantity(spec["min"], param, f"{key}.min")
-        hi = _quantity(spec["max"], param, f"{key}.max")
+        if param.choices is not None or (param.integer and design != "factorial"):
+            what = f"one of {param.choices}" if param.choices is not None else "a whole number (a count)"
+            raise ConfigError(key, f"must be {what}: give a fixed value or a 'values' list, not a range"
+                              + ("" if param.choices is not None else f" sampled by design '{design}'"))
+        lo = _quantity(spec["min"], param, f"{key}.min", finite=True)
+        hi = _quantity(spec["max"], param, f"{key}.max", finite=True)
         scale = spec.get("scale", "linear")
         if not lo < hi:
-            raise ConfigError(key, f"min ({lo:g}) must be below max ({hi:g}) {param.units}")
+            raise ConfigError(key, f"min ({lo:g}) must be below max ({hi:g})")
         if scale == "log" and lo <= 0:
             raise ConfigError(f"{key}.min", "log scale needs min > 0")
         if design == "factorial":
             if "num" not in spec:
                 raise ConfigError(f"{key}.num", "required for a factorial min/max factor")
-            num = int(spec["num"])
+            num = _count(spec, "num", f"{key}.num")
+            if num < 2:
+                raise ConfigError(f"{key}.num", f"must be at least 2 to span min and max (got {num}); "
+                                  "for one value give it as a fixed value")
+            if num > max_scenarios:
+                raise _ceiling(name, num, max_scenarios)
+            if param.integer:
+                step = (hi - lo) / (num - 1)
+                if lo != round(lo) or step != round(step):
+                    raise ConfigError(key, f"a count: min {lo:g}, max {hi:g} with num {num} gives non-whole "
+                                      "values; give a 'values' list")
             vals = np.geomspace(lo, hi, num) if scale == "log" else np.linspace(lo, hi, num)
             out["factors"][param.name] = {"values": [float(v) for v in vals]}
         else:
             if "num" in spec:
                 raise ConfigError(f"{key}.num", f"not used by design '{design}' (use '{name}.samples')")
             out["factors"][param.name] = {"min": lo, "max": hi, "scale": scale}
+    if design == "factorial":
+        n = 1
+        for f in out["factors"].values():
+            n *= len(f["values"])
+        if n > max_scenarios:
+            raise _ceiling(name, n, max_scenarios)
+    if study.check_config is not None:
+        problem = study.check_config(out)
+        if problem:
+            raise ConfigError(*problem)
     return out
+
+
+def _ceiling(name, n, max_scenarios) -> ConfigError:
+    return ConfigError(name, f"the design has {n} scenarios, above the ceiling of {max_scenarios}; to run it "
+                       f"on purpose set the top-level key 'max_scenarios: {n}' (or more)")
 
 
 def resolve(raw: dict) -> dict:
     """Validate ``raw`` and return the resolved config (SI floats, defaults filled in)."""
     cfg = copy.deepcopy(dict(raw))
     validate_schema(cfg)
-    default_chunks = int(cfg.get("chunks", DEFAULT_CHUNKS))
-    resolved = {"studies": list(cfg["studies"]), "chunks": default_chunks,
+    default_chunks = _count(cfg, "chunks", "chunks") if "chunks" in cfg else DEFAULT_CHUNKS
+    max_scenarios = _count(cfg, "max_scenarios", "max_scenarios") if "max_scenarios" in cfg else DEFAULT_MAX_SCENARIOS
+    title = cfg.get("report", {}).get("title", "")
+    if any(not ch.isprintable() for ch in title):
+        raise ConfigError("report.title", "must be one line of printable text (no newline, tab or control "
+                          "character)")
+    resolved = {"studies": list(cfg["studies"]), "chunks": default_chunks, "max_scenarios": max_scenarios,
                 "report": {"title": "clutchlab report", "dpi": 120, "benchmark": False, **cfg.get("report", {})}}
     for name in cfg["studies"]:
         if name not in cfg:
             raise ConfigError(name, "section missing for a study listed in 'studies'")
-        resolved[name] = _resolve_study(name, cfg[name], default_chunks)
+        resolved[name] = _resolve_study(name, cfg[name], default_chunks, max_scenarios)
     return resolved
 
 
 def load(path) -> dict:
-    """Read a YAML config file and return the resolved config."""
-    with open(path) as fh:
-        return resolve(yaml.safe_load(fh) or {})
+    """Read a YAML config file (:func:`read_file`) and return the resolved config."""
+    return resolve(read_file(path))
 
 
 def study_config_text(resolved_study: dict) -> str:

@@ -9,10 +9,16 @@ from __future__ import annotations
 import functools
 import math
 import numbers
+import re
 
 __all__ = ["UnitError", "to_si"]
 
 _REPLACE = {"·": "*", "⋅": "*", "²": "**2", "³": "**3", "⁴": "**4", "µ": "u", "μ": "u", "°": " deg"}
+
+
+# one number, then (optionally) a unit expression with no number in it: pint alone would evaluate
+# "2 3 mm" as 6 mm and "2,3 mm" as 23 mm, both silent misreads of what an engineer wrote
+_NUMBER = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(.*?)\s*$", re.S)
 
 
 class UnitError(ValueError):
@@ -32,7 +38,8 @@ def to_si(value, si_unit: str) -> float:
     Parameters
     ----------
     value : float, int or str
-        A bare number (taken as SI already) or a string "number unit", e.g. ``"2.3 mm"``.
+        A bare number (taken as SI already) or a string "number unit", e.g. ``"2.3 mm"``: exactly
+        one number (no comma, no arithmetic) followed by a unit expression (``"N m"``, ``"kg m^2"``).
     si_unit : str
         Target SI unit in pint/UDUNITS spelling, e.g. ``"m"``, ``"Pa"``, ``"rad/s"``, ``"1"``.
 
@@ -49,11 +56,20 @@ def to_si(value, si_unit: str) -> float:
         text = value.strip()
         for old, new in _REPLACE.items():
             text = text.replace(old, new)
+        if "," in text:
+            raise UnitError(f"{value!r}: a comma is not read as a decimal point or a thousands separator; "
+                            "write e.g. '2.3 mm'")
+        match = _NUMBER.fullmatch(text)
+        if match is None:
+            raise UnitError(f"cannot parse quantity {value!r}: expected 'number unit', e.g. '2.3 mm'")
+        number, unit = float(match.group(1)), match.group(2)
+        if not unit:  # "3.7": a bare number, SI like 3.7
+            return _finite(number, value)
         ureg = _registry()
         try:
-            q = ureg.Quantity(text)
+            q = ureg.Quantity(number, ureg.parse_units(unit) if unit else "dimensionless")
         except Exception as exc:  # pint raises several unrelated exception types
-            raise UnitError(f"cannot parse quantity {value!r}: {exc}") from None
+            raise UnitError(f"cannot parse the unit of {value!r}: {exc}") from None
         target = "dimensionless" if si_unit == "1" else si_unit
         try:
             out = float(q.to(target).magnitude)
@@ -63,6 +79,10 @@ def to_si(value, si_unit: str) -> float:
             ) from None
     else:
         raise UnitError(f"expected a number or a 'number unit' string, got {type(value).__name__} {value!r}")
+    return _finite(out, value)
+
+
+def _finite(out: float, value) -> float:
     if not math.isfinite(out):
         raise UnitError(f"{value!r} is not finite")
     return out

@@ -38,8 +38,10 @@ def title_page(title, version, results, validations):
     from . import status_counts
 
     fig = plt.figure(figsize=A4_LANDSCAPE)
-    fig.text(0.06, 0.92, title, fontsize=20, weight="bold")
-    fig.text(0.06, 0.87, f"clutchlab {version}", fontsize=11, color="0.3")
+    # the title is the user's text: drawn as it is written ("$" is not mathtext), wrapped to the page
+    fig.text(0.06, 0.95, "\n".join(textwrap.wrap(title, 70)), fontsize=20, weight="bold", va="top",
+             parse_math=False)
+    fig.text(0.06, 0.855, f"clutchlab {version}", fontsize=11, color="0.3")
     y = 0.80
     for name, ds in results.items():
         n = int(np.prod([ds.sizes[d] for d in ds["status"].dims])) if ds["status"].dims else 1

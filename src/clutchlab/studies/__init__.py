@@ -28,19 +28,28 @@ class Parameter:
     maximum: float | None = None
     maximum_inclusive: bool = True
     allow_infinite: bool = False  # e.g. engine inertia (inf = held engine), Stribeck speed (inf = constant mu)
+    integer: bool = False  # a count (sprags, rollers, shoes, friction faces)
+    choices: tuple[float, ...] | None = None  # the only values allowed (e.g. drive direction +1/-1)
 
     def check(self, value: float) -> str | None:
         """Return why ``value`` is non-physical, or None if it is acceptable."""
+        if self.choices is not None:
+            if value not in self.choices:
+                return f"must be one of {', '.join(f'{c:g}' for c in self.choices)}, got {value:g}"
+            return None
+        if self.integer and value != round(value):
+            return f"must be a whole number (a count), got {value:g}"
+        u = "" if self.units == "1" else f" {self.units}"
         if self.minimum is not None:
             bad = value < self.minimum if self.minimum_inclusive else value <= self.minimum
             if bad:
                 op = ">=" if self.minimum_inclusive else ">"
-                return f"must be {op} {self.minimum:g} {self.units}, got {value:g} {self.units}"
+                return f"must be {op} {self.minimum:g}{u}, got {value:g}{u}"
         if self.maximum is not None:
             bad = value > self.maximum if self.maximum_inclusive else value >= self.maximum
             if bad:
                 op = "<=" if self.maximum_inclusive else "<"
-                return f"must be {op} {self.maximum:g} {self.units}, got {value:g} {self.units}"
+                return f"must be {op} {self.maximum:g}{u}, got {value:g}{u}"
         return None
 
 
@@ -61,6 +70,9 @@ class Study:
     # default relative accuracy of the headline outputs (config key ``accuracy``, passed to compute
     # as options["accuracy"]); None: the study's models have no tolerance to set
     accuracy: float | None = None
+    # resolved study section -> (key, problem) for a combination of values that cannot be read
+    # physically (e.g. an odd roller count with the one-flank reading), or None
+    check_config: Callable | None = None
 
     def parameter(self, name: str) -> Parameter:
         for p in self.parameters:

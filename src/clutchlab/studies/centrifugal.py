@@ -23,7 +23,7 @@ from . import Parameter, Study, flat_inputs, register, seed_design
 RPM = np.pi / 30.0
 
 PARAMETERS = (
-    Parameter("shoes", "1", "number of shoes z", 3.0, minimum=1.0, minimum_inclusive=True),
+    Parameter("shoes", "1", "number of shoes z", 3.0, minimum=1.0, minimum_inclusive=True, integer=True),
     Parameter("shoe_mass", "kg", "shoe mass m", 0.178),
     Parameter("shoe_radius", "m", "shoe centroid radius r", 0.034),
     Parameter("drum_radius", "m", "drum (clutch) radius R", 0.045),

@@ -36,7 +36,7 @@ PARAMETERS = (
     Parameter("friction_coefficient", "1", "lining friction coefficient mu", 0.4),
     Parameter("lining_outer_radius", "m", "lining outer radius R2", 112.5 * MM),
     Parameter("lining_inner_radius", "m", "lining inner radius R1 (lining)", 75 * MM),
-    Parameter("friction_faces", "1", "number of friction faces", 2.0),
+    Parameter("friction_faces", "1", "number of friction faces", 2.0, integer=True),
     Parameter("stack_mass", "kg", "driven plate + pressure plate + spring mass whose weight adds to the "
               "clamp load (vertical shaft); 0 for a horizontal shaft", 0.0, minimum_inclusive=True),
     Parameter("max_engine_torque", "N m", "engine maximum torque T_emax", 173.0),

@@ -29,7 +29,7 @@ from . import Parameter, Study, flat_inputs, register, seed_design
 
 RPM = rl.RPM
 PARAMETERS = (
-    Parameter("rollers", "1", "number of rollers z", 12.0, minimum=2.0, minimum_inclusive=True),
+    Parameter("rollers", "1", "number of rollers z", 12.0, minimum=2.0, minimum_inclusive=True, integer=True),
     Parameter("wedge_angle", "rad", "wedge angle alpha", float(np.deg2rad(11.0)), maximum=np.pi / 2,
               maximum_inclusive=False),
     Parameter("roller_diameter", "m", "roller diameter d", 0.010),
@@ -55,8 +55,7 @@ PARAMETERS = (
     Parameter("claw_clearance", "m", "free travel of the control-ring claws before they move the rollers (assumed)",
               1e-3, minimum_inclusive=True),
     Parameter("end_time", "s", "end of the simulation", 3e-3),
-    Parameter("drive_direction", "1", "driving direction (+1 forward, -1 reverse)", 1.0, minimum=-1.0,
-              minimum_inclusive=True, maximum=1.0),
+    Parameter("drive_direction", "1", "driving direction (+1 forward, -1 reverse)", 1.0, choices=(1.0, -1.0)),
 )
 
 OPTIONS = {"mode": rl.MODES, "stress_reading": ("one_flank", "all")}
@@ -81,6 +80,20 @@ OUTPUTS = {
 }
 _DYNAMIC = ("engagement_time", "backlash_angle", "backlash_angle_slip", "peak_contact_force", "peak_contact_stress",
             "dynamic_factor", "release_time")
+
+
+def check_config(section):
+    """The one-flank reading loads z/2 rollers per direction: refuse an odd count for it."""
+    if section["options"]["stress_reading"] != "one_flank":
+        return None
+    key = "roller.parameters.rollers"
+    z = section["fixed"].get("rollers")
+    values = [z] if z is not None else section["factors"]["rollers"]["values"]
+    odd = [v for v in values if v % 2]
+    if odd:
+        return (key, f"stress_reading one_flank loads z/2 rollers in each direction, so z must be even "
+                f"(got {', '.join(f'{v:g}' for v in odd)}); use option stress_reading: all for an odd count")
+    return None
 
 
 def statics(p, reading):
@@ -243,4 +256,5 @@ STUDY = register(Study(
     figure_stems=("stress_engagement", "feasible_region", "engagement_trace"),
     validation=validation,
     options=OPTIONS,
+    check_config=check_config,
 ))

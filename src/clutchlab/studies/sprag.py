@@ -34,7 +34,7 @@ J0 = float(sp.inertia_for_peak(peak=T0, rise_time=RISE, power=P0, damping=C0))
 
 PARAMETERS = (
     Parameter("torque", "N m", "torque transmitted by the clutch", 750.0),
-    Parameter("sprags", "1", "number of sprags n", _G["sprags"], minimum=1.0, minimum_inclusive=True),
+    Parameter("sprags", "1", "number of sprags n", _G["sprags"], minimum=1.0, minimum_inclusive=True, integer=True),
     Parameter("sprag_length", "m", "sprag (contact) length l", _G["sprag_length"]),
     Parameter("centre_distance", "m", "distance Z between the centres of the sprag's arcs", _G["centre_distance"]),
     Parameter("sprag_inner_radius", "m", "radius r_i of the sprag's inner arc", _G["sprag_inner_radius"]),
