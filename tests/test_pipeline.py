@@ -160,6 +160,29 @@ def test_interrupt_and_resume(tmp_path):
     assert not [p for p in wd.rglob("*.tmp")]
 
 
+def test_killed_run_unlock_and_resume(tmp_path):
+    """The README's recovery after a hard kill: the lock left behind, `snakemake --unlock`, rerun;
+    no temporary file of the killed jobs survives the rerun."""
+    wd = _workdir(tmp_path)
+    cmd = [sys.executable, "-m", "snakemake", "--cores", "2", "--configfile", "config/small.yaml",
+           "--config", "chunks=8"]
+    proc = subprocess.Popen(cmd, cwd=wd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                            start_new_session=True)
+    work = wd / "results/work/centrifugal"
+    deadline = time.time() + 120
+    while time.time() < deadline and not list(work.glob("chunk_*.h5")):
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGKILL)  # kill -9 of Snakemake and its jobs
+    proc.wait(timeout=60)
+    assert not (wd / "results/report/report.pdf").exists(), "run finished before it could be killed"
+    locked = _snakemake(wd, "--configfile", "config/small.yaml", "--config", "chunks=8", check=False)
+    assert locked.returncode != 0 and "cannot be locked" in locked.stdout + locked.stderr
+    _snakemake(wd, "--unlock", "--configfile", "config/small.yaml")
+    _snakemake(wd, "--configfile", "config/small.yaml", "--config", "chunks=8")
+    assert (wd / "results/report/report.pdf").exists()
+    assert not [p for p in wd.rglob("*.tmp")]
+
+
 def _tiny_variant(path):
     """A config file cut to two scenarios per study: its first factor keeps two values, every other
     factor one (still a dimension: the figures draw over them); no benchmark page (that runs alone
@@ -234,3 +257,21 @@ def test_editing_the_physics_reruns_the_studies(small_run, tmp_path):
     edited = _snakemake(small_run, "--configfile", "config/small.yaml", "--dry-run", env=env)
     out = edited.stdout + edited.stderr
     assert "Nothing to be done" not in out and "chunk" in out and "merge_diaphragm_spring" in out
+
+
+def test_a_changed_chunk_is_found_by_the_merge_and_recomputed(small_run):
+    """Issue 14: a chunk file whose data changed after it was written used to be merged silently;
+    the merge checks each chunk's checksum, names and removes the bad one, the next run recomputes."""
+    import h5py
+
+    result = small_run / "results/sprag/sprag.h5"
+    before = xr.load_dataset(result, engine="h5netcdf")
+    chunk = small_run / "results/work/sprag/chunk_0001.h5"
+    with h5py.File(chunk, "r+") as f:
+        f["gripping_angle"][0] = 0.0
+    proc = _snakemake(small_run, "--configfile", "config/small.yaml", check=False)
+    assert proc.returncode != 0
+    assert "results/work/sprag/chunk_0001.h5 does not match its checksum" in proc.stdout + proc.stderr
+    assert not chunk.exists()
+    _snakemake(small_run, "--configfile", "config/small.yaml")
+    xr.testing.assert_identical(xr.load_dataset(result, engine="h5netcdf"), before)

@@ -70,3 +70,72 @@ def test_same_input_same_bytes(tmp_path, result):
     a = store.write(result, tmp_path / "a.h5").read_bytes()
     b = store.write(result, tmp_path / "b.h5").read_bytes()
     assert a == b
+
+
+def test_files_follow_the_umask(result, tmp_path):
+    import os
+
+    old = os.umask(0o022)
+    try:
+        p = store.write(result, tmp_path / "a.h5")
+        assert p.stat().st_mode & 0o777 == 0o644
+        os.umask(0o027)
+        p = store.write(result, tmp_path / "b.h5")
+        assert p.stat().st_mode & 0o777 == 0o640
+    finally:
+        os.umask(old)
+
+
+def test_stale_temporaries_of_a_dead_process_are_removed(result, tmp_path):
+    import socket
+    import subprocess
+    import sys
+
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True,
+                          text=True).stdout.strip()
+    stale = tmp_path / f".r.h5.{socket.gethostname()}.{dead}.deadbeef.tmp"
+    stale.write_bytes(b"x" * 1000)
+    other_host = tmp_path / ".r.h5.elsewhere.1.cafe0000.tmp"  # another host's writer may still run
+    other_host.write_bytes(b"x")
+    store.write(result, tmp_path / "r.h5")
+    assert not stale.exists() and other_host.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == [other_host.name, "r.h5"]
+
+
+def test_a_failed_write_leaves_nothing(result, tmp_path):
+    with pytest.raises(ZeroDivisionError):
+        with store.atomic(tmp_path / "x.png") as tmp:
+            tmp.write_bytes(b"half")
+            1 / 0
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.fixture
+def chunk(tmp_path):
+    sec = resolve({"studies": ["roller"], "roller": {"design": "factorial", "parameters": {
+        "rollers": {"values": [8, 12]}, "wedge_angle": {"values": ["9 deg", "11 deg"]}}}})["roller"]
+    design = doe.build_design(sec)
+    return store.write(doe.run_chunk(design, sec["options"], 1, 0), tmp_path / "chunk_0000.h5", with_checksum=True)
+
+
+def test_a_chunk_reads_back_against_its_checksum(chunk):
+    ds = store.load_verified(chunk)
+    assert "clutchlab_checksum" not in ds.attrs and ds.sizes["run"] == 4
+
+
+def test_a_changed_chunk_is_named_and_removed(chunk):
+    import h5py
+
+    with h5py.File(chunk, "r+") as f:
+        f["contact_stress"][1] = f["contact_stress"][1] * 1.001
+    with pytest.raises(store.CorruptChunk, match="chunk_0000.h5 does not match its checksum"):
+        store.load_verified(chunk)
+    assert not chunk.exists()  # the next snakemake run recomputes it
+
+
+def test_a_truncated_chunk_is_named_and_removed(chunk):
+    data = chunk.read_bytes()
+    chunk.write_bytes(data[: len(data) // 2])
+    with pytest.raises(store.CorruptChunk, match="chunk_0000.h5 cannot be read"):
+        store.load_verified(chunk)
+    assert not chunk.exists()

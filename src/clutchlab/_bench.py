@@ -4,13 +4,21 @@ from __future__ import annotations
 import argparse
 import csv
 
+from .store import atomic
+
 
 def write_rows(rows, path) -> None:
-    """Write a list of equal-keyed dicts as a CSV table."""
-    with open(path, "w", newline="") as fh:
+    """Write a list of equal-keyed dicts as a CSV table (atomically)."""
+    with atomic(path) as tmp, open(tmp, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
+
+
+def save_figure(fig, path, dpi=120) -> None:
+    """Save a figure as PNG atomically."""
+    with atomic(path) as tmp:
+        fig.savefig(tmp, dpi=dpi, format="png")
 
 
 def parse(doc, default_scenarios, argv=None, **extra):

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ._bench import parse, write_rows
+from ._bench import parse, save_figure, write_rows
 from . import engagement as eng
 
 RS = 1.3  # μ_s/μ_k
@@ -132,7 +132,7 @@ def run(outdir="results/benchmark", n=10_000, n_ref=200):
     if best is not None:
         print(f"  smallest ratio {best:.0f}x (target >= 200x: {'met' if best >= 200 else 'NOT met'})")
     fig = work_precision_figure(table)
-    fig.savefig(outdir / "work_precision.png", dpi=120)
+    save_figure(fig, outdir / "work_precision.png")
     return rows, best
 
 

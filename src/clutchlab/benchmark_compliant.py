@@ -29,7 +29,7 @@ import numpy as np
 
 from . import engagement as eng
 from . import reference
-from ._bench import parse, write_rows
+from ._bench import parse, save_figure, write_rows
 from .studies.engagement import tolerances
 
 METRICS = ("lockup_time", "slip_work", "peak_jerk")
@@ -117,7 +117,7 @@ def run(outdir="results/benchmark", n=10_000, n_ref=10):
             best = min(x[2] for x in ratios)
             print(f"  [{variant}] smallest ratio {best:.0f}x (target >= {target}x: {'met' if best >= target else 'NOT met'})")
     fig = work_precision_figure(rows)
-    fig.savefig(outdir / "compliant_work_precision.png", dpi=120)
+    save_figure(fig, outdir / "compliant_work_precision.png")
     return rows
 
 

@@ -57,18 +57,19 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
         pages.append(("engagement_work_precision", work_precision_figure(read_rows(benchmark_csv))))
     if validations:
         pages.append(("validation_table", validation_table(validations)))
-        to_csv(validations, outdir / "validation.csv")
+        with store.atomic(outdir / "validation.csv") as tmp:
+            to_csv(validations, tmp)
     written = []
-    tmp = outdir / ".report.pdf.tmp"
-    with PdfPages(tmp, metadata={"Title": title, "Creator": f"clutchlab {__version__}",
-                                 "CreationDate": None, "ModDate": None}) as pdf:
+    with store.atomic(outdir / "report.pdf") as tmp_pdf, \
+            PdfPages(tmp_pdf, metadata={"Title": title, "Creator": f"clutchlab {__version__}",
+                                        "CreationDate": None, "ModDate": None}) as pdf:
         for stem, fig in pages:
             png = outdir / f"{stem}.png"
-            fig.savefig(png, dpi=dpi, metadata={"Software": None})
+            with store.atomic(png) as tmp:
+                fig.savefig(tmp, dpi=dpi, metadata={"Software": None}, format="png")
             pdf.savefig(fig)
             plt.close(fig)
             written.append(png)
-    tmp.replace(outdir / "report.pdf")
     return written + [outdir / "report.pdf"]
 
 
