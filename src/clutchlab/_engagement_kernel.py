@@ -1048,6 +1048,12 @@ def _apply_event(kind, t, y, q, locked, parked, s, compliant, prof, d, dm, g, pk
     Records lock-up and break-away; fills d and g at the new mode; returns (locked, parked, s)."""
     held = q[HELD] > 0.0
     wr_col = R if compliant else H
+    if kind == UNPARK and not compliant and y[E] == y[H]:
+        # no slip to start from (e.g. a held engine at 0 rad/s and a parked driven side): the
+        # clutch that now carries the load holds the driven side at the engine's speed — a lock-up,
+        # not a start of slip into the wrong direction (negative slip work)
+        kind = LOCK
+        parked = False
     a_before = _forces(t, y, q, locked, parked, s, compliant, prof, dm)
     if kind == LOCK:
         locked = True
@@ -1147,7 +1153,9 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
     if q[WE0] == q[WC0]:
         aux_l = _forces(0.0, y, q, True, False, s, compliant, prof, d)
         if abs(aux_l[4]) <= q[RS] * aux[0]:
-            locked, parked = True, False
+            locked = True
+            if not compliant:  # (compliant: the lock joins hub and engine; the output stays parked)
+                parked = False
             out[LOCKUP_TIME] = 0.0
             out[LOCKUP_SPEED] = q[WC0]
         else:

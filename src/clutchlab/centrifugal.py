@@ -78,8 +78,17 @@ def capacity(*, speed, shoes, friction_coefficient, pressure_angle, shoe_mass, s
                         - spring_force, 0.0)
     base = shoes * friction_coefficient * drum_radius * excess
     with np.errstate(divide="ignore", invalid="ignore"):
-        forward = np.where(x < 1.0, base / (1.0 - x), np.nan)
+        forward = np.where(_jammed(x), np.nan, base / (1.0 - x))
     return forward, base / (1.0 + x)
+
+
+# f·tanα this close to 1 is jamming within the inputs' rounding: tan(45°) = 1 − 1.1e-16 in floating
+# point, and 1/(1 − f·tanα) would otherwise give M ≈ 1e18 N m for f = 1, α = 45°
+JAM_TOLERANCE = 1e-9
+
+
+def _jammed(x):
+    return ~(x < 1.0 - JAM_TOLERANCE)
 
 
 def linkage_factor_from_targets(forward_torque, reverse_torque):
@@ -112,6 +121,17 @@ def _drag_coefficients(rated_speed, rotor_load_torque, rated_passive_torque, sta
             rated_passive_torque * (1.0 - static_fraction) / w2)
 
 
+_DOMAIN = {"rated_speed": st.positive, "shoes": st.whole(1), "friction_coefficient": st.positive,
+           "pressure_angle": st.between(0.0, np.pi / 2, hi_open=True), "shoe_mass": st.positive,
+           "shoe_radius": st.positive, "drum_radius": st.positive, "spring_force": st.nonnegative,
+           "rotor_load_torque": st.nonnegative, "engine_inertia": st.positive, "rotor_inertia": st.positive,
+           "rated_passive_torque": st.nonnegative, "static_fraction": st.between(0.0, 1.0)}
+
+
+def _domain(names):
+    return {k: _DOMAIN[k] for k in names}
+
+
 def release_after_failure(*, rated_speed, shoes, friction_coefficient, pressure_angle, shoe_mass, shoe_radius,
                           drum_radius, spring_force, engine_inertia, rotor_inertia, rotor_load_torque,
                           rated_passive_torque, static_fraction):
@@ -133,8 +153,21 @@ def release_after_failure(*, rated_speed, shoes, friction_coefficient, pressure_
     -------
     dict
         ``release_speed`` [rad/s] (engine = rotor speed when the clutch lets go), ``release_time``
-        [s] after the failure (0: at once), ``released_at_once`` (bool).
+        [s] after the failure (0: at once), ``released_at_once`` (bool), ``status`` (ok, or
+        ``invalid_input`` with NaN where an input is not finite or not physical: a negative
+        passive torque or drag, a static fraction outside [0, 1], a count that is not whole, ...).
     """
+    inputs = dict(rated_speed=rated_speed, shoes=shoes, friction_coefficient=friction_coefficient,
+                  pressure_angle=pressure_angle, shoe_mass=shoe_mass, shoe_radius=shoe_radius, drum_radius=drum_radius,
+                  spring_force=spring_force, engine_inertia=engine_inertia, rotor_inertia=rotor_inertia,
+                  rotor_load_torque=rotor_load_torque, rated_passive_torque=rated_passive_torque,
+                  static_fraction=static_fraction)
+    return st.screened(_release_after_failure, inputs, _domain(inputs))
+
+
+def _release_after_failure(*, rated_speed, shoes, friction_coefficient, pressure_angle, shoe_mass, shoe_radius,
+                           drum_radius, spring_force, engine_inertia, rotor_inertia, rotor_load_torque,
+                           rated_passive_torque, static_fraction):
     k, p0, p2 = _drag_coefficients(rated_speed, rotor_load_torque, rated_passive_torque, static_fraction)
     j = engine_inertia + rotor_inertia
     a_rev = shoes * friction_coefficient * drum_radius / (1.0 + friction_coefficient * np.tan(pressure_angle))
@@ -149,7 +182,8 @@ def release_after_failure(*, rated_speed, shoes, friction_coefficient, pressure_
     w_rel = np.where(at_once, rated_speed, np.where((c2 < 0) & (root > w0), np.minimum(root, rated_speed), w0))
     w_rel = np.minimum(w_rel, rated_speed)
     t_rel = j * _inverse_quadratic_integral(p0, p2 + k, w_rel, rated_speed)
-    return {"release_speed": w_rel, "release_time": np.where(at_once, 0.0, t_rel), "released_at_once": at_once}
+    return {"release_speed": w_rel, "release_time": np.where(at_once, 0.0, t_rel), "released_at_once": at_once,
+            "status": np.full(np.shape(w_rel), st.CODE["ok"], dtype=st.DTYPE)}
 
 
 def _inverse_quadratic_integral(a, c, lo, hi):
@@ -165,15 +199,25 @@ def _inverse_quadratic_integral(a, c, lo, hi):
 
 def design_status(*, rated_speed, shoes, friction_coefficient, pressure_angle, shoe_mass, shoe_radius, drum_radius,
            spring_force, rotor_load_torque):
-    """``jammed`` where f·tanα ≥ 1; ``not_engaged`` where the springs beat the centrifugal force at
-    rated speed or the forward capacity there is below the rotor load; else ``ok``."""
+    """``jammed`` where f·tanα ≥ 1 (to within :data:`JAM_TOLERANCE`); ``not_engaged`` where the
+    springs beat the centrifugal force at rated speed or the forward capacity there is below the
+    rotor load; ``invalid_input`` where an input is not finite or not physical; else ``ok``."""
+    inputs = dict(rated_speed=rated_speed, shoes=shoes, friction_coefficient=friction_coefficient,
+                  pressure_angle=pressure_angle, shoe_mass=shoe_mass, shoe_radius=shoe_radius, drum_radius=drum_radius,
+                  spring_force=spring_force, rotor_load_torque=rotor_load_torque)
+    return st.screened(_design_status, inputs, _domain(inputs))["status"]
+
+
+def _design_status(*, rated_speed, shoes, friction_coefficient, pressure_angle, shoe_mass, shoe_radius, drum_radius,
+                   spring_force, rotor_load_torque):
     fwd, _ = capacity(speed=rated_speed, shoes=shoes, friction_coefficient=friction_coefficient,
                       pressure_angle=pressure_angle, shoe_mass=shoe_mass, shoe_radius=shoe_radius,
                       drum_radius=drum_radius, spring_force=spring_force)
     weak = (centrifugal_force(shoe_mass=shoe_mass, shoe_radius=shoe_radius, speed=rated_speed) <= spring_force) | (
         fwd < rotor_load_torque)
-    jam = friction_coefficient * np.tan(pressure_angle) >= 1.0
-    return np.where(jam, st.CODE["jammed"], np.where(weak, st.CODE["not_engaged"], st.CODE["ok"])).astype(st.DTYPE)
+    jam = _jammed(friction_coefficient * np.tan(pressure_angle))
+    return {"status": np.where(jam, st.CODE["jammed"], np.where(weak, st.CODE["not_engaged"],
+                                                                  st.CODE["ok"])).astype(st.DTYPE)}
 
 
 def _params(p):

@@ -88,6 +88,12 @@ def geometry_is_valid(*, sheet_thickness, cone_height, outer_radius, inner_radiu
             & (sheet_thickness > 0) & (cone_height > 0))
 
 
+_DOMAIN = {"youngs_modulus": st.positive, "poisson_ratio": st.between(-1.0, 0.5, lo_open=True, hi_open=True),
+           "sheet_thickness": st.positive, "cone_height": st.positive, "outer_radius": st.positive,
+           "inner_radius": st.positive, "load_radius_outer": st.positive, "load_radius_inner": st.positive,
+           "operating_point_factor": st.positive}
+
+
 def characteristic_points(*, youngs_modulus, poisson_ratio, sheet_thickness, cone_height,
                           outer_radius, inner_radius, load_radius_outer, load_radius_inner,
                           operating_point_factor=0.9):
@@ -106,8 +112,19 @@ def characteristic_points(*, youngs_modulus, poisson_ratio, sheet_thickness, con
         ``deflection_A/C/D/B`` [m], ``load_A/C/D/B`` [N] and ``status`` (int8, see
         :mod:`clutchlab.status`): ``monotone_no_hump`` where H/h ≤ √2 (A and D are NaN, B is
         still given since the flat position C exists), ``snap_through`` where the valley load
-        F_D ≤ 0 (H/h ≥ 2√2: the spring would not spring back) and ``invalid_geometry`` (all NaN).
+        F_D ≤ 0 (H/h ≥ 2√2: the spring would not spring back), ``invalid_geometry`` (all NaN) and
+        ``invalid_input`` (all NaN) where an input is not finite or not physical (E, h, H, radii,
+        operating-point factor ≤ 0; ν outside (−1, 0.5)).
     """
+    return st.screened(_characteristic_points, dict(
+        youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio, sheet_thickness=sheet_thickness,
+        cone_height=cone_height, outer_radius=outer_radius, inner_radius=inner_radius,
+        load_radius_outer=load_radius_outer, load_radius_inner=load_radius_inner,
+        operating_point_factor=operating_point_factor), _DOMAIN)
+
+
+def _characteristic_points(*, youngs_modulus, poisson_ratio, sheet_thickness, cone_height, outer_radius,
+                           inner_radius, load_radius_outer, load_radius_inner, operating_point_factor):
     args = dict(youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio,
                 sheet_thickness=sheet_thickness, cone_height=cone_height, outer_radius=outer_radius,
                 inner_radius=inner_radius, load_radius_outer=load_radius_outer,

@@ -113,6 +113,22 @@ def _invert_profile(q, kind):
     return x
 
 
+# admissible per-scenario inputs (anything else: status invalid_input, NaN outputs)
+_DOMAIN = {
+    "engine_speed": st.nonnegative, "engine_inertia": st.positive_or_inf, "engine_torque": st.finite,
+    "driven_inertia": st.positive, "load_torque": st.nonnegative, "peak_capacity": st.nonnegative,
+    "ramp_time": st.nonnegative, "static_ratio": st.at_least(1.0), "driven_speed": st.nonnegative,
+    "t_end": st.positive_or_inf,
+    None: lambda a: a["driven_speed"] <= a["engine_speed"],
+}
+_DOMAIN_SIMULATE = {
+    **_DOMAIN, "t_end": st.positive, "stribeck_speed": st.positive_or_inf, "aero_coefficient": st.nonnegative,
+    "load_step": st.finite, "load_step_time": st.nonnegative_or_inf,
+    "hub_fraction": st.between(0.0, 1.0, lo_open=True, hi_open=True), "damper_stiffness": st.positive_or_inf,
+    "damping_ratio": st.nonnegative, "release_ratio": st.at_least(1.0),
+}
+
+
 def closed_form(*, engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque, peak_capacity,
                 ramp_time, profile="ramp", static_ratio=1.0, driven_speed=0.0, t_end=np.inf):
     """Exact engagement for constant μ, constant torques and a polynomial clamp profile.
@@ -152,10 +168,20 @@ def closed_form(*, engine_speed, engine_inertia, engine_torque, driven_inertia, 
         ``capacity_at_lockup`` [N m], ``accel_jump`` [rad/s²] (driven acceleration after minus
         before lock-up; a rigid model has a Dirac jerk there), ``slip_jerk`` [rad/s³] (driven
         jerk dT_c/dt/J_v at the end of slip, eq. 12), ``status``. Works are over [0, t_lock]
-        (or [0, t_end] if never locked).
+        (or [0, t_end] if never locked). A scenario with an input outside its domain (NaN; J ≤ 0;
+        T_m, C_max, t_r or ω_e < 0; μ_s/μ_k < 1; ω_c(0) outside [0, ω_e(0)]) has status
+        ``invalid_input`` and NaN outputs; the others are computed as if it were not there.
     """
     if profile not in PROFILES:
         raise ValueError(f"profile must be one of {PROFILES}, got {profile!r}")
+    return st.screened(_closed_form, dict(
+        engine_speed=engine_speed, engine_inertia=engine_inertia, engine_torque=engine_torque,
+        driven_inertia=driven_inertia, load_torque=load_torque, peak_capacity=peak_capacity, ramp_time=ramp_time,
+        static_ratio=static_ratio, driven_speed=driven_speed, t_end=t_end), _DOMAIN, extra={"profile": profile})
+
+
+def _closed_form(*, engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque, peak_capacity,
+                 ramp_time, static_ratio, driven_speed, t_end, profile):
     arrs = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (
         engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque, peak_capacity, ramp_time,
         static_ratio, driven_speed, t_end)))
@@ -522,14 +548,25 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
         correction is accepted) and, with
         ``trace_times``, a ``trace`` dict of arrays (scenario..., time): engine, hub and output
         speed [rad/s], friction torque and capacity [N m], slip work [J], output jerk [rad/s³].
+        Inputs are screened as in :func:`closed_form` (plus v_s, J-split, stiffness > 0, ζ, k_a ≥ 0,
+        κ ≥ 1, a finite t_end > 0): a bad scenario has status ``invalid_input`` and NaN outputs.
     """
-    Q, shape = _parameter_table(
+    if profile not in PROFILES:
+        raise ValueError(f"profile must be one of {PROFILES}, got {profile!r}")
+    return st.screened(_simulate, dict(
         engine_speed=engine_speed, engine_inertia=engine_inertia, engine_torque=engine_torque,
         driven_inertia=driven_inertia, load_torque=load_torque, peak_capacity=peak_capacity, ramp_time=ramp_time,
-        profile=profile, static_ratio=static_ratio, stribeck_speed=stribeck_speed, driven_speed=driven_speed,
+        static_ratio=static_ratio, stribeck_speed=stribeck_speed, driven_speed=driven_speed,
         aero_coefficient=aero_coefficient, load_step=load_step, load_step_time=load_step_time,
-        engine_torque_table=engine_torque_table, hub_fraction=hub_fraction, damper_stiffness=damper_stiffness,
-        damping_ratio=damping_ratio, release_ratio=release_ratio, t_end=t_end)
+        hub_fraction=hub_fraction, damper_stiffness=damper_stiffness, damping_ratio=damping_ratio,
+        release_ratio=release_ratio, t_end=t_end), _DOMAIN_SIMULATE, extra=dict(
+        profile=profile, engine_torque_table=engine_torque_table, compliant=compliant, rtol=rtol, atol=atol,
+        max_step=max_step, first_step=first_step, max_steps=max_steps, trace_times=trace_times))
+
+
+def _simulate(*, profile, engine_torque_table, compliant, rtol, atol, max_step, first_step, max_steps, trace_times,
+              **scenario):
+    Q, shape = _parameter_table(profile=profile, engine_torque_table=engine_torque_table, **scenario)
     tt = np.zeros(0) if trace_times is None else np.ascontiguousarray(trace_times, dtype=float).ravel()
     res, trace = _k.simulate_batch(Q, bool(compliant), PROFILES.index(profile), tt, float(rtol), float(atol),
                                    float(max_step), float(first_step or 0.0), int(max_steps))

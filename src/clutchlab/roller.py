@@ -64,9 +64,14 @@ def loaded_rollers(rollers, reading="one_flank"):
 
     ``one_flank`` (clutchlab): the wedge ring is symmetric for both directions, and in either
     direction only the rollers on one flank of each wedge lock, z/2 of them — the reading that gives
-    the published σ_H = 2865.5 MPa; ``all``: eq. (2) as printed, every roller loaded (2026 MPa)."""
+    the published σ_H = 2865.5 MPa; ``all``: eq. (2) as printed, every roller loaded (2026 MPa).
+    A count that is not a whole number ≥ 1 — or, for ``one_flank``, not even (z = 13 would load 6.5
+    rollers) — gives NaN, so every number computed from it is NaN (the config refuses such counts)."""
     z = np.asarray(rollers, float)
-    return 0.5 * z if reading == "one_flank" else z
+    whole = st.whole(1)(z)
+    if reading == "one_flank":
+        return np.where(whole & (z % 2 == 0), 0.5 * z, np.nan)
+    return np.where(whole, z, np.nan)
 
 
 def normal_force(torque, *, contact_radius, friction_coefficient, rollers):
@@ -131,6 +136,15 @@ def engages(mode, direction=1):
     return d < 0 if mode == "overrun_forward" else d > 0
 
 
+_DOMAIN = {"driving_speed": st.positive, "load_torque": st.nonnegative, "wedge_inertia": st.positive,
+           "driven_inertia": st.positive, "contact_radius": st.positive, "rollers_loaded": st.positive,
+           "wedge_angle": st.between(0.0, np.pi / 2, lo_open=True, hi_open=True), "friction_coefficient": st.positive,
+           "spring_force": st.nonnegative, "stiffness": st.positive, "exponent": st.at_least(1.0),
+           "damping": st.nonnegative, "penetration_depth": st.positive, "control_stop_time": st.nonnegative_or_inf,
+           "claw_clearance": st.nonnegative, "end_time": st.positive, "sync_tolerance": st.between(0.0, 1.0, hi_open=True),
+           "max_step": st.positive_or_inf}
+
+
 def parameter_rows(*, driving_speed, load_torque, wedge_inertia, driven_inertia, contact_radius, rollers_loaded,
                    wedge_angle, friction_coefficient, spring_force, stiffness, exponent=1.5, damping=2.1e6,
                    penetration_depth=1e-4, control_stop_time=np.inf, claw_clearance=0.0, end_time=2e-3,
@@ -171,12 +185,15 @@ def simulate(*, rtol=1e-8, max_steps=200_000, trace_index=None, trace_points=20_
     rotation at engagement), ``slip_backlash`` [rad] (its driving/wedge ring part), ``stick_time``
     [s], ``peak_contact_force`` [N] (per roller, peaks located exactly), ``release_time`` [s] after
     the control ring stops, ``final_contact_force`` [N], ``n_steps``, ``n_fev``, ``status`` (ok;
-    never_locked; not_converged; not_self_locking: tan(α/2) ≥ μ, not simulated); and ``trace``
+    never_locked; not_converged; not_self_locking: tan(α/2) ≥ μ, not simulated; invalid_input: an
+    input not finite or not physical, not simulated, NaN); and ``trace``
     (columns t, ω_d, ω_w, ω_o, N) of scenario ``trace_index``.
     """
     P, shape = parameter_rows(**scenario)
+    _, ok = st.admissible(scenario, {k: _DOMAIN[k] for k in scenario})
+    ok = np.broadcast_to(ok, shape).ravel()
     th, mu = P[:, _k.TH], P[:, _k.MU]
-    locks = th < mu
+    locks = ok & (th < mu)
     idx = np.flatnonzero(locks)
     row = -1 if trace_index is None else int(np.searchsorted(idx, trace_index))
     if trace_index is not None and (row >= idx.size or idx[row] != trace_index):
@@ -184,7 +201,8 @@ def simulate(*, rtol=1e-8, max_steps=200_000, trace_index=None, trace_points=20_
     out, trace = _k.simulate_roller(P[idx], float(rtol), int(max_steps), row, int(trace_points))
     full = np.full((P.shape[0], len(_k.RESULTS)), np.nan)
     full[idx] = out
-    full[~locks, _k.STATUS] = st.CODE["not_self_locking"]
+    full[ok & ~locks, _k.STATUS] = st.CODE["not_self_locking"]
+    full[~ok, _k.STATUS] = st.CODE["invalid_input"]
     res = {name: full[:, i].reshape(shape) for i, name in enumerate(_k.RESULTS)}
     res["status"] = res["status"].astype(st.DTYPE)
     res["trace"] = trace

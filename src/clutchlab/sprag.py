@@ -225,7 +225,8 @@ def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **g
     dict of ndarrays: ``V``, ``W``, ``psi`` [rad]; deformed radii ``inner_race_radius``,
     ``outer_race_radius``, ``sprag_inner_radius``, ``sprag_outer_radius`` [m]; ``load_inner``,
     ``load_outer`` [N]; ``status`` (ok, invalid_geometry: the sprag does not span the races at rest;
-    roll_over: the loaded races open past the sprag's reach; not_converged).
+    roll_over: the loaded races open past the sprag's reach; not_converged). At zero torque the
+    result is the rest geometry (:func:`rest_geometry`) with zero loads.
     """
     g = _geometry(geometry)
     torque = np.asarray(torque, float)
@@ -234,10 +235,11 @@ def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **g
     t = np.broadcast_to(torque, shape).ravel()
     c = np.broadcast_to(np.asarray(compliance_factor, float), shape).ravel()
     rest = rest_geometry(**g)
-    valid = (rest["overlap"] > 0) & (rest["overlap"] < g["centre_distance"]) & (t > 0)
+    valid = (rest["overlap"] > 0) & (rest["overlap"] < g["centre_distance"]) & (t >= 0)
 
     lo = np.where(valid, rest["V"], 0.1)
-    hi = np.full_like(lo, np.deg2rad(80.0))
+    # unloaded (T = 0): the rest geometry itself (no load, no deflection), bracket closed at V₀
+    hi = np.where(valid & (t == 0), lo, np.deg2rad(80.0))
     f = lambda v: v - _deformed(t, v, g, c)["V"]  # noqa: E731
     f_lo, f_hi = f(lo), f(hi)
     side = np.zeros(lo.shape, np.int8)
@@ -245,7 +247,8 @@ def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **g
         active = valid & (hi - lo > tol)
         if not active.any():
             break
-        x = np.where(active, (lo * f_hi - hi * f_lo) / (f_hi - f_lo), lo)
+        with np.errstate(divide="ignore", invalid="ignore"):  # inactive (e.g. unloaded) lanes: unused
+            x = np.where(active, (lo * f_hi - hi * f_lo) / (f_hi - f_lo), lo)
         x = np.where(active & ~((x > lo) & (x < hi)), 0.5 * (lo + hi), x)
         fx = f(x)
         right = active & (fx > 0)  # root left of x
@@ -342,9 +345,26 @@ def statics(torque, *, compliance_factor=1.0, contact_allowable=3400e6, shaft_al
     dict: ``V``, ``W``, ``psi`` [rad]; ``contact_stress_inner``, ``contact_stress_outer``,
     ``vm_stress_inner``, ``vm_stress_outer`` [Pa]; ``margin_*`` = allowable/value − 1 for the five
     checks (``contact_inner``, ``contact_outer``, ``vm_inner``, ``vm_outer``, ``gripping_angle``);
-    ``status``: invalid_geometry / roll_over / not_converged (no numbers), else pop_out_risk when
-    V exceeds its allowable, else above_allowable when a stress does, else ok.
+    ``status``: invalid_input (an input not finite or not physical: negative torque, a sprag
+    count that is not whole, ν outside (−1, 0.5), ...), invalid_geometry / roll_over /
+    not_converged (no numbers), else pop_out_risk when V exceeds its allowable, else
+    above_allowable when a stress does, else ok. Zero torque: the rest geometry, zero stresses.
     """
+    inputs = dict(torque=torque, compliance_factor=compliance_factor, contact_allowable=contact_allowable,
+                  shaft_allowable=shaft_allowable, gripping_angle_allowable=gripping_angle_allowable, **geometry)
+    return st.screened(_statics, inputs, {k: _DOMAIN[k] for k in inputs})
+
+
+_DOMAIN = {"torque": st.nonnegative, "compliance_factor": st.positive, "contact_allowable": st.positive,
+           "shaft_allowable": st.positive, "gripping_angle_allowable": st.between(0.0, np.pi / 2, lo_open=True),
+           "sprags": st.whole(1), "sprag_length": st.positive, "centre_distance": st.positive,
+           "sprag_inner_radius": st.positive, "sprag_outer_radius": st.positive, "inner_bore_radius": st.nonnegative,
+           "inner_race_radius": st.positive, "outer_race_radius": st.positive, "outer_rim_radius": st.positive,
+           "youngs_modulus": st.positive, "poisson_ratio": st.between(-1.0, 0.5, lo_open=True, hi_open=True)}
+
+
+def _statics(torque, *, compliance_factor, contact_allowable, shaft_allowable, gripping_angle_allowable,
+             **geometry):
     grip = gripping_angle(torque, compliance_factor=compliance_factor, **geometry)
     g = {**_geometry(geometry), **{k: grip[k] for k in ("inner_race_radius", "outer_race_radius",
                                                           "sprag_inner_radius", "sprag_outer_radius")}}
@@ -355,8 +375,9 @@ def statics(torque, *, compliance_factor=1.0, contact_allowable=3400e6, shaft_al
     checks = dict(contact_inner=(ci, contact_allowable), contact_outer=(co, contact_allowable),
                   vm_inner=(vm["inner"], shaft_allowable), vm_outer=(vm["outer"], shaft_allowable),
                   gripping_angle=(grip["V"], gripping_angle_allowable))
-    for name, (value, allowable) in checks.items():
-        out[f"margin_{name}"] = allowable / value - 1.0
+    with np.errstate(divide="ignore"):  # unloaded: an infinite margin
+        for name, (value, allowable) in checks.items():
+            out[f"margin_{name}"] = allowable / value - 1.0
     code = np.array(grip["status"], copy=True)
     ok = code == st.CODE["ok"]
     stress_bad = np.zeros(code.shape, bool)

@@ -23,6 +23,7 @@ FLAGS = {
     11: "not_self_locking",
     12: "overrunning",
     13: "truncated",
+    14: "invalid_input",
 }
 CODE = {meaning: code for code, meaning in FLAGS.items()}
 DTYPE = np.int8
@@ -40,3 +41,97 @@ def attrs(description: str = "") -> dict:
         out["comment"] = description
     return out
 
+
+
+# ---- per-scenario input screening ---------------------------------------------------------------
+# A public physics function declares the domain of each per-scenario input; a scenario with any
+# input outside it (NaN, an infinity where none is meaningful, a negative mass, ...) gets status
+# ``invalid_input`` and NaN outputs, and the others are computed as a batch of their own, so they
+# are bit-identical to a batch without the bad ones.
+
+def finite(x):
+    return np.isfinite(x)
+
+
+def positive(x):
+    return np.isfinite(x) & (x > 0)
+
+
+def nonnegative(x):
+    return np.isfinite(x) & (x >= 0)
+
+
+def positive_or_inf(x):
+    """> 0, inf allowed (a held engine, a constant μ, no release): NaN is not."""
+    return x > 0
+
+
+def nonnegative_or_inf(x):
+    return x >= 0
+
+
+def at_least(lo):
+    return lambda x: np.isfinite(x) & (x >= lo)
+
+
+def between(lo, hi, *, lo_open=False, hi_open=False):
+    def check(x):
+        return (np.isfinite(x) & ((x > lo) if lo_open else (x >= lo)) & ((x < hi) if hi_open else (x <= hi)))
+    return check
+
+
+def whole(minimum):
+    return lambda x: np.isfinite(x) & (x >= minimum) & (x == np.round(x))
+
+
+def admissible(inputs: dict, domain: dict):
+    """The inputs broadcast together (a dict of float arrays) and the mask of scenarios whose
+    inputs all lie in ``domain`` (see :func:`screened`)."""
+    arrays = dict(zip(inputs, np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in inputs.values()))))
+    shape = next(iter(arrays.values())).shape if arrays else ()
+    ok = np.ones(shape, dtype=bool)
+    with np.errstate(invalid="ignore"):
+        for name, rule in domain.items():
+            ok &= rule(arrays) if name is None else rule(arrays[name])
+    return arrays, ok
+
+
+def screened(compute, inputs: dict, domain: dict, *, extra=None) -> dict:
+    """Run ``compute(**inputs)`` on the scenarios whose inputs lie in ``domain`` only.
+
+    ``inputs`` maps names to per-scenario arrays (broadcast together); ``domain`` maps some of
+    them to a predicate giving True where the value is admissible, and may hold the key ``None``:
+    a predicate of all inputs (e.g. a relation between two of them). ``extra`` (scalars, options)
+    is passed unchanged. Returns ``compute``'s dict with every array (nested dicts too) shaped
+    like the broadcast inputs (plus its own trailing axes), NaN (integers: 0) and status
+    ``invalid_input`` where an input was bad.
+    """
+    extra = extra or {}
+    arrays, ok = admissible(inputs, domain)
+    shape = ok.shape
+    if ok.all():
+        return compute(**inputs, **extra)
+    good = ok.ravel()
+    out = compute(**{k: a.reshape(-1)[good] for k, a in arrays.items()}, **extra)
+    return _scatter(out, good, shape)
+
+
+def _scatter(out, good, shape):
+    full = {}
+    for name, v in out.items():
+        if isinstance(v, dict):
+            full[name] = _scatter(v, good, shape)
+            continue
+        v = np.asarray(v)
+        if v.ndim == 0:  # a shared scalar (not per scenario)
+            full[name] = v
+            continue
+        if name == "status":
+            a = np.full((good.size,) + v.shape[1:], CODE["invalid_input"], dtype=v.dtype)
+        elif v.dtype.kind == "f":
+            a = np.full((good.size,) + v.shape[1:], np.nan, dtype=v.dtype)
+        else:
+            a = np.zeros((good.size,) + v.shape[1:], dtype=v.dtype)
+        a[good] = v.reshape((int(good.sum()),) + v.shape[1:]) if v.size else v
+        full[name] = a.reshape(shape + v.shape[1:])
+    return full
