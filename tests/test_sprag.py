@@ -190,3 +190,15 @@ def test_study_compute_labels_and_statuses():
     assert ds["status"].values[-1] in (st.CODE["pop_out_risk"], st.CODE["above_allowable"])
     imp = study.compute({**inputs, "torque": np.ones(2)}, {"torque_source": "impact_peak"})
     assert imp["torque_applied"].values[0] == pytest.approx(750.0, rel=1e-6)  # the assumed nominal impact
+
+
+@pytest.mark.parametrize("factor", [0.5, 1.0, 1.7196, 3.0])
+def test_status_is_monotone_in_torque_past_roll_over(factor):
+    """Issue 14: above the roll-over torque the fixed point found spurious roots at 30-50x that
+    torque (roll_over, then above_allowable, then pop_out_risk as the torque grew): once rolled
+    over, a sprag stays rolled over at every larger torque."""
+    torque = np.geomspace(100.0, 1e7, 400)
+    code = sp.statics(torque, compliance_factor=factor)["status"]
+    rolled = np.flatnonzero(code == st.CODE["roll_over"])
+    assert rolled.size and (code[rolled[0]:] == st.CODE["roll_over"]).all()
+    assert 500.0 < torque[rolled[0]] < 1e4  # a few times the 750 N m of Table 2

@@ -156,11 +156,13 @@ def parameter_rows(*, driving_speed, load_torque, wedge_inertia, driven_inertia,
         friction_coefficient, spring_force, stiffness, exponent, damping, penetration_depth, control_stop_time,
         claw_clearance, end_time, max_step, sync_tolerance)))
     (wd, tl, jw, jo, rc, z, alpha, mu, ft, k, e, c, dmax, trel, clr, tend, hmax, eps) = (a.ravel() for a in args)
-    n0 = ft / (2.0 * np.sin(0.5 * alpha))  # preload normal force of the spring-held roller
     P = np.zeros((wd.size, _k.N_PARAM))
-    cols = {_k.WD: wd, _k.TL: tl, _k.JW: jw, _k.JO: jo, _k.RC: rc, _k.Z: z, _k.TH: np.tan(0.5 * alpha),
-            _k.TA: np.tan(alpha), _k.MU: mu, _k.K: k, _k.EXP: e, _k.CD: c, _k.DMAX: dmax, _k.D0: (n0 / k) ** (1.0 / e),
-            _k.TREL: trel, _k.CLR: clr, _k.TEND: tend, _k.HMAX: hmax, _k.WSYNC: (1.0 - eps) * wd}
+    with np.errstate(divide="ignore", invalid="ignore"):  # rows of invalid inputs are not simulated
+        n0 = ft / (2.0 * np.sin(0.5 * alpha))  # preload normal force of the spring-held roller
+        cols = {_k.WD: wd, _k.TL: tl, _k.JW: jw, _k.JO: jo, _k.RC: rc, _k.Z: z, _k.TH: np.tan(0.5 * alpha),
+                _k.TA: np.tan(alpha), _k.MU: mu, _k.K: k, _k.EXP: e, _k.CD: c, _k.DMAX: dmax,
+                _k.D0: (n0 / k) ** (1.0 / e), _k.TREL: trel, _k.CLR: clr, _k.TEND: tend, _k.HMAX: hmax,
+                _k.WSYNC: (1.0 - eps) * wd}
     for col, v in cols.items():
         P[:, col] = v
     return P, args[0].shape

@@ -166,6 +166,9 @@ def _normal_loads(torque, v, w, r_in, r_out, sprags):
     return torque / (sprags * r_in * np.tan(v)), torque / (sprags * r_out * np.tan(w))
 
 
+UNSETTLED_RADII = 1e-4
+
+
 def _deformed(torque, v, g, compliance_factor, inner_passes=3):
     """Deformed radii and the new (ψ, V, W) for an assumed gripping angle V (one map of the fixed
     point). The outer angle W = asin(R̄_i sin V / R̄_o) needs the deformed radii, which need the
@@ -177,11 +180,17 @@ def _deformed(torque, v, g, compliance_factor, inner_passes=3):
     mat = dict(youngs_modulus=g["youngs_modulus"], poisson_ratio=g["poisson_ratio"])
     ri_bar, ro_bar = g["inner_race_radius"], g["outer_race_radius"]
     for _ in range(inner_passes):
+        ri_prev, ro_prev = ri_bar, ro_bar
         w = np.arcsin(ri_bar * np.sin(v) / ro_bar)
         n_i, n_o = _normal_loads(torque, v, w, ri_bar, ro_bar, n)
         u_i, u_o = race_deflections(n_i, n_o, **g)
         ri_bar = g["inner_race_radius"] + compliance_factor * u_i
         ro_bar = g["outer_race_radius"] + compliance_factor * u_o
+    # change of the radii in the last pass: ~1e-6 relative on the physical branch; far above that
+    # the races' load-deflection loop does not settle (loads so large that the radii move by their
+    # own size): the roots found there are not states of the clutch
+    unsettled = ~(np.maximum(np.abs(ri_bar - ri_prev) / g["inner_race_radius"],
+                             np.abs(ro_bar - ro_prev) / g["outer_race_radius"]) <= UNSETTLED_RADII)
     d_i = compliance_factor * contact_approach(n_i, sprag_length=l, **mat)
     d_o = compliance_factor * contact_approach(n_o, sprag_length=l, **mat)
     # the contact approach shortens the sprag's effective arc radii (the r̄ of seed 002 eq. 7)
@@ -191,7 +200,7 @@ def _deformed(torque, v, g, compliance_factor, inner_passes=3):
     v_new, w_new = _chord_angles(psi, ri_bar, ro_bar)
     return dict(V=v_new, W=w_new, psi=psi, inner_race_radius=ri_bar, outer_race_radius=ro_bar,
                 sprag_inner_radius=si_bar, sprag_outer_radius=so_bar, overlap=oa - ob,
-                load_inner=n_i, load_outer=n_o)
+                load_inner=n_i, load_outer=n_o, unsettled=unsettled)
 
 
 def _geometry(kw):
@@ -243,7 +252,9 @@ def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **g
     lo = np.where(valid, rest["V"], 0.1)
     # unloaded (T = 0): the rest geometry itself (no load, no deflection), bracket closed at V₀
     hi = np.where(valid & (t == 0), lo, np.deg2rad(80.0))
-    f = lambda v: v - _deformed(t, v, g, c)["V"]  # noqa: E731
+    def f(v):
+        with np.errstate(invalid="ignore"):  # beyond roll-over the deformed geometry has no angles (NaN)
+            return v - _deformed(t, v, g, c)["V"]
     f_lo, f_hi = f(lo), f(hi)
     side = np.zeros(lo.shape, np.int8)
     for _ in range(max_iter):
@@ -266,13 +277,21 @@ def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **g
             hi = np.where(active & (fx == 0), x, hi)
             lo = np.where(active & (fx == 0), x, lo)
     v = 0.5 * (lo + hi)
-    out = _deformed(t, v, g, c)
-    out["V"] = v
-    out["W"] = np.arcsin(out["inner_race_radius"] * np.sin(v) / out["outer_race_radius"])
+    with np.errstate(invalid="ignore"):
+        out = _deformed(t, v, g, c)
+        out["V"] = v
+        out["W"] = np.arcsin(out["inner_race_radius"] * np.sin(v) / out["outer_race_radius"])
     out["psi"] = v - out["W"]
     code = np.full(v.shape, st.CODE["ok"], dtype=st.DTYPE)
     code[valid & (hi - lo > tol)] = st.CODE["not_converged"]
-    code[valid & (out["overlap"] <= 0)] = st.CODE["roll_over"]
+    # roll-over: the loaded races open past the sprag's reach (deformed overlap ≤ 0), or the loads are
+    # so far beyond it that the deformed geometry is no state of the clutch (radii that do not
+    # settle, a sprag longer than it is wide): the roots found there are spurious (a status that
+    # grows back to above_allowable at 50x the roll-over torque, issue 14)
+    beyond = ((out["overlap"] <= 0) | ~(out["overlap"] < g["centre_distance"]) | out.pop("unsettled")
+              | ~(out["sprag_inner_radius"] > 0) | ~(out["sprag_outer_radius"] > 0)
+              | ~(out["load_inner"] >= 0) | ~(out["load_outer"] >= 0))
+    code[valid & beyond] = st.CODE["roll_over"]
     code[~valid] = st.CODE["invalid_geometry"]
     bad = code != st.CODE["ok"]
     res = {k: np.where(bad, np.nan, val).reshape(shape) for k, val in out.items() if k != "overlap"}
