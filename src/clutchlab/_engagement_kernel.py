@@ -1180,6 +1180,8 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
             _copy(y_end, y)
             if not (locked and compliant):
                 break
+            if parked and held and y[E] == 0.0 and y[H] == 0.0:
+                break  # a held engine at rest, hub locked to it, output parked: nothing moves again
             if _is_linear(q, True):
                 if not _follow_linear(t, y, q, parked, s, prof, pk, ft, pw, tq, osc, armed):
                     out[TRUNCATED] = 1.0
