@@ -80,6 +80,10 @@ def reserve_map(ds):
     rf_all = sub["reserve_factor"].values
     vmax = float(np.nanmax(rf_all)) if np.isfinite(rf_all).any() else 2.0
     norm = TwoSlopeNorm(vmin=0.0, vcenter=1.0, vmax=max(vmax, 1.5))
+    op_factor = float(sub["operating_point_factor"])
+    fixed = {d: [float(sub[d])] for d in ("cone_height_ratio", "sheet_thickness") if d not in sub.dims}
+    if fixed:  # a fixed value: a map one cell wide
+        sub = sub.drop_vars(list(fixed)).expand_dims(fixed)
     for ax, rr in zip(axes[0], panels):
         p = (sub.sel(radius_ratio=rr) if rr is not None else sub).transpose("cone_height_ratio", "sheet_thickness", ...)
         rf = p["reserve_factor"].values
@@ -104,7 +108,7 @@ def reserve_map(ds):
         axes[0][0].legend(fontsize=7, loc="upper left")
     fig.colorbar(mesh, ax=axes[0].tolist(), label="reserve factor = capacity / T_emax [-]  (black line: 1.0)")
     fig.suptitle("Torque reserve factor at lambda_B = %.2g lambda_C; markers: status (no hump = no wear "
-                 "compensation, snap-through, invalid)" % float(sub["operating_point_factor"]))
+                 "compensation, snap-through, invalid)" % op_factor)
     return fig
 
 
