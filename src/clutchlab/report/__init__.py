@@ -64,6 +64,7 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
             PdfPages(tmp_pdf, metadata={"Title": title, "Creator": f"clutchlab {__version__}",
                                         "CreationDate": None, "ModDate": None}) as pdf:
         for stem, fig in pages:
+            _wrap_suptitle(fig)
             png = outdir / f"{stem}.png"
             with store.atomic(png) as tmp:
                 fig.savefig(tmp, dpi=dpi, metadata={"Software": None}, format="png")
@@ -71,6 +72,15 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
             plt.close(fig)
             written.append(png)
     return written + [outdir / "report.pdf"]
+
+
+def _wrap_suptitle(fig, width=130):
+    """Wrap a figure's title lines to the page (a long fixed-value list ran off both sides)."""
+    title = getattr(fig, "_suptitle", None)
+    if title is not None:
+        import textwrap
+
+        title.set_text("\n".join(textwrap.fill(line, width) for line in title.get_text().split("\n")))
 
 
 def status_counts(ds) -> dict[str, int]:

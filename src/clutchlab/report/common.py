@@ -42,7 +42,7 @@ def title_page(title, version, results, validations):
     fig.text(0.06, 0.95, "\n".join(textwrap.wrap(title, 70)), fontsize=20, weight="bold", va="top",
              parse_math=False)
     fig.text(0.06, 0.855, f"clutchlab {version}", fontsize=11, color="0.3")
-    y = 0.80
+    blocks = []
     for name, ds in results.items():
         n = int(np.prod([ds.sizes[d] for d in ds["status"].dims])) if ds["status"].dims else 1
         dims = ", ".join(f"{d} ({ds.sizes[d]})" for d in ds["status"].dims)
@@ -50,15 +50,21 @@ def title_page(title, version, results, validations):
                  f"  {n} scenarios, design {ds.attrs.get('design')}, dimensions: {dims}",
                  f"  model: {ds.attrs.get('model', '')}",
                  "  status: " + ", ".join(f"{k} {v}" for k, v in status_counts(ds).items())]
-        for line in lines:
-            for wrapped in textwrap.wrap(line, 105, subsequent_indent="    ") or [""]:
-                fig.text(0.06, y, wrapped, fontsize=10, family="monospace")
-                y -= 0.03
-        y -= 0.02
+        blocks.append([w for line in lines for w in textwrap.wrap(line, 120, subsequent_indent="    ") or [""]])
+    # the studies' lines share the page between the title and the footnote (0.80 .. 0.10)
+    n_lines = sum(len(b) for b in blocks) + 0.7 * len(blocks) + (2 if validations else 0)
+    step = min(0.03, 0.70 / max(n_lines, 1))
+    size = min(10.0, 330.0 * step)
+    y = 0.80
+    for block in blocks:
+        for wrapped in block:
+            fig.text(0.06, y, wrapped, fontsize=size, family="monospace")
+            y -= step
+        y -= 0.7 * step
     if validations:
         n = sum(v.sizes["row"] for v in validations)
         ok = sum(int(v["passed"].sum()) for v in validations)
-        fig.text(0.06, y, f"Validation: {ok} of {n} reproduced seed numbers within tolerance "
+        fig.text(0.06, y - step, f"Validation: {ok} of {n} reproduced seed numbers within tolerance "
                  "(table on the last page, validation.csv).", fontsize=10)
     fig.text(0.06, 0.04, "Units: SI inside every result file (units attribute on each variable); "
              "figures use mm, kN and MPa where marked.", fontsize=8, color="0.4")
