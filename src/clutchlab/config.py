@@ -79,8 +79,9 @@ def read_file(path) -> dict:
     """Read a config file as data: UTF-8 YAML (or JSON), safe types only, no key twice, no template.
 
     Snakemake reads ``--configfile`` itself (its loader evaluates a file that starts with
-    ``__use_yte__: true`` as a YTE template, and keeps the last of a duplicated key); the Snakefile
-    reads every config file again through this function and refuses what it finds before any job.
+    ``__use_yte__: true`` as a YTE template, and keeps the last of a duplicated key): the default
+    workflow profile calls :func:`precheck_argv` before that, and the Snakefile reads every config
+    file again through this function, so what it refuses stops the run before any job.
     """
     where = str(path)
     try:
@@ -102,7 +103,8 @@ def read_file(path) -> dict:
         problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
         raise ConfigError(where, f"is not valid YAML{at}: {problem}", "config file") from None
     if raw is None:
-        raw = {}
+        raise ConfigError(where, "is empty: a config file needs at least 'studies' and a section for each",
+                          "config file")
     if not isinstance(raw, dict):
         raise ConfigError(where, f"must be a mapping of keys at the top level, got {type(raw).__name__}",
                           "config file")
@@ -111,7 +113,7 @@ def read_file(path) -> dict:
                           "bomb?); a clutchlab config needs a few hundred", "config file")
     if "__use_yte__" in raw:
         raise ConfigError("__use_yte__", "config files are data, not templates: clutchlab refuses YTE "
-                          "templating (Snakemake has already evaluated the template while reading the file)")
+                          "templating")
     return raw
 
 
@@ -294,6 +296,35 @@ def resolve(raw: dict) -> dict:
             raise ConfigError(name, "section missing for a study listed in 'studies'")
         resolved[name] = _resolve_study(name, cfg[name], default_chunks, max_scenarios)
     return resolved
+
+
+def precheck_argv(argv=None) -> None:
+    """Read every ``--configfile`` of a Snakemake command line with :func:`read_file`; exit with one
+    line if one is not a clutchlab config file.
+
+    Called by the default workflow profile, which Snakemake reads before it loads ``--configfile``
+    itself: a file that is a YTE template (Snakemake's loader would evaluate its expressions, even
+    in a dry run), not UTF-8, not YAML or not a mapping stops here, before Snakemake opens it.
+    """
+    import sys
+
+    argv = sys.argv[1:] if argv is None else argv
+    paths, taking = [], False
+    for arg in argv:
+        if arg.startswith("--configfile=") or arg.startswith("--configfiles="):
+            paths.append(arg.split("=", 1)[1])
+            taking = False
+        elif arg in ("--configfile", "--configfiles"):
+            taking = True
+        elif taking and not arg.startswith("-"):
+            paths.append(arg)
+        else:
+            taking = False
+    try:
+        for path in paths:
+            read_file(path)
+    except ConfigError as exc:
+        sys.exit(f"clutchlab: {exc}")
 
 
 def load(path) -> dict:
