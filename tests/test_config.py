@@ -204,3 +204,26 @@ def test_even_roller_counts_and_any_count_for_the_all_reading():
     raw = {"studies": ["roller"], "roller": {"design": "factorial", "parameters": {"rollers": {"values": [9, 13]}},
                                              "options": {"stress_reading": "all"}}}
     assert config.resolve(raw)["roller"]["factors"]["rollers"]["values"] == [9.0, 13.0]
+
+
+@pytest.mark.parametrize("profile", ["default", "slurm"])
+def test_workflow_profiles_check_config_files_first(profile, monkeypatch, tmp_path):
+    """Both shipped workflow profiles run clutchlab.config.precheck_argv while Snakemake reads them
+    (before it loads --configfile): a good file passes, a template is refused in one line."""
+    import yte
+
+    text = (ROOT / "workflows" / "profiles" / profile / "config.yaml").read_text()
+    monkeypatch.setattr("sys.argv", ["snakemake", "--configfile", str(ROOT / "config" / "small.yaml")])
+    assert yte.process_yaml(text, require_use_yte=True)["rerun-incomplete"] is True
+    monkeypatch.setattr("sys.argv", ["snakemake", "--configfile", str(ROOT / "tests/malformed/use_yte.yaml")])
+    with pytest.raises(SystemExit, match="^clutchlab: config key '__use_yte__'"):
+        yte.process_yaml(text, require_use_yte=True)
+
+
+def test_precheck_reads_every_configfile_form(tmp_path):
+    good, bad = str(ROOT / "config" / "small.yaml"), str(ROOT / "tests/malformed/not_utf8.yaml")
+    config.precheck_argv(["--cores", "2", "--configfile", good, "--config", "chunks=2"])
+    for argv in (["--configfile", good, bad], ["--configfiles", bad], [f"--configfile={bad}"],
+                 ["-n", "--configfile", good, "--configfile", bad]):
+        with pytest.raises(SystemExit, match="not UTF-8"):
+            config.precheck_argv(argv)
