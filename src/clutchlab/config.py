@@ -267,11 +267,39 @@ def _resolve_study(name: str, section: dict, default_chunks: int, max_scenarios:
             n *= len(f["values"])
         if n > max_scenarios:
             raise _ceiling(name, n, max_scenarios)
+    out["objectives"], out["constraints"] = _answers(study, section)
     if study.check_config is not None:
         problem = study.check_config(out)
         if problem:
             raise ConfigError(*problem)
     return out
+
+
+def _answers(study, section):
+    """The study's objectives and constraints: the config's, else the study's defaults (issue 15)."""
+    name = study.name
+    objectives = list(section.get("objectives", study.objectives))
+    for i, item in enumerate(objectives):
+        output = item.partition(":")[0]
+        if output not in study.outputs:
+            raise ConfigError(f"{name}.objectives[{i}]", f"unknown output {output!r} (choose from "
+                              + ", ".join(sorted(study.outputs)) + ")")
+    if len({o.partition(":")[0] for o in objectives}) != len(objectives):
+        raise ConfigError(f"{name}.objectives", "an output given twice")
+    constraints = {}
+    given = section.get("constraints")
+    for output, limit in (given.items() if given is not None else
+                          ((k, {op: v}) for k, (op, v) in study.constraints.items())):
+        key = f"{name}.constraints.{output}"
+        if output not in study.outputs:
+            raise ConfigError(key, "unknown output (choose from " + ", ".join(sorted(study.outputs)) + ")")
+        (op, value), = limit.items()
+        try:
+            v = to_si(value, study.outputs[output])
+        except UnitError as exc:
+            raise ConfigError(f"{key}.{op}", str(exc)) from None
+        constraints[output] = [op, v]
+    return objectives, constraints
 
 
 def _ceiling(name, n, max_scenarios) -> ConfigError:

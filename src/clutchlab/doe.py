@@ -159,6 +159,10 @@ def merge(design: xr.Dataset, parts: list[xr.Dataset]) -> xr.Dataset:
 
 
 def run_study(resolved_study: dict) -> xr.Dataset:
-    """Design, compute and merge a whole study in memory (one chunk); for notebooks and tests."""
+    """Design, compute and merge a whole study in memory (one chunk), with its design answers
+    (:func:`clutchlab.explore.annotate`); for notebooks and tests."""
+    from .explore import annotate
+
     design = build_design(resolved_study)
-    return merge(design, [run_chunk(design, resolved_study["options"], 1, 0)])
+    ds = merge(design, [run_chunk(design, resolved_study["options"], 1, 0)])
+    return annotate(ds, resolved_study.get("objectives", []), resolved_study.get("constraints", {}))

@@ -56,6 +56,17 @@ rule benchmark_sprag:
         "{params.python} -m clutchlab.benchmark_sprag {RESULTS}/benchmark"
 
 
+rule benchmark_pareto:
+    # Not part of `all`: `snakemake --cores 1 benchmark_pareto` (about a minute). Pareto ranking
+    # time at 1e6 designs (2 and 3 objectives; 4 objectives at 1e5) against O(N^2) peeling.
+    output:
+        f"{RESULTS}/benchmark/pareto_benchmark.csv",
+    params:
+        python=sys.executable,
+    shell:
+        "{params.python} -m clutchlab.benchmark_pareto {RESULTS}/benchmark"
+
+
 rule benchmark_roller:
     # Not part of `all`: `snakemake --cores 1 benchmark_roller` (a few minutes: the tight Radau
     # reference is slow). Compiled SDIRK4 against per-scenario solve_ivp LSODA and Radau.

@@ -40,6 +40,10 @@ for _study in STUDIES:
             chunks=chunk_files(_study),
         output:
             results(_study),
+        params:
+            objectives=RESOLVED[_study]["objectives"],
+            constraints=RESOLVED[_study]["constraints"],
+            source=SOURCE,
         resources:
             runtime=30,
             mem_mb=8000,

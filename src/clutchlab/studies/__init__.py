@@ -73,6 +73,12 @@ class Study:
     # resolved study section -> (key, problem) for a combination of values that cannot be read
     # physically (e.g. an odd roller count with the one-flank reading), or None
     check_config: Callable | None = None
+    # design answers (issue 15): the per-scenario outputs that objectives and constraints may name
+    # (name -> units), the default objectives ("name:min"/"name:max") and constraints
+    # (output -> ("max" or "min", limit in SI)), as the seed papers suggest
+    outputs: dict = field(default_factory=dict)
+    objectives: tuple[str, ...] = ()
+    constraints: dict = field(default_factory=dict)
 
     def parameter(self, name: str) -> Parameter:
         for p in self.parameters:

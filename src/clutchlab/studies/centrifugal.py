@@ -186,4 +186,9 @@ STUDY = register(Study(
     figures=_figures,
     figure_stems=("capacity_curves", "release_map", "traces"),
     validation=validation,
+    outputs={"reserve_factor": "1", "release_margin": "N m", "release_time": "s", "engagement_speed": "rad/s",
+             "capacity_forward": "N m", "idle_capacity": "N m"},
+    # seed 001: carry the rotor with reserve, let go quickly after an engine failure
+    objectives=("reserve_factor:max", "release_time:min"),
+    constraints={"reserve_factor": ("min", 1.2), "release_margin": ("min", 0.0)},
 ))

@@ -256,5 +256,12 @@ STUDY = register(Study(
     figure_stems=("stress_engagement", "feasible_region", "engagement_trace"),
     validation=validation,
     options=OPTIONS,
+    outputs={"contact_stress": "Pa", "engagement_time": "s", "self_locking_margin": "1", "spring_margin": "1",
+             "peak_contact_stress": "Pa", "backlash_angle": "rad", "release_time": "s"},
+    # seed 003: fast engagement at low contact stress; self-locking, sigma_H within the 3041 MPa
+    # lower end of the allowable range, engaged within 1 ms
+    objectives=("engagement_time:min", "contact_stress:min"),
+    constraints={"contact_stress": ("max", 3041e6), "self_locking_margin": ("min", 0.0),
+                 "engagement_time": ("max", 1e-3)},
     check_config=check_config,
 ))

@@ -202,5 +202,11 @@ STUDY = register(Study(
     figures=_figures,
     figure_stems=("stress_vs_torque", "pass_map", "impact_torque"),
     validation=validation,
+    outputs={"margin_contact_inner": "1", "margin_contact_outer": "1", "margin_vm_inner": "1", "margin_vm_outer": "1",
+             "margin_gripping_angle": "1", "gripping_angle": "rad", "contact_stress_inner": "Pa"},
+    # seed 002 Table 2: every allowable met (margins >= 0); the largest contact and grip margins
+    objectives=("margin_contact_inner:max", "margin_gripping_angle:max"),
+    constraints={f"margin_{c}": ("min", 0.0) for c in ("contact_inner", "contact_outer", "vm_inner", "vm_outer",
+                                                        "gripping_angle")},
     options=OPTIONS,
 ))

@@ -1,0 +1,312 @@
+"""Design answers from stored results: feasibility, Pareto ranks, variance decomposition.
+
+Pure functions on arrays and on any stored study Dataset (``clutchlab.store.load``), for the
+pipeline and for notebooks: an engineer asks a new question of results without rerunning them.
+
+* :func:`pareto_rank` — non-dominated sorting (rank 0 = the Pareto front, 1 = the front once
+  rank 0 is removed, ...); −1 where a design is excluded (infeasible, a NaN objective). Two
+  objectives: O(N log N) by a patience-sorting sweep; three or more: efficient non-dominated
+  sort with binary search over fronts (ENS-BS, Zhang et al. 2015, IEEE TEVC 19(2)), compiled.
+* :func:`feasible` — every constraint met and status ok, with the margin of each constraint.
+* :func:`grid_variance_decomposition` — exact main and total effects of a full factorial grid.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from . import status as st
+
+__all__ = ["pareto_rank", "dominates", "feasible", "annotate", "grid_variance_decomposition"]
+
+
+def dominates(a, b) -> bool:
+    """a dominates b (minimisation): no worse in every objective and better in one."""
+    a, b = np.asarray(a), np.asarray(b)
+    return bool(np.all(a <= b) and np.any(a < b))
+
+
+def pareto_rank(values, include=None) -> np.ndarray:
+    """Non-dominated rank of each row of ``values`` (N, M), every objective minimised.
+
+    Parameters
+    ----------
+    values : array_like (N, M)
+        Objectives; negate a column to maximise it.
+    include : array_like of bool (N,) or None
+        Rows that take part (e.g. the feasible designs); rows outside it, and rows with a
+        non-finite objective, get rank −1 and do not dominate anything.
+
+    Returns
+    -------
+    numpy.ndarray of int64 (N,)
+        0 for the Pareto front, k for the front after removing ranks < k, −1 for excluded rows.
+        Equal rows share a rank (neither dominates the other).
+    """
+    f = np.asarray(values, dtype=float)
+    if f.ndim != 2:
+        raise ValueError(f"values must be (designs, objectives), got shape {f.shape}")
+    ok = np.isfinite(f).all(axis=1)
+    if include is not None:
+        ok &= np.asarray(include, dtype=bool).reshape(-1)
+    rank = np.full(f.shape[0], -1, dtype=np.int64)
+    idx = np.flatnonzero(ok)
+    if idx.size == 0:
+        return rank
+    g = f[idx]
+    # lexicographic order: a row can only be dominated by rows before it
+    order = np.lexsort(g.T[::-1])
+    g = np.ascontiguousarray(g[order])
+    if g.shape[1] == 1:
+        r = _rank_1d(g)
+    elif g.shape[1] == 2:
+        r = _rank_2d(g)
+    elif g.shape[1] == 3:
+        r = _rank_3d(g)
+    else:
+        r = _rank_ens_bs(g)
+    rank[idx[order]] = r
+    return rank
+
+
+def _rank_1d(g):
+    # sorted ascending: rank = index of the distinct value
+    return np.concatenate([[0], np.cumsum(g[1:, 0] > g[:-1, 0])]).astype(np.int64)
+
+
+@njit(cache=True)
+def _rank_2d(g):
+    """Rows sorted by (f1, f2). Front k keeps the f2 of its last member, non-decreasing along the
+    sweep; these tails increase with k, so the first front whose tail does not dominate the row is
+    found by bisection. A row equal to a front's last member joins that front."""
+    n = g.shape[0]
+    rank = np.empty(n, np.int64)
+    tail1 = np.empty(n)  # f1 and f2 of each front's last member
+    tail2 = np.empty(n)
+    n_fronts = 0
+    for i in range(n):
+        a, b = g[i, 0], g[i, 1]
+        lo, hi = 0, n_fronts  # first front whose last member does not dominate (a, b)
+        while lo < hi:
+            mid = (lo + hi) // 2
+            t1, t2 = tail1[mid], tail2[mid]
+            # t1 <= a always (sorted); dominated iff t2 <= b and (t1 < a or t2 < b)
+            if t2 <= b and (t1 < a or t2 < b):
+                lo = mid + 1
+            else:
+                hi = mid
+        rank[i] = lo
+        tail1[lo], tail2[lo] = a, b
+        if lo == n_fronts:
+            n_fronts += 1
+    return rank
+
+
+@njit(cache=True)
+def _dominated_by_front(g, i, members, count):
+    m = g.shape[1]
+    for j in range(count - 1, -1, -1):  # the latest members are the closest in the sort order
+        q = members[j]
+        worse = True
+        strictly = False
+        for k in range(m):
+            if g[q, k] > g[i, k]:
+                worse = False
+                break
+            if g[q, k] < g[i, k]:
+                strictly = True
+        if worse and strictly:
+            return True
+    return False
+
+
+@njit(cache=True)
+def _rank_ens_bs(g):
+    """ENS-BS: rows in lexicographic order, so a row can only be dominated by rows already placed;
+    being dominated by front k implies being dominated by every front before it, so the row's
+    front is found by bisection. Each front is a segment of ``store`` (capacity doubling)."""
+    n = g.shape[0]
+    rank = np.empty(n, np.int64)
+    store = np.empty(max(n, 16), np.int64)
+    offset = np.zeros(n + 1, np.int64)
+    cap = np.zeros(n + 1, np.int64)
+    size = np.zeros(n + 1, np.int64)
+    used = 0
+    n_fronts = 0
+    for i in range(n):
+        lo, hi = 0, n_fronts
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if _dominated_by_front(g, i, store[offset[mid]:offset[mid] + size[mid]], size[mid]):
+                lo = mid + 1
+            else:
+                hi = mid
+        k = lo
+        if k == n_fronts:
+            n_fronts += 1
+        if size[k] == cap[k]:  # (re)allocate front k at the end of the store with twice the room
+            new_cap = max(16, 2 * cap[k])
+            if used + new_cap > store.size:
+                bigger = np.empty(max(2 * store.size, used + new_cap), np.int64)
+                bigger[:used] = store[:used]
+                store = bigger
+            store[used:used + size[k]] = store[offset[k]:offset[k] + size[k]]
+            offset[k] = used
+            cap[k] = new_cap
+            used += new_cap
+        store[offset[k] + size[k]] = i
+        size[k] += 1
+        rank[i] = k
+    return rank
+
+
+def _rank_3d(g):
+    """Three objectives, rows in lexicographic order: rank(p) = 1 + max rank of the rows that
+    dominate p (0 if none). Equal rows are merged first (they share a rank and, once merged, a row
+    q ≤ p componentwise dominates p); the dominance maximum is found by divide and conquer over the
+    sweep order with a Fenwick tree of maxima over the third objective (CDQ): O(N log² N)."""
+    uniq, first, inverse = np.unique(g, axis=0, return_index=True, return_inverse=True)
+    # np.unique sorts lexicographically, as the sweep needs
+    y = np.searchsorted(np.unique(uniq[:, 1]), uniq[:, 1]).astype(np.int64)
+    z = np.searchsorted(np.unique(uniq[:, 2]), uniq[:, 2]).astype(np.int64)
+    r = _cdq_ranks(y, z)
+    return r[inverse.reshape(-1)]
+
+
+@njit(cache=True)
+def _cdq_ranks(y, z):
+    n = y.size
+    rank = np.zeros(n, np.int64)
+    tree = np.full(z.max() + 2 if n else 1, -1, np.int64)
+    order = np.arange(n)
+    buf = np.empty(n, np.int64)
+    # iterative-stack-free recursion: numba supports recursion only with explicit types, so the
+    # divide and conquer runs on an explicit stack of (lo, hi, stage)
+    stack = np.empty((2 * 64 + 8, 3), np.int64)
+    top = 0
+    stack[0, 0], stack[0, 1], stack[0, 2] = 0, n, 0
+    top = 1
+    while top > 0:
+        top -= 1
+        lo, hi, stage = stack[top, 0], stack[top, 1], stack[top, 2]
+        if hi - lo <= 1:
+            continue
+        mid = (lo + hi) // 2
+        if stage == 0:  # left half first, then the cross step, then the right half
+            stack[top, 0], stack[top, 1], stack[top, 2] = lo, hi, 1
+            stack[top + 1, 0], stack[top + 1, 1], stack[top + 1, 2] = lo, mid, 0
+            top += 2
+        else:
+            _cross(lo, mid, hi, y, z, rank, tree)
+            stack[top, 0], stack[top, 1], stack[top, 2] = mid, hi, 0
+            top += 1
+    return rank
+
+
+@njit(cache=True)
+def _cross(lo, mid, hi, y, z, rank, tree):
+    """Rows lo..mid (ranks final) raise the ranks of rows mid..hi they dominate: both halves in
+    order of y (left first at equal y), a Fenwick tree of max rank over z."""
+    left = np.argsort(y[lo:mid], kind="mergesort") + lo
+    right = np.argsort(y[mid:hi], kind="mergesort") + mid
+    m = tree.size
+    i = 0
+    for j in range(right.size):
+        p = right[j]
+        while i < left.size and y[left[i]] <= y[p]:
+            q = left[i]
+            k = z[q] + 1
+            while k < m:
+                if tree[k] < rank[q]:
+                    tree[k] = rank[q]
+                k += k & (-k)
+            i += 1
+        best = -1
+        k = z[p] + 1
+        while k > 0:
+            if tree[k] > best:
+                best = tree[k]
+            k -= k & (-k)
+        if best + 1 > rank[p]:
+            rank[p] = best + 1
+    for t in range(i):  # undo the insertions
+        k = z[left[t]] + 1
+        while k < m:
+            tree[k] = -1
+            k += k & (-k)
+
+
+def feasible(ds, constraints: dict) -> tuple[np.ndarray, dict]:
+    """Feasibility of every scenario of a study Dataset.
+
+    ``constraints`` maps an output to ("max" or "min", limit in the output's SI units). The margin
+    is (limit − value)/|limit| for "max", (value − limit)/|limit| for "min" (|limit| read as 1 for
+    a zero limit): ≥ 0 where met, NaN where the output is NaN. A scenario is feasible where its
+    status is ok and every margin is ≥ 0. Returns (feasible, {output: margin}), arrays shaped like
+    ``status``.
+    """
+    ok = np.asarray(ds["status"].values == st.CODE["ok"])
+    margins = {}
+    for output, (op, limit) in constraints.items():
+        v = np.broadcast_to(ds[output].values, ok.shape).astype(float)
+        scale = abs(limit) if limit != 0 else 1.0
+        m = (limit - v) / scale if op == "max" else (v - limit) / scale
+        margins[output] = m
+        with np.errstate(invalid="ignore"):
+            ok = ok & (m >= 0)
+    return ok, margins
+
+
+def annotate(ds, objectives, constraints):
+    """``ds`` with the design answers added: ``feasible``, ``constraint_margin`` (dimension
+    ``constraint``, one entry per constrained output) and ``pareto_rank`` over ``objectives``
+    ("name:min"/"name:max") among the feasible designs (−1: infeasible or an objective NaN)."""
+    import xarray as xr
+
+    dims = ds["status"].dims
+    ok, margins = feasible(ds, {k: tuple(v) for k, v in constraints.items()})
+    out = ds.copy()
+    out["feasible"] = (dims, ok.astype(np.int8), {
+        "long_name": "design meets every constraint and its status is ok", "units": "1",
+        "flag_values": np.array([0, 1], np.int8), "flag_meanings": "infeasible feasible"})
+    if margins:
+        names = list(margins)
+        out["constraint_margin"] = xr.DataArray(
+            np.stack([margins[k] for k in names]), dims=("constraint",) + dims,
+            attrs={"long_name": "relative constraint margin: (limit - value)/|limit| for a max, "
+                                "(value - limit)/|limit| for a min; >= 0 where met", "units": "1"})
+        out = out.assign_coords(constraint=("constraint", np.array(names, dtype=object), {
+            "long_name": "constrained output and its limit", "units": "1",
+            "limits": " ".join(f"{k}:{op}:{v:.6g}" for k, (op, v) in constraints.items())}))
+    cols = []
+    for output, sense in (o.split(":") for o in objectives):
+        v = np.broadcast_to(ds[output].values, ok.shape).astype(float).reshape(-1)
+        cols.append(v if sense == "min" else -v)
+    rank = pareto_rank(np.stack(cols, axis=1), ok.reshape(-1)).reshape(ok.shape) if cols else np.full(ok.shape, -1)
+    out["pareto_rank"] = (dims, rank, {
+        "long_name": "Pareto rank among feasible designs (0: the front; -1: infeasible or an objective NaN)",
+        "units": "1", "objectives": " ".join(objectives)})
+    return out
+
+
+def grid_variance_decomposition(y, axes_names) -> dict:
+    """Exact main and total effects of the factors of a full factorial grid.
+
+    ``y`` is an array with one axis per factor (every combination present, equal weight);
+    ``axes_names`` names them. Main effect of factor i: Var(E[y | x_i]) / Var(y); total effect:
+    E[Var(y | x_~i)] / Var(y) — the grid's own variance decomposition, no sampling error.
+    Returns {"first_order": {name: S_i}, "total": {name: ST_i}, "variance": Var(y)}; NaN if any
+    value is NaN (the caller decides how failed scenarios count).
+    """
+    y = np.asarray(y, dtype=float)
+    if y.ndim != len(axes_names):
+        raise ValueError("one axis name per axis of y")
+    var = float(np.var(y))
+    first, total = {}, {}
+    for i, name in enumerate(axes_names):
+        others = tuple(j for j in range(y.ndim) if j != i)
+        main = np.mean(y, axis=others)  # E[y | x_i]
+        first[name] = float(np.var(main)) / var if var > 0 else np.nan
+        cond_var = np.var(y, axis=i)  # Var(y | x_~i)
+        total[name] = float(np.mean(cond_var)) / var if var > 0 else np.nan
+    return {"first_order": first, "total": total, "variance": var}

@@ -1,0 +1,124 @@
+"""Design answers (issue 15): Pareto ranks against brute force, feasibility, the grid's exact
+variance decomposition against analytic examples."""
+import numpy as np
+import pytest
+import xarray as xr
+
+from clutchlab import explore
+from clutchlab import status as st
+
+
+def _brute_ranks(f, include):
+    """O(N^2) peeling: rank k = non-dominated among what is left after ranks < k."""
+    n = len(f)
+    ok = np.isfinite(f).all(axis=1) & include
+    rank = np.full(n, -1)
+    left = set(np.flatnonzero(ok).tolist())
+    k = 0
+    while left:
+        front = [i for i in left if not any(explore.dominates(f[j], f[i]) for j in left if j != i)]
+        for i in front:
+            rank[i] = k
+        left -= set(front)
+        k += 1
+    return rank
+
+
+@pytest.mark.parametrize("m", [1, 2, 3, 4])
+def test_pareto_rank_equals_brute_force(m):
+    """Random integer objectives (many ties and duplicate rows), NaN rows and excluded rows."""
+    rng = np.random.default_rng(m)
+    for _ in range(150):
+        n = int(rng.integers(1, 70))
+        f = rng.integers(0, 5, (n, m)).astype(float)
+        if rng.random() < 0.5:
+            f[rng.integers(0, n), rng.integers(0, m)] = np.nan
+        include = rng.random(n) < 0.85
+        assert (explore.pareto_rank(f, include) == _brute_ranks(f, include)).all()
+
+
+@pytest.mark.parametrize("m", [2, 3, 4])
+def test_pareto_rank_on_continuous_data(m):
+    rng = np.random.default_rng(10 + m)
+    f = rng.random((400, m))
+    assert (explore.pareto_rank(f) == _brute_ranks(f, np.ones(400, bool))).all()
+
+
+def test_pareto_front_of_a_known_set():
+    f = np.array([[1, 5], [2, 3], [3, 1], [2, 4], [4, 4], [2, 3], [5, 5]], float)
+    assert explore.pareto_rank(f).tolist() == [0, 0, 0, 1, 2, 0, 3]  # duplicates share the front
+
+
+def test_feasible_and_margins():
+    ds = xr.Dataset({"status": ("run", np.array([0, 0, 4, 0], np.int8)),
+                     "slip_work": ("run", np.array([5000.0, 7000.0, np.nan, 6000.0])),
+                     "reserve_factor": ("run", np.array([1.3, 1.5, 1.4, 1.1]))})
+    ok, margins = explore.feasible(ds, {"slip_work": ("max", 6500.0), "reserve_factor": ("min", 1.2)})
+    assert ok.tolist() == [True, False, False, False]
+    assert margins["slip_work"][0] == pytest.approx(1500 / 6500) and np.isnan(margins["slip_work"][2])
+    assert margins["reserve_factor"][3] == pytest.approx(-0.1 / 1.2)
+    assert ds["status"].values[2] == st.CODE["never_locked"]
+
+
+def test_grid_decomposition_additive_and_interaction():
+    """y = a·x1 + b·x2 + c·x1·x2 on a centred grid of x1, x2 ∈ {−1, 1}: with equal weights
+    Var = a² + b² + c²; S1 = a²/Var, S2 = b²/Var, ST1 = (a² + c²)/Var, ST2 = (b² + c²)/Var;
+    additive (c = 0): S = ST exactly, and a third factor that does nothing has S = ST = 0."""
+    a, b, c = 2.0, 1.0, 0.5
+    x1 = np.array([-1.0, 1.0])[:, None, None]
+    x2 = np.array([-1.0, 1.0])[None, :, None]
+    x3 = np.array([0.0, 1.0, 2.0])[None, None, :]
+    y = a * x1 + b * x2 + c * x1 * x2 + 0.0 * x3
+    y = np.broadcast_to(y, (2, 2, 3))
+    d = explore.grid_variance_decomposition(y, ["x1", "x2", "x3"])
+    var = a**2 + b**2 + c**2
+    assert d["variance"] == pytest.approx(var)
+    assert d["first_order"]["x1"] == pytest.approx(a**2 / var) and d["total"]["x1"] == pytest.approx((a**2 + c**2) / var)
+    assert d["first_order"]["x2"] == pytest.approx(b**2 / var) and d["total"]["x2"] == pytest.approx((b**2 + c**2) / var)
+    assert d["first_order"]["x3"] == 0.0 and d["total"]["x3"] == 0.0
+    add = explore.grid_variance_decomposition(np.broadcast_to(a * x1 + b * x2, (2, 2, 3)), ["x1", "x2", "x3"])
+    for k in ("x1", "x2"):
+        assert add["first_order"][k] == pytest.approx(add["total"][k], abs=1e-15)
+
+
+@pytest.mark.parametrize("name, section", [
+    ("centrifugal", {"design": "factorial", "parameters": {
+        "pressure_angle": {"values": ["25 deg", "38.84 deg", "53 deg", "65 deg"]},
+        "friction_coefficient": {"values": [0.3, 0.35, 0.4046, 0.5, 0.6]}}}),
+    ("sprag", {"design": "factorial", "parameters": {"torque": {"values": ["267.5 N*m", "500 N*m", "750 N*m"]},
+                                                     "sprags": {"values": [14, 16, 18, 20]}}}),
+    ("engagement", {"design": "sobol", "samples": 16, "options": {"driveline": "compliant"},
+                    "parameters": {"ramp_time": {"min": "0.05 s", "max": "1.5 s"}}}),
+])
+def test_every_study_result_answers(name, section):
+    """A study result carries feasible, constraint_margin and pareto_rank (with the objectives it
+    ranks), consistent with each other: feasible = status ok and every margin >= 0; ranked =
+    feasible with finite objectives; rank 0 = the brute-force front of the feasible designs."""
+    from clutchlab import doe
+    from clutchlab.config import resolve
+
+    sec = resolve({"studies": [name], name: section})[name]
+    ds = doe.run_study(sec)
+    dims = ds["status"].dims
+    assert ds["feasible"].dims == dims and ds["pareto_rank"].dims == dims
+    assert ds["constraint_margin"].dims == ("constraint",) + dims
+    assert list(ds["constraint"].values) == list(sec["constraints"])
+    assert ds["pareto_rank"].attrs["objectives"] == " ".join(sec["objectives"])
+    ok = (ds["status"] == st.CODE["ok"]) & (ds["constraint_margin"] >= 0).all("constraint")
+    assert (ds["feasible"] == ok).all()
+    f = np.stack([(ds[o.split(":")[0]] * (1 if o.endswith(":min") else -1)).values.reshape(-1)
+                  for o in sec["objectives"]], axis=1)
+    feas = ds["feasible"].values.reshape(-1).astype(bool)
+    assert feas.any() and not feas.all()  # a question with an answer
+    assert ((ds["pareto_rank"].values.reshape(-1) >= 0) == (feas & np.isfinite(f).all(axis=1))).all()
+    assert ((ds["pareto_rank"].values.reshape(-1) == 0) == (_brute_ranks(f, feas) == 0)).all()
+    for name_, var in {**ds.coords, **ds.data_vars}.items():
+        assert "units" in var.attrs and "long_name" in var.attrs, name_
+
+
+def test_benchmark_runs_small(tmp_path):
+    """The benchmark's own check on a small run: equal ranks to the O(N^2) peeling."""
+    from clutchlab import benchmark_pareto
+
+    rows = benchmark_pareto.run(tmp_path, 3000, reference=300)
+    assert all(r["equal_to_reference"] for r in rows) and (tmp_path / "pareto_benchmark.csv").exists()
