@@ -77,6 +77,10 @@ def test_outputs_exist_and_open(small_run):
         assert abs(float(seed["contact_stress"]) / 1e6 - 2865.5) < 3  # seed 003 section 2.2
         assert 0.1e-3 < float(seed["engagement_time"]) < 0.3e-3
     assert "yes" in (small_run / "results/report/validation.csv").read_text()
+    for f in ("diaphragm/spring.h5", "centrifugal/centrifugal.h5", "sprag/sprag.h5", "roller/roller.h5"):
+        with xr.open_dataset(small_run / "results" / f, engine="h5netcdf") as ds:  # design answers (issue 15)
+            assert ds["feasible"].dims == ds["status"].dims == ds["pareto_rank"].dims, f
+            assert ":" in ds["pareto_rank"].attrs["objectives"] and "constraint" in ds["constraint_margin"].dims
 
 
 def test_bad_config_fails_before_any_job(small_run):
