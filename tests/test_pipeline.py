@@ -81,6 +81,10 @@ def test_outputs_exist_and_open(small_run):
         with xr.open_dataset(small_run / "results" / f, engine="h5netcdf") as ds:  # design answers (issue 15)
             assert ds["feasible"].dims == ds["status"].dims == ds["pareto_rank"].dims, f
             assert ":" in ds["pareto_rank"].attrs["objectives"] and "constraint" in ds["constraint_margin"].dims
+    for name in ("diaphragm_spring", "centrifugal", "sprag", "roller"):  # the answers page and front table
+        assert (small_run / f"results/report/{name}_answers.png").stat().st_size > 0
+        rows = (small_run / f"results/report/{name}_pareto.csv").read_text().splitlines()
+        assert rows[0].count("[") >= 3 and 1 <= len(rows) - 1 <= 15, (name, rows)
 
 
 def test_bad_config_fails_before_any_job(small_run):

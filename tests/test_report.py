@@ -73,3 +73,26 @@ def test_pages_draw_with_any_factor_fixed(name, section):
     for _, fig in pages:
         fig.canvas.draw()
         plt.close(fig)
+
+
+def test_front_table_lists_front_designs_spread_along_it():
+    """<study>_pareto.csv: at most 15 designs, all of rank 0, ordered along the first objective,
+    both ends of the front included, factor values as stored."""
+    import numpy as np
+
+    from clutchlab.report import answers
+
+    sec = resolve({"studies": ["centrifugal"], "centrifugal": {"design": "factorial", "parameters": {
+        "pressure_angle": {"min": "20 deg", "max": "60 deg", "num": 25},
+        "friction_coefficient": {"min": 0.25, "max": 0.6, "num": 25}}}})["centrifugal"]
+    ds = doe.run_study(sec)
+    header, rows = answers.front_rows(ds)
+    assert header[:2] == ["friction_coefficient [1]", "pressure_angle [rad]"] and len(rows) <= answers.MAX_ROWS
+    front = ds.where(ds["pareto_rank"] == 0)
+    obj = [o.split(":")[0] for o in sec["objectives"]]
+    first = np.sort(front[obj[0]].values[np.isfinite(front[obj[0]].values)])
+    got = [r[2] for r in rows]
+    assert got == sorted(got) and got[0] == first[0] and got[-1] == first[-1]
+    for r in rows:
+        pick = ds.sel(friction_coefficient=r[0], pressure_angle=r[1])
+        assert int(pick["pareto_rank"]) == 0 and float(pick[obj[1]]) == r[3]

@@ -1,6 +1,7 @@
 # Report: figures and PDF from stored results only.
 import sys
 
+from clutchlab.report import answer_files as _answer_files
 from clutchlab.report import figure_stems as _figure_stems
 
 REPORT_DIR = f"{RESULTS}/report"
@@ -8,7 +9,7 @@ BENCHMARK_PAGE = RESOLVED["report"]["benchmark"]  # the engagement work-precisio
 # validation.csv and its page exist only where a study reproduces seed numbers
 REPORT_FILES = [f"{REPORT_DIR}/report.pdf"] + ([f"{REPORT_DIR}/validation.csv"] if VALIDATED else []) + [
     f"{REPORT_DIR}/{stem}.png" for stem in _figure_stems(STUDIES, BENCHMARK_PAGE)
-]
+] + [f"{REPORT_DIR}/{f}" for f in _answer_files(STUDIES)]
 
 
 rule report:

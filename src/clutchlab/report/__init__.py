@@ -16,17 +16,24 @@ from matplotlib.backends.backend_pdf import PdfPages  # noqa: E402
 from .. import __version__, store, studies  # noqa: E402
 from .. import status as st  # noqa: E402
 from ..validation import to_csv  # noqa: E402
+from . import answers  # noqa: E402
 from .common import title_page, validation_table  # noqa: E402
 
-__all__ = ["build", "figure_stems"]
+__all__ = ["build", "figure_stems", "answer_files"]
 
 
 def figure_stems(study_names, benchmark=False) -> list[str]:
     """PNG stems the report produces for these studies (for Snakemake outputs); the validation
     table only where one of them reproduces seed numbers."""
-    stems = ["title"] + [f"{name}_{s}" for name in study_names for s in studies.get(name).figure_stems]
+    stems = ["title"] + [f"{name}_{s}" for name in study_names
+                         for s in (*studies.get(name).figure_stems, "answers")]
     validated = any(studies.get(name).validation is not None for name in study_names)
     return stems + (["engagement_work_precision"] if benchmark else []) + (["validation_table"] if validated else [])
+
+
+def answer_files(study_names) -> list[str]:
+    """The front tables the report writes (one CSV per study)."""
+    return [f"{name}_pareto.csv" for name in study_names]
 
 
 def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab report", dpi=120,
@@ -51,6 +58,9 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
     pages = [("title", title_page(title, __version__, results, validations))]
     for name, ds in results.items():
         pages += [(f"{name}_{stem}", fig) for stem, fig in studies.get(name).figures(ds)]
+        pages.append((f"{name}_answers", answers.page(name, ds)))
+        with store.atomic(outdir / f"{name}_pareto.csv") as tmp:
+            answers.write_csv(ds, tmp)
     if benchmark_csv is not None:
         from ..benchmark import read_rows, work_precision_figure
 

@@ -1,0 +1,112 @@
+"""The design-answers page of a study: how many designs are feasible, which constraint binds most
+often, the Pareto front with the seed design marked, and the front's designs as a table
+(also ``<study>_pareto.csv``)."""
+from __future__ import annotations
+
+import csv
+import textwrap
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from .. import studies
+from .common import A4_LANDSCAPE, seed_view
+
+MAX_ROWS = 15
+
+
+def factors(ds) -> list[str]:
+    """The study's factors: its dimensions (factorial) or the ``factors`` attribute (sampled)."""
+    dims = list(ds["status"].dims)
+    return ds.attrs.get("factors", "").split() if dims == ["run"] else dims
+
+
+def _flat(ds, name):
+    """A per-scenario variable or factor coordinate as a flat array in the order of ``status``."""
+    return ds[name].broadcast_like(ds["status"]).transpose(*ds["status"].dims).values.reshape(-1)
+
+
+def front_rows(ds) -> tuple[list[str], list[list]]:
+    """Header and rows of the front's designs (at most ``MAX_ROWS``, spread along the first
+    objective): factor values and objectives in SI units."""
+    objectives = [o.split(":")[0] for o in ds["pareto_rank"].attrs["objectives"].split()]
+    names = factors(ds)
+    rank = ds["pareto_rank"].values.reshape(-1)
+    front = np.flatnonzero(rank == 0)
+    cols = {n: _flat(ds, n) for n in names}
+    first = _flat(ds, objectives[0])[front]
+    front = front[np.argsort(first, kind="stable")]
+    if front.size > MAX_ROWS:
+        front = front[np.unique(np.linspace(0, front.size - 1, MAX_ROWS).round().astype(int))]
+    header = [f"{n} [{ds[n].attrs.get('units', '')}]" for n in names + objectives]
+    rows = [[float(cols[n][i]) for n in names] + [float(_flat(ds, o)[i]) for o in objectives] for i in front]
+    return header, rows
+
+
+def write_csv(ds, path) -> None:
+    header, rows = front_rows(ds)
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(header)
+        for r in rows:
+            w.writerow([f"{v:.6g}" for v in r])
+
+
+def page(name, ds):
+    study = studies.get(name)
+    objectives = ds["pareto_rank"].attrs["objectives"].split()
+    outs = [o.split(":")[0] for o in objectives]
+    feas = _flat(ds, "feasible").astype(bool)
+    rank = ds["pareto_rank"].values.reshape(-1)
+    fig = plt.figure(figsize=A4_LANDSCAPE)
+    grid = fig.add_gridspec(2, 2, height_ratios=[1.5, 1.0], width_ratios=[1.0, 1.6])
+    ax_c = fig.add_subplot(grid[0, 0])
+    ax_f = fig.add_subplot(grid[0, 1])
+    ax_t = fig.add_subplot(grid[1, :])
+    # which constraint binds most often
+    # which constraint binds most often (and how many designs have no number: status not ok)
+    names, viol = ["status not ok"], [int((ds["status"].values != 0).sum())]
+    if "constraint_margin" in ds:
+        names += [str(c) for c in ds["constraint"].values]
+        viol += [int((ds["constraint_margin"].sel(constraint=c).values < 0).sum()) for c in names[1:]]
+    ax_c.barh(range(len(names)), viol, height=0.6, color=["0.5"] + ["tab:red"] * (len(names) - 1))
+    ax_c.set_yticks(range(len(names)), [textwrap.fill(n, 18) for n in names], fontsize=8)
+    ax_c.set_ylim(len(names) - 0.5, -0.5)
+    ax_c.set_xlabel("designs failing it")
+    limits = ds["constraint"].attrs.get("limits", "") if "constraint" in ds.coords else "none"
+    ax_c.set_title(textwrap.fill("constraints: " + limits, 50), fontsize=8)
+    # the front over the first two objectives
+    ox, oy = (outs + outs)[:2]  # one objective: plotted against itself
+    x, y = _flat(ds, ox), _flat(ds, oy)
+    ax_f.scatter(x[~feas], y[~feas], s=6, c="0.8", label="infeasible")
+    ax_f.scatter(x[feas & (rank > 0)], y[feas & (rank > 0)], s=8, c="tab:blue", label="feasible")
+    front = np.flatnonzero(rank == 0)
+    front = front[np.argsort(x[front], kind="stable")]
+    ax_f.plot(x[front], y[front], "o-", color="tab:red", ms=5, label="Pareto front")
+    seed = seed_view(ds, study.defaults)
+    sx, sy = float(seed[ox]), float(seed[oy])
+    if np.isfinite(sx) and np.isfinite(sy):
+        ax_f.plot(sx, sy, "*", ms=16, mfc="gold", mec="k", label="seed design")
+    sense = dict(o.split(":") for o in objectives)
+    ax_f.set_xlabel(f"{ox} [{ds[ox].attrs.get('units', '')}] ({sense[ox]})")
+    ax_f.set_ylabel(f"{oy} [{ds[oy].attrs.get('units', '')}] ({sense[oy]})")
+    ax_f.legend(fontsize=8)
+    ax_f.grid(alpha=0.3)
+    ax_f.set_title(f"Pareto front over {' and '.join(objectives[:2])}"
+                   + (f" (of {len(objectives)} objectives)" if len(objectives) > 2 else ""), fontsize=9)
+    # the front's designs
+    header, rows = front_rows(ds)
+    ax_t.set_axis_off()
+    if rows:
+        table = ax_t.table(cellText=[[f"{v:.4g}" for v in r] for r in rows],
+                           colLabels=[textwrap.fill(h, 16) for h in header], loc="upper center", cellLoc="center")
+        table.auto_set_font_size(False)
+        table.set_fontsize(7)
+        table.scale(1.0, 1.1)
+        for j in range(len(header)):  # room for the wrapped column names
+            table[0, j].set_height(2 * table[0, j].get_height())
+    n = feas.size
+    fig.suptitle(f"Design answers, study '{name}': {int(feas.sum())} of {n} designs feasible "
+                 f"({100 * feas.mean():.0f} %), {front.size} on the Pareto front"
+                 + (f" (table: {len(rows)} spread along it; {name}_pareto.csv)" if rows else ""))
+    return fig
