@@ -36,4 +36,5 @@ rule all:
     default_target: True
     input:
         [results(s) for s in STUDIES],
+        [f for s in STUDIES for f in sensitivity_files(s)],
         REPORT_FILES,

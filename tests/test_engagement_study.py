@@ -56,7 +56,9 @@ def test_work_precision_page_from_stored_benchmark(tmp_path):
     written = report.build({}, [], tmp_path / "report", benchmark_csv=tmp_path / "engagement_benchmark.csv")
     assert {p.stem for p in written} == {"title", "engagement_work_precision", "report"}
     assert report.figure_stems([], benchmark=True) == ["title", "engagement_work_precision"]
-    assert report.figure_stems(["engagement"]) == ["title", "engagement_tradeoff", "engagement_maps", "engagement_traces"]
+    assert report.figure_stems(["engagement"]) == ["title", "engagement_tradeoff", "engagement_maps", "engagement_traces",
+                                                  "engagement_answers"]
+    assert report.figure_stems(["engagement"], sensitivity=["engagement"])[-1] == "engagement_sensitivity"
 
 
 def test_infinite_only_where_allowed():

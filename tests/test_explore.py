@@ -122,3 +122,46 @@ def test_benchmark_runs_small(tmp_path):
 
     rows = benchmark_pareto.run(tmp_path, 3000, reference=300)
     assert all(r["equal_to_reference"] for r in rows) and (tmp_path / "pareto_benchmark.csv").exists()
+
+
+def test_grid_decomposition_leaves_failed_cells_out():
+    """With failed (NaN) cells: means and variances over the finite cells, count-weighted — the
+    same numbers as a plain loop over the successful cells — and the count of cells left out."""
+    rng = np.random.default_rng(3)
+    y = rng.random((4, 3, 5))
+    y[1, 2, 0] = y[3, 0, 4] = y[0, 1, 1] = np.nan
+    d = explore.grid_variance_decomposition(y, ["a", "b", "c"])
+    assert d["failed"] == 3
+    cells = [(idx, v) for idx, v in np.ndenumerate(y) if np.isfinite(v)]
+    vals = np.array([v for _, v in cells])
+    mean, var = vals.mean(), vals.var()
+    assert d["variance"] == pytest.approx(var, rel=1e-12)
+    for axis, name in enumerate("abc"):
+        levels = {}
+        groups = {}
+        for idx, v in cells:
+            levels.setdefault(idx[axis], []).append(v)
+            groups.setdefault(idx[:axis] + idx[axis + 1:], []).append(v)
+        main = sum(len(g) * (np.mean(g) - mean) ** 2 for g in levels.values()) / len(vals)
+        within = sum(len(g) * np.var(g) for g in groups.values()) / len(vals)
+        assert d["first_order"][name] == pytest.approx(main / var, rel=1e-12)
+        assert d["total"][name] == pytest.approx(within / var, rel=1e-12)
+
+
+def test_sensitivity_of_a_factorial_study():
+    from clutchlab import doe
+    from clutchlab.config import resolve
+
+    sec = resolve({"studies": ["centrifugal"], "centrifugal": {"design": "factorial", "parameters": {
+        "pressure_angle": {"values": ["25 deg", "38.84 deg", "53 deg", "65 deg"]},
+        "friction_coefficient": {"values": [0.3, 0.4046, 0.5, 0.6]}}}})["centrifugal"]
+    ds = doe.run_study(sec)
+    se = explore.sensitivity(ds, ["reserve_factor", "release_time"])
+    assert list(se["output"].values) == ["reserve_factor", "release_time", "failure"]
+    assert set(se["factor"].values) == {"pressure_angle", "friction_coefficient"}
+    fails = int((ds["status"] != 0).sum())
+    assert 0 < fails and int(se["failed"].sel(output="failure")) == 0  # the indicator itself never fails
+    complete = se.where(se["failed"] == 0, drop=True)  # an exact decomposition: main <= total
+    assert "failure" in complete["output"] and (complete["first_order"] <= complete["total"] + 1e-12).all()
+    for name, var in {**se.coords, **se.data_vars}.items():
+        assert "units" in var.attrs and "long_name" in var.attrs, name

@@ -17,7 +17,7 @@ from numba import njit
 
 from . import status as st
 
-__all__ = ["pareto_rank", "dominates", "feasible", "annotate", "grid_variance_decomposition"]
+__all__ = ["pareto_rank", "dominates", "feasible", "annotate", "grid_variance_decomposition", "sensitivity"]
 
 
 def dominates(a, b) -> bool:
@@ -290,23 +290,78 @@ def annotate(ds, objectives, constraints):
 
 
 def grid_variance_decomposition(y, axes_names) -> dict:
-    """Exact main and total effects of the factors of a full factorial grid.
+    """Main and total effects of the factors of a full factorial grid.
 
-    ``y`` is an array with one axis per factor (every combination present, equal weight);
-    ``axes_names`` names them. Main effect of factor i: Var(E[y | x_i]) / Var(y); total effect:
-    E[Var(y | x_~i)] / Var(y) — the grid's own variance decomposition, no sampling error.
-    Returns {"first_order": {name: S_i}, "total": {name: ST_i}, "variance": Var(y)}; NaN if any
-    value is NaN (the caller decides how failed scenarios count).
+    ``y`` has one axis per factor; ``axes_names`` names them. Main effect of factor i:
+    Var(E[y | x_i]) / Var(y); total effect: E[Var(y | x_~i)] / Var(y), every cell weighted
+    equally — on a complete grid the grid's own variance decomposition, exact. Failed cells (NaN)
+    are not filled: every mean and variance runs over the finite cells only, each weighted by its
+    count (the indices of the successful designs; exact again when nothing failed — with cells
+    missing they are no exact decomposition, and a main effect may exceed its total), and
+    ``failed`` says how many cells that left out. Returns {"first_order": {name: S_i},
+    "total": {name: ST_i}, "variance": Var(y), "failed": count}.
     """
     y = np.asarray(y, dtype=float)
     if y.ndim != len(axes_names):
         raise ValueError("one axis name per axis of y")
-    var = float(np.var(y))
+    ok = np.isfinite(y)
+    n = int(ok.sum())
+    yz = np.where(ok, y, 0.0)
+    mean = yz.sum() / n if n else np.nan
+    var = float(np.sum(np.where(ok, (y - mean) ** 2, 0.0)) / n) if n else np.nan
     first, total = {}, {}
-    for i, name in enumerate(axes_names):
-        others = tuple(j for j in range(y.ndim) if j != i)
-        main = np.mean(y, axis=others)  # E[y | x_i]
-        first[name] = float(np.var(main)) / var if var > 0 else np.nan
-        cond_var = np.var(y, axis=i)  # Var(y | x_~i)
-        total[name] = float(np.mean(cond_var)) / var if var > 0 else np.nan
-    return {"first_order": first, "total": total, "variance": var}
+    with np.errstate(invalid="ignore", divide="ignore"):
+        for i, name in enumerate(axes_names):
+            others = tuple(j for j in range(y.ndim) if j != i)
+            cnt = ok.sum(axis=others)
+            m_i = yz.sum(axis=others) / cnt  # E[y | x_i] over the finite cells of each level
+            v_main = np.nansum(cnt * (m_i - mean) ** 2) / n
+            cnt_g = ok.sum(axis=i)
+            m_g = yz.sum(axis=i) / cnt_g  # E[y | x_~i]
+            v_g = np.where(ok, (y - np.expand_dims(m_g, i)) ** 2, 0.0).sum(axis=i)  # n_g · Var(y | x_~i)
+            first[name] = float(v_main / var) if var > 0 else np.nan
+            total[name] = float(v_g.sum() / n / var) if var > 0 else np.nan
+    return {"first_order": first, "total": total, "variance": var, "failed": int(y.size - n)}
+
+
+def sensitivity(ds, outputs) -> "xr.Dataset":
+    """Main and total effects of every factor of a factorial study result on each of ``outputs``
+    and on the failure indicator (status not ok), by :func:`grid_variance_decomposition`.
+
+    Returns a Dataset with dimensions ``output`` and ``factor``: ``first_order``, ``total`` [1],
+    ``failed`` (scenarios left out per output) and ``variance`` (in the output's units, as text
+    in ``output_units``). A sampled design has no grid: it raises ValueError.
+    """
+    import xarray as xr
+
+    dims = list(ds["status"].dims)
+    if dims == ["run"]:
+        raise ValueError("a sampled design has no grid to decompose: use a factorial design")
+    names = list(dict.fromkeys(list(outputs)))
+    rows, units = [], []
+    for name in names + ["failure"]:
+        if name == "failure":
+            y = (ds["status"].values != st.CODE["ok"]).astype(float)
+            unit = "1"
+        else:
+            y = ds[name].broadcast_like(ds["status"]).transpose(*dims).values
+            unit = ds[name].attrs.get("units", "1")
+        rows.append(grid_variance_decomposition(y, dims))
+        units.append(unit)
+    out_names = names + ["failure"]
+    return xr.Dataset(
+        {"first_order": (("output", "factor"), [[r["first_order"][f] for f in dims] for r in rows],
+                         {"long_name": "first-order (main effect) index Var(E[y|x_i])/Var(y)", "units": "1"}),
+         "total": (("output", "factor"), [[r["total"][f] for f in dims] for r in rows],
+                   {"long_name": "total effect index E[Var(y|x_~i)]/Var(y)", "units": "1"}),
+         "failed": ("output", [r["failed"] for r in rows],
+                    {"long_name": "scenarios left out (status not ok or the output NaN)", "units": "1"}),
+         "variance": ("output", [r["variance"] for r in rows],
+                      {"long_name": "variance of the output over the scenarios used (units: output_units squared)",
+                       "units": "1", "output_units": " ".join(u.replace(" ", "*") for u in units)})},
+        coords={"output": ("output", np.array(out_names, dtype=object),
+                           {"long_name": "output (failure: 1 where status is not ok)", "units": "1"}),
+                "factor": ("factor", np.array(dims, dtype=object), {"long_name": "factor of the design", "units": "1"})},
+        attrs={"method": "exact variance decomposition of the full factorial grid; failed cells left out "
+                         "(means and variances over the finite cells, count-weighted), counted in 'failed'",
+               "title": ds.attrs.get("title", "")})

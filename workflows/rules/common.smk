@@ -17,6 +17,12 @@ def results(study):
     return f"{RESULTS}/{_studies.get(study).output}"
 
 
+def sensitivity_files(study):
+    """Sensitivity indices of a factorial study (its grid's variance decomposition); none for a
+    sampled design."""
+    return [f"{RESULTS}/{study}/sensitivity.h5"] if RESOLVED[study]["design"] == "factorial" else []
+
+
 def chunk_files(study):
     n = RESOLVED[study]["chunks"]
     return [f"{WORK}/{study}/chunk_{i:04d}.h5" for i in range(n)]

@@ -8,19 +8,22 @@ REPORT_DIR = f"{RESULTS}/report"
 BENCHMARK_PAGE = RESOLVED["report"]["benchmark"]  # the engagement work-precision page (runs the benchmark)
 # validation.csv and its page exist only where a study reproduces seed numbers
 REPORT_FILES = [f"{REPORT_DIR}/report.pdf"] + ([f"{REPORT_DIR}/validation.csv"] if VALIDATED else []) + [
-    f"{REPORT_DIR}/{stem}.png" for stem in _figure_stems(STUDIES, BENCHMARK_PAGE)
+    f"{REPORT_DIR}/{stem}.png"
+    for stem in _figure_stems(STUDIES, BENCHMARK_PAGE, [s for s in STUDIES if sensitivity_files(s)])
 ] + [f"{REPORT_DIR}/{f}" for f in _answer_files(STUDIES)]
 
 
 rule report:
     input:
         studies=[results(s) for s in STUDIES],
+        sensitivity=[f for s in STUDIES for f in sensitivity_files(s)],
         validation=[f"{RESULTS}/validation/{s}.h5" for s in VALIDATED],
         benchmark=[f"{RESULTS}/benchmark/engagement_benchmark.csv"] if BENCHMARK_PAGE else [],
     output:
         REPORT_FILES,
     params:
         names=STUDIES,
+        sensitivity_names=[s for s in STUDIES if sensitivity_files(s)],
         title=RESOLVED["report"]["title"],
         dpi=RESOLVED["report"]["dpi"],
         source=SOURCE,

@@ -40,6 +40,7 @@ for _study in STUDIES:
             chunks=chunk_files(_study),
         output:
             results(_study),
+            sensitivity_files(_study),
         params:
             objectives=RESOLVED[_study]["objectives"],
             constraints=RESOLVED[_study]["constraints"],

@@ -22,11 +22,13 @@ from .common import title_page, validation_table  # noqa: E402
 __all__ = ["build", "figure_stems", "answer_files"]
 
 
-def figure_stems(study_names, benchmark=False) -> list[str]:
-    """PNG stems the report produces for these studies (for Snakemake outputs); the validation
-    table only where one of them reproduces seed numbers."""
+def figure_stems(study_names, benchmark=False, sensitivity=()) -> list[str]:
+    """PNG stems the report produces for these studies (for Snakemake outputs); a sensitivity page
+    for the studies in ``sensitivity`` (factorial grids); the validation table only where one of
+    them reproduces seed numbers."""
     stems = ["title"] + [f"{name}_{s}" for name in study_names
-                         for s in (*studies.get(name).figure_stems, "answers")]
+                         for s in (*studies.get(name).figure_stems, "answers",
+                                   *(["sensitivity"] if name in sensitivity else []))]
     validated = any(studies.get(name).validation is not None for name in study_names)
     return stems + (["engagement_work_precision"] if benchmark else []) + (["validation_table"] if validated else [])
 
@@ -37,7 +39,7 @@ def answer_files(study_names) -> list[str]:
 
 
 def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab report", dpi=120,
-          benchmark_csv=None) -> list[Path]:
+          benchmark_csv=None, sensitivity_files=None) -> list[Path]:
     """Build the report from stored results.
 
     Parameters
@@ -48,6 +50,8 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
         Paths of validation Datasets (one per seed).
     benchmark_csv : path or None
         ``engagement_benchmark.csv`` of :mod:`clutchlab.benchmark`: adds the work-precision page.
+    sensitivity_files : dict or None
+        Study name -> its ``sensitivity.h5`` (factorial studies): adds a sensitivity page.
     outdir : path
         Folder for ``report.pdf``, ``validation.csv`` and the PNGs.
     """
@@ -59,6 +63,8 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
     for name, ds in results.items():
         pages += [(f"{name}_{stem}", fig) for stem, fig in studies.get(name).figures(ds)]
         pages.append((f"{name}_answers", answers.page(name, ds)))
+        if name in (sensitivity_files or {}):
+            pages.append((f"{name}_sensitivity", answers.sensitivity_page(name, store.load(sensitivity_files[name]))))
         with store.atomic(outdir / f"{name}_pareto.csv") as tmp:
             answers.write_csv(ds, tmp)
     if benchmark_csv is not None:

@@ -110,3 +110,31 @@ def page(name, ds):
                  f"({100 * feas.mean():.0f} %), {front.size} on the Pareto front"
                  + (f" (table: {len(rows)} spread along it; {name}_pareto.csv)" if rows else ""))
     return fig
+
+
+def sensitivity_page(name, se):
+    """First-order and total indices of every factor, one panel per output (failure included)."""
+    outputs = [str(o) for o in se["output"].values]
+    factors_ = [str(f) for f in se["factor"].values]
+    ncol = min(3, len(outputs))
+    nrow = -(-len(outputs) // ncol)
+    fig, axes = plt.subplots(nrow, ncol, figsize=A4_LANDSCAPE, squeeze=False)
+    x = np.arange(len(factors_))
+    for ax, out in zip(axes.ravel(), outputs):
+        s1 = se["first_order"].sel(output=out).values
+        st_ = se["total"].sel(output=out).values
+        ax.bar(x - 0.2, s1, width=0.4, label="first order", color="tab:blue")
+        ax.bar(x + 0.2, st_, width=0.4, label="total", color="tab:orange")
+        failed = int(se["failed"].sel(output=out))
+        ax.set_title(out + (f" ({failed} failed scenarios left out)" if failed else ""), fontsize=9)
+        ax.set_ylim(0, max(1.0, float(np.nanmax(np.r_[s1, st_, 0.0])) * 1.05))
+        ax.grid(alpha=0.3, axis="y")
+        ax.set_xticks(x, [textwrap.fill(f, 14) for f in factors_], fontsize=7, rotation=30)
+    for ax in axes.ravel()[len(outputs):]:
+        ax.set_axis_off()
+    fig.tight_layout(rect=(0, 0, 1, 0.92))
+    axes[0, 0].legend(fontsize=8)
+    fig.suptitle(f"Sensitivity, study '{name}': share of each output's variance over the grid explained "
+                 "by a factor alone (first order) and with its interactions (total); failure = status not ok. "
+                 "Failed scenarios are left out of an output's indices (counted in its title).")
+    return fig
