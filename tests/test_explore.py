@@ -165,3 +165,60 @@ def test_sensitivity_of_a_factorial_study():
     assert "failure" in complete["output"] and (complete["first_order"] <= complete["total"] + 1e-12).all()
     for name, var in {**se.coords, **se.data_vars}.items():
         assert "units" in var.attrs and "long_name" in var.attrs, name
+
+
+def _saltelli_values(fn, n, d, seed=1):
+    from clutchlab.doe import saltelli_unit
+
+    return fn(saltelli_unit(n, d, np.random.default_rng(seed)))
+
+
+def test_sobol_indices_of_the_ishigami_function():
+    """Ishigami (a = 7, b = 0.1) on [−π, π]³: S1 = (0.3139, 0.4424, 0), ST = (0.5576, 0.4424,
+    0.2437) analytically (Ishigami & Homma 1990; Saltelli et al. 2008 §4.9); each estimate within
+    its confidence interval (widened by 10 % for the interval's own sampling error)."""
+    def ishigami(u):
+        x = -np.pi + 2 * np.pi * u
+        return np.sin(x[:, 0]) + 7 * np.sin(x[:, 1]) ** 2 + 0.1 * x[:, 2] ** 4 * np.sin(x[:, 0])
+
+    a, b = 7.0, 0.1
+    v = a**2 / 8 + b * np.pi**4 / 5 + b**2 * np.pi**8 / 18 + 0.5
+    v1, v2 = 0.5 * (1 + b * np.pi**4 / 5) ** 2, a**2 / 8
+    v13 = b**2 * np.pi**8 * (1 / 18 - 1 / 50)
+    s1, st_ = np.array([v1, v2, 0]) / v, np.array([v1 + v13, v2, v13]) / v
+    r = explore.sobol_indices(_saltelli_values(ishigami, 2**13, 3), 3, ["x1", "x2", "x3"])
+    for i, k in enumerate(("x1", "x2", "x3")):
+        assert abs(r["first_order"][k] - s1[i]) <= 1.1 * r["first_order_conf"][k] + 1e-3, (k, r)
+        assert abs(r["total"][k] - st_[i]) <= 1.1 * r["total_conf"][k] + 1e-3, (k, r)
+    assert r["failed"] == 0 and r["blocks_used"] == 2**13
+
+
+def test_sobol_indices_of_an_additive_function_and_failed_blocks():
+    """y = x1 + 2·x2 + 0·x3 (uniform on [0, 1]): S1 = ST = (1/5, 4/5, 0) exactly (no interaction);
+    NaN scenarios take their whole block out and are counted."""
+    y = _saltelli_values(lambda u: u[:, 0] + 2 * u[:, 1] + 0 * u[:, 2], 2**12, 3)
+    y[[5, 17, 18]] = np.nan  # blocks 1, 3 (two in block 3)
+    r = explore.sobol_indices(y, 3, ["x1", "x2", "x3"])
+    assert r["failed"] == 3 and r["blocks_used"] == 2**12 - 2
+    for k, exact in (("x1", 0.2), ("x2", 0.8), ("x3", 0.0)):
+        assert abs(r["first_order"][k] - exact) <= 1.1 * r["first_order_conf"][k] + 1e-3
+        assert abs(r["total"][k] - exact) <= 1.1 * r["total_conf"][k] + 1e-3
+
+
+def test_saltelli_study_sensitivity():
+    from clutchlab import doe
+    from clutchlab.config import resolve
+
+    sec = resolve({"studies": ["centrifugal"], "centrifugal": {"design": "saltelli", "samples": 256, "parameters": {
+        "pressure_angle": {"min": "25 deg", "max": "55 deg"}, "friction_coefficient": {"min": 0.3, "max": 0.5},
+        "spring_force": {"min": "380 N", "max": "480 N"}}}})["centrifugal"]
+    ds = doe.run_study(sec)
+    assert ds.sizes["run"] == 256 * 5
+    se = explore.sensitivity(ds, ["reserve_factor", "release_time"])
+    outs = se.sel(output=["reserve_factor", "release_time"])
+    assert outs["first_order_conf"].notnull().all() and (outs["total"] > 0).all()
+    assert se["total"].sel(output="failure").isnull().all() == (int((ds["status"] != 0).sum()) == 0)
+    with pytest.raises(ValueError, match="no sensitivity"):
+        explore.sensitivity(doe.run_study(resolve({"studies": ["centrifugal"], "centrifugal": {
+            "design": "lhs", "samples": 8, "parameters": {"spring_force": {"min": "380 N", "max": "480 N"}}}})
+            ["centrifugal"]), ["reserve_factor"])

@@ -267,6 +267,12 @@ def _resolve_study(name: str, section: dict, default_chunks: int, max_scenarios:
             n *= len(f["values"])
         if n > max_scenarios:
             raise _ceiling(name, n, max_scenarios)
+    elif design == "saltelli":
+        if not out["factors"]:
+            raise ConfigError(f"{name}.parameters", "design 'saltelli' needs at least one factor (min/max)")
+        n = out["samples"] * (len(out["factors"]) + 2)  # A, B and one AB matrix per factor
+        if n > max_scenarios:
+            raise _ceiling(name, n, max_scenarios)
     out["objectives"], out["constraints"] = _answers(study, section)
     if study.check_config is not None:
         problem = study.check_config(out)

@@ -25,6 +25,24 @@ def _param_attrs(param) -> dict:
     return {"long_name": param.long_name, "units": param.units}
 
 
+def saltelli_unit(n, d, rng) -> np.ndarray:
+    """Saltelli's design for first-order and total Sobol indices, in the unit cube: base matrices
+    A, B (the two halves of a scrambled Sobol sequence in 2d dimensions, n points) and, per base
+    point j, the block A_j, AB_j^(1), ..., AB_j^(d), B_j (AB^(i): A with column i from B) —
+    n·(d + 2) rows, the order SALib's ``sobol.analyze`` (calc_second_order=False) reads."""
+    from scipy.stats import qmc
+
+    u = qmc.Sobol(d=2 * d, scramble=True, rng=rng).random(n)
+    a, b = u[:, :d], u[:, d:]
+    blocks = [a[:, None, :]]
+    for i in range(d):
+        ab = a.copy()
+        ab[:, i] = b[:, i]
+        blocks.append(ab[:, None, :])
+    blocks.append(b[:, None, :])
+    return np.concatenate(blocks, axis=1).reshape(n * (d + 2), d)
+
+
 def build_design(resolved_study: dict) -> xr.Dataset:
     """The design Dataset of a resolved study section (see :func:`clutchlab.config.resolve`)."""
     study = studies.get(resolved_study["name"])
@@ -45,8 +63,11 @@ def build_design(resolved_study: dict) -> xr.Dataset:
                 unit = qmc.LatinHypercube(d=d, rng=rng).random(n)
             elif kind == "sobol":
                 unit = qmc.Sobol(d=d, scramble=True, rng=rng).random(n)
+            elif kind == "saltelli":
+                unit = saltelli_unit(n, d, rng)
             else:
                 raise ValueError(f"unknown design kind {kind!r}")
+            n = unit.shape[0]
         coords["run"] = ("run", np.arange(n), {"long_name": "scenario index", "units": "1"})
         for j, (name, spec) in enumerate(factors.items()):
             lo, hi = spec["min"], spec["max"]

@@ -17,7 +17,8 @@ from numba import njit
 
 from . import status as st
 
-__all__ = ["pareto_rank", "dominates", "feasible", "annotate", "grid_variance_decomposition", "sensitivity"]
+__all__ = ["pareto_rank", "dominates", "feasible", "annotate", "grid_variance_decomposition", "sobol_indices",
+           "sensitivity"]
 
 
 def dominates(a, b) -> bool:
@@ -324,19 +325,50 @@ def grid_variance_decomposition(y, axes_names) -> dict:
     return {"first_order": first, "total": total, "variance": var, "failed": int(y.size - n)}
 
 
-def sensitivity(ds, outputs) -> "xr.Dataset":
-    """Main and total effects of every factor of a factorial study result on each of ``outputs``
-    and on the failure indicator (status not ok), by :func:`grid_variance_decomposition`.
+def sobol_indices(y, n_factors, names, conf_level=0.95, seed=0) -> dict:
+    """First-order and total Sobol indices with confidence intervals from a Saltelli design
+    (:func:`clutchlab.doe.saltelli_unit` order: blocks of A, AB^(1..d), B), by SALib (the
+    maintained standard; Saltelli 2010 and Jansen estimators, bootstrap intervals).
 
-    Returns a Dataset with dimensions ``output`` and ``factor``: ``first_order``, ``total`` [1],
-    ``failed`` (scenarios left out per output) and ``variance`` (in the output's units, as text
-    in ``output_units``). A sampled design has no grid: it raises ValueError.
+    Failed scenarios (NaN) are not filled: a base point's whole block is left out when any of its
+    d + 2 scenarios failed (each estimator term needs all of them); ``failed`` counts the failed
+    scenarios, ``blocks_used`` the blocks that remain.
+    """
+    from SALib.analyze import sobol
+
+    y = np.asarray(y, dtype=float).reshape(-1, n_factors + 2)
+    keep = np.isfinite(y).all(axis=1)
+    out = {"failed": int((~np.isfinite(y)).sum()), "blocks_used": int(keep.sum())}
+    nan = {k: np.full(n_factors, np.nan) for k in ("S1", "S1_conf", "ST", "ST_conf")}
+    if keep.sum() < 2 or np.var(y[keep]) == 0:
+        res = nan
+    else:
+        problem = {"num_vars": n_factors, "names": list(names), "bounds": [[0.0, 1.0]] * n_factors}
+        res = sobol.analyze(problem, y[keep].reshape(-1), calc_second_order=False, conf_level=conf_level,
+                            print_to_console=False, seed=seed)
+    out.update({"first_order": dict(zip(names, np.asarray(res["S1"], float))),
+                "first_order_conf": dict(zip(names, np.asarray(res["S1_conf"], float))),
+                "total": dict(zip(names, np.asarray(res["ST"], float))),
+                "total_conf": dict(zip(names, np.asarray(res["ST_conf"], float)))})
+    return out
+
+
+def sensitivity(ds, outputs) -> "xr.Dataset":
+    """Main and total effects of every factor of a study result on each of ``outputs`` and on the
+    failure indicator (status not ok): a factorial grid by :func:`grid_variance_decomposition`
+    (exact), a ``saltelli`` design by :func:`sobol_indices` (with 95 % confidence intervals).
+
+    Returns a Dataset with dimensions ``output`` and ``factor``: ``first_order``, ``total`` and
+    their ``*_conf`` half-widths (NaN for a grid: no sampling error) [1], ``failed`` (scenarios
+    that failed per output). Other sampled designs (lhs, sobol) raise ValueError.
     """
     import xarray as xr
 
     dims = list(ds["status"].dims)
-    if dims == ["run"]:
-        raise ValueError("a sampled design has no grid to decompose: use a factorial design")
+    design = ds.attrs.get("design", "factorial" if dims != ["run"] else "")
+    if dims == ["run"] and design != "saltelli":
+        raise ValueError(f"design {design!r} gives no sensitivity indices: use factorial or saltelli")
+    factor_names = dims if dims != ["run"] else ds.attrs["factors"].split()
     names = list(dict.fromkeys(list(outputs)))
     rows, units = [], []
     for name in names + ["failure"]:
@@ -346,22 +378,34 @@ def sensitivity(ds, outputs) -> "xr.Dataset":
         else:
             y = ds[name].broadcast_like(ds["status"]).transpose(*dims).values
             unit = ds[name].attrs.get("units", "1")
-        rows.append(grid_variance_decomposition(y, dims))
+        if dims == ["run"]:
+            rows.append(sobol_indices(y, len(factor_names), factor_names))
+        else:
+            r = grid_variance_decomposition(y, dims)
+            r["first_order_conf"] = r["total_conf"] = dict.fromkeys(dims, np.nan)
+            rows.append(r)
         units.append(unit)
+    dims = factor_names
     out_names = names + ["failure"]
     return xr.Dataset(
         {"first_order": (("output", "factor"), [[r["first_order"][f] for f in dims] for r in rows],
                          {"long_name": "first-order (main effect) index Var(E[y|x_i])/Var(y)", "units": "1"}),
          "total": (("output", "factor"), [[r["total"][f] for f in dims] for r in rows],
                    {"long_name": "total effect index E[Var(y|x_~i)]/Var(y)", "units": "1"}),
+         "first_order_conf": (("output", "factor"), [[r["first_order_conf"][f] for f in dims] for r in rows],
+                              {"long_name": "95 % confidence half-width of first_order (NaN: exact, a grid)",
+                               "units": "1"}),
+         "total_conf": (("output", "factor"), [[r["total_conf"][f] for f in dims] for r in rows],
+                        {"long_name": "95 % confidence half-width of total (NaN: exact, a grid)", "units": "1"}),
          "failed": ("output", [r["failed"] for r in rows],
-                    {"long_name": "scenarios left out (status not ok or the output NaN)", "units": "1"}),
-         "variance": ("output", [r["variance"] for r in rows],
-                      {"long_name": "variance of the output over the scenarios used (units: output_units squared)",
-                       "units": "1", "output_units": " ".join(u.replace(" ", "*") for u in units)})},
+                    {"long_name": "scenarios whose output is NaN (left out; saltelli: with their whole block)",
+                     "units": "1", "output_units": " ".join(u.replace(" ", "*") for u in units)})},
         coords={"output": ("output", np.array(out_names, dtype=object),
                            {"long_name": "output (failure: 1 where status is not ok)", "units": "1"}),
                 "factor": ("factor", np.array(dims, dtype=object), {"long_name": "factor of the design", "units": "1"})},
-        attrs={"method": "exact variance decomposition of the full factorial grid; failed cells left out "
-                         "(means and variances over the finite cells, count-weighted), counted in 'failed'",
+        attrs={"method": ("exact variance decomposition of the full factorial grid; failed cells left out "
+                          "(means and variances over the finite cells, count-weighted), counted in 'failed'")
+               if design != "saltelli" else
+               ("Sobol indices from a Saltelli design (SALib sobol.analyze, calc_second_order=False, 95 % "
+                "bootstrap intervals); a base point's block is left out when any of its scenarios failed"),
                "title": ds.attrs.get("title", "")})

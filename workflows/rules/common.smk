@@ -18,9 +18,9 @@ def results(study):
 
 
 def sensitivity_files(study):
-    """Sensitivity indices of a factorial study (its grid's variance decomposition); none for a
-    sampled design."""
-    return [f"{RESULTS}/{study}/sensitivity.h5"] if RESOLVED[study]["design"] == "factorial" else []
+    """Sensitivity indices of a factorial study (its grid's variance decomposition) or a saltelli
+    design (Sobol indices); none for lhs/sobol samples."""
+    return [f"{RESULTS}/{study}/sensitivity.h5"] if RESOLVED[study]["design"] in ("factorial", "saltelli") else []
 
 
 def chunk_files(study):

@@ -123,18 +123,24 @@ def sensitivity_page(name, se):
     for ax, out in zip(axes.ravel(), outputs):
         s1 = se["first_order"].sel(output=out).values
         st_ = se["total"].sel(output=out).values
-        ax.bar(x - 0.2, s1, width=0.4, label="first order", color="tab:blue")
-        ax.bar(x + 0.2, st_, width=0.4, label="total", color="tab:orange")
+        c1, ct = (se[v].sel(output=out).values for v in ("first_order_conf", "total_conf"))
+        ax.bar(x - 0.2, s1, width=0.4, label="first order", color="tab:blue",
+               yerr=None if np.isnan(c1).all() else c1, capsize=2)
+        ax.bar(x + 0.2, st_, width=0.4, label="total", color="tab:orange",
+               yerr=None if np.isnan(ct).all() else ct, capsize=2)
         failed = int(se["failed"].sel(output=out))
         ax.set_title(out + (f" ({failed} failed scenarios left out)" if failed else ""), fontsize=9)
-        ax.set_ylim(0, max(1.0, float(np.nanmax(np.r_[s1, st_, 0.0])) * 1.05))
+        ax.set_ylim(min(0.0, float(np.nanmin(np.r_[s1, st_, 0.0])) * 1.1),
+                    max(1.0, float(np.nanmax(np.r_[s1, st_, 0.0])) * 1.05))
         ax.grid(alpha=0.3, axis="y")
         ax.set_xticks(x, [textwrap.fill(f, 14) for f in factors_], fontsize=7, rotation=30)
     for ax in axes.ravel()[len(outputs):]:
         ax.set_axis_off()
-    fig.tight_layout(rect=(0, 0, 1, 0.92))
     axes[0, 0].legend(fontsize=8)
-    fig.suptitle(f"Sensitivity, study '{name}': share of each output's variance over the grid explained "
-                 "by a factor alone (first order) and with its interactions (total); failure = status not ok. "
-                 "Failed scenarios are left out of an output's indices (counted in its title).")
+    fig.suptitle(f"Sensitivity, study '{name}': share of each output's variance explained by a factor alone "
+                 "(first order) and with its interactions (total); failure = 1 where status is not ok")
+    fig.text(0.01, 0.01, textwrap.fill("Method: " + se.attrs.get("method", "") + ". Failed scenarios are left "
+                                       "out of an output's indices (counted in its title).", 190),
+             fontsize=7, color="0.3")
+    fig.tight_layout(rect=(0, 0.04, 1, 0.93))
     return fig
