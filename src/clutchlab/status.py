@@ -42,7 +42,6 @@ def attrs(description: str = "") -> dict:
     return out
 
 
-
 # ---- per-scenario input screening ---------------------------------------------------------------
 # A public physics function declares the domain of each per-scenario input; a scenario with any
 # input outside it (NaN, an infinity where none is meaningful, a negative mass, ...) gets status
