@@ -166,7 +166,7 @@ def _rank_3d(g):
     dominate p (0 if none). Equal rows are merged first (they share a rank and, once merged, a row
     q ≤ p componentwise dominates p); the dominance maximum is found by divide and conquer over the
     sweep order with a Fenwick tree of maxima over the third objective (CDQ): O(N log² N)."""
-    uniq, first, inverse = np.unique(g, axis=0, return_index=True, return_inverse=True)
+    uniq, inverse = np.unique(g, axis=0, return_inverse=True)
     # np.unique sorts lexicographically, as the sweep needs
     y = np.searchsorted(np.unique(uniq[:, 1]), uniq[:, 1]).astype(np.int64)
     z = np.searchsorted(np.unique(uniq[:, 2]), uniq[:, 2]).astype(np.int64)
@@ -370,21 +370,18 @@ def sensitivity(ds, outputs) -> "xr.Dataset":
         raise ValueError(f"design {design!r} gives no sensitivity indices: use factorial or saltelli")
     factor_names = dims if dims != ["run"] else ds.attrs["factors"].split()
     names = list(dict.fromkeys(list(outputs)))
-    rows, units = [], []
+    rows = []
     for name in names + ["failure"]:
         if name == "failure":
             y = (ds["status"].values != st.CODE["ok"]).astype(float)
-            unit = "1"
         else:
             y = ds[name].broadcast_like(ds["status"]).transpose(*dims).values
-            unit = ds[name].attrs.get("units", "1")
         if dims == ["run"]:
             rows.append(sobol_indices(y, len(factor_names), factor_names))
         else:
             r = grid_variance_decomposition(y, dims)
             r["first_order_conf"] = r["total_conf"] = dict.fromkeys(dims, np.nan)
             rows.append(r)
-        units.append(unit)
     dims = factor_names
     out_names = names + ["failure"]
     return xr.Dataset(
@@ -399,7 +396,7 @@ def sensitivity(ds, outputs) -> "xr.Dataset":
                         {"long_name": "95 % confidence half-width of total (NaN: exact, a grid)", "units": "1"}),
          "failed": ("output", [r["failed"] for r in rows],
                     {"long_name": "scenarios whose output is NaN (left out; saltelli: with their whole block)",
-                     "units": "1", "output_units": " ".join(u.replace(" ", "*") for u in units)})},
+                     "units": "1"})},
         coords={"output": ("output", np.array(out_names, dtype=object),
                            {"long_name": "output (failure: 1 where status is not ok)", "units": "1"}),
                 "factor": ("factor", np.array(dims, dtype=object), {"long_name": "factor of the design", "units": "1"})},
