@@ -111,9 +111,59 @@ def test_every_study_result_answers(name, section):
     feas = ds["feasible"].values.reshape(-1).astype(bool)
     assert feas.any() and not feas.all()  # a question with an answer
     assert ((ds["pareto_rank"].values.reshape(-1) >= 0) == (feas & np.isfinite(f).all(axis=1))).all()
-    assert ((ds["pareto_rank"].values.reshape(-1) == 0) == (_brute_ranks(f, feas) == 0)).all()
+    # rank 0 = the brute-force front of the feasible designs sharing the operating conditions
+    within = ds["pareto_rank"].attrs["ranked_within"].split()
+    assert within == (["torque"] if name == "sprag" else [])  # the sprag torque is a load, not a choice
+    key = (np.stack([ds[w].broadcast_like(ds["status"]).values.reshape(-1) for w in within], axis=1) if within
+           else np.zeros((f.shape[0], 1)))
+    front = np.zeros(f.shape[0], bool)
+    for k in np.unique(key, axis=0):
+        g = (key == k).all(axis=1)
+        front[g] = _brute_ranks(f[g], feas[g]) == 0
+    assert len(np.unique(key, axis=0)) == (3 if within else 1)
+    assert ((ds["pareto_rank"].values.reshape(-1) == 0) == front).all()
     for name_, var in {**ds.coords, **ds.data_vars}.items():
         assert "units" in var.attrs and "long_name" in var.attrs, name_
+
+
+def test_grouped_ranks_are_ranks_within_each_group():
+    """pareto_rank(groups=...) ranks each group on its own: equal to ranking the groups one by one,
+    and a design is never dominated by one of another group."""
+    rng = np.random.default_rng(3)
+    f = rng.integers(0, 5, size=(600, 2)).astype(float)
+    groups = rng.integers(0, 7, size=600)
+    include = rng.random(600) > 0.1
+    got = explore.pareto_rank(f, include, groups)
+    for g in range(7):
+        sel = groups == g
+        assert (got[sel] == _brute_ranks(f[sel], include[sel])).all()
+
+
+def test_operating_conditions_are_not_design_choices():
+    """An engagement grid over the load torque: without grouping, every front design would carry the
+    lightest load (it always needs less slip work); ranked within each load torque, each load has
+    its own front. A sampled load torque cannot be grouped and is named in conditions_mixed."""
+    from clutchlab import doe
+    from clutchlab.config import resolve
+
+    section = {"design": "factorial", "options": {"driveline": "rigid"},
+               "parameters": {"ramp_time": {"values": ["0.05 s", "0.1 s", "0.2 s", "0.3 s"]},
+                              "friction_coefficient": {"values": [0.3, 0.35, 0.4]},
+                              "load_torque": {"values": ["44 N*m", "80 N*m"]}}}
+    sec = resolve({"studies": ["engagement"], "engagement": section})["engagement"]
+    ds = doe.run_study(sec)
+    assert ds["pareto_rank"].attrs["ranked_within"] == "load_torque"
+    front = ds["pareto_rank"] == 0
+    assert front.sel(load_torque=80.0).any() and front.sel(load_torque=44.0).any()
+    flat = explore.annotate(ds, sec["objectives"], sec["constraints"], within=[])
+    assert not (flat["pareto_rank"] == 0).sel(load_torque=80.0).any()  # what grouping prevents
+    sampled = {"design": "sobol", "samples": 8, "options": {"driveline": "rigid"},
+               "parameters": {"ramp_time": {"min": "0.05 s", "max": "0.3 s"},
+                              "load_torque": {"min": "40 N*m", "max": "80 N*m"}}}
+    sec = resolve({"studies": ["engagement"], "engagement": sampled})["engagement"]
+    ds = doe.run_study(sec)
+    assert ds["pareto_rank"].attrs["conditions_mixed"] == "load_torque"
+    assert ds["pareto_rank"].attrs["ranked_within"] == ""
 
 
 def test_benchmark_runs_small(tmp_path):

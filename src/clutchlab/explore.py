@@ -17,8 +17,8 @@ from numba import njit
 
 from . import status as st
 
-__all__ = ["pareto_rank", "dominates", "feasible", "annotate", "grid_variance_decomposition", "sobol_indices",
-           "sensitivity"]
+__all__ = ["pareto_rank", "dominates", "feasible", "condition_factors", "annotate", "grid_variance_decomposition",
+           "sobol_indices", "sensitivity"]
 
 
 def dominates(a, b) -> bool:
@@ -27,7 +27,7 @@ def dominates(a, b) -> bool:
     return bool(np.all(a <= b) and np.any(a < b))
 
 
-def pareto_rank(values, include=None) -> np.ndarray:
+def pareto_rank(values, include=None, groups=None) -> np.ndarray:
     """Non-dominated rank of each row of ``values`` (N, M), every objective minimised.
 
     Parameters
@@ -37,6 +37,9 @@ def pareto_rank(values, include=None) -> np.ndarray:
     include : array_like of bool (N,) or None
         Rows that take part (e.g. the feasible designs); rows outside it, and rows with a
         non-finite objective, get rank −1 and do not dominate anything.
+    groups : array_like of int (N,) or None
+        Rank each group on its own (e.g. one group per operating condition): a row is only
+        compared with the rows of its group.
 
     Returns
     -------
@@ -50,6 +53,14 @@ def pareto_rank(values, include=None) -> np.ndarray:
     ok = np.isfinite(f).all(axis=1)
     if include is not None:
         ok &= np.asarray(include, dtype=bool).reshape(-1)
+    if groups is not None:
+        groups = np.asarray(groups).reshape(-1)
+        rank = np.full(f.shape[0], -1, dtype=np.int64)
+        order = np.argsort(groups, kind="stable")
+        bounds = np.flatnonzero(np.diff(groups[order])) + 1
+        for part in np.split(order, bounds):
+            rank[part] = pareto_rank(f[part], ok[part])
+        return rank
     rank = np.full(f.shape[0], -1, dtype=np.int64)
     idx = np.flatnonzero(ok)
     if idx.size == 0:
@@ -258,13 +269,46 @@ def feasible(ds, constraints: dict) -> tuple[np.ndarray, dict]:
     return ok, margins
 
 
-def annotate(ds, objectives, constraints):
+def condition_factors(ds) -> tuple[list[str], list[str]]:
+    """The study's operating conditions (:attr:`clutchlab.studies.Study.conditions`) among the
+    factors of ``ds``: (those that are grid dimensions, those that are sampled on ``run``)."""
+    from . import studies
+
+    conditions = studies.get(ds.attrs["study"]).conditions if "study" in ds.attrs else ()
+    dims = ds["status"].dims
+    factors = ds.attrs.get("factors", "").split()
+    return ([c for c in conditions if c in dims],
+            [c for c in conditions if c in factors and c not in dims])
+
+
+def _group_ids(dims, shape, within) -> np.ndarray | None:
+    """One integer per scenario numbering its combination of the ``within`` dimensions."""
+    if not within:
+        return None
+    gid = np.zeros(shape, dtype=np.int64)
+    stride = 1
+    for w in within:
+        k = dims.index(w)
+        gid = gid + stride * np.arange(shape[k]).reshape([-1 if j == k else 1 for j in range(len(shape))])
+        stride *= shape[k]
+    return gid.reshape(-1)
+
+
+def annotate(ds, objectives, constraints, within=None):
     """``ds`` with the design answers added: ``feasible``, ``constraint_margin`` (dimension
     ``constraint``, one entry per constrained output) and ``pareto_rank`` over ``objectives``
-    ("name:min"/"name:max") among the feasible designs (−1: infeasible or an objective NaN)."""
+    ("name:min"/"name:max") among the feasible designs (−1: infeasible or an objective NaN).
+
+    ``within``: grid dimensions to rank within (each of their value combinations has its own
+    front); default: the study's operating conditions that are grid dimensions (e.g. the
+    engagement's load torque and driven inertia), since a design cannot choose its load. Operating
+    conditions sampled on ``run`` cannot be grouped: they are ranked together with the design
+    factors and named in the attribute ``conditions_mixed``."""
     import xarray as xr
 
     dims = ds["status"].dims
+    grid_conditions, mixed = condition_factors(ds)
+    within = grid_conditions if within is None else list(within)
     ok, margins = feasible(ds, {k: tuple(v) for k, v in constraints.items()})
     out = ds.copy()
     out["feasible"] = (dims, ok.astype(np.int8), {
@@ -283,10 +327,15 @@ def annotate(ds, objectives, constraints):
     for output, sense in (o.split(":") for o in objectives):
         v = np.broadcast_to(ds[output].values, ok.shape).astype(float).reshape(-1)
         cols.append(v if sense == "min" else -v)
-    rank = pareto_rank(np.stack(cols, axis=1), ok.reshape(-1)).reshape(ok.shape) if cols else np.full(ok.shape, -1)
-    out["pareto_rank"] = (dims, rank, {
-        "long_name": "Pareto rank among feasible designs (0: the front; -1: infeasible or an objective NaN)",
-        "units": "1", "objectives": " ".join(objectives)})
+    groups = _group_ids(list(dims), ok.shape, within)
+    rank = (pareto_rank(np.stack(cols, axis=1), ok.reshape(-1), groups).reshape(ok.shape) if cols
+            else np.full(ok.shape, -1))
+    attrs = {"long_name": "Pareto rank among feasible designs (0: the front; -1: infeasible or an objective NaN)"
+                          + (f", within each {' and '.join(within)}" if within else ""),
+             "units": "1", "objectives": " ".join(objectives), "ranked_within": " ".join(within)}
+    if mixed:
+        attrs["conditions_mixed"] = " ".join(mixed)
+    out["pareto_rank"] = (dims, rank, attrs)
     return out
 
 

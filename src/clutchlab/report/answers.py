@@ -28,14 +28,16 @@ def _flat(ds, name):
 
 def front_rows(ds) -> tuple[list[str], list[list]]:
     """Header and rows of the front's designs (at most ``MAX_ROWS``, spread along the first
-    objective): factor values and objectives in SI units."""
+    objective, per operating condition where the ranks are): factor values and objectives in SI."""
     objectives = [o.split(":")[0] for o in ds["pareto_rank"].attrs["objectives"].split()]
     names = factors(ds)
     rank = ds["pareto_rank"].values.reshape(-1)
     front = np.flatnonzero(rank == 0)
     cols = {n: _flat(ds, n) for n in names}
-    first = _flat(ds, objectives[0])[front]
-    front = front[np.argsort(first, kind="stable")]
+    # grouped by operating condition (where ranked within them), then along the first objective
+    keys = [_flat(ds, objectives[0])[front]] + [_flat(ds, w)[front] for w in
+                                                 ds["pareto_rank"].attrs.get("ranked_within", "").split()[::-1]]
+    front = front[np.lexsort(keys)]
     if front.size > MAX_ROWS:
         front = front[np.unique(np.linspace(0, front.size - 1, MAX_ROWS).round().astype(int))]
     header = [f"{n} [{ds[n].attrs.get('units', '')}]" for n in names + objectives]
@@ -81,8 +83,19 @@ def page(name, ds):
     ax_f.scatter(x[~feas], y[~feas], s=6, c="0.8", label="infeasible")
     ax_f.scatter(x[feas & (rank > 0)], y[feas & (rank > 0)], s=8, c="tab:blue", label="feasible")
     front = np.flatnonzero(rank == 0)
-    front = front[np.argsort(x[front], kind="stable")]
-    ax_f.plot(x[front], y[front], "o-", color="tab:red", ms=5, label="Pareto front")
+    within = ds["pareto_rank"].attrs.get("ranked_within", "").split()
+    if within:  # one front per combination of operating conditions
+        key = np.stack([_flat(ds, w) for w in within], axis=1)[front]
+        combos = np.unique(key, axis=0)
+        for j, combo in enumerate(combos):
+            members = front[(key == combo).all(axis=1)]
+            members = members[np.argsort(x[members], kind="stable")]
+            label = (", ".join(f"{w} {v:.4g}" for w, v in zip(within, combo)) if j < 8
+                     else (f"... {len(combos) - 8} more" if j == 8 else None))
+            ax_f.plot(x[members], y[members], "o-", ms=4, label=label, color=plt.cm.tab10(j % 10))
+    else:
+        ordered = front[np.argsort(x[front], kind="stable")]
+        ax_f.plot(x[ordered], y[ordered], "o-", color="tab:red", ms=5, label="Pareto front")
     seed = seed_view(ds, study.defaults)
     sx, sy = float(seed[ox]), float(seed[oy])
     if np.isfinite(sx) and np.isfinite(sy):
@@ -90,10 +103,15 @@ def page(name, ds):
     sense = dict(o.split(":") for o in objectives)
     ax_f.set_xlabel(f"{ox} [{ds[ox].attrs.get('units', '')}] ({sense[ox]})")
     ax_f.set_ylabel(f"{oy} [{ds[oy].attrs.get('units', '')}] ({sense[oy]})")
-    ax_f.legend(fontsize=8)
+    ax_f.legend(fontsize=7, title="front at" if within else None, title_fontsize=7)
     ax_f.grid(alpha=0.3)
-    ax_f.set_title(f"Pareto front over {' and '.join(objectives[:2])}"
-                   + (f" (of {len(objectives)} objectives)" if len(objectives) > 2 else ""), fontsize=9)
+    mixed = ds["pareto_rank"].attrs.get("conditions_mixed", "")
+    ax_f.set_title(textwrap.fill(
+        f"Pareto front over {' and '.join(objectives[:2])}"
+        + (f" (of {len(objectives)} objectives)" if len(objectives) > 2 else "")
+        + (f", one per {' and '.join(within)} (operating conditions, not choices)" if within else "")
+        + (f"; {mixed} sampled: ranked together with the design factors, a front design may owe its "
+           "place to a light operating condition" if mixed else ""), 90), fontsize=8)
     # the front's designs
     header, rows = front_rows(ds)
     ax_t.set_axis_off()

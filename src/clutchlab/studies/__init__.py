@@ -79,6 +79,10 @@ class Study:
     outputs: dict = field(default_factory=dict)
     objectives: tuple[str, ...] = ()
     constraints: dict = field(default_factory=dict)
+    # operating conditions: parameters the engineer does not choose (loads, speeds, inertias of the
+    # rest of the drivetrain). A factorial grid over one is ranked within each of its values, so
+    # the front never answers "choose the lightest load"
+    conditions: tuple[str, ...] = ()
 
     def parameter(self, name: str) -> Parameter:
         for p in self.parameters:

@@ -189,6 +189,8 @@ STUDY = register(Study(
     outputs={"reserve_factor": "1", "release_margin": "N m", "release_time": "s", "engagement_speed": "rad/s",
              "capacity_forward": "N m", "idle_capacity": "N m"},
     # seed 001: carry the rotor with reserve, let go quickly after an engine failure
+    conditions=("rated_speed", "idle_speed", "engine_torque", "rated_passive_torque", "static_fraction", "engine_inertia",
+                "rotor_inertia", "rotor_load_torque", "startup_time"),
     objectives=("reserve_factor:max", "release_time:min"),
     constraints={"reserve_factor": ("min", 1.2), "release_margin": ("min", 0.0)},
 ))

@@ -200,6 +200,7 @@ STUDY = register(Study(
              "deflection_operating": "m"},
     # torque reserve against the peak release force the bearing must overcome (load at the hump A;
     # the clamp load itself is proportional to the reserve, no trade-off); seed 000 takes beta >= 1.2
+    conditions=("max_engine_torque", "stack_mass"),
     objectives=("reserve_factor:max", "load_peak:min"),
     constraints={"reserve_factor": ("min", 1.2)},
     options=OPTIONS,

@@ -260,6 +260,7 @@ STUDY = register(Study(
              "peak_contact_stress": "Pa", "backlash_angle": "rad", "release_time": "s"},
     # seed 003: fast engagement at low contact stress; self-locking, sigma_H within the 3041 MPa
     # lower end of the allowable range, engaged within 1 ms
+    conditions=("max_torque", "service_factor", "rated_speed", "driven_inertia", "drive_direction"),
     objectives=("engagement_time:min", "contact_stress:min"),
     constraints={"contact_stress": ("max", 3041e6), "self_locking_margin": ("min", 0.0),
                  "engagement_time": ("max", 1e-3)},
