@@ -4,3 +4,29 @@ import matplotlib
 
 matplotlib.use("Agg")
 os.environ.setdefault("MPLBACKEND", "Agg")
+
+
+def refine_sources(cfg) -> list[str]:
+    """The first-stage result files a config's design-refine studies read (refine.from)."""
+    return [cfg[s]["refine"]["from"] for s in cfg["studies"] if cfg[s].get("design") == "refine"]
+
+
+def write_first_stage(path, study="engagement"):
+    """A small stored result of ``study`` at ``path`` (a 3 x 2 factorial grid of its first two
+    default-config factors), for a config that refines a stored result."""
+    from pathlib import Path
+
+    import yaml
+
+    from clutchlab import config, doe, store
+
+    raw = yaml.safe_load((Path(__file__).resolve().parents[1] / "config" / "config.yaml").read_text())[study]
+    params = {k: v for k, v in raw["parameters"].items() if isinstance(v, dict)}
+    small = {}
+    for k, v in list(params.items())[:2]:
+        small[k] = {"values": (v["values"] if "values" in v else [v["min"], v["max"]])[: 3 if not small else 2]}
+    section = {**raw, "parameters": {**{k: v for k, v in raw["parameters"].items() if not isinstance(v, dict)},
+                                      **small}}
+    sec = config.resolve({"studies": [study], study: section})[study]
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    store.write(doe.run_study(sec), path)

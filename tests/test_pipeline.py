@@ -224,7 +224,7 @@ def _tiny_variant(path):
 
 
 @pytest.mark.parametrize("name", sorted(p.name for p in (ROOT / "config").glob("*.yaml")))
-def test_every_config_runs_with_any_chunk_count(name, tmp_path):
+def test_every_config_runs_with_any_chunk_count(name, tmp_path, monkeypatch):
     """Issue 14: every file in config/ runs end to end (tiny variant) with one chunk and with more
     chunks than scenarios (empty chunk jobs; config.yaml's own 4 is that here); seed000.yaml used
     to fail (validation outputs declared without a validated study), a one-value factor used to
@@ -233,19 +233,27 @@ def test_every_config_runs_with_any_chunk_count(name, tmp_path):
 
     from clutchlab import config, doe
 
+    from conftest import refine_sources
+
     wd = _workdir(tmp_path)
     cfg = _tiny_variant(ROOT / "config" / name)
     own = int(yaml.safe_load((ROOT / "config" / name).read_text()).get("chunks", config.DEFAULT_CHUNKS))
     (wd / "tiny.yaml").write_text(yaml.safe_dump(cfg))
+    if refine_sources(cfg):  # a second stage: the first stage (the default config, tiny) runs first
+        (wd / "first.yaml").write_text(yaml.safe_dump(_tiny_variant(ROOT / "config" / "config.yaml")))
+        _snakemake(wd, "--configfile", "first.yaml")
+        assert all((wd / s).exists() for s in refine_sources(cfg))
+    monkeypatch.chdir(wd)  # relative paths of the config (refine.from) as Snakemake reads them
     resolved = config.resolve(cfg)
     sizes = {s: doe.n_scenarios(doe.build_design(resolved[s])) for s in resolved["studies"]}
     for chunks in (1, max(own, max(sizes.values()) + 1)):  # (own counts also run in small_run and CI)
         _snakemake(wd, "--configfile", "tiny.yaml", "--config", f"chunks={chunks}", "--forceall")
-        assert (wd / "results/report/report.pdf").stat().st_size > 0
+        out = wd / resolved["results"]
+        assert (out / "report/report.pdf").stat().st_size > 0
         for s, n in sizes.items():
             from clutchlab import studies, store
 
-            ds = store.load(wd / "results" / studies.get(s).output)
+            ds = store.load(out / studies.get(s).output)
             assert int(ds["status"].size) == n, (s, chunks)
 
 

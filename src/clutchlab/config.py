@@ -18,7 +18,7 @@ from . import studies
 from .units import UnitError, to_si
 
 __all__ = ["ConfigError", "SCHEMA_PATH", "schema", "load", "read_file", "resolve", "study_config_text",
-           "DEFAULT_MAX_SCENARIOS"]
+           "stored_study", "DEFAULT_MAX_SCENARIOS"]
 
 SCHEMA_PATH = files("clutchlab") / "config.schema.yaml"
 DEFAULT_CHUNKS = 4
@@ -178,9 +178,14 @@ def _count(section, key, name):
     return int(v)
 
 
-def _resolve_study(name: str, section: dict, default_chunks: int, max_scenarios: int) -> dict:
+def _resolve_study(name: str, section: dict, default_chunks: int, max_scenarios: int,
+                   results_dir: str = "results") -> dict:
     study = studies.get(name)
     design = section["design"]
+    if design == "refine":
+        return _resolve_refine(name, section, default_chunks, max_scenarios, results_dir)
+    if "refine" in section:
+        raise ConfigError(f"{name}.refine", f"only read by design 'refine' (this study's design is '{design}')")
     out = {
         "name": name,
         "design": design,
@@ -281,6 +286,71 @@ def _resolve_study(name: str, section: dict, default_chunks: int, max_scenarios:
     return out
 
 
+REFINE_KEYS = ("design", "refine", "samples", "seed", "chunks")
+DEFAULT_SHRINK = 0.5
+
+
+def stored_study(path, name=None, key="refine.from") -> dict:
+    """The resolved study section a stored result was computed from (its ``config`` attribute),
+    checked to be a clutchlab result of study ``name`` with a Pareto front."""
+    import os
+
+    import h5py
+
+    if not os.path.isfile(path):
+        raise ConfigError(key, f"no such file {path!r} (run the first stage first)")
+    try:
+        with h5py.File(path, "r") as fh:
+            attrs = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in fh.attrs.items()}
+            rank = fh["pareto_rank"][...] if "pareto_rank" in fh else None
+    except (OSError, ValueError) as exc:
+        raise ConfigError(key, f"cannot read {path!r} as a clutchlab result ({exc})") from None
+    if attrs.get("source") != "clutchlab" or "config" not in attrs or rank is None:
+        raise ConfigError(key, f"{path!r} is not a clutchlab study result with design answers "
+                          "(no config attribute or pareto_rank)")
+    section = yaml.safe_load(attrs["config"])
+    if name is not None and section.get("name") != name:
+        raise ConfigError(key, f"{path!r} is a result of study {section.get('name')!r}, not {name!r}")
+    if not (rank == 0).any():
+        raise ConfigError(key, f"{path!r} has no feasible design on a Pareto front to refine around")
+    return section
+
+
+def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -> dict:
+    """A second stage: new samples near the Pareto fronts of a stored result, with everything
+    else (factors and their ranges, fixed values, options, objectives, constraints) taken from it,
+    so that the two stages' fronts are comparable."""
+    import os
+
+    for key in section:
+        if key not in REFINE_KEYS:
+            raise ConfigError(f"{name}.{key}", "a 'design: refine' study takes its factors, fixed values, options, "
+                              "accuracy, objectives and constraints from the result it refines (refine.from); "
+                              "remove this key")
+    for key in ("refine", "samples"):
+        if key not in section:
+            raise ConfigError(f"{name}.{key}", "required for design 'refine'")
+    path = section["refine"]["from"]
+    key = f"{name}.refine.from"
+    own = os.path.join(results_dir, studies.get(name).output)
+    if os.path.realpath(path) == os.path.realpath(own):
+        raise ConfigError(key, f"is this run's own result file ({own}); write the refining run to another folder "
+                          "with the top-level key 'results: <folder>'")
+    first = stored_study(path, name, key)
+    out = dict(first)
+    out.update({
+        "design": "refine",
+        "chunks": _count(section, "chunks", f"{name}.chunks") if "chunks" in section else default_chunks,
+        "seed": _count(section, "seed", f"{name}.seed") if "seed" in section else 0,
+        "samples": _count(section, "samples", f"{name}.samples"),
+        "refine": {"from": path, "shrink": float(section["refine"].get("shrink", DEFAULT_SHRINK)),
+                   "first_design": first["design"]},
+    })
+    if out["samples"] > max_scenarios:
+        raise _ceiling(name, out["samples"], max_scenarios)
+    return out
+
+
 def _answers(study, section):
     """The study's objectives and constraints: the config's, else the study's defaults (issue 15)."""
     name = study.name
@@ -323,12 +393,13 @@ def resolve(raw: dict) -> dict:
     if any(not ch.isprintable() for ch in title):
         raise ConfigError("report.title", "must be one line of printable text (no newline, tab or control "
                           "character)")
+    results_dir = cfg.get("results", "results")
     resolved = {"studies": list(cfg["studies"]), "chunks": default_chunks, "max_scenarios": max_scenarios,
-                "report": {"title": "clutchlab report", "dpi": 120, "benchmark": False, **cfg.get("report", {})}}
+                "results": results_dir, "report": {"title": "clutchlab report", "dpi": 120, "benchmark": False, **cfg.get("report", {})}}
     for name in cfg["studies"]:
         if name not in cfg:
             raise ConfigError(name, "section missing for a study listed in 'studies'")
-        resolved[name] = _resolve_study(name, cfg[name], default_chunks, max_scenarios)
+        resolved[name] = _resolve_study(name, cfg[name], default_chunks, max_scenarios, results_dir)
     return resolved
 
 

@@ -7,6 +7,9 @@ Design kinds (``design`` key of a study section):
 * ``lhs`` / ``sobol`` — Latin hypercube / scrambled Sobol' samples from
   :mod:`scipy.stats.qmc`, seeded and reproducible, on a ``run`` dimension with every factor
   as a 1-D coordinate.
+* ``saltelli`` — the samples Sobol' indices need (:func:`saltelli_unit`).
+* ``refine`` — samples near the Pareto fronts of a stored result (:func:`refine_samples`), on
+  ``run`` like the sampled kinds.
 
 Parameters that are not factors are fixed and stored as 0-d variables.
 """
@@ -52,6 +55,15 @@ def build_design(resolved_study: dict) -> xr.Dataset:
     if kind == "factorial":
         for name, spec in factors.items():
             coords[name] = (name, np.asarray(spec["values"], dtype=float), _param_attrs(study.parameter(name)))
+    elif kind == "refine":
+        from . import store
+
+        first = store.load(resolved_study["refine"]["from"])
+        values, halfwidth = refine_samples(first, resolved_study, np.random.default_rng(resolved_study["seed"]))
+        coords["run"] = ("run", np.arange(resolved_study["samples"]), {"long_name": "scenario index", "units": "1"})
+        for name in factors:
+            attrs = {**_param_attrs(study.parameter(name)), "refine_halfwidth": halfwidth[name]}
+            coords[name] = ("run", values[name], attrs)
     else:
         n = resolved_study["samples"]
         d = len(factors)
@@ -79,7 +91,73 @@ def build_design(resolved_study: dict) -> xr.Dataset:
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update(_provenance(resolved_study))
     ds.attrs["factors"] = " ".join(factors)
+    if kind == "refine":
+        ds.attrs["refine_from"] = resolved_study["refine"]["from"]
+        ds.attrs["refine_within"] = first["pareto_rank"].attrs.get("ranked_within", "")
     return ds
+
+
+def _unit_map(spec):
+    """(to unit interval, from unit interval) of a resolved factor spec (min/max/scale or values)."""
+    if "values" in spec:
+        lo, hi, log = min(spec["values"]), max(spec["values"]), False
+    else:
+        lo, hi, log = spec["min"], spec["max"], spec["scale"] == "log"
+    if hi == lo:
+        return (lambda x: np.zeros_like(x)), (lambda u: np.full_like(u, lo))
+    if log:
+        return (lambda x: np.log(x / lo) / np.log(hi / lo)), (lambda u: lo * np.exp(u * np.log(hi / lo)))
+    return (lambda x: (x - lo) / (hi - lo)), (lambda u: lo + u * (hi - lo))
+
+
+def refine_samples(first: xr.Dataset, resolved_study: dict, rng) -> tuple[dict, dict]:
+    """New designs near the Pareto fronts of a stored result ``first``.
+
+    Each sample belongs to one front design (round robin; when there are more front designs than
+    samples, to as many spread along the front) and is drawn by Latin hypercube in a box around
+    it: ± h of each factor's range, h = ``shrink`` × the first stage's spacing (a factorial grid's
+    step 1/(levels − 1), N^(-1/d) for N sampled designs, a refined design's own h), reflected at
+    the range's ends (the range of the first stage, never left). Operating conditions (designs are
+    ranked within them), counts and choices stay at the front design's values, so a front moves
+    only along what the engineer chooses. Returns ({factor: values}, {factor: h}).
+    """
+    from . import explore
+
+    study = studies.get(resolved_study["name"])
+    factors = resolved_study["factors"]
+    n, shrink = resolved_study["samples"], resolved_study["refine"]["shrink"]
+    front = explore.spread(explore.front_order(first), n)
+    owner = front[np.arange(n) % front.size]
+    kept = set(study.conditions)
+    sampled_first = first.attrs["design"] != "factorial"
+    halfwidth, values = {}, {}
+    u = qmc_lhs(len(factors), n, rng)
+    for j, (name, spec) in enumerate(factors.items()):
+        param = study.parameter(name)
+        centre = explore.flat(first, name)[owner]
+        if name in kept or param.integer or param.choices is not None:
+            halfwidth[name], values[name] = 0.0, centre.astype(float)
+            continue
+        if first.attrs["design"] == "refine":
+            spacing = float(first[name].attrs["refine_halfwidth"])
+        elif sampled_first:
+            spacing = first.sizes["run"] ** (-1.0 / len(factors))
+        else:
+            spacing = 1.0 / (len(spec["values"]) - 1) if len(spec["values"]) > 1 else 0.0
+        h = shrink * spacing
+        to_unit, from_unit = _unit_map(spec)
+        x = to_unit(centre) + (2.0 * u[:, j] - 1.0) * h
+        x = np.abs(x)  # reflected at 0 and at 1
+        x = np.where(x > 1.0, 2.0 - x, x)
+        halfwidth[name], values[name] = h, from_unit(np.clip(x, 0.0, 1.0))
+    return values, halfwidth
+
+
+def qmc_lhs(d, n, rng) -> np.ndarray:
+    """n Latin hypercube points in the unit cube of dimension d (shape (n, d); d may be 0)."""
+    from scipy.stats import qmc
+
+    return qmc.LatinHypercube(d=d, rng=rng).random(n) if d else np.zeros((n, 0))
 
 
 def _provenance(resolved_study: dict) -> dict:

@@ -17,7 +17,8 @@ from numba import njit
 
 from . import status as st
 
-__all__ = ["pareto_rank", "dominates", "feasible", "condition_factors", "annotate", "grid_variance_decomposition",
+__all__ = ["pareto_rank", "dominates", "feasible", "condition_factors", "annotate", "hypervolume",
+           "refinement_gain", "front_order", "grid_variance_decomposition",
            "sobol_indices", "sensitivity"]
 
 
@@ -271,27 +272,51 @@ def feasible(ds, constraints: dict) -> tuple[np.ndarray, dict]:
 
 def condition_factors(ds) -> tuple[list[str], list[str]]:
     """The study's operating conditions (:attr:`clutchlab.studies.Study.conditions`) among the
-    factors of ``ds``: (those that are grid dimensions, those that are sampled on ``run``)."""
+    factors of ``ds``: (those it is ranked within — grid dimensions, or the conditions a refined
+    design kept at its first stage's grid values — and those sampled, which cannot be grouped)."""
     from . import studies
 
     conditions = studies.get(ds.attrs["study"]).conditions if "study" in ds.attrs else ()
     dims = ds["status"].dims
     factors = ds.attrs.get("factors", "").split()
-    return ([c for c in conditions if c in dims],
-            [c for c in conditions if c in factors and c not in dims])
+    kept = ds.attrs.get("refine_within", "").split()
+    grouped = [c for c in conditions if c in dims or c in kept]
+    return grouped, [c for c in conditions if c in factors and c not in grouped]
 
 
-def _group_ids(dims, shape, within) -> np.ndarray | None:
-    """One integer per scenario numbering its combination of the ``within`` dimensions."""
+def flat(ds, name) -> np.ndarray:
+    """A per-scenario variable or factor coordinate of a study Dataset as a flat array, in the
+    order of ``status`` (grid or ``run``)."""
+    return ds[name].broadcast_like(ds["status"]).transpose(*ds["status"].dims).values.reshape(-1)
+
+
+def group_ids(ds, within) -> np.ndarray | None:
+    """One integer per scenario numbering its combination of the values of ``within``."""
     if not within:
         return None
-    gid = np.zeros(shape, dtype=np.int64)
-    stride = 1
+    gid = np.zeros(ds["status"].size, dtype=np.int64)
     for w in within:
-        k = dims.index(w)
-        gid = gid + stride * np.arange(shape[k]).reshape([-1 if j == k else 1 for j in range(len(shape))])
-        stride *= shape[k]
-    return gid.reshape(-1)
+        _, inverse = np.unique(flat(ds, w), return_inverse=True)
+        gid = gid * (int(inverse.max()) + 1) + inverse.reshape(-1)
+    return gid
+
+
+def front_order(ds) -> np.ndarray:
+    """Flat indices of the Pareto front's designs (rank 0), grouped by the operating conditions
+    they were ranked within, then along the first objective."""
+    rank = ds["pareto_rank"].values.reshape(-1)
+    front = np.flatnonzero(rank == 0)
+    first = ds["pareto_rank"].attrs["objectives"].split()[0].split(":")[0]
+    keys = [flat(ds, first)[front]] + [flat(ds, w)[front] for w in ds["pareto_rank"].attrs.get(
+        "ranked_within", "").split()[::-1]]
+    return front[np.lexsort(keys)]
+
+
+def spread(indices, k) -> np.ndarray:
+    """At most ``k`` of ``indices``, evenly spread along them (first and last kept)."""
+    if indices.size <= k:
+        return indices
+    return indices[np.unique(np.linspace(0, indices.size - 1, k).round().astype(int))]
 
 
 def annotate(ds, objectives, constraints, within=None):
@@ -327,7 +352,7 @@ def annotate(ds, objectives, constraints, within=None):
     for output, sense in (o.split(":") for o in objectives):
         v = np.broadcast_to(ds[output].values, ok.shape).astype(float).reshape(-1)
         cols.append(v if sense == "min" else -v)
-    groups = _group_ids(list(dims), ok.shape, within)
+    groups = group_ids(ds, within)
     rank = (pareto_rank(np.stack(cols, axis=1), ok.reshape(-1), groups).reshape(ok.shape) if cols
             else np.full(ok.shape, -1))
     attrs = {"long_name": "Pareto rank among feasible designs (0: the front; -1: infeasible or an objective NaN)"
@@ -337,6 +362,84 @@ def annotate(ds, objectives, constraints, within=None):
         attrs["conditions_mixed"] = " ".join(mixed)
     out["pareto_rank"] = (dims, rank, attrs)
     return out
+
+
+def hypervolume(points, reference) -> float:
+    """Exact hypervolume (every objective minimised) of the region that ``points`` (N, M) dominate
+    and that dominates ``reference`` (M,): the area (2 objectives) or volume between the front and
+    the reference point. Points not better than the reference in every objective add nothing.
+    Sweep for M ≤ 2; slicing along the last objective (HSO, While et al. 2006) above, meant for
+    fronts of up to a few thousand points."""
+    p = np.asarray(points, dtype=float).reshape(-1, len(reference))
+    ref = np.asarray(reference, dtype=float)
+    p = p[np.isfinite(p).all(axis=1) & (p < ref).all(axis=1)]
+    return _hv(np.unique(p, axis=0), ref) if p.size else 0.0
+
+
+def _hv(p, ref) -> float:
+    p = p[pareto_rank(p) == 0]
+    if p.shape[1] == 1:
+        return float(ref[0] - p[:, 0].min())
+    if p.shape[1] == 2:  # sorted by the first objective the front's second objective falls
+        p = p[np.lexsort((p[:, 1], p[:, 0]))]
+        x = np.append(p[:, 0], ref[0])
+        return float(np.sum(np.diff(x) * (ref[1] - p[:, 1])))
+    p = p[np.argsort(p[:, -1], kind="stable")]
+    z = np.append(p[:, -1], ref[-1])
+    return float(sum(_hv(p[: i + 1, :-1], ref[:-1]) * (z[i + 1] - z[i]) for i in range(len(p)) if z[i + 1] > z[i]))
+
+
+def refinement_gain(first, second):
+    """How far a refining stage moved the Pareto fronts of its first stage: per operating condition
+    the first stage ranked within (one group if none), the hypervolume of the first stage's front
+    and of the front of both stages together, in objectives normalised by the first stage's feasible
+    designs of that group (ideal 0, worst 1; reference point 1.1 in each). Returns a Dataset on
+    dimension ``group``."""
+    import xarray as xr
+
+    objectives = first["pareto_rank"].attrs["objectives"].split()
+    within = first["pareto_rank"].attrs.get("ranked_within", "").split()
+
+    def table(ds):
+        cols = [flat(ds, o.split(":")[0]) * (1.0 if o.endswith(":min") else -1.0) for o in objectives]
+        key = np.stack([flat(ds, w) for w in within], axis=1) if within else np.zeros((ds["status"].size, 0))
+        return np.stack(cols, axis=1), flat(ds, "feasible").astype(bool), key
+
+    f1, ok1, k1 = table(first)
+    f2, ok2, k2 = table(second)
+    combos = np.unique(k1[ok1], axis=0) if within else np.zeros((1, 0))
+    rows = []
+    for combo in combos:
+        g1 = ok1 & (k1 == combo).all(axis=1) & np.isfinite(f1).all(axis=1)
+        g2 = ok2 & (k2 == combo).all(axis=1) & np.isfinite(f2).all(axis=1)
+        if not g1.any():
+            continue
+        ideal, worst = f1[g1].min(axis=0), f1[g1].max(axis=0)
+        scale = np.where(worst > ideal, worst - ideal, np.maximum(np.abs(worst), 1e-300))
+        norm1, norm2 = (f1[g1] - ideal) / scale, (f2[g2] - ideal) / scale
+        ref = np.full(len(objectives), 1.1)
+        before = hypervolume(norm1, ref)
+        union = np.concatenate([norm1, norm2])
+        after = hypervolume(union, ref)
+        on_front = pareto_rank(union) == 0
+        rows.append((combo, before, after, int(g1.sum()), int(g2.sum()), int(on_front[len(norm1):].sum())))
+    return xr.Dataset(
+        {"hypervolume_before": ("group", [r[1] for r in rows], {
+            "long_name": "hypervolume of the first stage's front (objectives normalised per group)", "units": "1"}),
+         "hypervolume_after": ("group", [r[2] for r in rows], {
+             "long_name": "hypervolume of the front of both stages together", "units": "1"}),
+         "feasible_first": ("group", [r[3] for r in rows], {"long_name": "feasible designs, first stage", "units": "1"}),
+         "feasible_second": ("group", [r[4] for r in rows], {"long_name": "feasible designs, refining stage",
+                                                             "units": "1"}),
+         "front_from_second": ("group", [r[5] for r in rows], {
+             "long_name": "designs of the refining stage on the joint front", "units": "1"})},
+        coords={"group": ("group", np.arange(len(rows)), {"long_name": "operating-condition group", "units": "1"}),
+                **{w: ("group", np.array([r[0][j] for r in rows], float), dict(first[w].attrs))
+                   for j, w in enumerate(within)}},
+        attrs={"objectives": " ".join(objectives), "ranked_within": " ".join(within),
+               "scenarios_first": int(first["status"].size), "scenarios_second": int(second["status"].size),
+               "reference": "1.1 in every objective normalised to the first stage's feasible designs of the "
+                            "group (best 0, worst 1); maximised objectives negated"})
 
 
 def grid_variance_decomposition(y, axes_names) -> dict:

@@ -7,9 +7,10 @@ from clutchlab import studies as _studies
 SOURCE = _clutchlab.source_hash()
 
 STUDIES = RESOLVED["studies"]
-RESULTS = "results"
+RESULTS = RESOLVED["results"]  # top-level key results (default "results")
 WORK = f"{RESULTS}/work"
 VALIDATED = [s for s in STUDIES if _studies.get(s).validation is not None]
+REFINED = [s for s in STUDIES if RESOLVED[s]["design"] == "refine"]
 
 
 def results(study):
@@ -21,6 +22,11 @@ def sensitivity_files(study):
     """Sensitivity indices of a factorial study (its grid's variance decomposition) or a saltelli
     design (Sobol indices); none for lhs/sobol samples."""
     return [f"{RESULTS}/{study}/sensitivity.h5"] if RESOLVED[study]["design"] in ("factorial", "saltelli") else []
+
+
+def refine_source(study):
+    """The first-stage result a design-refine study samples near (an input of its design)."""
+    return RESOLVED[study]["refine"]["from"]
 
 
 def chunk_files(study):

@@ -9,8 +9,8 @@ BENCHMARK_PAGE = RESOLVED["report"]["benchmark"]  # the engagement work-precisio
 # validation.csv and its page exist only where a study reproduces seed numbers
 REPORT_FILES = [f"{REPORT_DIR}/report.pdf"] + ([f"{REPORT_DIR}/validation.csv"] if VALIDATED else []) + [
     f"{REPORT_DIR}/{stem}.png"
-    for stem in _figure_stems(STUDIES, BENCHMARK_PAGE, [s for s in STUDIES if sensitivity_files(s)])
-] + [f"{REPORT_DIR}/{f}" for f in _answer_files(STUDIES)]
+    for stem in _figure_stems(STUDIES, BENCHMARK_PAGE, [s for s in STUDIES if sensitivity_files(s)], REFINED)
+] + [f"{REPORT_DIR}/{f}" for f in _answer_files(STUDIES, REFINED)]
 
 
 rule report:
@@ -19,11 +19,13 @@ rule report:
         sensitivity=[f for s in STUDIES for f in sensitivity_files(s)],
         validation=[f"{RESULTS}/validation/{s}.h5" for s in VALIDATED],
         benchmark=[f"{RESULTS}/benchmark/engagement_benchmark.csv"] if BENCHMARK_PAGE else [],
+        refined=[refine_source(s) for s in REFINED],
     output:
         REPORT_FILES,
     params:
         names=STUDIES,
         sensitivity_names=[s for s in STUDIES if sensitivity_files(s)],
+        refined_names=REFINED,
         title=RESOLVED["report"]["title"],
         dpi=RESOLVED["report"]["dpi"],
         source=SOURCE,

@@ -2,6 +2,8 @@
 
 
 rule design:
+    input:
+        lambda wc: [refine_source(wc.study)] if wc.study in REFINED else [],
     output:
         f"{WORK}/{{study}}/design.h5",
     params:

@@ -7,4 +7,5 @@ sm = snakemake  # noqa: F821
 report.build(dict(zip(sm.params.names, sm.input.studies)), list(sm.input.validation),
              Path(sm.output[0]).parent, title=sm.params.title, dpi=sm.params.dpi,
              benchmark_csv=sm.input.benchmark[0] if sm.input.benchmark else None,
-             sensitivity_files=dict(zip(sm.params.sensitivity_names, sm.input.sensitivity)))
+             sensitivity_files=dict(zip(sm.params.sensitivity_names, sm.input.sensitivity)),
+             refine_files=dict(zip(sm.params.refined_names, sm.input.refined)))

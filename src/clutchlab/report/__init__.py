@@ -15,6 +15,7 @@ from matplotlib.backends.backend_pdf import PdfPages  # noqa: E402
 
 from .. import __version__, store, studies  # noqa: E402
 from .. import status as st  # noqa: E402
+from ..explore import refinement_gain  # noqa: E402
 from ..validation import to_csv  # noqa: E402
 from . import answers  # noqa: E402
 from .common import title_page, validation_table  # noqa: E402
@@ -22,24 +23,25 @@ from .common import title_page, validation_table  # noqa: E402
 __all__ = ["build", "figure_stems", "answer_files"]
 
 
-def figure_stems(study_names, benchmark=False, sensitivity=()) -> list[str]:
+def figure_stems(study_names, benchmark=False, sensitivity=(), refined=()) -> list[str]:
     """PNG stems the report produces for these studies (for Snakemake outputs); a sensitivity page
-    for the studies in ``sensitivity`` (factorial grids); the validation table only where one of
-    them reproduces seed numbers."""
+    for the studies in ``sensitivity`` (factorial grids), a refinement page for those in ``refined``
+    (design refine); the validation table only where one of them reproduces seed numbers."""
     stems = ["title"] + [f"{name}_{s}" for name in study_names
                          for s in (*studies.get(name).figure_stems, "answers",
-                                   *(["sensitivity"] if name in sensitivity else []))]
+                                   *(["sensitivity"] if name in sensitivity else []),
+                                   *(["refinement"] if name in refined else []))]
     validated = any(studies.get(name).validation is not None for name in study_names)
     return stems + (["engagement_work_precision"] if benchmark else []) + (["validation_table"] if validated else [])
 
 
-def answer_files(study_names) -> list[str]:
-    """The front tables the report writes (one CSV per study)."""
-    return [f"{name}_pareto.csv" for name in study_names]
+def answer_files(study_names, refined=()) -> list[str]:
+    """The front tables the report writes (one CSV per study) and the refinement tables."""
+    return [f"{name}_pareto.csv" for name in study_names] + [f"{name}_refinement.csv" for name in refined]
 
 
 def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab report", dpi=120,
-          benchmark_csv=None, sensitivity_files=None) -> list[Path]:
+          benchmark_csv=None, sensitivity_files=None, refine_files=None) -> list[Path]:
     """Build the report from stored results.
 
     Parameters
@@ -52,6 +54,9 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
         ``engagement_benchmark.csv`` of :mod:`clutchlab.benchmark`: adds the work-precision page.
     sensitivity_files : dict or None
         Study name -> its ``sensitivity.h5`` (factorial studies): adds a sensitivity page.
+    refine_files : dict or None
+        Study name -> the first-stage result a ``design: refine`` study refined: adds a page with
+        the hypervolume before and after, and ``<study>_refinement.csv``.
     outdir : path
         Folder for ``report.pdf``, ``validation.csv`` and the PNGs.
     """
@@ -67,6 +72,12 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
             pages.append((f"{name}_sensitivity", answers.sensitivity_page(name, store.load(sensitivity_files[name]))))
         with store.atomic(outdir / f"{name}_pareto.csv") as tmp:
             answers.write_csv(ds, tmp)
+        if name in (refine_files or {}):
+            first = store.load(refine_files[name])
+            gain = refinement_gain(first, ds)
+            pages.append((f"{name}_refinement", answers.refinement_page(name, first, ds, gain)))
+            with store.atomic(outdir / f"{name}_refinement.csv") as tmp:
+                answers.write_refinement_csv(gain, tmp)
     if benchmark_csv is not None:
         from ..benchmark import read_rows, work_precision_figure
 

@@ -10,6 +10,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from .. import studies
+from ..explore import flat as _flat
+from ..explore import front_order, pareto_rank, spread
 from .common import A4_LANDSCAPE, seed_view
 
 MAX_ROWS = 15
@@ -21,25 +23,13 @@ def factors(ds) -> list[str]:
     return ds.attrs.get("factors", "").split() if dims == ["run"] else dims
 
 
-def _flat(ds, name):
-    """A per-scenario variable or factor coordinate as a flat array in the order of ``status``."""
-    return ds[name].broadcast_like(ds["status"]).transpose(*ds["status"].dims).values.reshape(-1)
-
-
 def front_rows(ds) -> tuple[list[str], list[list]]:
     """Header and rows of the front's designs (at most ``MAX_ROWS``, spread along the first
     objective, per operating condition where the ranks are): factor values and objectives in SI."""
     objectives = [o.split(":")[0] for o in ds["pareto_rank"].attrs["objectives"].split()]
     names = factors(ds)
-    rank = ds["pareto_rank"].values.reshape(-1)
-    front = np.flatnonzero(rank == 0)
     cols = {n: _flat(ds, n) for n in names}
-    # grouped by operating condition (where ranked within them), then along the first objective
-    keys = [_flat(ds, objectives[0])[front]] + [_flat(ds, w)[front] for w in
-                                                 ds["pareto_rank"].attrs.get("ranked_within", "").split()[::-1]]
-    front = front[np.lexsort(keys)]
-    if front.size > MAX_ROWS:
-        front = front[np.unique(np.linspace(0, front.size - 1, MAX_ROWS).round().astype(int))]
+    front = spread(front_order(ds), MAX_ROWS)
     header = [f"{n} [{ds[n].attrs.get('units', '')}]" for n in names + objectives]
     rows = [[float(cols[n][i]) for n in names] + [float(_flat(ds, o)[i]) for o in objectives] for i in front]
     return header, rows
@@ -161,4 +151,77 @@ def sensitivity_page(name, se):
                                        "out of an output's indices (counted in its title).", 190),
              fontsize=7, color="0.3")
     fig.tight_layout(rect=(0, 0.04, 1, 0.93))
+    return fig
+
+
+def write_refinement_csv(gain, path) -> None:
+    """One row per operating-condition group: hypervolume before and after, design counts."""
+    within = gain.attrs["ranked_within"].split()
+    names = within + ["hypervolume_before", "hypervolume_after", "feasible_first", "feasible_second",
+                      "front_from_second"]
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(names)
+        for g in gain["group"].values:
+            w.writerow([f"{float(gain[n].sel(group=g)):.6g}" for n in names])
+
+
+def refinement_page(name, first, second, gain):
+    """How the refining stage moved the fronts: hypervolume per operating condition before and
+    after, and the fronts of the first stage and of both stages over the first two objectives."""
+    objectives = first["pareto_rank"].attrs["objectives"].split()
+    outs = [o.split(":")[0] for o in objectives]
+    within = gain.attrs["ranked_within"].split()
+    fig, (ax_h, ax_f) = plt.subplots(1, 2, figsize=A4_LANDSCAPE, gridspec_kw={"width_ratios": [1.0, 1.6]})
+    labels = [", ".join(f"{w} {float(gain[w].sel(group=g)):.4g}" for w in within) or "all designs"
+              for g in gain["group"].values]
+    y = np.arange(len(labels))
+    ax_h.barh(y - 0.2, gain["hypervolume_before"], height=0.4, color="tab:blue", label="first stage")
+    ax_h.barh(y + 0.2, gain["hypervolume_after"], height=0.4, color="tab:red", label="both stages")
+    for k, (b, a) in enumerate(zip(gain["hypervolume_before"].values, gain["hypervolume_after"].values)):
+        if b > 0:
+            ax_h.text(a, k + 0.2, f" {100 * (a / b - 1):+.1f} %", va="center", fontsize=7)
+    ax_h.set_yticks(y, [textwrap.fill(lab, 22) for lab in labels], fontsize=7)
+    ax_h.set_ylim(len(labels) - 0.5, -0.5)
+    ax_h.set_xlabel("hypervolume (objectives normalised per group)")
+    ax_h.legend(fontsize=8, loc="lower right")
+    ax_h.grid(alpha=0.3, axis="x")
+    ox, oy = (outs + outs)[:2]
+    x1, y1, x2, y2 = _flat(first, ox), _flat(first, oy), _flat(second, ox), _flat(second, oy)
+    ok1, ok2 = _flat(first, "feasible").astype(bool), _flat(second, "feasible").astype(bool)
+    ax_f.scatter(x1[ok1], y1[ok1], s=8, c="0.7", label="first stage, feasible")
+    ax_f.scatter(x2[ok2], y2[ok2], s=8, c="tab:orange", label="refining stage, feasible")
+    sense = np.array([1.0 if o.endswith(":min") else -1.0 for o in objectives[:2]])
+    key1 = np.stack([_flat(first, w) for w in within], axis=1) if within else np.zeros((x1.size, 0))
+    key2 = np.stack([_flat(second, w) for w in within], axis=1) if within else np.zeros((x2.size, 0))
+    f_all = np.stack([np.r_[_flat(first, o), _flat(second, o)] * (1.0 if s_.endswith(":min") else -1.0)
+                      for o, s_ in zip(outs, objectives)], axis=1)
+    x_all, y_all = np.r_[x1, x2], np.r_[y1, y2]
+    front1 = first["pareto_rank"].values.reshape(-1) == 0  # ranked per group already
+    for j, g in enumerate(gain["group"].values):
+        combo = np.array([float(gain[w].sel(group=g)) for w in within])
+        in1 = ok1 & (key1 == combo).all(axis=1)
+        joint = pareto_rank(f_all, np.r_[in1, ok2 & (key2 == combo).all(axis=1)]) == 0
+        for members, xs, ys, style, which in ((front1 & in1, x1, y1, "--", "first-stage"),
+                                              (joint, x_all, y_all, "-", "joint")):
+            order = np.argsort(xs[members] * sense[0], kind="stable")
+            label = f"{which} front" + (f", {labels[j]}" if within else "") if j < 4 else None
+            ax_f.plot(xs[members][order], ys[members][order], style, color=plt.cm.tab10(j % 10), lw=1.2, label=label)
+    ax_f.set_xlabel(f"{ox} [{first[ox].attrs.get('units', '')}]")
+    ax_f.set_ylabel(f"{oy} [{first[oy].attrs.get('units', '')}]")
+    ax_f.grid(alpha=0.3)
+    ax_f.legend(fontsize=6, ncol=2)
+    n1, n2 = int(gain.attrs["scenarios_first"]), int(gain.attrs["scenarios_second"])
+    before, after = float(gain["hypervolume_before"].sum()), float(gain["hypervolume_after"].sum())
+    fig.suptitle(f"Refinement of study '{name}': {n2} new scenarios near the fronts of {n1} "
+                 f"(first stage: {second.attrs.get('refine_from', '?')}); hypervolume summed over "
+                 f"{len(labels)} group(s) {before:.4f} -> {after:.4f} ({100 * (after / before - 1):+.1f} %)"
+                 if before > 0 else f"Refinement of study '{name}': no first-stage front")
+    fig.text(0.01, 0.01, textwrap.fill(
+        "Dashed: the first stage's front; solid: the front of both stages together (per operating "
+        "condition, one colour each). Hypervolume: the objective-space area the front dominates up to "
+        f"the reference point ({gain.attrs['reference']}); it grows where the refining stage found "
+        "better trade-offs. Factors kept at the front designs' values: operating conditions, counts, choices.",
+        190), fontsize=7, color="0.3")
+    fig.tight_layout(rect=(0, 0.05, 1, 0.92))
     return fig

@@ -5,6 +5,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from .. import status as st
+from ..explore import flat
 from .common import A4_LANDSCAPE
 
 SEED = {"sheet_thickness": 2.334e-3, "ramp_time": 0.15, "friction_coefficient": 0.4, "driven_inertia": 0.021,
@@ -15,26 +16,25 @@ def _flat(ds, name):
     return ds[name].values.ravel()
 
 
-def pareto_front(x, y):
-    """Indices of the points not dominated in (minimise x, minimise y), sorted by x."""
-    order = np.lexsort((y, x))
-    front, best = [], np.inf
-    for i in order:
-        if y[i] < best:
-            front.append(i)
-            best = y[i]
-    return np.array(front, dtype=int)
-
-
 def tradeoff(ds):
     ok = (_flat(ds, "status") == st.CODE["ok"]) & np.isfinite(_flat(ds, "peak_jerk"))
     w, j, t = _flat(ds, "slip_work")[ok], _flat(ds, "peak_jerk")[ok], _flat(ds, "lockup_time")[ok]
     fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
     sc = ax.scatter(w / 1e3, j, c=t * 1e3, cmap="viridis", s=28, edgecolor="k", linewidth=0.3)
     fig.colorbar(sc, ax=ax, label="lock-up time [ms]")
-    if ok.sum() > 1:
-        f = pareto_front(w, j)
-        ax.plot(w[f] / 1e3, j[f], "r-", lw=1.5, label="Pareto front (less slip work, less jerk)")
+    rank = ds["pareto_rank"] if "pareto_rank" in ds else None
+    if rank is not None and rank.attrs["objectives"] == "slip_work:min peak_jerk:min":
+        # the stored fronts (feasible designs only), one per operating condition ranked within
+        within = rank.attrs.get("ranked_within", "").split()
+        front = _flat(ds, "pareto_rank") == 0
+        key = np.stack([flat(ds, w_) for w_ in within], axis=1) if within else np.zeros((front.size, 0))
+        for k, combo in enumerate(np.unique(key[front], axis=0)):
+            members = np.flatnonzero(front & (key == combo).all(axis=1))
+            members = members[np.argsort(_flat(ds, "slip_work")[members], kind="stable")]
+            where = ", ".join(f"{w_} {v:.4g}" for w_, v in zip(within, combo))
+            ax.plot(_flat(ds, "slip_work")[members] / 1e3, _flat(ds, "peak_jerk")[members], "-", lw=1.5,
+                    color=plt.cm.tab10(k % 10) if within else "r",
+                    label=(f"Pareto front at {where}" if within else "Pareto front (feasible designs)") if k < 8 else None)
     dims = [d for d in SEED if d in ds.dims]
     if dims and "run" not in ds.dims:
         seed = ds.sel({d: SEED[d] for d in dims}, method="nearest")
@@ -47,7 +47,7 @@ def tradeoff(ds):
     ax.set_title("Efficiency-smoothness trade-off of the engagement (%d locked scenarios, %d not locked)\nmodel: %s"
                  % (ok.sum(), (~ok).sum(), ds.attrs.get("model_used", ds.attrs.get("model", ""))))
     ax.grid(alpha=0.3, which="both")
-    ax.legend(loc="upper right")
+    ax.legend(loc="upper right", fontsize=8)
     return fig
 
 
