@@ -24,7 +24,7 @@ def _brute_ranks(f, include):
     return rank
 
 
-@pytest.mark.parametrize("m", [1, 2, 3, 4])
+@pytest.mark.parametrize("m", [1, 2, 3, 4, 5])
 def test_pareto_rank_equals_brute_force(m):
     """Random integer objectives (many ties and duplicate rows), NaN rows and excluded rows."""
     rng = np.random.default_rng(m)
@@ -37,7 +37,7 @@ def test_pareto_rank_equals_brute_force(m):
         assert (explore.pareto_rank(f, include) == _brute_ranks(f, include)).all()
 
 
-@pytest.mark.parametrize("m", [2, 3, 4])
+@pytest.mark.parametrize("m", [2, 3, 4, 5])
 def test_pareto_rank_on_continuous_data(m):
     rng = np.random.default_rng(10 + m)
     f = rng.random((400, m))

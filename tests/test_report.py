@@ -96,3 +96,31 @@ def test_front_table_lists_front_designs_spread_along_it():
     for r in rows:
         pick = ds.sel(friction_coefficient=r[0], pressure_angle=r[1])
         assert int(pick["pareto_rank"]) == 0 and float(pick[obj[1]]) == r[3]
+
+
+@pytest.mark.parametrize("objectives, panels", [
+    (["reserve_factor:max", "release_time:min"], 1),
+    (["reserve_factor:max", "release_time:min", "engagement_speed:min"], 3),
+    (["reserve_factor:max", "release_time:min", "engagement_speed:min", "release_margin:max"], 6),
+])
+def test_answers_page_projects_three_or_more_objectives(objectives, panels):
+    """Issue 15 item 5: for 3+ objectives the answers page draws every pair of objectives (front
+    designs marked), each axis labelled with its objective and sense, and its table lists them all."""
+    from clutchlab.report import answers
+
+    sec = resolve({"studies": ["centrifugal"], "centrifugal": {
+        "design": "factorial", "objectives": objectives, "parameters": {
+            "pressure_angle": {"min": "20 deg", "max": "60 deg", "num": 6},
+            "friction_coefficient": {"min": 0.25, "max": 0.6, "num": 5}}}})["centrifugal"]
+    fig = answers.page("centrifugal", doe.run_study(sec))
+    fig.canvas.draw()
+    labelled = [ax for ax in fig.axes if ax.get_xlabel().endswith(("(min)", "(max)"))]
+    assert len(labelled) == panels
+    pairs = {(ax.get_xlabel().split(" [")[0], ax.get_ylabel().split(" [")[0]) for ax in labelled}
+    names = [o.split(":")[0] for o in objectives]
+    assert len(pairs) == panels and all(a in names and b in names for a, b in pairs)
+    header, _ = answers.front_rows(doe.run_study(sec))
+    assert all(any(h.startswith(n + " [") for h in header) for n in names)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)

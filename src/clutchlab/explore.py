@@ -5,8 +5,8 @@ pipeline and for notebooks: an engineer asks a new question of results without r
 
 * :func:`pareto_rank` — non-dominated sorting (rank 0 = the Pareto front, 1 = the front once
   rank 0 is removed, ...); −1 where a design is excluded (infeasible, a NaN objective). Two
-  objectives: O(N log N) by a patience-sorting sweep; three or more: efficient non-dominated
-  sort with binary search over fronts (ENS-BS, Zhang et al. 2015, IEEE TEVC 19(2)), compiled.
+  objectives: O(N log N) by a patience-sorting sweep; M ≥ 3: divide and conquer over one
+  objective at a time, O(N log^(M−1) N), compiled.
 * :func:`feasible` — every constraint met and status ok, with the margin of each constraint.
 * :func:`grid_variance_decomposition` — exact main and total effects of a full factorial grid.
 """
@@ -74,10 +74,8 @@ def pareto_rank(values, include=None, groups=None) -> np.ndarray:
         r = _rank_1d(g)
     elif g.shape[1] == 2:
         r = _rank_2d(g)
-    elif g.shape[1] == 3:
-        r = _rank_3d(g)
     else:
-        r = _rank_ens_bs(g)
+        r = _rank_nd(g)
     rank[idx[order]] = r
     return rank
 
@@ -115,88 +113,93 @@ def _rank_2d(g):
     return rank
 
 
-@njit(cache=True)
-def _dominated_by_front(g, i, members, count):
-    m = g.shape[1]
-    for j in range(count - 1, -1, -1):  # the latest members are the closest in the sort order
-        q = members[j]
-        worse = True
-        strictly = False
-        for k in range(m):
-            if g[q, k] > g[i, k]:
-                worse = False
-                break
-            if g[q, k] < g[i, k]:
-                strictly = True
-        if worse and strictly:
-            return True
-    return False
+def _rank_nd(g):
+    """Three or more objectives, rows in lexicographic order: rank(p) = 1 + max rank of the rows
+    that dominate p (0 if none). Equal rows are merged first (they share a rank and, once merged,
+    a row q ≤ p componentwise dominates p). Divide and conquer over the sweep order (ranks of the
+    first half final before they raise the second half's), each cross step a dominance maximum
+    over the other objectives, itself divided along one objective at a time down to a sweep with
+    a Fenwick tree over the last (Jensen 2003; Buzdalov & Shalyto 2014): O(N log^(M-1) N)."""
+    uniq, inverse = np.unique(g, axis=0, return_inverse=True)  # sorted lexicographically, as needed
+    c = np.stack([np.searchsorted(np.unique(uniq[:, k]), uniq[:, k]) for k in range(1, g.shape[1])], axis=1)
+    return _cdq_ranks(np.ascontiguousarray(c, dtype=np.int64))[inverse.reshape(-1)]
 
 
 @njit(cache=True)
-def _rank_ens_bs(g):
-    """ENS-BS: rows in lexicographic order, so a row can only be dominated by rows already placed;
-    being dominated by front k implies being dominated by every front before it, so the row's
-    front is found by bisection. Each front is a segment of ``store`` (capacity doubling)."""
-    n = g.shape[0]
-    rank = np.empty(n, np.int64)
-    store = np.empty(max(n, 16), np.int64)
-    offset = np.zeros(n + 1, np.int64)
-    cap = np.zeros(n + 1, np.int64)
-    size = np.zeros(n + 1, np.int64)
-    used = 0
-    n_fronts = 0
-    for i in range(n):
-        lo, hi = 0, n_fronts
-        while lo < hi:
-            mid = (lo + hi) // 2
-            if _dominated_by_front(g, i, store[offset[mid]:offset[mid] + size[mid]], size[mid]):
-                lo = mid + 1
-            else:
-                hi = mid
-        k = lo
-        if k == n_fronts:
-            n_fronts += 1
-        if size[k] == cap[k]:  # (re)allocate front k at the end of the store with twice the room
-            new_cap = max(16, 2 * cap[k])
-            if used + new_cap > store.size:
-                bigger = np.empty(max(2 * store.size, used + new_cap), np.int64)
-                bigger[:used] = store[:used]
-                store = bigger
-            store[used:used + size[k]] = store[offset[k]:offset[k] + size[k]]
-            offset[k] = used
-            cap[k] = new_cap
-            used += new_cap
-        store[offset[k] + size[k]] = i
-        size[k] += 1
-        rank[i] = k
-    return rank
-
-
-def _rank_3d(g):
-    """Three objectives, rows in lexicographic order: rank(p) = 1 + max rank of the rows that
-    dominate p (0 if none). Equal rows are merged first (they share a rank and, once merged, a row
-    q ≤ p componentwise dominates p); the dominance maximum is found by divide and conquer over the
-    sweep order with a Fenwick tree of maxima over the third objective (CDQ): O(N log² N)."""
-    uniq, inverse = np.unique(g, axis=0, return_inverse=True)
-    # np.unique sorts lexicographically, as the sweep needs
-    y = np.searchsorted(np.unique(uniq[:, 1]), uniq[:, 1]).astype(np.int64)
-    z = np.searchsorted(np.unique(uniq[:, 2]), uniq[:, 2]).astype(np.int64)
-    r = _cdq_ranks(y, z)
-    return r[inverse.reshape(-1)]
+def _sweep(left, right, c, d, rank, tree):
+    """Rows of ``left`` (ranks final) raise the ranks of the rows of ``right`` they dominate in the
+    last two coordinates d, d + 1: both in order of coordinate d (left first at equal values), a
+    Fenwick tree of maximum rank over coordinate d + 1."""
+    lo = left[np.argsort(c[left, d], kind="mergesort")]
+    ro = right[np.argsort(c[right, d], kind="mergesort")]
+    m = tree.size
+    i = 0
+    for j in range(ro.size):
+        p = ro[j]
+        while i < lo.size and c[lo[i], d] <= c[p, d]:
+            q = lo[i]
+            k = c[q, d + 1] + 1
+            while k < m:
+                if tree[k] < rank[q]:
+                    tree[k] = rank[q]
+                k += k & (-k)
+            i += 1
+        best = -1
+        k = c[p, d + 1] + 1
+        while k > 0:
+            if tree[k] > best:
+                best = tree[k]
+            k -= k & (-k)
+        if best + 1 > rank[p]:
+            rank[p] = best + 1
+    for t in range(i):  # undo the insertions
+        k = c[lo[t], d + 1] + 1
+        while k < m:
+            tree[k] = -1
+            k += k & (-k)
 
 
 @njit(cache=True)
-def _cdq_ranks(y, z):
-    n = y.size
+def _cross(left, right, c, rank, tree):
+    """rank[p] = max(rank[p], 1 + max rank[q]) over q in ``left`` with c[q] <= c[p] in every
+    coordinate, for p in ``right``. Coordinates above the last two are removed one at a time by
+    divide and conquer: merged in order of the coordinate (left first at equal values), a left
+    row of the first half can only dominate a right row of the second half in the others. The
+    subproblems are independent (max-updates), so they run from a work list, not by recursion
+    (numba cannot cache recursive functions)."""
+    k = c.shape[1]
+    tasks = [(0, left, right, 0)]  # (kind 0: cross / 1: split, rows, right rows or flags, coordinate)
+    while len(tasks):
+        kind, a, b, d = tasks.pop()
+        if kind == 0:
+            if a.size == 0 or b.size == 0:
+                continue
+            if d + 2 == k:
+                _sweep(a, b, c, d, rank, tree)
+                continue
+            items = np.concatenate((a, b))
+            flag = np.concatenate((np.zeros(a.size, np.int64), np.ones(b.size, np.int64)))
+            order = np.argsort(c[items, d] * 2 + flag, kind="mergesort")
+            tasks.append((1, items[order], flag[order], d))
+        else:
+            n = a.size
+            if n < 2:
+                continue
+            h = n // 2
+            nl = np.sum(b[:h] == 0)
+            nr = np.sum(b[h:] == 1)
+            tasks.append((1, a[h:], b[h:], d))
+            tasks.append((1, a[:h], b[:h], d))
+            if nl and nr:
+                tasks.append((0, a[:h][b[:h] == 0], a[h:][b[h:] == 1], d + 1))
+
+
+@njit(cache=True)
+def _cdq_ranks(c):
+    n = c.shape[0]
     rank = np.zeros(n, np.int64)
-    tree = np.full(z.max() + 2 if n else 1, -1, np.int64)
-    order = np.arange(n)
-    buf = np.empty(n, np.int64)
-    # iterative-stack-free recursion: numba supports recursion only with explicit types, so the
-    # divide and conquer runs on an explicit stack of (lo, hi, stage)
+    tree = np.full(c.max() + 2 if n else 1, -1, np.int64)
     stack = np.empty((2 * 64 + 8, 3), np.int64)
-    top = 0
     stack[0, 0], stack[0, 1], stack[0, 2] = 0, n, 0
     top = 1
     while top > 0:
@@ -210,43 +213,10 @@ def _cdq_ranks(y, z):
             stack[top + 1, 0], stack[top + 1, 1], stack[top + 1, 2] = lo, mid, 0
             top += 2
         else:
-            _cross(lo, mid, hi, y, z, rank, tree)
+            _cross(np.arange(lo, mid), np.arange(mid, hi), c, rank, tree)
             stack[top, 0], stack[top, 1], stack[top, 2] = mid, hi, 0
             top += 1
     return rank
-
-
-@njit(cache=True)
-def _cross(lo, mid, hi, y, z, rank, tree):
-    """Rows lo..mid (ranks final) raise the ranks of rows mid..hi they dominate: both halves in
-    order of y (left first at equal y), a Fenwick tree of max rank over z."""
-    left = np.argsort(y[lo:mid], kind="mergesort") + lo
-    right = np.argsort(y[mid:hi], kind="mergesort") + mid
-    m = tree.size
-    i = 0
-    for j in range(right.size):
-        p = right[j]
-        while i < left.size and y[left[i]] <= y[p]:
-            q = left[i]
-            k = z[q] + 1
-            while k < m:
-                if tree[k] < rank[q]:
-                    tree[k] = rank[q]
-                k += k & (-k)
-            i += 1
-        best = -1
-        k = z[p] + 1
-        while k > 0:
-            if tree[k] > best:
-                best = tree[k]
-            k -= k & (-k)
-        if best + 1 > rank[p]:
-            rank[p] = best + 1
-    for t in range(i):  # undo the insertions
-        k = z[left[t]] + 1
-        while k < m:
-            tree[k] = -1
-            k += k & (-k)
 
 
 def feasible(ds, constraints: dict) -> tuple[np.ndarray, dict]:

@@ -64,7 +64,7 @@ rule benchmark_sprag:
 
 rule benchmark_pareto:
     # Not part of `all`: `snakemake --cores 1 benchmark_pareto` (about a minute). Pareto ranking
-    # time at 1e6 designs (2 and 3 objectives; 4 objectives at 1e5) against O(N^2) peeling.
+    # time at 1e6 designs (2, 3 and 4 objectives; 5 objectives at 1e5) against O(N^2) peeling.
     output:
         f"{RESULTS}/benchmark/pareto_benchmark.csv",
     params:

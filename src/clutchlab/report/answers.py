@@ -4,6 +4,7 @@ often, the Pareto front with the seed design marked, and the front's designs as 
 from __future__ import annotations
 
 import csv
+import itertools
 import textwrap
 
 import matplotlib.pyplot as plt
@@ -51,11 +52,10 @@ def page(name, ds):
     feas = _flat(ds, "feasible").astype(bool)
     rank = ds["pareto_rank"].values.reshape(-1)
     fig = plt.figure(figsize=A4_LANDSCAPE)
-    grid = fig.add_gridspec(2, 2, height_ratios=[1.5, 1.0], width_ratios=[1.0, 1.6])
+    grid = fig.add_gridspec(2, 2, height_ratios=[1.5, 1.0], width_ratios=[1.0, 1.6], top=0.83,
+                            bottom=0.03)
     ax_c = fig.add_subplot(grid[0, 0])
-    ax_f = fig.add_subplot(grid[0, 1])
     ax_t = fig.add_subplot(grid[1, :])
-    # which constraint binds most often
     # which constraint binds most often (and how many designs have no number: status not ok)
     names, viol = ["status not ok"], [int((ds["status"].values != 0).sum())]
     if "constraint_margin" in ds:
@@ -67,57 +67,83 @@ def page(name, ds):
     ax_c.set_xlabel("designs failing it")
     limits = ds["constraint"].attrs.get("limits", "") if "constraint" in ds.coords else "none"
     ax_c.set_title(textwrap.fill("constraints: " + limits, 50), fontsize=8)
-    # the front over the first two objectives
-    ox, oy = (outs + outs)[:2]  # one objective: plotted against itself
-    x, y = _flat(ds, ox), _flat(ds, oy)
-    ax_f.scatter(x[~feas], y[~feas], s=6, c="0.8", label="infeasible")
-    ax_f.scatter(x[feas & (rank > 0)], y[feas & (rank > 0)], s=8, c="tab:blue", label="feasible")
-    front = np.flatnonzero(rank == 0)
+    # the front: over the two objectives, or every pair of them (projections) for three or more
     within = ds["pareto_rank"].attrs.get("ranked_within", "").split()
-    if within:  # one front per combination of operating conditions
-        key = np.stack([_flat(ds, w) for w in within], axis=1)[front]
-        combos = np.unique(key, axis=0)
-        for j, combo in enumerate(combos):
-            members = front[(key == combo).all(axis=1)]
-            members = members[np.argsort(x[members], kind="stable")]
-            label = (", ".join(f"{w} {v:.4g}" for w, v in zip(within, combo)) if j < 8
-                     else (f"... {len(combos) - 8} more" if j == 8 else None))
-            ax_f.plot(x[members], y[members], "o-", ms=4, label=label, color=plt.cm.tab10(j % 10))
-    else:
-        ordered = front[np.argsort(x[front], kind="stable")]
-        ax_f.plot(x[ordered], y[ordered], "o-", color="tab:red", ms=5, label="Pareto front")
-    seed = seed_view(ds, study.defaults)
-    sx, sy = float(seed[ox]), float(seed[oy])
-    if np.isfinite(sx) and np.isfinite(sy):
-        ax_f.plot(sx, sy, "*", ms=16, mfc="gold", mec="k", label="seed design")
+    front = np.flatnonzero(rank == 0)
+    pairs = list(itertools.combinations(outs, 2))[:6] if len(outs) > 2 else [tuple((outs + outs)[:2])]
+    # projections: 2 rows, one cell left for the legend
+    cell = grid[0, 1].subgridspec(1, 1) if len(pairs) == 1 else grid[0, 1].subgridspec(
+        2, -(-(len(pairs) + 1) // 2), wspace=0.75, hspace=0.55)
     sense = dict(o.split(":") for o in objectives)
-    ax_f.set_xlabel(f"{ox} [{ds[ox].attrs.get('units', '')}] ({sense[ox]})")
-    ax_f.set_ylabel(f"{oy} [{ds[oy].attrs.get('units', '')}] ({sense[oy]})")
-    ax_f.legend(fontsize=7, title="front at" if within else None, title_fontsize=7)
-    ax_f.grid(alpha=0.3)
+    seed = seed_view(ds, study.defaults)
+    for k, (ox, oy) in enumerate(pairs):
+        ax = fig.add_subplot(cell[k % 2, k // 2] if len(pairs) > 1 else cell[0, 0])
+        _front_panel(ax, ds, ox, oy, feas, rank, within, seed, lines=len(pairs) == 1, legend=len(pairs) == 1)
+        small = len(pairs) > 1
+        ax.set_xlabel(f"{ox} [{ds[ox].attrs.get('units', '')}] ({sense[ox]})", fontsize=7 if small else None)
+        ax.set_ylabel(f"{oy} [{ds[oy].attrs.get('units', '')}] ({sense[oy]})", fontsize=7 if small else None)
+        if small:
+            ax.tick_params(labelsize=6)
+            ax.xaxis.get_offset_text().set_fontsize(6)
+            ax.yaxis.get_offset_text().set_fontsize(6)
+    if len(pairs) > 1:  # the legend in the free cell
+        k = len(pairs)
+        lax = fig.add_subplot(cell[k % 2, k // 2])
+        lax.set_axis_off()
+        lax.legend(*ax.get_legend_handles_labels(), fontsize=6, loc="center", title="front at" if within else None,
+                   title_fontsize=6)
     mixed = ds["pareto_rank"].attrs.get("conditions_mixed", "")
-    ax_f.set_title(textwrap.fill(
-        f"Pareto front over {' and '.join(objectives[:2])}"
-        + (f" (of {len(objectives)} objectives)" if len(objectives) > 2 else "")
+    fig.text(0.62, 0.895, textwrap.fill(
+        f"Pareto front over {' and '.join(objectives)}"
+        + (" (projections: front designs marked, not joined)" if len(outs) > 2 else "")
         + (f", one per {' and '.join(within)} (operating conditions, not choices)" if within else "")
         + (f"; {mixed} sampled: ranked together with the design factors, a front design may owe its "
-           "place to a light operating condition" if mixed else ""), 90), fontsize=8)
+           "place to a light operating condition" if mixed else ""), 90), fontsize=8, ha="center", va="top")
     # the front's designs
     header, rows = front_rows(ds)
     ax_t.set_axis_off()
     if rows:
         table = ax_t.table(cellText=[[f"{v:.4g}" for v in r] for r in rows],
-                           colLabels=[textwrap.fill(h, 16) for h in header], loc="upper center", cellLoc="center")
+                           colLabels=[textwrap.fill(h, 16) for h in header], cellLoc="center",
+                           bbox=(0.0, 0.0, 1.0, 1.0))  # the table fills its axes, never past the page
         table.auto_set_font_size(False)
         table.set_fontsize(7)
-        table.scale(1.0, 1.1)
-        for j in range(len(header)):  # room for the wrapped column names
-            table[0, j].set_height(2 * table[0, j].get_height())
+        header_share = 2.0 / (len(rows) + 2)  # the wrapped column names get two rows' height
+        for (i, j), c in table.get_celld().items():
+            c.set_height(header_share if i == 0 else (1.0 - header_share) / len(rows))
     n = feas.size
     fig.suptitle(f"Design answers, study '{name}': {int(feas.sum())} of {n} designs feasible "
                  f"({100 * feas.mean():.0f} %), {front.size} on the Pareto front"
                  + (f" (table: {len(rows)} spread along it; {name}_pareto.csv)" if rows else ""))
     return fig
+
+
+def _front_panel(ax, ds, ox, oy, feas, rank, within, seed, lines, legend):
+    """Feasible and infeasible designs over two objectives, the front (one per operating condition
+    where ranked within them; joined where it is the whole front, marked where a projection) and
+    the seed design."""
+    x, y = _flat(ds, ox), _flat(ds, oy)
+    ax.scatter(x[~feas], y[~feas], s=6, c="0.8", label="infeasible")
+    ax.scatter(x[feas & (rank > 0)], y[feas & (rank > 0)], s=8, c="tab:blue", label="feasible")
+    front = np.flatnonzero(rank == 0)
+    key = np.stack([_flat(ds, w) for w in within], axis=1)[front] if within else np.zeros((front.size, 0))
+    combos = np.unique(key, axis=0)
+    for j, combo in enumerate(combos):
+        members = front[(key == combo).all(axis=1)]
+        members = members[np.argsort(x[members], kind="stable")]
+        if within:
+            label = (", ".join(f"{w} {v:.4g}" for w, v in zip(within, combo)) if j < 8
+                     else (f"... {len(combos) - 8} more" if j == 8 else None))
+        else:
+            label = "Pareto front"
+        ax.plot(x[members], y[members], "o-" if lines else "o", ms=4 if within or not lines else 5, label=label,
+                color=plt.cm.tab10(j % 10) if within else "tab:red")
+    sx, sy = float(seed[ox]), float(seed[oy])
+    if np.isfinite(sx) and np.isfinite(sy):
+        ax.plot(sx, sy, "*", ms=16 if lines else 11, mfc="gold", mec="k", label="seed design")
+    if legend:
+        ax.legend(fontsize=7 if lines else 5, title="front at" if within else None, title_fontsize=7)
+    ax.grid(alpha=0.3)
 
 
 def sensitivity_page(name, se):
