@@ -272,3 +272,25 @@ def test_saltelli_study_sensitivity():
         explore.sensitivity(doe.run_study(resolve({"studies": ["centrifugal"], "centrifugal": {
             "design": "lhs", "samples": 8, "parameters": {"spring_force": {"min": "380 N", "max": "480 N"}}}})
             ["centrifugal"]), ["reserve_factor"])
+
+
+def test_pareto_rank_of_a_stored_result_asks_a_new_question():
+    """Issue 15 item 6: pareto_rank(ds, objectives) on a study Dataset gives back the stored ranks
+    for the stored objectives, and for new objectives the ranks of the array form over the same
+    feasible designs and operating conditions."""
+    from clutchlab import doe
+    from clutchlab.config import resolve
+
+    section = {"design": "factorial", "options": {"driveline": "rigid"},
+               "parameters": {"ramp_time": {"values": ["0.05 s", "0.1 s", "0.2 s", "0.3 s"]},
+                              "friction_coefficient": {"values": [0.3, 0.35, 0.4]},
+                              "load_torque": {"values": ["44 N*m", "80 N*m"]}}}
+    sec = resolve({"studies": ["engagement"], "engagement": section})["engagement"]
+    ds = doe.run_study(sec)
+    again = explore.pareto_rank(ds, sec["objectives"])
+    assert again.dims == ds["status"].dims and (again == ds["pareto_rank"]).all()
+    new = explore.pareto_rank(ds, ["slip_work:min", "lockup_time:min"])
+    f = np.stack([explore.flat(ds, "slip_work"), explore.flat(ds, "lockup_time")], axis=1)
+    want = explore.pareto_rank(f, explore.flat(ds, "feasible").astype(bool),
+                               explore.group_ids(ds, ["load_torque"]))
+    assert (new.values.reshape(-1) == want).all() and new.attrs["ranked_within"] == "load_torque"

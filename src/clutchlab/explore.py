@@ -28,13 +28,19 @@ def dominates(a, b) -> bool:
     return bool(np.all(a <= b) and np.any(a < b))
 
 
-def pareto_rank(values, include=None, groups=None) -> np.ndarray:
+def pareto_rank(values, include=None, groups=None):
     """Non-dominated rank of each row of ``values`` (N, M), every objective minimised.
 
     Parameters
     ----------
-    values : array_like (N, M)
-        Objectives; negate a column to maximise it.
+    values : array_like (N, M), or a stored study Dataset
+        Objectives; negate a column to maximise it. Given a Dataset, ``include`` is the list of
+        objectives ("name:min"/"name:max") and ``groups`` the factors to rank within (default: its
+        operating conditions that are grid dimensions, as the pipeline ranks); the designs taking
+        part are those with ``feasible`` 1 (status ok where the Dataset has no ``feasible``);
+        returns a labelled DataArray shaped like ``status``, e.g.
+        ``pareto_rank(ds, ["slip_work:min", "lockup_time:min"])`` for a question the stored
+        ranks did not ask.
     include : array_like of bool (N,) or None
         Rows that take part (e.g. the feasible designs); rows outside it, and rows with a
         non-finite objective, get rank −1 and do not dominate anything.
@@ -48,6 +54,12 @@ def pareto_rank(values, include=None, groups=None) -> np.ndarray:
         0 for the Pareto front, k for the front after removing ranks < k, −1 for excluded rows.
         Equal rows share a rank (neither dominates the other).
     """
+    if hasattr(values, "data_vars"):  # a study Dataset
+        ds = values
+        kept = ds["feasible"] if "feasible" in ds else ds["status"] == st.CODE["ok"]
+        ranked = annotate(ds.assign(status=ds["status"].where(kept.astype(bool), st.CODE["invalid_input"])),
+                          list(include), {}, within=groups)
+        return ranked["pareto_rank"]
     f = np.asarray(values, dtype=float)
     if f.ndim != 2:
         raise ValueError(f"values must be (designs, objectives), got shape {f.shape}")
