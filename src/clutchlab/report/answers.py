@@ -210,7 +210,7 @@ def refinement_page(name, first, second, gain):
     ax_h.set_yticks(y, [textwrap.fill(lab, 22) for lab in labels], fontsize=7)
     ax_h.set_ylim(len(labels) - 0.5, -0.5)
     ax_h.set_xlabel("hypervolume (objectives normalised per group)")
-    ax_h.legend(fontsize=8, loc="lower right")
+    ax_h.legend(fontsize=8, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncol=2)
     ax_h.grid(alpha=0.3, axis="x")
     ox, oy = (outs + outs)[:2]
     x1, y1, x2, y2 = _flat(first, ox), _flat(first, oy), _flat(second, ox), _flat(second, oy)
