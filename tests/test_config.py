@@ -232,3 +232,26 @@ def test_precheck_reads_every_configfile_form(tmp_path):
                  ["-n", "--configfile", good, "--configfile", bad]):
         with pytest.raises(SystemExit, match="not UTF-8"):
             config.precheck_argv(argv)
+
+
+def test_chunk_jobs_from_a_target_chunk_size(raw):
+    """Issue 16 item 1: chunk_size (scenarios per job) gives ceil(N / chunk_size) jobs, at most 32 a
+    study; a study's own chunks/chunk_size wins over the top-level one; both at one level refused."""
+    sobol = {"design": "sobol", "samples": 1_000_000, "seed": 1,
+             "parameters": {"ramp_time": {"min": "0.05 s", "max": "0.3 s"}}}
+    cfg = {"studies": ["engagement"], "chunk_size": 50_000, "engagement": dict(sobol)}
+    assert config.resolve(cfg)["engagement"]["chunks"] == 20
+    cfg["chunk_size"] = 1000
+    assert config.resolve(cfg)["engagement"]["chunks"] == config.MAX_CHUNKS_FROM_SIZE
+    cfg["engagement"]["chunks"] = 3
+    assert config.resolve(cfg)["engagement"]["chunks"] == 3
+    cfg["engagement"] = {**sobol, "samples": 10, "chunk_size": 4}
+    assert config.resolve(cfg)["engagement"]["chunks"] == 3  # ceil(10 / 4)
+    for where, key in ((cfg["engagement"], "engagement.chunk_size"), (cfg, "chunk_size")):
+        where["chunks"] = 2
+        where["chunk_size"] = 5
+        with pytest.raises(ConfigError, match=f"'{key}'"):
+            config.resolve(cfg)
+        where.pop("chunks")
+    raw.pop("chunks")
+    assert config.resolve(raw)["engagement"]["chunks"] == config.DEFAULT_CHUNKS

@@ -21,7 +21,10 @@ __all__ = ["ConfigError", "SCHEMA_PATH", "schema", "load", "read_file", "resolve
            "stored_study", "DEFAULT_MAX_SCENARIOS"]
 
 SCHEMA_PATH = files("clutchlab") / "config.schema.yaml"
-DEFAULT_CHUNKS = 4
+DEFAULT_CHUNKS = 4  # of a study whose config gives neither chunks nor chunk_size (historical)
+# scenarios per chunk job where a config gives chunk_size, and the most jobs it may make per study:
+# a 10^7 design stays at 32 jobs a study (memory per job grows with the chunk, not the study)
+MAX_CHUNKS_FROM_SIZE = 32
 # scenarios a study may hold unless the config raises the ceiling on purpose (top-level key
 # max_scenarios): a 2^21 design is about what one 2-core workstation finishes in an hour
 DEFAULT_MAX_SCENARIOS = 2**21
@@ -178,7 +181,25 @@ def _count(section, key, name):
     return int(v)
 
 
-def _resolve_study(name: str, section: dict, default_chunks: int, max_scenarios: int,
+def _chunking(section, key) -> tuple[str, int] | None:
+    """("chunks", N) or ("chunk_size", S) as a config level gives it (never both), or None."""
+    given = [k for k in ("chunks", "chunk_size") if k in section]
+    if len(given) == 2:
+        raise ConfigError(f"{key}chunk_size", "give either 'chunks' (jobs) or 'chunk_size' (scenarios per job), "
+                          "not both")
+    return (given[0], _count(section, given[0], f"{key}{given[0]}")) if given else None
+
+
+def chunk_count(n: int, chunking: tuple[str, int]) -> int:
+    """Chunk jobs of a study of n scenarios: the given count, or ceil(n / chunk_size) capped at
+    :data:`MAX_CHUNKS_FROM_SIZE` (at least 1)."""
+    kind, value = chunking
+    if kind == "chunks":
+        return value
+    return int(min(MAX_CHUNKS_FROM_SIZE, max(1, -(-n // value))))
+
+
+def _resolve_study(name: str, section: dict, default_chunks, max_scenarios: int,
                    results_dir: str = "results") -> dict:
     study = studies.get(name)
     design = section["design"]
@@ -189,7 +210,6 @@ def _resolve_study(name: str, section: dict, default_chunks: int, max_scenarios:
     out = {
         "name": name,
         "design": design,
-        "chunks": _count(section, "chunks", f"{name}.chunks") if "chunks" in section else default_chunks,
         "seed": _count(section, "seed", f"{name}.seed") if "seed" in section else 0,
         "options": {},
         "fixed": {},
@@ -278,6 +298,9 @@ def _resolve_study(name: str, section: dict, default_chunks: int, max_scenarios:
         n = out["samples"] * (len(out["factors"]) + 2)  # A, B and one AB matrix per factor
         if n > max_scenarios:
             raise _ceiling(name, n, max_scenarios)
+    else:
+        n = out["samples"]
+    out["chunks"] = chunk_count(n, _chunking(section, f"{name}.") or default_chunks)
     out["objectives"], out["constraints"] = _answers(study, section)
     if study.check_config is not None:
         problem = study.check_config(out)
@@ -286,7 +309,7 @@ def _resolve_study(name: str, section: dict, default_chunks: int, max_scenarios:
     return out
 
 
-REFINE_KEYS = ("design", "refine", "samples", "seed", "chunks")
+REFINE_KEYS = ("design", "refine", "samples", "seed", "chunks", "chunk_size")
 DEFAULT_SHRINK = 0.5
 
 
@@ -340,7 +363,6 @@ def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -
     out = dict(first)
     out.update({
         "design": "refine",
-        "chunks": _count(section, "chunks", f"{name}.chunks") if "chunks" in section else default_chunks,
         "seed": _count(section, "seed", f"{name}.seed") if "seed" in section else 0,
         "samples": _count(section, "samples", f"{name}.samples"),
         "refine": {"from": path, "shrink": float(section["refine"].get("shrink", DEFAULT_SHRINK)),
@@ -348,6 +370,7 @@ def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -
     })
     if out["samples"] > max_scenarios:
         raise _ceiling(name, out["samples"], max_scenarios)
+    out["chunks"] = chunk_count(out["samples"], _chunking(section, f"{name}.") or default_chunks)
     return out
 
 
@@ -387,14 +410,14 @@ def resolve(raw: dict) -> dict:
     """Validate ``raw`` and return the resolved config (SI floats, defaults filled in)."""
     cfg = copy.deepcopy(dict(raw))
     validate_schema(cfg)
-    default_chunks = _count(cfg, "chunks", "chunks") if "chunks" in cfg else DEFAULT_CHUNKS
+    default_chunks = _chunking(cfg, "") or ("chunks", DEFAULT_CHUNKS)
     max_scenarios = _count(cfg, "max_scenarios", "max_scenarios") if "max_scenarios" in cfg else DEFAULT_MAX_SCENARIOS
     title = cfg.get("report", {}).get("title", "")
     if any(not ch.isprintable() for ch in title):
         raise ConfigError("report.title", "must be one line of printable text (no newline, tab or control "
                           "character)")
     results_dir = cfg.get("results", "results")
-    resolved = {"studies": list(cfg["studies"]), "chunks": default_chunks, "max_scenarios": max_scenarios,
+    resolved = {"studies": list(cfg["studies"]), "max_scenarios": max_scenarios,
                 "results": results_dir, "report": {"title": "clutchlab report", "dpi": 120, "benchmark": False, **cfg.get("report", {})}}
     for name in cfg["studies"]:
         if name not in cfg:
