@@ -253,6 +253,10 @@ def test_sobol_indices_of_an_additive_function_and_failed_blocks():
     for k, exact in (("x1", 0.2), ("x2", 0.8), ("x3", 0.0)):
         assert abs(r["first_order"][k] - exact) <= 1.1 * r["first_order_conf"][k] + 1e-3
         assert abs(r["total"][k] - exact) <= 1.1 * r["total_conf"][k] + 1e-3
+    # the bootstrap intervals are reproducible (SALib draws them unseeded for seed 0: refused)
+    assert explore.sobol_indices(y, 3, ["x1", "x2", "x3"]) == r
+    with pytest.raises(ValueError, match="seed"):
+        explore.sobol_indices(y, 3, ["x1", "x2", "x3"], seed=0)
 
 
 def test_saltelli_study_sensitivity():

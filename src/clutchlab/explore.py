@@ -459,16 +459,20 @@ def grid_variance_decomposition(y, axes_names) -> dict:
     return {"first_order": first, "total": total, "variance": var, "failed": int(y.size - n)}
 
 
-def sobol_indices(y, n_factors, names, conf_level=0.95, seed=0) -> dict:
+def sobol_indices(y, n_factors, names, conf_level=0.95, seed=1) -> dict:
     """First-order and total Sobol indices with confidence intervals from a Saltelli design
     (:func:`clutchlab.doe.saltelli_unit` order: blocks of A, AB^(1..d), B), by SALib (the
     maintained standard; Saltelli 2010 and Jansen estimators, bootstrap intervals).
 
     Failed scenarios (NaN) are not filled: a base point's whole block is left out when any of its
     d + 2 scenarios failed (each estimator term needs all of them); ``failed`` counts the failed
-    scenarios, ``blocks_used`` the blocks that remain.
+    scenarios, ``blocks_used`` the blocks that remain. The bootstrap intervals are reproducible
+    for a given ``seed`` (≥ 1: SALib leaves its generator unseeded for seed 0).
     """
     from SALib.analyze import sobol
+
+    if not seed:
+        raise ValueError("seed must be a positive integer (SALib ignores 0 and draws unseeded intervals)")
 
     y = np.asarray(y, dtype=float).reshape(-1, n_factors + 2)
     keep = np.isfinite(y).all(axis=1)
