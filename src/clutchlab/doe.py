@@ -21,7 +21,8 @@ import xarray as xr
 from . import __version__, source_hash, studies
 from .config import study_config_text
 
-__all__ = ["build_design", "n_scenarios", "chunk_slice", "chunk_inputs", "run_chunk", "merge", "run_study"]
+__all__ = ["build_design", "n_scenarios", "chunk_slice", "chunk_inputs", "run_chunk", "merge", "merge_to_file",
+           "run_study"]
 
 
 def _param_attrs(param) -> dict:
@@ -255,6 +256,65 @@ def merge(design: xr.Dataset, parts: list[xr.Dataset]) -> xr.Dataset:
     for name, var in design.data_vars.items():
         ds[name] = var
     return ds
+
+
+def merge_to_file(design: xr.Dataset, chunk_paths, path, objectives=(), constraints=None,
+                  sensitivity_path=None) -> None:
+    """Merge chunk files into the study's result file without holding the study in memory.
+
+    Each chunk is read (checked against its checksum, :func:`clutchlab.store.load_verified`) and
+    written into its region of a pre-sized HDF5 file (:class:`clutchlab.store.StreamWriter`): a
+    factorial design's flat scenario range as blocks of its grid, a sampled design's as a slice of
+    ``run``; global attributes are those every chunk agrees on (as :func:`merge`). The design
+    answers (:func:`clutchlab.explore.annotate`) are then computed from the objectives,
+    constraints and status alone, read back from the file, and appended; the sensitivity indices
+    likewise (``sensitivity_path``). Peak memory: one chunk plus a few per-scenario columns. The
+    same values as :func:`merge` followed by :func:`~clutchlab.explore.annotate` (tested)."""
+    from . import explore, store
+
+    constraints = dict(constraints or {})
+    factors = _factors(design)
+    factorial = design.attrs["design"] == "factorial"
+    n = n_scenarios(design)
+    grid = {f: design[f] for f in factors} if factorial else None
+    attrs, bounds = None, []
+    with store.atomic(path) as tmp:
+        with store.StreamWriter(tmp, n, grid) as out:
+            for p in chunk_paths:
+                chunk = store.load_verified(p)
+                chunk.attrs.pop("chunk", None)
+                attrs = dict(chunk.attrs) if attrs is None else {
+                    k: v for k, v in attrs.items() if k in chunk.attrs and _same(chunk.attrs[k], v)}
+                if chunk.sizes.get("run", 0) == 0:
+                    continue
+                idx = chunk["run"].values
+                start = int(idx[0])
+                if not np.array_equal(idx, np.arange(start, start + idx.size)):
+                    raise ValueError(f"{p}: scenarios are not one contiguous range")
+                bounds.append((start, start + idx.size))
+                for name, var in design.data_vars.items():
+                    chunk[name] = var
+                out.write(chunk, start)
+            covered = sorted(bounds)
+            if [a for a, _ in covered] != [0] + [b for _, b in covered[:-1]] or covered[-1][1] != n:
+                raise ValueError(f"chunks cover {covered}, the design has {n} scenarios (missing or duplicated)")
+            out.set_attrs(attrs)
+        needed = ["status"] + [o.split(":")[0] for o in objectives] + list(constraints)
+        with xr.open_dataset(tmp, engine=store.ENGINE) as lazy:
+            columns = lazy[list(dict.fromkeys(needed))].load()
+        answers = explore.annotate(columns, list(objectives), constraints)
+        new = answers[[v for v in ("feasible", "constraint_margin", "pareto_rank") if v in answers]]
+        new.to_netcdf(tmp, mode="a", engine=store.ENGINE, encoding=store._encoding(new, 4))
+    if sensitivity_path is not None:
+        outputs = [o.split(":")[0] for o in objectives] + list(constraints)
+        store.write(explore.sensitivity(columns, outputs), sensitivity_path)
+
+
+def _same(a, b) -> bool:
+    try:
+        return bool(np.all(a == b)) and np.shape(a) == np.shape(b)
+    except ValueError:
+        return False
 
 
 def run_study(resolved_study: dict) -> xr.Dataset:

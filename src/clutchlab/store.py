@@ -22,7 +22,7 @@ import numpy as np
 import xarray as xr
 
 __all__ = ["MissingMetadata", "check_metadata", "write", "open", "load", "atomic", "checksum", "CorruptChunk",
-           "load_verified"]
+           "load_verified", "StreamWriter"]
 
 ENGINE = "h5netcdf"
 
@@ -165,3 +165,125 @@ def flag_meanings(ds: xr.Dataset, var: str = "status") -> xr.DataArray:
     v = ds[var]
     table = dict(zip(np.atleast_1d(v.attrs["flag_values"]).tolist(), v.attrs["flag_meanings"].split()))
     return xr.apply_ufunc(np.vectorize(lambda c: table.get(int(c), "unknown"), otypes=[object]), v)
+
+
+def _flat_blocks(start: int, stop: int, shape: tuple) -> list[tuple[tuple, int, int]]:
+    """The flat C-order index range [start, stop) of an array of ``shape`` as rectangular blocks:
+    [(index tuple of slices, flat start, flat stop)], at most 2·ndim of them."""
+    if start >= stop:
+        return []
+    if len(shape) <= 1:
+        return [((slice(start, stop),), start, stop)]
+    inner = int(np.prod(shape[1:], dtype=np.int64))
+    i0, r0 = divmod(start, inner)
+    i1, r1 = divmod(stop, inner)
+    if i0 == i1:
+        return [((i0,) + s, i0 * inner + a, i0 * inner + b) for s, a, b in _flat_blocks(r0, r1, shape[1:])]
+    out = []
+    if r0:
+        out += [((i0,) + s, i0 * inner + a, i0 * inner + b) for s, a, b in _flat_blocks(r0, inner, shape[1:])]
+        i0 += 1
+    if i1 > i0:
+        out.append(((slice(i0, i1),) + tuple(slice(None) for _ in shape[1:]), i0 * inner, i1 * inner))
+    if r1:
+        out += [((i1,) + s, i1 * inner + a, i1 * inner + b) for s, a, b in _flat_blocks(0, r1, shape[1:])]
+    return out
+
+
+class StreamWriter:
+    """Write a study result scenario range by scenario range into a pre-sized HDF5 file, so that
+    no process holds more than one range (issue 16).
+
+    Every range is a Dataset on ``run`` (a chunk's result); ``grid`` maps the flat scenario index
+    onto the factor dimensions of a factorial design ({factor: coordinate DataArray}, in order),
+    or is None to keep ``run``. The file is created from the first range with xarray's own CF
+    encoding and HDF5 store (same variables, attributes, fill values and compression as
+    :func:`write`); variables without ``run`` are written from the first range. Use as a
+    context manager around :func:`atomic`'s temporary path.
+    """
+
+    def __init__(self, path, n: int, grid: dict | None = None, attrs: dict | None = None, complevel: int = 4):
+        from xarray.backends import H5NetCDFStore
+
+        self.path, self.n, self.grid = Path(path), int(n), grid
+        self.attrs, self.complevel = dict(attrs or {}), complevel
+        self.shape = tuple(c.size for c in grid.values()) if grid else (self.n,)
+        self.store = H5NetCDFStore.open(str(self.path), mode="w")
+        self.created = False
+
+    def _encode(self, ds: xr.Dataset) -> dict:
+        from xarray import conventions
+
+        ds = ds.copy()
+        for name, enc in _encoding(ds, self.complevel).items():
+            ds[name].encoding.update(enc)
+        variables, attrs = conventions.encode_dataset_coordinates(ds)
+        variables, _ = self.store.encode(variables, attrs)
+        return variables
+
+    def _final_dims(self, dims: tuple) -> tuple:
+        return tuple(self.grid) + dims[1:] if self.grid and dims and dims[0] == "run" else dims
+
+    def _create(self, ds: xr.Dataset, variables: dict) -> None:
+        sizes = {d: s for d, s in ds.sizes.items() if d != "run"}
+        sizes.update(dict(zip(self.grid, self.shape)) if self.grid else {"run": self.n})
+        for dim, size in sizes.items():
+            self.store.set_dimension(dim, size)
+        for key, value in self.attrs.items():
+            self.store.set_attribute(key, value)
+        if self.grid:  # the factors become dimension coordinates
+            for name, var in self._encode(xr.Dataset(coords=self.grid)).items():
+                target, data = self.store.prepare_variable(name, var)
+                self.store.ds[name][...] = np.asarray(data)
+        for name, var in variables.items():
+            if self.grid and name in ("run", *self.grid):
+                continue
+            if "run" in var.dims:
+                var = var.transpose("run", ...)
+            attrs = dict(var.attrs)
+            if self.grid and "coordinates" in attrs:  # factors and run are no longer auxiliary coordinates
+                kept = [c for c in attrs["coordinates"].split() if c not in ("run", *self.grid)]
+                attrs.pop("coordinates")
+                if kept:
+                    attrs["coordinates"] = " ".join(kept)
+            dims = self._final_dims(var.dims)  # the file's variable is sized by the dimensions set above
+            final = xr.Variable(dims, np.empty((1,) * len(dims), dtype=var.dtype), attrs, var.encoding)
+            self.store.prepare_variable(name, final)
+            if "run" not in var.dims:
+                self.store.ds[name][...] = np.asarray(var.data)
+        self.created = True
+
+    def write(self, ds: xr.Dataset, start: int) -> None:
+        """Write the range ds (a Dataset on ``run`` of scenarios start, start + 1, ...)."""
+        check_metadata(ds)
+        k = int(ds.sizes.get("run", 0))
+        if k == 0:
+            return
+        variables = self._encode(ds)
+        if not self.created:
+            self._create(ds, variables)
+        for name, var in variables.items():
+            if "run" not in var.dims or (self.grid and name in ("run", *self.grid)):
+                continue
+            data = np.asarray(var.transpose("run", ...).data)
+            target = self.store.ds[name]
+            for index, a, b in _flat_blocks(start, start + k, self.shape):
+                block = data[a - start:b - start]
+                shape = tuple(len(range(*s.indices(n))) for s, n in zip(index, self.shape) if isinstance(s, slice))
+                target[index] = block.reshape(shape + data.shape[1:])
+
+    def set_attrs(self, attrs: dict) -> None:
+        """Replace the file's global attributes (e.g. those every range agreed on)."""
+        for key in list(self.store.ds.attrs):
+            del self.store.ds.attrs[key]
+        for key, value in attrs.items():
+            self.store.set_attribute(key, value)
+
+    def close(self) -> None:
+        self.store.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
