@@ -126,11 +126,13 @@ def test_sampled_design_needs_samples(raw):
     _expect(raw, "diaphragm_spring.samples", "required")
 
 
-def test_sampled_design_rejects_values(raw):
+def test_sampled_design_takes_a_values_list_as_a_discrete_factor(raw):
     raw["diaphragm_spring"]["design"] = "sobol"
     raw["diaphragm_spring"]["samples"] = 64
     raw["diaphragm_spring"]["parameters"] = {"radius_ratio": {"values": [1.2, 1.3]}}
-    _expect(raw, "diaphragm_spring.parameters.radius_ratio", "factorial")
+    assert config.resolve(raw)["diaphragm_spring"]["factors"]["radius_ratio"] == {"values": [1.2, 1.3]}
+    raw["diaphragm_spring"]["parameters"] = {"radius_ratio": {"values": [1.2, 1.2]}}
+    _expect(raw, "diaphragm_spring.parameters.radius_ratio.values", "distinct")
 
 
 def test_bad_option(raw):

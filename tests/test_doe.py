@@ -155,3 +155,24 @@ def test_streamed_merge_memory_follows_the_chunk_not_the_study(tmp_path):
     assert study_bytes > 14 * chunk_bytes
     print(f"chunk {chunk_bytes / 1e6:.1f} MB, study {study_bytes / 1e6:.1f} MB, streamed merge peak {streamed / 1e6:.1f} MB")
     assert streamed < 4 * chunk_bytes, (streamed, chunk_bytes, study_bytes)
+
+
+def test_sampled_designs_with_discrete_factors():
+    """Issue 16 item 3: a count sampled between min and max takes every whole number in between
+    (equal shares); a values list in a sampled design is a discrete factor drawn among its values;
+    a count range that includes odd roller counts is refused for the one-flank reading."""
+    from clutchlab.config import ConfigError
+
+    sec = resolve({"studies": ["sprag"], "sprag": {"design": "sobol", "samples": 1024, "seed": 2, "parameters": {
+        "torque": {"min": "200 N*m", "max": "900 N*m"}, "sprags": {"min": 14, "max": 22}}}})["sprag"]
+    ds = doe.run_study(sec)
+    values, counts = np.unique(ds["sprags"].values, return_counts=True)
+    assert values.tolist() == list(range(14, 23)) and counts.min() >= 1024 // 9 - 2
+    assert np.isfinite(ds["margin_contact_inner"].values).any()
+    sec = resolve({"studies": ["roller"], "roller": {"design": "lhs", "samples": 60, "seed": 1, "parameters": {
+        "rollers": {"values": [6, 10, 14]}, "wedge_angle": {"min": "7 deg", "max": "15 deg"}}}})["roller"]
+    design = doe.build_design(sec)
+    assert set(np.unique(design["rollers"].values)) == {6.0, 10.0, 14.0}
+    with pytest.raises(ConfigError, match="roller.parameters.rollers"):
+        resolve({"studies": ["roller"], "roller": {"design": "sobol", "samples": 8, "parameters": {
+            "rollers": {"min": 6, "max": 12}}}})

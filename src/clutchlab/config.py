@@ -247,20 +247,27 @@ def _resolve_study(name: str, section: dict, default_chunks, max_scenarios: int,
         if "values" in spec:
             if set(spec) - {"values"}:
                 raise ConfigError(key, "give either 'values' or 'min'/'max'[/'num'/'scale'], not both")
-            if design != "factorial":
-                raise ConfigError(key, f"design '{design}' samples between 'min' and 'max'; "
-                                  "a 'values' list is for factorial designs")
+            # factorial: the grid's values; sampled: a discrete factor drawn uniformly among them
             vals = [_quantity(v, param, f"{key}.values[{i}]") for i, v in enumerate(spec["values"])]
             if len(set(vals)) != len(vals):
                 raise ConfigError(f"{key}.values", "values must be distinct")
             out["factors"][param.name] = {"values": vals}
             continue
-        if param.choices is not None or (param.integer and design != "factorial"):
-            what = f"one of {param.choices}" if param.choices is not None else "a whole number (a count)"
-            raise ConfigError(key, f"must be {what}: give a fixed value or a 'values' list, not a range"
-                              + ("" if param.choices is not None else f" sampled by design '{design}'"))
+        if param.choices is not None:
+            raise ConfigError(key, f"must be one of {param.choices}: give a fixed value or a 'values' list, "
+                              "not a range")
         lo = _quantity(spec["min"], param, f"{key}.min", finite=True)
         hi = _quantity(spec["max"], param, f"{key}.max", finite=True)
+        if param.integer and design != "factorial":  # a sampled count: every whole number in [min, max]
+            for bound, v in (("min", lo), ("max", hi)):
+                if v != round(v):
+                    raise ConfigError(f"{key}.{bound}", f"a count: must be a whole number, got {v:g}")
+            if set(spec) - {"min", "max"}:
+                raise ConfigError(key, "a sampled count takes only 'min' and 'max' (every whole number between)")
+            if not lo < hi:
+                raise ConfigError(key, f"min ({lo:g}) must be below max ({hi:g})")
+            out["factors"][param.name] = {"values": [float(v) for v in range(int(lo), int(hi) + 1)]}
+            continue
         scale = spec.get("scale", "linear")
         if not lo < hi:
             raise ConfigError(key, f"min ({lo:g}) must be below max ({hi:g})")
@@ -365,8 +372,11 @@ def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -
         "design": "refine",
         "seed": _count(section, "seed", f"{name}.seed") if "seed" in section else 0,
         "samples": _count(section, "samples", f"{name}.samples"),
+        # origin_design: the design the factor specs come from (a values list is a grid's levels
+        # for a factorial origin, a discrete factor for a sampled one)
         "refine": {"from": path, "shrink": float(section["refine"].get("shrink", DEFAULT_SHRINK)),
-                   "first_design": first["design"]},
+                   "first_design": first["design"],
+                   "origin_design": first.get("refine", {}).get("origin_design", first["design"])},
     })
     if out["samples"] > max_scenarios:
         raise _ceiling(name, out["samples"], max_scenarios)

@@ -6,7 +6,8 @@ Design kinds (``design`` key of a study section):
   design and of the merged result (``ds.clamp_load.sel(sheet_thickness=...)`` works).
 * ``lhs`` / ``sobol`` — Latin hypercube / scrambled Sobol' samples from
   :mod:`scipy.stats.qmc`, seeded and reproducible, on a ``run`` dimension with every factor
-  as a 1-D coordinate.
+  as a 1-D coordinate; a discrete factor (a ``values`` list, or a count's whole numbers between
+  ``min`` and ``max``) takes each of its values on an equal share of the unit interval.
 * ``saltelli`` — the samples Sobol' indices need (:func:`saltelli_unit`).
 * ``refine`` — samples near the Pareto fronts of a stored result (:func:`refine_samples`), on
   ``run`` like the sampled kinds.
@@ -83,8 +84,13 @@ def build_design(resolved_study: dict) -> xr.Dataset:
             n = unit.shape[0]
         coords["run"] = ("run", np.arange(n), {"long_name": "scenario index", "units": "1"})
         for j, (name, spec) in enumerate(factors.items()):
-            lo, hi = spec["min"], spec["max"]
             u = unit[:, j]
+            if "values" in spec:  # a discrete factor (a count, a list): each value on an equal share of [0, 1)
+                values = np.asarray(spec["values"], dtype=float)
+                vals = values[np.minimum((u * values.size).astype(np.int64), values.size - 1)]
+                coords[name] = ("run", vals, _param_attrs(study.parameter(name)))
+                continue
+            lo, hi = spec["min"], spec["max"]
             vals = np.exp(np.log(lo) + u * np.log(hi / lo)) if spec["scale"] == "log" else lo + u * (hi - lo)
             coords[name] = ("run", vals, _param_attrs(study.parameter(name)))
     for name, value in resolved_study["fixed"].items():
@@ -119,8 +125,8 @@ def refine_samples(first: xr.Dataset, resolved_study: dict, rng) -> tuple[dict, 
     it: ± h of each factor's range, h = ``shrink`` × the first stage's spacing (a factorial grid's
     step 1/(levels − 1), N^(-1/d) for N sampled designs, a refined design's own h), reflected at
     the range's ends (the range of the first stage, never left). Operating conditions (designs are
-    ranked within them), counts and choices stay at the front design's values, so a front moves
-    only along what the engineer chooses. Returns ({factor: values}, {factor: h}).
+    ranked within them), counts, choices and the discrete factors of a sampled first stage stay at
+    the front design's values, so a front moves only along what the engineer chooses. Returns ({factor: values}, {factor: h}).
     """
     from . import explore
 
@@ -136,7 +142,8 @@ def refine_samples(first: xr.Dataset, resolved_study: dict, rng) -> tuple[dict, 
     for j, (name, spec) in enumerate(factors.items()):
         param = study.parameter(name)
         centre = explore.flat(first, name)[owner]
-        if name in kept or param.integer or param.choices is not None:
+        discrete = "values" in spec and resolved_study["refine"]["origin_design"] != "factorial"
+        if name in kept or param.integer or param.choices is not None or discrete:
             halfwidth[name], values[name] = 0.0, centre.astype(float)
             continue
         if first.attrs["design"] == "refine":
