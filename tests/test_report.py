@@ -1,11 +1,15 @@
 """Report built from stored Datasets; validation rows of seed 000."""
 import csv
+from pathlib import Path
 
+import numpy as np
 import pytest
 
 from clutchlab import doe, report, store
 from clutchlab.config import resolve
 from clutchlab.studies import diaphragm_spring
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_seed000_validation_rows_all_pass():
@@ -124,3 +128,58 @@ def test_answers_page_projects_three_or_more_objectives(objectives, panels):
     import matplotlib.pyplot as plt
 
     plt.close(fig)
+
+
+def _sampled_section(name):
+    """The default config's section of a study as a Sobol sample over its factors' ranges."""
+    import yaml
+
+    from clutchlab import studies
+
+    raw = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())[name]
+    params = {}
+    for key, spec in raw["parameters"].items():
+        if isinstance(spec, dict) and not studies.get(name).parameter(key).integer:
+            vals = spec.get("values") or [spec["min"], spec["max"]]
+            spec = {"min": vals[0], "max": vals[-1]}
+        params[key] = spec
+    return {**raw, "design": "sobol", "samples": 128, "seed": 1, "parameters": params}
+
+
+@pytest.mark.parametrize("name", ["diaphragm_spring", "engagement", "centrifugal", "sprag", "roller"])
+def test_every_page_draws_a_sampled_design(name):
+    """Issue 16 item 4: every figure of every study works for a sampled design (the 2^20 run's sprag
+    pass map and the roller pages printed 'needs a factorial design' instead)."""
+    import matplotlib.pyplot as plt
+
+    from clutchlab import studies
+    from clutchlab.report import answers
+
+    ds = doe.run_study(resolve({"studies": [name], name: _sampled_section(name)})[name])
+    for stem, fig in studies.get(name).figures(ds) + [("answers", answers.page(name, ds))]:
+        fig.canvas.draw()
+        texts = [t.get_text() for t in fig.texts] + [t.get_text() for ax in fig.axes for t in ax.texts]
+        assert not [t for t in texts if "needs a" in t or "not a dimension" in t], (stem, texts)
+        assert any(ax.collections or ax.lines or ax.images for ax in fig.axes), stem
+        plt.close(fig)
+
+
+def test_sampled_maps_bin_many_designs():
+    """Above SCATTER_MAX designs a sampled category map is an image of the share passing per bin
+    (small and fast at 10^6 designs), below it one marker per design."""
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import PathCollection, QuadMesh
+
+    from clutchlab.report.common import SCATTER_MAX, sampled_category_map
+
+    rng = np.random.default_rng(0)
+    cats = (("ok", "g"), ("bad", "r"))
+    for n, kind in ((SCATTER_MAX, PathCollection), (10 * SCATTER_MAX, QuadMesh)):
+        x, y = rng.random(n), rng.random(n)
+        fig, ax = plt.subplots()
+        sampled_category_map(ax, x, y, (x + y > 1).astype(int), cats)
+        assert [type(c) for c in ax.collections] == [kind]
+        if kind is QuadMesh:  # the share passing: 1 where x + y < 1 everywhere in the bin
+            share = ax.collections[0].get_array().reshape(30, 30)
+            assert share[0, 0] == 1.0 and share[-1, -1] == 0.0
+        plt.close(fig)

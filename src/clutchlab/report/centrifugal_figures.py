@@ -7,7 +7,7 @@ import numpy as np
 
 from .. import status as st
 from ..studies.centrifugal import PARAMETERS, RPM
-from .common import A4_LANDSCAPE, contour_level, fixed_text
+from .common import A4_LANDSCAPE, contour_level, fixed_text, robust_limits, sampled_value_map
 from .common import seed_view as _seed_view
 
 SEED = {p.name: p.default for p in PARAMETERS}
@@ -54,14 +54,18 @@ def release_map(ds):
     fig, axes = plt.subplots(1, 2, figsize=A4_LANDSCAPE, gridspec_kw={"wspace": 0.35})
     keep = ("pressure_angle", "friction_coefficient")
     if "run" in ds.dims or not set(keep) <= set(ds.dims):
+        ok = ds["status"].values.reshape(-1) != st.CODE["jammed"]
         for ax, name in zip(axes, ("release_margin", "reserve_factor")):
-            sc = ax.scatter(np.rad2deg(ds["pressure_angle"].values.ravel()) if "pressure_angle" in ds.coords else
-                            np.zeros(ds[name].size), ds["friction_coefficient"].values.ravel() if
-                            "friction_coefficient" in ds.coords else np.zeros(ds[name].size),
-                            c=ds[name].values.ravel(), s=10)
-            fig.colorbar(sc, ax=ax, label=f"{name} [{ds[name].attrs['units']}]")
+            x = np.rad2deg(ds["pressure_angle"].values.ravel()) if "pressure_angle" in ds.coords else np.zeros(ok.size)
+            y = ds["friction_coefficient"].values.ravel() if "friction_coefficient" in ds.coords else np.zeros(ok.size)
+            z = np.broadcast_to(ds[name].values, ds["status"].shape).reshape(-1)
+            limits = robust_limits(z[ok], symmetric=name == "release_margin", cap=4.0)
+            sampled_value_map(ax, x[ok], y[ok], z[ok], f"{name} [{ds[name].attrs['units']}]",
+                              cmap="RdBu" if name == "release_margin" else "viridis", limits=limits)
             ax.set_xlabel("pressure angle [deg]")
             ax.set_ylabel("friction coefficient f")
+        fig.suptitle(f"Release margin and forward reserve of {ok.size} designs ({int((~ok).sum())} jammed left "
+                     "out; colours clipped to the 1st-99th percentiles, reserve at 4)")
         return fig
     sub = seed_view(ds, keep=keep).transpose("friction_coefficient", "pressure_angle", ...)
     a = np.rad2deg(sub["pressure_angle"].values)

@@ -117,3 +117,66 @@ def contour_level(ax, x, y, z, level, **kw):
     if z.ndim != 2 or min(z.shape) < 2 or not (np.nanmin(z) < level < np.nanmax(z)):
         return None
     return ax.contour(x, y, z, levels=[level], **kw)
+
+
+# above this many designs a sampled map shows binned shares instead of one marker per design
+SCATTER_MAX = 4000
+
+
+def sampled_category_map(ax, x, y, category, categories, bins=30):
+    """Map of a sampled design over two factors: each design a marker coloured by its category
+    (index into ``categories``, a tuple of (label, colour); the first is "passes") for up to
+    :data:`SCATTER_MAX` designs, else per 2-D bin the share of designs in the first category (an
+    image, so the page stays small and fast at 10⁶ designs). Returns the legend handles."""
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.lines import Line2D
+
+    x, y, category = (np.asarray(v).reshape(-1) for v in (x, y, category))
+    if x.size <= SCATTER_MAX:
+        ax.scatter(x, y, c=category, s=14, cmap=ListedColormap([c for _, c in categories]),
+                   norm=BoundaryNorm(np.arange(len(categories) + 1) - 0.5, len(categories)), rasterized=True)
+        return [Line2D([], [], ls="", marker="s", color=c, ms=9, label=lab) for lab, c in categories]
+    from scipy.stats import binned_statistic_2d
+
+    share = binned_statistic_2d(x, y, (category == 0).astype(float), "mean", bins=bins)
+    mesh = ax.pcolormesh(share.x_edge, share.y_edge, share.statistic.T, cmap="RdYlGn", vmin=0, vmax=1,
+                         rasterized=True)
+    ax.figure.colorbar(mesh, ax=ax, label=f"share of designs: {categories[0][0]} ({x.size} designs, {bins}x{bins} bins)")
+    return []
+
+
+def robust_limits(z, symmetric=False, cap=None):
+    """Colour limits from the 1st and 99th percentiles of the finite values (a few near-singular
+    designs, e.g. near a jam, must not set the scale), optionally symmetric about 0 or capped."""
+    z = np.asarray(z, dtype=float)
+    z = z[np.isfinite(z)]
+    if z.size == 0:
+        return (-1.0, 1.0) if symmetric else (0.0, 1.0)
+    lo, hi = np.percentile(z, [1, 99])
+    if symmetric:
+        lim = max(abs(lo), abs(hi)) or 1.0
+        return -lim, lim
+    if cap is not None:
+        hi = min(hi, cap)
+    return float(lo), float(hi if hi > lo else lo + 1.0)
+
+
+def sampled_value_map(ax, x, y, z, label, cmap="viridis", limits=None, bins=30):
+    """Map of a sampled design's output over two factors: markers coloured by value for up to
+    :data:`SCATTER_MAX` designs, else the median per 2-D bin (an image); colours clipped to
+    ``limits`` (default :func:`robust_limits`), the colour bar extended where values lie beyond."""
+    x, y, z = (np.asarray(v, dtype=float).reshape(-1) for v in (x, y, z))
+    vmin, vmax = limits or robust_limits(z)
+    finite = np.isfinite(z)
+    extend = {(False, False): "neither", (True, False): "min", (False, True): "max", (True, True): "both"}[
+        (bool((z[finite] < vmin).any()), bool((z[finite] > vmax).any()))]
+    if x.size <= SCATTER_MAX:
+        m = ax.scatter(x[finite], y[finite], c=z[finite], s=10, cmap=cmap, vmin=vmin, vmax=vmax, rasterized=True)
+    else:
+        from scipy.stats import binned_statistic_2d
+
+        med = binned_statistic_2d(x[finite], y[finite], z[finite], "median", bins=bins)
+        m = ax.pcolormesh(med.x_edge, med.y_edge, med.statistic.T, cmap=cmap, vmin=vmin, vmax=vmax, rasterized=True)
+        label += f" (median per bin, {x.size} designs)"
+    ax.figure.colorbar(m, ax=ax, label=label, extend=extend)
+    return m

@@ -8,21 +8,52 @@ from matplotlib.colors import BoundaryNorm, ListedColormap
 
 from .. import status as st
 from ..studies.roller import PARAMETERS, RPM
-from .common import A4_LANDSCAPE, fixed_text, seed_view
+from .common import A4_LANDSCAPE, fixed_text, sampled_category_map, seed_view
 
 SEED = {p.name: p.default for p in PARAMETERS}
 BAND = (3041.0, 3247.0)  # MPa, seed 003 section 2.2 (10^6 wedging cycles)
 
 
 def _needs(ds, dims):
-    if "run" in ds.dims or not set(dims) <= set(ds.dims):
+    if not set(dims) <= set(ds.dims):
         fig = plt.figure(figsize=A4_LANDSCAPE)
         fig.text(0.5, 0.5, f"needs a factorial design over {', '.join(dims)}", ha="center")
         return fig
     return None
 
 
+def _sampled_stress_engagement(ds):
+    """Sampled design: every design's static and peak dynamic contact stress and engagement time
+    against its roller count (a small sideways jitter shows the spread), with the median per count."""
+    fig, axes = plt.subplots(1, 2, figsize=A4_LANDSCAPE, gridspec_kw={"wspace": 0.3})
+    z = ds["rollers"].values
+    jitter = (np.random.default_rng(0).random(z.size) - 0.5) * 0.4
+    locks = ds["status"].values != st.CODE["not_self_locking"]
+    series = ((axes[0], "contact_stress", 1e6, "k", "static, eq. 3 at T_c", np.ones(z.size, bool)),
+              (axes[0], "peak_contact_stress", 1e6, "tab:blue", "peak dynamic", locks),
+              (axes[1], "engagement_time", 1e-3, "tab:green", "engagement time", locks))
+    for ax, name, unit, colour, label, keep in series:
+        v = ds[name].values / unit
+        ax.scatter(z[keep] + jitter[keep], v[keep], s=3, color=colour, alpha=0.3, rasterized=True)
+        counts = np.unique(z[keep & np.isfinite(v)])
+        ax.plot(counts, [np.median(v[keep & (z == c) & np.isfinite(v)]) for c in counts], "o-", color=colour,
+                label=f"{label} (median per count)")
+    axes[0].axhspan(*BAND, color="r", alpha=0.2, label="allowable 3041-3247 MPa (10^6 cycles)")
+    axes[0].set_yscale("log")
+    axes[0].set_ylabel("contact stress [MPa]")
+    axes[1].set_ylabel("engagement time [ms]")
+    for ax in axes:
+        ax.set_xlabel("number of rollers z")
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=7)
+    fig.suptitle(f"Roller count: contact stress and engagement time of {z.size} sampled designs "
+                 "(self-locking ones for the dynamic values)", fontsize=10)
+    return fig
+
+
 def stress_engagement(ds):
+    if "run" in ds.dims and "rollers" in ds.attrs.get("factors", "").split():
+        return _sampled_stress_engagement(ds)
     fig = _needs(ds, ("rollers",))
     if fig is not None:
         return fig
@@ -63,18 +94,34 @@ CATEGORIES = (("ok", "#4daf4a"), ("static stress above allowable", "#ffb000"), (
               ("never engaged / not converged", "k"), ("overrunning (mode)", "0.7"))
 
 
-def feasible_region(ds):
-    fig = _needs(ds, ("rollers", "wedge_angle"))
-    if fig is not None:
-        return fig
-    sub = seed_view(ds[["status", "contact_stress", "engagement_time", "limit_wedge_angle"]], SEED,
-                    keep=("rollers", "wedge_angle")).transpose("wedge_angle", "rollers")
-    code = sub["status"].values
+def _categories(code):
     cat = np.full(code.shape, 3)
     cat[code == st.CODE["ok"]] = 0
     cat[code == st.CODE["above_allowable"]] = 1
     cat[code == st.CODE["not_self_locking"]] = 2
     cat[code == st.CODE["overrunning"]] = 4
+    return cat
+
+
+def feasible_region(ds):
+    if "run" in ds.dims and {"rollers", "wedge_angle"} <= set(ds.attrs.get("factors", "").split()):
+        fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
+        handles = sampled_category_map(ax, ds["rollers"].values, np.rad2deg(ds["wedge_angle"].values),
+                                       _categories(ds["status"].values), CATEGORIES)
+        ax.plot(SEED["rollers"], np.rad2deg(SEED["wedge_angle"]), "*", ms=22, mfc="none", mec="k")
+        ax.set_xlabel("number of rollers z")
+        ax.set_ylabel("wedge angle alpha [deg]")
+        if handles:
+            ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+            fig.subplots_adjust(right=0.72)
+        ax.set_title(f"Feasible region of {ds['status'].size} sampled designs (all other factors too)", fontsize=9)
+        return fig
+    fig = _needs(ds, ("rollers", "wedge_angle"))
+    if fig is not None:
+        return fig
+    sub = seed_view(ds[["status", "contact_stress", "engagement_time", "limit_wedge_angle"]], SEED,
+                    keep=("rollers", "wedge_angle")).transpose("wedge_angle", "rollers")
+    cat = _categories(sub["status"].values)
     z, a = sub["rollers"].values, np.rad2deg(sub["wedge_angle"].values)
     fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
     ax.pcolormesh(z, a, cat, shading="nearest", cmap=ListedColormap([c for _, c in CATEGORIES]),

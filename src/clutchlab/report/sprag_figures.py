@@ -8,7 +8,7 @@ from matplotlib.colors import BoundaryNorm, ListedColormap
 
 from .. import status as st
 from ..studies.sprag import CHECKS, PARAMETERS
-from .common import A4_LANDSCAPE, fixed_text, seed_view
+from .common import A4_LANDSCAPE, fixed_text, sampled_category_map, seed_view
 
 SEED = {p.name: p.default for p in PARAMETERS}
 MPA = 1e6
@@ -23,6 +23,8 @@ def _allowable(sub, name):
 
 def stress_vs_torque(ds):
     fig, axes = plt.subplots(1, 2, figsize=A4_LANDSCAPE, gridspec_kw={"wspace": 0.28})
+    if "run" in ds.dims and "torque" in ds.attrs.get("factors", "").split():
+        return _sampled_stress_vs_torque(fig, axes, ds)
     if "torque" not in ds.dims:
         for ax in axes:
             ax.text(0.5, 0.5, "torque is not a dimension of this design", ha="center", transform=ax.transAxes)
@@ -57,6 +59,34 @@ def stress_vs_torque(ds):
     return fig
 
 
+def _sampled_stress_vs_torque(fig, axes, ds):
+    """Sampled design: every design's stresses and gripping angle against its torque (all other
+    factors varying too), the allowables and the seed 002 Table 2 values."""
+    t = ds["torque"].values
+    ax = axes[0]
+    for (name, label, colour), k in zip(STRESSES, range(4)):
+        ax.scatter(t, ds[name].values / MPA, s=2, alpha=0.3, color=colour, rasterized=True)
+        ax.plot(list(TABLE2), [v[k] for v in TABLE2.values()], "o", mfc="none", color=colour, label=label)
+    ax.axhline(_allowable(ds, "contact_allowable") / MPA, color="k", ls="--", lw=1, label="contact allowable")
+    ax.axhline(_allowable(ds, "shaft_allowable") / MPA, color="k", ls=":", lw=1, label="shaft allowable")
+    ax.set_ylabel("stress [MPa]")
+    ax.legend(fontsize=8, title="dots: designs; circles: seed 002 Table 2", title_fontsize=8)
+    ax = axes[1]
+    ax.scatter(t, np.rad2deg(ds["gripping_angle"].values), s=2, alpha=0.3, color="b", rasterized=True)
+    ax.plot(list(TABLE2), [v[4] for v in TABLE2.values()], "bo", mfc="none", label="seed 002 Table 2 V (theory)")
+    ax.axhline(np.rad2deg(_allowable(ds, "gripping_angle_allowable")), color="r", ls="--", lw=1,
+               label="allowable V (pop-out beyond)")
+    ax.set_ylabel("gripping angle V [deg]")
+    ax.legend(fontsize=8)
+    for a in axes:
+        a.set_xlabel("torque [N m]")
+        a.grid(alpha=0.3)
+    others = [f for f in ds.attrs.get("factors", "").split() if f != "torque"]
+    fig.suptitle(f"Stresses and gripping angle of {t.size} sampled designs against torque"
+                 + (f" ({', '.join(others)} varying too)" if others else ""))
+    return fig
+
+
 CATEGORIES = (("passes every allowable", "#4daf4a"), ("stress above allowable", "#ffb000"),
               ("pop-out risk (V above allowable)", "#e41a1c"), ("roll-over", "#984ea3"),
               ("sprag does not span the races", "0.6"), ("not converged", "k"))
@@ -77,7 +107,10 @@ def pass_map(ds):
              if set(p) <= set(ds.dims)]
     fig, axes = plt.subplots(1, max(len(pairs), 1), figsize=A4_LANDSCAPE, squeeze=False,
                              gridspec_kw={"wspace": 0.3})
-    if not pairs or "run" in ds.dims:
+    if "run" in ds.dims:
+        plt.close(fig)
+        return _sampled_pass_map(ds)
+    if not pairs:
         axes[0, 0].text(0.5, 0.5, "needs a factorial design over (sprag_length, sprags) or\n"
                         "(centre_distance, sprag_outer_radius)", ha="center", transform=axes[0, 0].transAxes)
         return fig
@@ -109,6 +142,34 @@ def pass_map(ds):
     fig.subplots_adjust(bottom=0.2)
     fig.suptitle("Which sprag geometries pass every allowable (numbers: smallest margin of safety, "
                  "allowable/value - 1)")
+    return fig
+
+
+def _sampled_pass_map(ds):
+    """The pass map of a sampled design: over the geometry pairs that are factors (else the first
+    two factors), each design's category (or, for many designs, the share passing per bin)."""
+    factors = ds.attrs.get("factors", "").split()
+    pairs = [p for p in (("sprag_length", "sprags"), ("centre_distance", "sprag_outer_radius"))
+             if set(p) <= set(factors)] or ([tuple(factors[:2])] if len(factors) >= 2 else [])
+    fig, axes = plt.subplots(1, max(len(pairs), 1), figsize=A4_LANDSCAPE, squeeze=False, gridspec_kw={"wspace": 0.3})
+    if not pairs:
+        axes[0, 0].text(0.5, 0.5, "a map needs two factors", ha="center", transform=axes[0, 0].transAxes)
+        return fig
+    cat = _category(ds["status"].values)
+    handles = []
+    for ax, (x, y) in zip(axes[0], pairs):
+        scale = {n: (1e3, "mm") if ds[n].attrs.get("units") == "m" else (1.0, "") for n in (x, y)}
+        handles = sampled_category_map(ax, ds[x].values * scale[x][0], ds[y].values * scale[y][0], cat, CATEGORIES)
+        if x in SEED and y in SEED:
+            ax.plot(SEED[x] * scale[x][0], SEED[y] * scale[y][0], "*", ms=22, mfc="none", mec="k")
+        ax.set_xlabel(f"{x.replace('_', ' ')} [{scale[x][1] or ds[x].attrs.get('units', '-')}]")
+        ax.set_ylabel(f"{y.replace('_', ' ')} [{scale[y][1] or ds[y].attrs.get('units', '-')}]")
+        others = [f for f in factors if f not in (x, y)]
+        ax.set_title("all designs of the sample" + (f" (over {', '.join(others)} too)" if others else ""), fontsize=8)
+    if handles:
+        fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8)
+        fig.subplots_adjust(bottom=0.2)
+    fig.suptitle(f"Which sprag geometries pass every allowable ({ds['status'].size} sampled designs)")
     return fig
 
 
