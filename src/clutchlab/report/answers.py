@@ -13,7 +13,7 @@ import numpy as np
 from .. import studies
 from ..explore import flat as _flat
 from ..explore import front_order, pareto_rank, spread
-from .common import A4_LANDSCAPE, seed_view
+from .common import A4_LANDSCAPE, drawn, drawn_note, seed_view
 
 MAX_ROWS = 15
 
@@ -65,6 +65,7 @@ def page(name, ds):
     ax_c.set_yticks(range(len(names)), [textwrap.fill(n, 18) for n in names], fontsize=8)
     ax_c.set_ylim(len(names) - 0.5, -0.5)
     ax_c.set_xlabel("designs failing it")
+    ax_c.xaxis.set_major_locator(plt.MaxNLocator(4, integer=True))
     limits = ds["constraint"].attrs.get("limits", "") if "constraint" in ds.coords else "none"
     ax_c.set_title(textwrap.fill("constraints: " + limits, 50), fontsize=8)
     # the front: over the two objectives, or every pair of them (projections) for three or more
@@ -123,8 +124,10 @@ def _front_panel(ax, ds, ox, oy, feas, rank, within, seed, lines, legend):
     where ranked within them; joined where it is the whole front, marked where a projection) and
     the seed design."""
     x, y = _flat(ds, ox), _flat(ds, oy)
-    ax.scatter(x[~feas], y[~feas], s=6, c="0.8", label="infeasible")
-    ax.scatter(x[feas & (rank > 0)], y[feas & (rank > 0)], s=8, c="tab:blue", label="feasible")
+    for mask, size, colour, label in ((~feas, 6, "0.8", "infeasible"), (feas & (rank > 0), 8, "tab:blue", "feasible")):
+        show = drawn(mask)
+        ax.scatter(x[show], y[show], s=size if mask.size < 2000 else 3, c=colour, rasterized=True,
+                   label=label + drawn_note(int(mask.sum())))
     front = np.flatnonzero(rank == 0)
     key = np.stack([_flat(ds, w) for w in within], axis=1)[front] if within else np.zeros((front.size, 0))
     combos = np.unique(key, axis=0)
@@ -215,8 +218,8 @@ def refinement_page(name, first, second, gain):
     ox, oy = (outs + outs)[:2]
     x1, y1, x2, y2 = _flat(first, ox), _flat(first, oy), _flat(second, ox), _flat(second, oy)
     ok1, ok2 = _flat(first, "feasible").astype(bool), _flat(second, "feasible").astype(bool)
-    ax_f.scatter(x1[ok1], y1[ok1], s=8, c="0.7", label="first stage, feasible")
-    ax_f.scatter(x2[ok2], y2[ok2], s=8, c="tab:orange", label="refining stage, feasible")
+    ax_f.scatter(x1[drawn(ok1)], y1[drawn(ok1)], s=8, c="0.7", label="first stage, feasible", rasterized=True)
+    ax_f.scatter(x2[drawn(ok2)], y2[drawn(ok2)], s=8, c="tab:orange", label="refining stage, feasible", rasterized=True)
     sense = np.array([1.0 if o.endswith(":min") else -1.0 for o in objectives[:2]])
     key1 = np.stack([_flat(first, w) for w in within], axis=1) if within else np.zeros((x1.size, 0))
     key2 = np.stack([_flat(second, w) for w in within], axis=1) if within else np.zeros((x2.size, 0))

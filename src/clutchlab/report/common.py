@@ -123,6 +123,16 @@ def contour_level(ax, x, y, z, level, **kw):
 SCATTER_MAX = 4000
 
 
+def _edges(v, bins):
+    """Bin edges for a map axis: midway between the values of a discrete factor (at most ``bins``
+    distinct values, e.g. a count), else ``bins`` equal bins."""
+    u = np.unique(v[np.isfinite(v)])
+    if 1 < u.size <= bins:
+        mid = (u[1:] + u[:-1]) / 2
+        return np.r_[u[0] - (mid[0] - u[0]), mid, u[-1] + (u[-1] - mid[-1])]
+    return bins
+
+
 def sampled_category_map(ax, x, y, category, categories, bins=30):
     """Map of a sampled design over two factors: each design a marker coloured by its category
     (index into ``categories``, a tuple of (label, colour); the first is "passes") for up to
@@ -138,10 +148,10 @@ def sampled_category_map(ax, x, y, category, categories, bins=30):
         return [Line2D([], [], ls="", marker="s", color=c, ms=9, label=lab) for lab, c in categories]
     from scipy.stats import binned_statistic_2d
 
-    share = binned_statistic_2d(x, y, (category == 0).astype(float), "mean", bins=bins)
+    share = binned_statistic_2d(x, y, (category == 0).astype(float), "mean", bins=[_edges(x, bins), _edges(y, bins)])
     mesh = ax.pcolormesh(share.x_edge, share.y_edge, share.statistic.T, cmap="RdYlGn", vmin=0, vmax=1,
                          rasterized=True)
-    ax.figure.colorbar(mesh, ax=ax, label=f"share of designs: {categories[0][0]} ({x.size} designs, {bins}x{bins} bins)")
+    ax.figure.colorbar(mesh, ax=ax, label=f"share of designs: {categories[0][0]} ({x.size} designs binned)")
     return []
 
 
@@ -175,8 +185,28 @@ def sampled_value_map(ax, x, y, z, label, cmap="viridis", limits=None, bins=30):
     else:
         from scipy.stats import binned_statistic_2d
 
-        med = binned_statistic_2d(x[finite], y[finite], z[finite], "median", bins=bins)
+        med = binned_statistic_2d(x[finite], y[finite], z[finite], "median",
+                                  bins=[_edges(x[finite], bins), _edges(y[finite], bins)])
         m = ax.pcolormesh(med.x_edge, med.y_edge, med.statistic.T, cmap=cmap, vmin=vmin, vmax=vmax, rasterized=True)
         label += f" (median per bin, {x.size} designs)"
     ax.figure.colorbar(m, ax=ax, label=label, extend=extend)
     return m
+
+
+# most markers a scatter layer draws; above, an even random subset (the same every run) stands for
+# the designs, said on the page, so a page of 10^6 designs draws in about a second
+DRAW_MAX = 20_000
+
+
+def drawn(mask_or_n) -> np.ndarray:
+    """Indices of the designs a scatter layer draws: all of them (a boolean mask's True entries,
+    or range(n)) up to :data:`DRAW_MAX`, else a fixed random subset of that size, in order."""
+    idx = np.flatnonzero(mask_or_n) if np.ndim(mask_or_n) else np.arange(int(mask_or_n))
+    if idx.size <= DRAW_MAX:
+        return idx
+    return np.sort(np.random.default_rng(0).choice(idx, DRAW_MAX, replace=False))
+
+
+def drawn_note(n: int) -> str:
+    """'' or the page's note that a subset of the designs is drawn."""
+    return "" if n <= DRAW_MAX else f" ({DRAW_MAX} of {n} designs drawn, chosen at random)"

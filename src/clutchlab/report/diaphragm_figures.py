@@ -6,7 +6,7 @@ import numpy as np
 from matplotlib.colors import TwoSlopeNorm
 
 from .. import status as st
-from .common import A4_LANDSCAPE, contour_level
+from .common import A4_LANDSCAPE, SCATTER_MAX, contour_level, sampled_value_map
 
 MARKERS = {"A": ("^", "peak A"), "C": ("o", "flat C"), "D": ("v", "valley D"), "B": ("s", "operating B")}
 
@@ -62,17 +62,17 @@ def load_curves(ds):
 def reserve_map(ds):
     """Reserve factor over (h, H/h), one panel per radius ratio, at λ_B = 0.9·λ_C."""
     if "run" in ds.dims:
-        ok = ds["status"] == st.CODE["ok"]
+        ok = (ds["status"] == st.CODE["ok"]).values
         fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
-        sc = ax.scatter(ds["sheet_thickness"] * 1e3, ds["cone_height_ratio"], c=ds["reserve_factor"].where(ok),
-                        cmap="RdYlGn", s=8)
-        ax.scatter((ds["sheet_thickness"] * 1e3).where(~ok), ds["cone_height_ratio"].where(~ok), marker="x",
-                   c="k", s=8, label="status not ok")
+        h, ratio = ds["sheet_thickness"].values * 1e3, ds["cone_height_ratio"].values
+        sampled_value_map(ax, h[ok], ratio[ok], ds["reserve_factor"].values[ok], "reserve factor [-]", cmap="RdYlGn")
+        if (~ok).any() and ok.size <= SCATTER_MAX:
+            ax.scatter(h[~ok], ratio[~ok], marker="x", c="k", s=8, label="status not ok", rasterized=True)
+            ax.legend()
         ax.set_xlabel("sheet thickness h [mm]")
         ax.set_ylabel("cone height ratio H/h")
-        fig.colorbar(sc, ax=ax, label="reserve factor [-]")
-        ax.legend()
-        ax.set_title("Reserve factor (torque capacity / engine maximum torque)")
+        ax.set_title(f"Reserve factor (torque capacity / engine maximum torque) of {ok.size} designs "
+                     f"({int((~ok).sum())} with status not ok{' left out' if ok.size > SCATTER_MAX else ''})")
         return fig
     sub = _nearest(ds, operating_point_factor=0.9)
     panels = sub["radius_ratio"].values if "radius_ratio" in sub.dims else [None]

@@ -6,7 +6,7 @@ import numpy as np
 
 from .. import status as st
 from ..explore import flat
-from .common import A4_LANDSCAPE
+from .common import A4_LANDSCAPE, drawn, drawn_note, sampled_value_map
 
 SEED = {"sheet_thickness": 2.334e-3, "ramp_time": 0.15, "friction_coefficient": 0.4, "driven_inertia": 0.021,
         "load_torque": 44.0}
@@ -20,7 +20,9 @@ def tradeoff(ds):
     ok = (_flat(ds, "status") == st.CODE["ok"]) & np.isfinite(_flat(ds, "peak_jerk"))
     w, j, t = _flat(ds, "slip_work")[ok], _flat(ds, "peak_jerk")[ok], _flat(ds, "lockup_time")[ok]
     fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
-    sc = ax.scatter(w / 1e3, j, c=t * 1e3, cmap="viridis", s=28, edgecolor="k", linewidth=0.3)
+    show = drawn(w.size)
+    sc = ax.scatter(w[show] / 1e3, j[show], c=t[show] * 1e3, cmap="viridis", s=28 if w.size < 2000 else 6,
+                    edgecolor="k", linewidth=0.3 if w.size < 2000 else 0, rasterized=True)
     fig.colorbar(sc, ax=ax, label="lock-up time [ms]")
     rank = ds["pareto_rank"] if "pareto_rank" in ds else None
     if rank is not None and rank.attrs["objectives"] == "slip_work:min peak_jerk:min":
@@ -44,8 +46,9 @@ def tradeoff(ds):
     ax.set_yscale("log")
     ax.set_xlabel("slip work [kJ]  (efficiency: lower is better)")
     ax.set_ylabel("peak output jerk [rad/s³]  (smoothness: lower is better)")
-    ax.set_title("Efficiency-smoothness trade-off of the engagement (%d locked scenarios, %d not locked)\nmodel: %s"
-                 % (ok.sum(), (~ok).sum(), ds.attrs.get("model_used", ds.attrs.get("model", ""))))
+    ax.set_title("Efficiency-smoothness trade-off of the engagement (%d locked scenarios, %d not locked)%s\nmodel: %s"
+                 % (ok.sum(), (~ok).sum(), drawn_note(int(ok.sum())),
+                    ds.attrs.get("model_used", ds.attrs.get("model", ""))))
     ax.grid(alpha=0.3, which="both")
     ax.legend(loc="upper right", fontsize=8)
     return fig
@@ -56,11 +59,12 @@ def maps(ds):
     fig, axes = plt.subplots(1, 2, figsize=A4_LANDSCAPE, gridspec_kw={"wspace": 0.45})
     if "run" in ds.dims or not {"ramp_time", "sheet_thickness"} <= set(ds.dims):
         for ax, name in zip(axes, ("slip_work", "lockup_time")):
-            sc = ax.scatter(_flat(ds, "ramp_time") if "ramp_time" in ds.coords else np.zeros(ds[name].size),
-                            _flat(ds, "clamp_load"), c=_flat(ds, name), s=10)
-            fig.colorbar(sc, ax=ax, label=f"{name} [{ds[name].attrs['units']}]")
+            sampled_value_map(ax, flat(ds, "ramp_time") if "ramp_time" in ds.coords else np.zeros(ds["status"].size),
+                              flat(ds, "clamp_load"), flat(ds, name), f"{name} [{ds[name].attrs['units']}]")
             ax.set_xlabel("ramp time [s]")
             ax.set_ylabel("clamp force [N]")
+        fig.suptitle(f"Slip work and lock-up time of {ds['status'].size} designs over ramp time and clamp force "
+                     "(colours clipped to the 1st-99th percentiles)")
         return fig
     others = {d: SEED[d] for d in SEED if d in ds.dims and d not in ("ramp_time", "sheet_thickness")}
     sub = ds.sel(others, method="nearest") if others else ds

@@ -8,7 +8,7 @@ from matplotlib.colors import BoundaryNorm, ListedColormap
 
 from .. import status as st
 from ..studies.roller import PARAMETERS, RPM
-from .common import A4_LANDSCAPE, fixed_text, sampled_category_map, seed_view
+from .common import A4_LANDSCAPE, drawn, drawn_note, fixed_text, sampled_category_map, seed_view
 
 SEED = {p.name: p.default for p in PARAMETERS}
 BAND = (3041.0, 3247.0)  # MPa, seed 003 section 2.2 (10^6 wedging cycles)
@@ -34,7 +34,8 @@ def _sampled_stress_engagement(ds):
               (axes[1], "engagement_time", 1e-3, "tab:green", "engagement time", locks))
     for ax, name, unit, colour, label, keep in series:
         v = ds[name].values / unit
-        ax.scatter(z[keep] + jitter[keep], v[keep], s=3, color=colour, alpha=0.3, rasterized=True)
+        show = drawn(keep)
+        ax.scatter(z[show] + jitter[show], v[show], s=3, color=colour, alpha=0.3, rasterized=True)
         counts = np.unique(z[keep & np.isfinite(v)])
         ax.plot(counts, [np.median(v[keep & (z == c) & np.isfinite(v)]) for c in counts], "o-", color=colour,
                 label=f"{label} (median per count)")
@@ -47,7 +48,7 @@ def _sampled_stress_engagement(ds):
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=7)
     fig.suptitle(f"Roller count: contact stress and engagement time of {z.size} sampled designs "
-                 "(self-locking ones for the dynamic values)", fontsize=10)
+                 "(self-locking ones for the dynamic values)" + drawn_note(z.size), fontsize=10)
     return fig
 
 

@@ -8,7 +8,7 @@ from matplotlib.colors import BoundaryNorm, ListedColormap
 
 from .. import status as st
 from ..studies.sprag import CHECKS, PARAMETERS
-from .common import A4_LANDSCAPE, fixed_text, sampled_category_map, seed_view
+from .common import A4_LANDSCAPE, drawn, drawn_note, fixed_text, sampled_category_map, seed_view
 
 SEED = {p.name: p.default for p in PARAMETERS}
 MPA = 1e6
@@ -63,16 +63,17 @@ def _sampled_stress_vs_torque(fig, axes, ds):
     """Sampled design: every design's stresses and gripping angle against its torque (all other
     factors varying too), the allowables and the seed 002 Table 2 values."""
     t = ds["torque"].values
+    show = drawn(t.size)
     ax = axes[0]
     for (name, label, colour), k in zip(STRESSES, range(4)):
-        ax.scatter(t, ds[name].values / MPA, s=2, alpha=0.3, color=colour, rasterized=True)
+        ax.scatter(t[show], ds[name].values[show] / MPA, s=2, alpha=0.3, color=colour, rasterized=True)
         ax.plot(list(TABLE2), [v[k] for v in TABLE2.values()], "o", mfc="none", color=colour, label=label)
     ax.axhline(_allowable(ds, "contact_allowable") / MPA, color="k", ls="--", lw=1, label="contact allowable")
     ax.axhline(_allowable(ds, "shaft_allowable") / MPA, color="k", ls=":", lw=1, label="shaft allowable")
     ax.set_ylabel("stress [MPa]")
     ax.legend(fontsize=8, title="dots: designs; circles: seed 002 Table 2", title_fontsize=8)
     ax = axes[1]
-    ax.scatter(t, np.rad2deg(ds["gripping_angle"].values), s=2, alpha=0.3, color="b", rasterized=True)
+    ax.scatter(t[show], np.rad2deg(ds["gripping_angle"].values[show]), s=2, alpha=0.3, color="b", rasterized=True)
     ax.plot(list(TABLE2), [v[4] for v in TABLE2.values()], "bo", mfc="none", label="seed 002 Table 2 V (theory)")
     ax.axhline(np.rad2deg(_allowable(ds, "gripping_angle_allowable")), color="r", ls="--", lw=1,
                label="allowable V (pop-out beyond)")
@@ -83,7 +84,7 @@ def _sampled_stress_vs_torque(fig, axes, ds):
         a.grid(alpha=0.3)
     others = [f for f in ds.attrs.get("factors", "").split() if f != "torque"]
     fig.suptitle(f"Stresses and gripping angle of {t.size} sampled designs against torque"
-                 + (f" ({', '.join(others)} varying too)" if others else ""))
+                 + (f" ({', '.join(others)} varying too)" if others else "") + drawn_note(t.size))
     return fig
 
 
