@@ -138,8 +138,10 @@ def test_streamed_merge_memory_follows_the_chunk_not_the_study(tmp_path):
     in 16 chunks of 2.9 MB; measured 7.5 MB peak (the in-memory merge: 188 MB)."""
     import tracemalloc
 
-    sec = _study("sobol", _samples=2**15, sheet_thickness={"min": "1.8 mm", "max": "2.8 mm"},
-                 cone_height_ratio={"min": 1.3, "max": 2.2})
+    sec = resolve({"studies": ["diaphragm_spring"], "diaphragm_spring": {
+        "design": "sobol", "samples": 2**15, "seed": 7, "curves": "all", "parameters": {
+            "sheet_thickness": {"min": "1.8 mm", "max": "2.8 mm"}, "cone_height_ratio": {"min": 1.3, "max": 2.2}}}})[
+        "diaphragm_spring"]
     design = doe.build_design(sec)
     paths = []
     for i in range(16):
@@ -176,3 +178,46 @@ def test_sampled_designs_with_discrete_factors():
     with pytest.raises(ConfigError, match="roller.parameters.rollers"):
         resolve({"studies": ["roller"], "roller": {"design": "sobol", "samples": 8, "parameters": {
             "rollers": {"min": 6, "max": 12}}}})
+
+
+@pytest.mark.parametrize("name", ["diaphragm_spring", "centrifugal"])
+def test_curves_of_a_subset_of_a_large_sampled_design(tmp_path, name):
+    """Issue 16 item 5: a sampled design stores every scenario's scalars but the per-scenario
+    curves of every N-th scenario only (dimension curve_run, its coordinate the scenario index), the
+    same values as the full curves there; streamed and in-memory merges agree (chunk edges not on
+    multiples of N); the curve pages draw from the subset. Default: all curves up to 20 000
+    scenarios, about 1 000 designs' above; a factorial grid keeps all."""
+    import matplotlib.pyplot as plt
+
+    from clutchlab import config, studies
+
+    base = {"design": "sobol", "samples": 64, "seed": 4,
+            "parameters": {"friction_coefficient": {"min": 0.3, "max": 0.5}}}
+    full = doe.run_study(resolve({"studies": [name], name: base})[name])
+    sec = resolve({"studies": [name], name: {**base, "curves": 7}})[name]
+    design = doe.build_design(sec)
+    paths = []
+    for i in range(3):
+        paths.append(tmp_path / f"chunk_{i}.h5")
+        store.write(doe.run_chunk(design, sec["options"], 3, i), paths[-1], with_checksum=True)
+    want = explore.annotate(doe.merge(design, [store.load(p) for p in paths]), sec["objectives"], sec["constraints"])
+    doe.merge_to_file(design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"])
+    got = store.load(tmp_path / "out.h5")
+    xr.testing.assert_identical(got, want)
+    assert got["curve_run"].values.tolist() == list(range(0, 64, 7))
+    curves = [n for n, v in full.data_vars.items() if "run" in v.dims and v.ndim > 1 and "constraint" not in v.dims]
+    assert curves and all(got[n].dims[0] == "curve_run" for n in curves)
+    for n in curves:
+        np.testing.assert_array_equal(got[n].values, full[n].isel(run=got["curve_run"].values).values)
+    for n, v in full.data_vars.items():
+        if n not in curves and "run" in v.dims:
+            np.testing.assert_array_equal(got[n].values, v.values)
+    for stem, fig in studies.get(name).figures(got):
+        fig.canvas.draw()
+        plt.close(fig)
+    big = {**base, "samples": 2**15}
+    assert resolve({"studies": [name], name: big})[name]["curve_stride"] == 33  # ceil(32768 / 1000)
+    assert resolve({"studies": [name], name: {**big, "curves": "all"}})[name]["curve_stride"] == 1
+    assert resolve({"studies": [name], name: base})[name]["curve_stride"] == 1
+    with pytest.raises(config.ConfigError, match=f"'{name}.curves'"):
+        resolve({"studies": [name], name: {"design": "factorial", "curves": 5}})

@@ -199,6 +199,24 @@ def chunk_count(n: int, chunking: tuple[str, int]) -> int:
     return int(min(MAX_CHUNKS_FROM_SIZE, max(1, -(-n // value))))
 
 
+# a sampled design stores every scenario's curves up to this size, else about CURVE_DESIGNS of them
+CURVES_ALL_MAX = 20_000
+CURVE_DESIGNS = 1000
+
+
+def _curve_stride(name, section, design, n) -> int:
+    """Every how many scenarios a design stores its per-scenario curves (1: all; issue 16 item 5)."""
+    given = section.get("curves")
+    if given == "all":
+        return 1
+    if given is not None:
+        if design == "factorial":
+            raise ConfigError(f"{name}.curves", "a factorial grid stores every scenario's curves (its figures read "
+                              "them over the grid); a subset is for sampled designs")
+        return _count(section, "curves", f"{name}.curves")
+    return 1 if design == "factorial" or n <= CURVES_ALL_MAX else -(-n // CURVE_DESIGNS)
+
+
 def _resolve_study(name: str, section: dict, default_chunks, max_scenarios: int,
                    results_dir: str = "results") -> dict:
     study = studies.get(name)
@@ -308,6 +326,7 @@ def _resolve_study(name: str, section: dict, default_chunks, max_scenarios: int,
     else:
         n = out["samples"]
     out["chunks"] = chunk_count(n, _chunking(section, f"{name}.") or default_chunks)
+    out["curve_stride"] = _curve_stride(name, section, design, n)
     out["objectives"], out["constraints"] = _answers(study, section)
     if study.check_config is not None:
         problem = study.check_config(out)
@@ -316,7 +335,7 @@ def _resolve_study(name: str, section: dict, default_chunks, max_scenarios: int,
     return out
 
 
-REFINE_KEYS = ("design", "refine", "samples", "seed", "chunks", "chunk_size")
+REFINE_KEYS = ("design", "refine", "samples", "seed", "chunks", "chunk_size", "curves")
 DEFAULT_SHRINK = 0.5
 
 
@@ -381,6 +400,7 @@ def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -
     if out["samples"] > max_scenarios:
         raise _ceiling(name, out["samples"], max_scenarios)
     out["chunks"] = chunk_count(out["samples"], _chunking(section, f"{name}.") or default_chunks)
+    out["curve_stride"] = _curve_stride(name, section, "refine", out["samples"])
     return out
 
 

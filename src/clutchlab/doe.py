@@ -98,6 +98,7 @@ def build_design(resolved_study: dict) -> xr.Dataset:
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update(_provenance(resolved_study))
     ds.attrs["factors"] = " ".join(factors)
+    ds.attrs["curve_stride"] = int(resolved_study.get("curve_stride", 1))
     if kind == "refine":
         ds.attrs["refine_from"] = resolved_study["refine"]["from"]
         ds.attrs["refine_within"] = first["pareto_rank"].attrs.get("ranked_within", "")
@@ -225,7 +226,7 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int) -> xr.Data
     """Compute chunk ``i``: a Dataset on ``run`` with every factor as a 1-D coordinate."""
     study = studies.get(design.attrs["study"])
     idx, inputs = chunk_inputs(design, chunks, i)
-    ds = study.compute(inputs, options)
+    ds = _curve_subset(study.compute(inputs, options), idx, int(design.attrs.get("curve_stride", 1)))
     coords = {"run": ("run", idx, {"long_name": "scenario index", "units": "1"})}
     for f in _factors(design):
         coords[f] = ("run", np.asarray(inputs[f]), dict(design[f].attrs))
@@ -235,14 +236,32 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int) -> xr.Data
     return ds
 
 
+def _curve_subset(ds: xr.Dataset, idx, stride: int) -> xr.Dataset:
+    """Keep the per-scenario curves (variables on ``run`` and another dimension) of every
+    ``stride``-th scenario only, on dimension ``curve_run`` whose coordinate is their scenario
+    index (issue 16 item 5: a million spring curves are not stored unasked)."""
+    if stride <= 1:
+        return ds
+    curves = [n for n, v in ds.data_vars.items() if "run" in v.dims and v.ndim > 1]
+    keep = np.flatnonzero(idx % stride == 0)
+    sub = ds[curves].isel(run=keep).rename(run="curve_run")
+    out = ds.drop_vars(curves).assign({n: sub[n] for n in curves})
+    return out.assign_coords(curve_run=("curve_run", idx[keep], {
+        "long_name": f"scenario index of the stored curves (every {stride}th scenario)", "units": "1"}))
+
+
 def merge(design: xr.Dataset, parts: list[xr.Dataset]) -> xr.Dataset:
     """Merge chunk results into one study Dataset shaped like the design.
 
     Factorial designs get their factors back as dimensions; sampled designs keep ``run``. The
     design's fixed values are stored as 0-d input variables.
     """
-    ds = xr.concat(parts, dim="run", data_vars="minimal", coords="minimal", compat="override",
-                   join="outer", combine_attrs="drop_conflicts").sortby("run")
+    curves = [n for n, v in parts[0].data_vars.items() if "curve_run" in v.dims]
+    ds = xr.concat([p.drop_vars(curves + (["curve_run"] if curves else [])) for p in parts], dim="run",
+                   data_vars="minimal", coords="minimal", compat="override", join="outer",
+                   combine_attrs="drop_conflicts").sortby("run")
+    if curves:  # the stored subset of the curves, along its own dimension
+        ds = ds.assign(xr.concat([p[curves] for p in parts], dim="curve_run", combine_attrs="drop_conflicts"))
     n = n_scenarios(design)
     if ds.sizes["run"] != n or not np.array_equal(ds["run"].values, np.arange(n)):
         raise ValueError(f"chunks cover {ds.sizes['run']} scenarios, the design has {n} (missing or duplicated)")
@@ -286,7 +305,7 @@ def merge_to_file(design: xr.Dataset, chunk_paths, path, objectives=(), constrai
     grid = {f: design[f] for f in factors} if factorial else None
     attrs, bounds = None, []
     with store.atomic(path) as tmp:
-        with store.StreamWriter(tmp, n, grid) as out:
+        with store.StreamWriter(tmp, n, grid, curve_stride=int(design.attrs.get("curve_stride", 1))) as out:
             for p in chunk_paths:
                 chunk = store.load_verified(p)
                 chunk.attrs.pop("chunk", None)

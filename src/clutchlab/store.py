@@ -202,10 +202,12 @@ class StreamWriter:
     context manager around :func:`atomic`'s temporary path.
     """
 
-    def __init__(self, path, n: int, grid: dict | None = None, attrs: dict | None = None, complevel: int = 4):
+    def __init__(self, path, n: int, grid: dict | None = None, attrs: dict | None = None, complevel: int = 4,
+                 curve_stride: int = 1):
         from xarray.backends import H5NetCDFStore
 
         self.path, self.n, self.grid = Path(path), int(n), grid
+        self.curve_stride = int(curve_stride)  # curves stored for every curve_stride-th scenario (curve_run)
         self.attrs, self.complevel = dict(attrs or {}), complevel
         self.shape = tuple(c.size for c in grid.values()) if grid else (self.n,)
         self.store = H5NetCDFStore.open(str(self.path), mode="w")
@@ -227,6 +229,8 @@ class StreamWriter:
     def _create(self, ds: xr.Dataset, variables: dict) -> None:
         sizes = {d: s for d, s in ds.sizes.items() if d != "run"}
         sizes.update(dict(zip(self.grid, self.shape)) if self.grid else {"run": self.n})
+        if "curve_run" in sizes:
+            sizes["curve_run"] = -(-self.n // self.curve_stride)
         for dim, size in sizes.items():
             self.store.set_dimension(dim, size)
         for key, value in self.attrs.items():
@@ -249,7 +253,7 @@ class StreamWriter:
             dims = self._final_dims(var.dims)  # the file's variable is sized by the dimensions set above
             final = xr.Variable(dims, np.empty((1,) * len(dims), dtype=var.dtype), attrs, var.encoding)
             self.store.prepare_variable(name, final)
-            if "run" not in var.dims:
+            if "run" not in var.dims and "curve_run" not in var.dims:
                 self.store.ds[name][...] = np.asarray(var.data)
         self.created = True
 
@@ -263,6 +267,13 @@ class StreamWriter:
         if not self.created:
             self._create(ds, variables)
         for name, var in variables.items():
+            if "curve_run" in var.dims:  # the stored curves: their own slice, after the earlier chunks'
+                data = np.asarray(var.transpose("curve_run", ...).data)
+                if data.shape[0] == 0:
+                    continue
+                first = -(-start // self.curve_stride)
+                self.store.ds[name][first:first + data.shape[0]] = data
+                continue
             if "run" not in var.dims or (self.grid and name in ("run", *self.grid)):
                 continue
             data = np.asarray(var.transpose("run", ...).data)

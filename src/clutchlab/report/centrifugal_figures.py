@@ -7,7 +7,7 @@ import numpy as np
 
 from .. import status as st
 from ..studies.centrifugal import PARAMETERS, RPM
-from .common import A4_LANDSCAPE, contour_level, fixed_text, robust_limits, sampled_value_map
+from .common import A4_LANDSCAPE, contour_level, fixed_text, robust_limits, sampled_value_map, with_curves
 from .common import seed_view as _seed_view
 
 SEED = {p.name: p.default for p in PARAMETERS}
@@ -18,6 +18,7 @@ def seed_view(ds, keep=()):
 
 
 def capacity_curves(ds):
+    ds = with_curves(ds)  # a large sampled design stores the curves of a subset
     sub = seed_view(ds)
     rpm = ds["speed"].values / RPM
     fig, ax = plt.subplots(figsize=A4_LANDSCAPE)

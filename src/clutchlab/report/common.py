@@ -9,6 +9,19 @@ import numpy as np
 A4_LANDSCAPE = (11.69, 8.27)
 
 
+def with_curves(ds):
+    """A sampled result that stores its per-scenario curves for a subset of scenarios (dimension
+    ``curve_run``, issue 16 item 5) as the Dataset of that subset on ``run``, curves included;
+    any other result unchanged. Pages that draw curves pick their designs from it."""
+    if "curve_run" not in ds.dims:
+        return ds
+    curves = [n for n, v in ds.data_vars.items() if "curve_run" in v.dims]
+    position = {int(r): i for i, r in enumerate(ds["run"].values)}
+    base = ds.drop_vars(curves + ["curve_run"]).isel(run=[position[int(r)] for r in ds["curve_run"].values])
+    return base.assign({n: (tuple("run" if d == "curve_run" else d for d in ds[n].dims), ds[n].values,
+                            ds[n].attrs) for n in curves})
+
+
 def seed_view(ds, seed, keep=()):
     """The scenario(s) nearest the ``seed`` design (parameter -> value): factorial dims other
     than ``keep`` selected at the seed value; a sampled design gives the run nearest in normalised

@@ -6,7 +6,8 @@ import numpy as np
 from matplotlib.colors import TwoSlopeNorm
 
 from .. import status as st
-from .common import A4_LANDSCAPE, SCATTER_MAX, contour_level, sampled_value_map
+from ..explore import flat
+from .common import A4_LANDSCAPE, SCATTER_MAX, contour_level, sampled_value_map, with_curves
 
 MARKERS = {"A": ("^", "peak A"), "C": ("o", "flat C"), "D": ("v", "valley D"), "B": ("s", "operating B")}
 
@@ -19,6 +20,7 @@ def _nearest(ds, **targets):
 def load_curves(ds):
     """F(λ) for every cone-height ratio at the middle thickness and radius ratio."""
     fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
+    ds = with_curves(ds)  # a large sampled design stores the curves of a subset
     if "run" in ds.dims:  # sampled design: a spread of designs ordered by H/h
         order = np.argsort(ds["cone_height_ratio"].values if "cone_height_ratio" in ds.coords
                            else ds["run"].values)
@@ -64,8 +66,8 @@ def reserve_map(ds):
     if "run" in ds.dims:
         ok = (ds["status"] == st.CODE["ok"]).values
         fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
-        h, ratio = ds["sheet_thickness"].values * 1e3, ds["cone_height_ratio"].values
-        sampled_value_map(ax, h[ok], ratio[ok], ds["reserve_factor"].values[ok], "reserve factor [-]", cmap="RdYlGn")
+        h, ratio = flat(ds, "sheet_thickness") * 1e3, flat(ds, "cone_height_ratio")
+        sampled_value_map(ax, h[ok], ratio[ok], flat(ds, "reserve_factor")[ok], "reserve factor [-]", cmap="RdYlGn")
         if (~ok).any() and ok.size <= SCATTER_MAX:
             ax.scatter(h[~ok], ratio[~ok], marker="x", c="k", s=8, label="status not ok", rasterized=True)
             ax.legend()
