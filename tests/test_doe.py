@@ -221,3 +221,12 @@ def test_curves_of_a_subset_of_a_large_sampled_design(tmp_path, name):
     assert resolve({"studies": [name], name: base})[name]["curve_stride"] == 1
     with pytest.raises(config.ConfigError, match=f"'{name}.curves'"):
         resolve({"studies": [name], name: {"design": "factorial", "curves": 5}})
+
+
+def test_curve_subset_of_a_study_without_curves():
+    """A study with no per-scenario curves (engagement) runs unchanged with a curve subset asked."""
+    sec = resolve({"studies": ["engagement"], "engagement": {
+        "design": "sobol", "samples": 16, "seed": 1, "curves": 5, "options": {"driveline": "rigid"},
+        "parameters": {"ramp_time": {"min": "0.05 s", "max": "0.3 s"}}}})["engagement"]
+    ds = doe.run_study(sec)
+    assert "curve_run" not in ds.dims and ds.sizes["run"] == 16

@@ -345,3 +345,21 @@ def test_bearing_force_from_the_spring_curve():
     assert fb[0, 0] == pytest.approx(0.0, abs=1e-9 * force[0])
     full = diaphragm.almen_laszlo_load(pts["deflection_B"] + 1.1e-3, **study.spring_geometry(p)) / 4.0
     assert fb[0, -1] == pytest.approx(float(full[0]), rel=1e-12)
+
+
+def test_event_solver_peaks_include_the_lockup_instant():
+    """Regression (found in session 7): with a held engine and lock-up before the end of the clamp
+    ramp, the clutch torque is largest at the lock-up instant; the event solver took that instant as
+    the end of an event step and did not record it (66.4 N m against the closed form's 167.1 N m for
+    a 0.3 s ramp). Peaks of the rigid event solver now equal the closed form's."""
+    from clutchlab import engagement
+
+    kw = dict(engine_speed=np.full(3, 570.0), engine_inertia=np.full(3, np.inf), engine_torque=np.zeros(3),
+              driven_inertia=np.full(3, 0.021), load_torque=np.full(3, 44.0), peak_capacity=np.full(3, 190.047778),
+              ramp_time=np.array([0.05, 0.15, 0.3]), profile="ramp", static_ratio=np.ones(3), t_end=np.full(3, 0.6))
+    sim = engagement.simulate(**kw, rtol=1e-9, atol=1e-11)
+    ref = engagement.closed_form(**kw)
+    np.testing.assert_allclose(sim["peak_friction_torque"], ref["peak_friction_torque"], rtol=1e-9)
+    np.testing.assert_allclose(sim["peak_jerk"], ref["slip_jerk"], rtol=1e-9)
+    np.testing.assert_allclose(sim["peak_slip_power"], ref["peak_slip_power"], rtol=1e-9)
+    assert ref["peak_friction_torque"][2] == pytest.approx(167.1496, rel=1e-6)

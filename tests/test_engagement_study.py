@@ -64,3 +64,32 @@ def test_work_precision_page_from_stored_benchmark(tmp_path):
 def test_infinite_only_where_allowed():
     with pytest.raises(config.ConfigError, match="driven_inertia"):
         _study({}, driven_inertia="inf")
+
+
+def test_model_chosen_per_scenario():
+    """Issue 16 item 2: in one rigid study over the engine inertia (held: inf, or free) and the
+    Stribeck speed, each scenario runs the cheapest exact model (closed form where the engine is held
+    and mu constant, the event solver elsewhere) and says which (variable model); the metrics equal
+    those of each model run alone (closed form against the event solver forced on the same
+    scenarios: within the accuracy), and the solver statistics are 0 for the closed form."""
+    from clutchlab.studies.engagement import MODEL
+
+    params = dict(ramp_time={"values": ["0.05 s", "0.15 s", "0.3 s"]}, engine_inertia={"values": ["inf", "0.5 kg*m^2"]},
+                  stribeck_speed={"values": ["inf", "20 rad/s"]}, load_torque={"values": ["44 N*m", "80 N*m"]})
+    sec = _study({"driveline": "rigid"}, **params)
+    sec["options"]["accuracy"] = 1e-8
+    ds = doe.run_study(sec)
+    closed = (~np.isfinite(ds["engine_inertia"]) & ~np.isfinite(ds["stribeck_speed"])).broadcast_like(ds["status"])
+    assert ((ds["model"] == MODEL["closed_form"]) == closed).all()
+    assert ((ds["model"] == MODEL["rigid_events"]) == ~closed).all()
+    assert ds["model"].attrs["flag_meanings"] == "closed_form rigid_events compliant_events"
+    assert (ds["n_steps"].where(closed, 0) == 0).all() and (ds["n_steps"].where(~closed, 1) > 0).all()
+    # each model alone: the closed-form scenarios by the event solver (forced by a vanishing drag)
+    forced = _study({"driveline": "rigid"}, **params, aero_coefficient=1e-300)
+    forced["options"]["accuracy"] = 1e-8
+    ref = doe.run_study(forced)
+    assert (ref["model"] == MODEL["rigid_events"]).all()
+    for name in ("lockup_time", "slip_work", "peak_friction_torque"):
+        np.testing.assert_allclose(ds[name].values, ref[name].values, rtol=1e-6)
+    sec = _study({"driveline": "compliant"}, ramp_time={"values": ["0.1 s", "0.2 s"]})
+    assert (doe.run_study(sec)["model"] == MODEL["compliant_events"]).all()

@@ -1322,6 +1322,10 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                     break
                 t = t + best_tau
                 _copy(y, y_best)
+                # the peaks up to the event, at the state just before it (a lock-up ends the slip at
+                # its largest clutch torque when the clamp still rises: a step may end exactly there)
+                aux_e = _forces(t, y, q, locked, parked, s, compliant, prof, dm)
+                _record_peaks(t, y, q, locked, parked, s, compliant, prof, dm, aux_e, pk)
                 locked, parked, s = _apply_event(best_kind, t, y, q, locked, parked, s, compliant, prof, d, dm, g,
                                                  pk, out)
                 j_left, tc_left = _jerk_torque(t, y, q, locked, parked, s, compliant, prof, dm)

@@ -16,6 +16,8 @@ Parameters that are not factors are fixed and stored as 0-d variables.
 """
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import xarray as xr
 
@@ -226,14 +228,21 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int) -> xr.Data
     """Compute chunk ``i``: a Dataset on ``run`` with every factor as a 1-D coordinate."""
     study = studies.get(design.attrs["study"])
     idx, inputs = chunk_inputs(design, chunks, i)
+    start = time.perf_counter()
     ds = _curve_subset(study.compute(inputs, options), idx, int(design.attrs.get("curve_stride", 1)))
+    seconds = time.perf_counter() - start
     coords = {"run": ("run", idx, {"long_name": "scenario index", "units": "1"})}
     for f in _factors(design):
         coords[f] = ("run", np.asarray(inputs[f]), dict(design[f].attrs))
     ds = ds.assign_coords(coords)
     ds.attrs.update(design.attrs)
     ds.attrs["chunk"] = f"{i + 1} of {chunks}"
+    ds.attrs["compute_seconds"] = seconds  # the physics' own time (benchmark_million); not merged
     return ds
+
+
+# attributes of one chunk file that a merged result does not carry
+CHUNK_ATTRS = ("chunk", "compute_seconds")
 
 
 def _curve_subset(ds: xr.Dataset, idx, stride: int) -> xr.Dataset:
@@ -243,6 +252,8 @@ def _curve_subset(ds: xr.Dataset, idx, stride: int) -> xr.Dataset:
     if stride <= 1:
         return ds
     curves = [n for n, v in ds.data_vars.items() if "run" in v.dims and v.ndim > 1]
+    if not curves:
+        return ds
     keep = np.flatnonzero(idx % stride == 0)
     sub = ds[curves].isel(run=keep).rename(run="curve_run")
     out = ds.drop_vars(curves).assign({n: sub[n] for n in curves})
@@ -265,7 +276,8 @@ def merge(design: xr.Dataset, parts: list[xr.Dataset]) -> xr.Dataset:
     n = n_scenarios(design)
     if ds.sizes["run"] != n or not np.array_equal(ds["run"].values, np.arange(n)):
         raise ValueError(f"chunks cover {ds.sizes['run']} scenarios, the design has {n} (missing or duplicated)")
-    ds.attrs.pop("chunk", None)
+    for key in CHUNK_ATTRS:
+        ds.attrs.pop(key, None)
     factors = _factors(design)
     if design.attrs["design"] == "factorial":
         shape = tuple(design.sizes[f] for f in factors)
@@ -308,7 +320,8 @@ def merge_to_file(design: xr.Dataset, chunk_paths, path, objectives=(), constrai
         with store.StreamWriter(tmp, n, grid, curve_stride=int(design.attrs.get("curve_stride", 1))) as out:
             for p in chunk_paths:
                 chunk = store.load_verified(p)
-                chunk.attrs.pop("chunk", None)
+                for key in CHUNK_ATTRS:
+                    chunk.attrs.pop(key, None)
                 attrs = dict(chunk.attrs) if attrs is None else {
                     k: v for k, v in attrs.items() if k in chunk.attrs and _same(chunk.attrs[k], v)}
                 if chunk.sizes.get("run", 0) == 0:

@@ -22,6 +22,8 @@ rule report:
         refined=[refine_source(s) for s in REFINED],
     output:
         REPORT_FILES,
+    benchmark:
+        f"{WORK}/report_benchmark.tsv"
     params:
         names=STUDIES,
         sensitivity_names=[s for s in STUDIES if sensitivity_files(s)],

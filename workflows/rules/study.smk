@@ -21,6 +21,8 @@ rule chunk:
         f"{WORK}/{{study}}/design.h5",
     output:
         f"{WORK}/{{study}}/chunk_{{i}}.h5",
+    benchmark:
+        f"{WORK}/{{study}}/benchmark/chunk_{{i}}.tsv"  # wall time and peak RSS of the job
     params:
         options=lambda wc: RESOLVED[wc.study]["options"],
         chunks=lambda wc: RESOLVED[wc.study]["chunks"],
@@ -43,6 +45,8 @@ for _study in STUDIES:
         output:
             results(_study),
             sensitivity_files(_study),
+        benchmark:
+            f"{WORK}/{_study}/benchmark/merge.tsv"
         params:
             objectives=RESOLVED[_study]["objectives"],
             constraints=RESOLVED[_study]["constraints"],

@@ -85,6 +85,18 @@ OUTPUTS = {
 }
 
 
+# per-scenario model (variable ``model``): code, and what it is
+MODEL = {"closed_form": 0, "rigid_events": 1, "compliant_events": 2}
+MODEL_TEXT = {"closed_form": "rigid two-inertia, closed form",
+              "rigid_events": "rigid two-inertia, DOPRI5 with exact events",
+              "compliant_events": "compliant driveline (damper springs): linear phases in closed form, nonlinear "
+                                  "ones by DOPRI5, exact events"}
+# solver statistics stored per scenario (0 for the closed form): name -> (long_name, simulate key)
+SOLVER_STATS = {"n_steps": ("integrator steps taken (accepted)", "n_steps"),
+                "n_rejected": ("integrator steps rejected", "n_rejected"),
+                "n_locate": ("events located (stick, slip, lock-up)", "n_locate")}
+
+
 def bearing_force(p, pts, points=41):
     """Release-bearing force over the plate lift x ∈ [0, g + c] (flat arrays ``p``, characteristic
     points ``pts``) [N], shape (scenarios, points): (F_s(λ_B + x) − F_c(x)) / i, with F_s the
@@ -137,19 +149,27 @@ def compute(inputs, options=None) -> xr.Dataset:
     p = flat_inputs(inputs)
     force, cap, spring_bad, pts = capacity(p, options, with_points=True)
     rigid = options["driveline"] == "rigid"
-    closed = (rigid and np.all(~np.isfinite(p["engine_inertia"])) and np.all(p["aero_coefficient"] == 0)
-              and np.all(~np.isfinite(p["stribeck_speed"])) and np.all(p["air_gap"] == 0))
+    # the cheapest exact model per scenario (issue 16 item 2): the closed form where the rigid model
+    # has a held engine, no drag, constant mu and no air gap; the event solver elsewhere
+    closed = rigid & ~np.isfinite(p["engine_inertia"]) & (p["aero_coefficient"] == 0) \
+        & ~np.isfinite(p["stribeck_speed"]) & (p["air_gap"] == 0)
+    model = np.where(closed, MODEL["closed_form"], MODEL["rigid_events" if rigid else "compliant_events"])
     kw = _solver_inputs(p, cap, options)
-    if closed:
-        res = engagement.closed_form(**{k: kw[k] for k in ("engine_speed", "engine_inertia", "engine_torque",
-                                                           "driven_inertia", "load_torque", "peak_capacity",
-                                                           "ramp_time", "profile", "static_ratio", "t_end")})
-        res["peak_jerk"] = res.pop("slip_jerk")
-        model = "rigid two-inertia, closed form"
-    else:
-        res = engagement.simulate(**kw)
-        model = ("compliant driveline (damper springs): linear phases in closed form, nonlinear ones by DOPRI5, "
-                 "exact events" if not rigid else "rigid two-inertia, DOPRI5 with exact events")
+    res = {}
+    for mask, closed_form in ((closed, True), (~closed, False)):
+        if not mask.any():
+            continue
+        sub = {k: (v[mask] if isinstance(v, np.ndarray) and v.shape == mask.shape else v) for k, v in kw.items()}
+        if closed_form:
+            part = engagement.closed_form(**{k: sub[k] for k in (
+                "engine_speed", "engine_inertia", "engine_torque", "driven_inertia", "load_torque", "peak_capacity",
+                "ramp_time", "profile", "static_ratio", "t_end")})
+            part["peak_jerk"] = part.pop("slip_jerk")
+        else:
+            part = engagement.simulate(**sub)
+        for k in (*OUTPUTS, "status", "capacity_at_lockup", *SOLVER_STATS):
+            if k in part:
+                res.setdefault(k, np.zeros(mask.size, dtype=np.asarray(part[k]).dtype))[mask] = part[k]
     with np.errstate(invalid="ignore", divide="ignore"):
         res["clamp_force_at_lockup"] = np.where(cap > 0, res["capacity_at_lockup"] / cap * force, np.nan)
     res["clamp_load"], res["peak_capacity"] = force, cap
@@ -157,12 +177,17 @@ def compute(inputs, options=None) -> xr.Dataset:
         res["peak_bearing_force"] = np.max(bearing_force(p, pts), axis=1)
     code = np.where(spring_bad, st.CODE["invalid_geometry"], res["status"]).astype(st.DTYPE)
     data = {k: ("run", np.where(spring_bad, np.nan, res[k]), {"units": u, "long_name": ln}) for k, (u, ln) in OUTPUTS.items()}
+    data["model"] = ("run", model.astype(np.int8), {
+        "long_name": "model that computed the scenario (the cheapest exact one for its inputs)", "units": "1",
+        "flag_values": np.array(sorted(MODEL.values()), np.int8), "flag_meanings": " ".join(MODEL)})
+    for k, (ln, src) in SOLVER_STATS.items():
+        data[k] = ("run", res.get(k, np.zeros(model.size)).astype(np.int32), {"long_name": ln, "units": "1"})
     data["status"] = ("run", code, st.attrs("invalid_geometry: spring load points off the spring; "
                                             "never_locked: slipping at end_time; not_converged: step limit; "
                                             "truncated: an event after end_time (break-away, the output "
                                             "stopping) would change the metrics: raise end_time"))
     ds = xr.Dataset(data).merge(seed_traces(inputs, options))
-    ds.attrs["model_used"] = model
+    ds.attrs["model_used"] = "; ".join(MODEL_TEXT[m] for m in MODEL if (model == MODEL[m]).any())
     rtol, atol = tolerances(options["accuracy"])
     ds.attrs.update(accuracy=options["accuracy"], rtol=rtol, atol=atol)
     return ds
