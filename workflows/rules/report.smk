@@ -75,6 +75,20 @@ rule benchmark_pareto:
         "{params.python} -m clutchlab.benchmark_pareto {RESULTS}/benchmark"
 
 
+rule benchmark_million:
+    # Not part of `all`: `snakemake --cores 2 benchmark_million` (about 5 minutes, alone on the
+    # machine). Runs config/million.yaml (every study at 2^20 sampled designs) through Snakemake
+    # (forced, results/million/) and prints per study the physics' time, the jobs' time, the share
+    # outside the physics, peak RSS and job counts; for the run its wall time.
+    output:
+        f"{RESULTS}/benchmark/million_benchmark.csv",
+    threads: workflow.cores
+    params:
+        python=sys.executable,
+    shell:
+        "{params.python} -m clutchlab.benchmark_million {RESULTS}/benchmark --cores {threads}"
+
+
 rule benchmark_roller:
     # Not part of `all`: `snakemake --cores 1 benchmark_roller` (a few minutes: the tight Radau
     # reference is slow). Compiled SDIRK4 against per-scenario solve_ivp LSODA and Radau.
