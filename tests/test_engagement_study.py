@@ -93,3 +93,12 @@ def test_model_chosen_per_scenario():
         np.testing.assert_allclose(ds[name].values, ref[name].values, rtol=1e-6)
     sec = _study({"driveline": "compliant"}, ramp_time={"values": ["0.1 s", "0.2 s"]})
     assert (doe.run_study(sec)["model"] == MODEL["compliant_events"]).all()
+
+
+def test_an_empty_chunk_runs():
+    """More chunks than scenarios: an empty chunk of a per-scenario-model study gives an empty result."""
+    sec = _study({"driveline": "rigid"}, ramp_time={"values": ["0.1 s", "0.2 s"]})
+    design = doe.build_design(sec)
+    assert doe.chunk_slice(2, 5, 0) == slice(0, 0)
+    empty = doe.run_chunk(design, sec["options"], 5, 0)
+    assert empty.sizes["run"] == 0 and "model" in empty

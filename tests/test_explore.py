@@ -139,10 +139,8 @@ def test_grouped_ranks_are_ranks_within_each_group():
         assert (got[sel] == _brute_ranks(f[sel], include[sel])).all()
 
 
-def test_operating_conditions_are_not_design_choices():
-    """An engagement grid over the load torque: without grouping, every front design would carry the
-    lightest load (it always needs less slip work); ranked within each load torque, each load has
-    its own front. A sampled load torque cannot be grouped and is named in conditions_mixed."""
+def _engagement_over_two_loads():
+    """A rigid engagement grid over ramp time, mu and two load torques: (resolved section, result)."""
     from clutchlab import doe
     from clutchlab.config import resolve
 
@@ -151,7 +149,17 @@ def test_operating_conditions_are_not_design_choices():
                               "friction_coefficient": {"values": [0.3, 0.35, 0.4]},
                               "load_torque": {"values": ["44 N*m", "80 N*m"]}}}
     sec = resolve({"studies": ["engagement"], "engagement": section})["engagement"]
-    ds = doe.run_study(sec)
+    return sec, doe.run_study(sec)
+
+
+def test_operating_conditions_are_not_design_choices():
+    """An engagement grid over the load torque: without grouping, every front design would carry the
+    lightest load (it always needs less slip work); ranked within each load torque, each load has
+    its own front. A sampled load torque cannot be grouped and is named in conditions_mixed."""
+    from clutchlab import doe
+    from clutchlab.config import resolve
+
+    sec, ds = _engagement_over_two_loads()
     assert ds["pareto_rank"].attrs["ranked_within"] == "load_torque"
     front = ds["pareto_rank"] == 0
     assert front.sel(load_torque=80.0).any() and front.sel(load_torque=44.0).any()
@@ -282,15 +290,7 @@ def test_pareto_rank_of_a_stored_result_asks_a_new_question():
     """Issue 15 item 6: pareto_rank(ds, objectives) on a study Dataset gives back the stored ranks
     for the stored objectives, and for new objectives the ranks of the array form over the same
     feasible designs and operating conditions."""
-    from clutchlab import doe
-    from clutchlab.config import resolve
-
-    section = {"design": "factorial", "options": {"driveline": "rigid"},
-               "parameters": {"ramp_time": {"values": ["0.05 s", "0.1 s", "0.2 s", "0.3 s"]},
-                              "friction_coefficient": {"values": [0.3, 0.35, 0.4]},
-                              "load_torque": {"values": ["44 N*m", "80 N*m"]}}}
-    sec = resolve({"studies": ["engagement"], "engagement": section})["engagement"]
-    ds = doe.run_study(sec)
+    sec, ds = _engagement_over_two_loads()
     again = explore.pareto_rank(ds, sec["objectives"])
     assert again.dims == ds["status"].dims and (again == ds["pareto_rank"]).all()
     new = explore.pareto_rank(ds, ["slip_work:min", "lockup_time:min"])

@@ -22,6 +22,18 @@ def _needs(ds, dims):
     return None
 
 
+def _stress_time_axes(axes):
+    """Contact stress (with the allowable band) and engagement time against the roller count."""
+    axes[0].axhspan(*BAND, color="r", alpha=0.2, label="allowable 3041-3247 MPa (10^6 cycles)")
+    axes[0].set_yscale("log")
+    axes[0].set_ylabel("contact stress [MPa]")
+    axes[1].set_ylabel("engagement time [ms]")
+    for ax in axes:
+        ax.set_xlabel("number of rollers z")
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=7)
+
+
 def _sampled_stress_engagement(ds):
     """Sampled design: every design's static and peak dynamic contact stress and engagement time
     against its roller count (a small sideways jitter shows the spread), with the median per count."""
@@ -39,14 +51,7 @@ def _sampled_stress_engagement(ds):
         counts = np.unique(z[keep & np.isfinite(v)])
         ax.plot(counts, [np.median(v[keep & (z == c) & np.isfinite(v)]) for c in counts], "o-", color=colour,
                 label=f"{label} (median per count)")
-    axes[0].axhspan(*BAND, color="r", alpha=0.2, label="allowable 3041-3247 MPa (10^6 cycles)")
-    axes[0].set_yscale("log")
-    axes[0].set_ylabel("contact stress [MPa]")
-    axes[1].set_ylabel("engagement time [ms]")
-    for ax in axes:
-        ax.set_xlabel("number of rollers z")
-        ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=7)
+    _stress_time_axes(axes)
     fig.suptitle(f"Roller count: contact stress and engagement time of {z.size} sampled designs "
                  "(self-locking ones for the dynamic values)" + drawn_note(z.size), fontsize=10)
     return fig
@@ -76,14 +81,7 @@ def stress_engagement(ds):
             axes[0].plot(z, c["contact_stress"].values / 1e6, "ko-", label="static, eq. 3 at T_c")
         axes[0].plot(z[locks], c["peak_contact_stress"].values[locks] / 1e6, "s--", color=colour, ms=4,
                      label=f"peak dynamic, {label}" if label else "peak dynamic")
-    axes[0].axhspan(*BAND, color="r", alpha=0.2, label="allowable 3041-3247 MPa (10^6 cycles)")
-    axes[0].set_yscale("log")
-    axes[0].set_ylabel("contact stress [MPa]")
-    axes[1].set_ylabel("engagement time [ms]")
-    for ax in axes:
-        ax.set_xlabel("number of rollers z")
-        ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=7)
+    _stress_time_axes(axes)
     axes[0].set_title("Static (eq. 3, independent of alpha) and peak dynamic contact stress", fontsize=10)
     axes[1].set_title("Engagement time (self-locking wedge angles only)", fontsize=10)
     fig.suptitle("Roller count: contact stress and engagement time at the seed d, b, mu "

@@ -157,7 +157,7 @@ def compute(inputs, options=None) -> xr.Dataset:
     kw = _solver_inputs(p, cap, options)
     res = {}
     for mask, closed_form in ((closed, True), (~closed, False)):
-        if not mask.any():
+        if not mask.any() and (mask.size or closed_form):  # (an empty chunk runs the solver on nothing)
             continue
         sub = {k: (v[mask] if isinstance(v, np.ndarray) and v.shape == mask.shape else v) for k, v in kw.items()}
         if closed_form:
