@@ -203,9 +203,11 @@ def _tiny_variant(path):
 
     cfg = yaml.safe_load(path.read_text())
     cfg.setdefault("report", {})["benchmark"] = False
+    cfg.pop("chunk_size", None)  # the test sets the chunk count (--config chunks=N)
     for name in cfg["studies"]:
         sec = cfg[name]
         sec.pop("chunks", None)
+        sec.pop("chunk_size", None)
         first = True
         for key, spec in list((sec.get("parameters") or {}).items()):
             if not isinstance(spec, dict):
