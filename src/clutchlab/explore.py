@@ -18,7 +18,7 @@ from numba import njit
 from . import status as st
 
 __all__ = ["pareto_rank", "dominates", "feasible", "condition_factors", "annotate", "hypervolume",
-           "refinement_gain", "front_order", "grid_variance_decomposition",
+           "refinement_gain", "objective_table", "front_order", "grid_variance_decomposition",
            "sobol_indices", "sensitivity"]
 
 
@@ -371,6 +371,14 @@ def _hv(p, ref) -> float:
     return float(sum(_hv(p[: i + 1, :-1], ref[:-1]) * (z[i + 1] - z[i]) for i in range(len(p)) if z[i + 1] > z[i]))
 
 
+def objective_table(ds, objectives, within) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Flat per-scenario arrays of a study Dataset: the objectives to minimise (N, M; "name:max"
+    negated), ``feasible`` (N,) and the values of the conditions ``within`` (N, len(within))."""
+    cols = [flat(ds, o.split(":")[0]) * (1.0 if o.endswith(":min") else -1.0) for o in objectives]
+    key = np.stack([flat(ds, w) for w in within], axis=1) if within else np.zeros((ds["status"].size, 0))
+    return np.stack(cols, axis=1), flat(ds, "feasible").astype(bool), key
+
+
 def refinement_gain(first, second):
     """How far a refining stage moved the Pareto fronts of its first stage: per operating condition
     the first stage ranked within (one group if none), the hypervolume of the first stage's front
@@ -381,14 +389,8 @@ def refinement_gain(first, second):
 
     objectives = first["pareto_rank"].attrs["objectives"].split()
     within = first["pareto_rank"].attrs.get("ranked_within", "").split()
-
-    def table(ds):
-        cols = [flat(ds, o.split(":")[0]) * (1.0 if o.endswith(":min") else -1.0) for o in objectives]
-        key = np.stack([flat(ds, w) for w in within], axis=1) if within else np.zeros((ds["status"].size, 0))
-        return np.stack(cols, axis=1), flat(ds, "feasible").astype(bool), key
-
-    f1, ok1, k1 = table(first)
-    f2, ok2, k2 = table(second)
+    f1, ok1, k1 = objective_table(first, objectives, within)
+    f2, ok2, k2 = objective_table(second, objectives, within)
     combos = np.unique(k1[ok1], axis=0) if within else np.zeros((1, 0))
     rows = []
     for combo in combos:

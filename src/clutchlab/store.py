@@ -202,13 +202,12 @@ class StreamWriter:
     context manager around :func:`atomic`'s temporary path.
     """
 
-    def __init__(self, path, n: int, grid: dict | None = None, attrs: dict | None = None, complevel: int = 4,
-                 curve_stride: int = 1):
+    def __init__(self, path, n: int, grid: dict | None = None, complevel: int = 4, curve_stride: int = 1):
         from xarray.backends import H5NetCDFStore
 
         self.path, self.n, self.grid = Path(path), int(n), grid
         self.curve_stride = int(curve_stride)  # curves stored for every curve_stride-th scenario (curve_run)
-        self.attrs, self.complevel = dict(attrs or {}), complevel
+        self.complevel = complevel
         self.shape = tuple(c.size for c in grid.values()) if grid else (self.n,)
         self.store = H5NetCDFStore.open(str(self.path), mode="w")
         self.created = False
@@ -233,8 +232,6 @@ class StreamWriter:
             sizes["curve_run"] = -(-self.n // self.curve_stride)
         for dim, size in sizes.items():
             self.store.set_dimension(dim, size)
-        for key, value in self.attrs.items():
-            self.store.set_attribute(key, value)
         if self.grid:  # the factors become dimension coordinates
             for name, var in self._encode(xr.Dataset(coords=self.grid)).items():
                 target, data = self.store.prepare_variable(name, var)

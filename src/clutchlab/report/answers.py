@@ -12,7 +12,7 @@ import numpy as np
 
 from .. import studies
 from ..explore import flat as _flat
-from ..explore import front_order, pareto_rank, spread
+from ..explore import front_order, objective_table, pareto_rank, spread
 from .common import A4_LANDSCAPE, drawn, drawn_note, seed_view
 
 MAX_ROWS = 15
@@ -70,7 +70,6 @@ def page(name, ds):
     ax_c.set_title(textwrap.fill("constraints: " + limits, 50), fontsize=8)
     # the front: over the two objectives, or every pair of them (projections) for three or more
     within = ds["pareto_rank"].attrs.get("ranked_within", "").split()
-    front = np.flatnonzero(rank == 0)
     pairs = list(itertools.combinations(outs, 2))[:6] if len(outs) > 2 else [tuple((outs + outs)[:2])]
     # projections: 2 rows, one cell left for the legend
     cell = grid[0, 1].subgridspec(1, 1) if len(pairs) == 1 else grid[0, 1].subgridspec(
@@ -114,7 +113,7 @@ def page(name, ds):
             c.set_height(header_share if i == 0 else (1.0 - header_share) / len(rows))
     n = feas.size
     fig.suptitle(f"Design answers, study '{name}': {int(feas.sum())} of {n} designs feasible "
-                 f"({100 * feas.mean():.0f} %), {front.size} on the Pareto front"
+                 f"({100 * feas.mean():.0f} %), {int((rank == 0).sum())} on the Pareto front"
                  + (f" (table: {len(rows)} spread along it; {name}_pareto.csv)" if rows else ""))
     return fig
 
@@ -217,14 +216,12 @@ def refinement_page(name, first, second, gain):
     ax_h.grid(alpha=0.3, axis="x")
     ox, oy = (outs + outs)[:2]
     x1, y1, x2, y2 = _flat(first, ox), _flat(first, oy), _flat(second, ox), _flat(second, oy)
-    ok1, ok2 = _flat(first, "feasible").astype(bool), _flat(second, "feasible").astype(bool)
+    f1, ok1, key1 = objective_table(first, objectives, within)
+    f2, ok2, key2 = objective_table(second, objectives, within)
+    f_all = np.concatenate([f1, f2])
     ax_f.scatter(x1[drawn(ok1)], y1[drawn(ok1)], s=8, c="0.7", label="first stage, feasible", rasterized=True)
     ax_f.scatter(x2[drawn(ok2)], y2[drawn(ok2)], s=8, c="tab:orange", label="refining stage, feasible", rasterized=True)
     sense = np.array([1.0 if o.endswith(":min") else -1.0 for o in objectives[:2]])
-    key1 = np.stack([_flat(first, w) for w in within], axis=1) if within else np.zeros((x1.size, 0))
-    key2 = np.stack([_flat(second, w) for w in within], axis=1) if within else np.zeros((x2.size, 0))
-    f_all = np.stack([np.r_[_flat(first, o), _flat(second, o)] * (1.0 if s_.endswith(":min") else -1.0)
-                      for o, s_ in zip(outs, objectives)], axis=1)
     x_all, y_all = np.r_[x1, x2], np.r_[y1, y2]
     front1 = first["pareto_rank"].values.reshape(-1) == 0  # ranked per group already
     for j, g in enumerate(gain["group"].values):

@@ -91,10 +91,9 @@ MODEL_TEXT = {"closed_form": "rigid two-inertia, closed form",
               "rigid_events": "rigid two-inertia, DOPRI5 with exact events",
               "compliant_events": "compliant driveline (damper springs): linear phases in closed form, nonlinear "
                                   "ones by DOPRI5, exact events"}
-# solver statistics stored per scenario (0 for the closed form): name -> (long_name, simulate key)
-SOLVER_STATS = {"n_steps": ("integrator steps taken (accepted)", "n_steps"),
-                "n_rejected": ("integrator steps rejected", "n_rejected"),
-                "n_locate": ("events located (stick, slip, lock-up)", "n_locate")}
+# solver statistics stored per scenario (0 for the closed form): simulate's key -> long_name
+SOLVER_STATS = {"n_steps": "integrator steps taken (accepted)", "n_rejected": "integrator steps rejected",
+                "n_locate": "events located (stick, slip, lock-up)"}
 
 
 def bearing_force(p, pts, points=41):
@@ -180,7 +179,7 @@ def compute(inputs, options=None) -> xr.Dataset:
     data["model"] = ("run", model.astype(np.int8), {
         "long_name": "model that computed the scenario (the cheapest exact one for its inputs)", "units": "1",
         "flag_values": np.array(sorted(MODEL.values()), np.int8), "flag_meanings": " ".join(MODEL)})
-    for k, (ln, src) in SOLVER_STATS.items():
+    for k, ln in SOLVER_STATS.items():
         data[k] = ("run", res.get(k, np.zeros(model.size)).astype(np.int32), {"long_name": ln, "units": "1"})
     data["status"] = ("run", code, st.attrs("invalid_geometry: spring load points off the spring; "
                                             "never_locked: slipping at end_time; not_converged: step limit; "
