@@ -230,3 +230,25 @@ def test_curve_subset_of_a_study_without_curves():
         "parameters": {"ramp_time": {"min": "0.05 s", "max": "0.3 s"}}}})["engagement"]
     ds = doe.run_study(sec)
     assert "curve_run" not in ds.dims and ds.sizes["run"] == 16
+
+
+@pytest.mark.parametrize("name, factor", [
+    ("engagement", {"ramp_time": {"min": "0.05 s", "max": "0.3 s"}}),
+    ("centrifugal", {"spring_force": {"min": "380 N", "max": "480 N"}}),
+    ("sprag", {"torque": {"min": "100 N*m", "max": "1000 N*m"}}),
+    ("roller", {"wedge_angle": {"min": "7 deg", "max": "15 deg"}})])
+def test_seed_traces_once_per_study(name, factor):
+    """Issue 16 item 2: the seed design's traces are computed by the first chunk only, and the
+    merged result holds them as a single-chunk run would."""
+    from clutchlab import studies
+
+    sec = resolve({"studies": [name], name: {"design": "lhs", "samples": 6, "seed": 2, "parameters": factor}})[name]
+    design = doe.build_design(sec)
+    study = studies.get(name)
+    parts = [doe.run_chunk(design, sec["options"], 3, i) for i in range(3)]
+    _, inputs = doe.chunk_inputs(design, 3, 0)
+    names = set(study.traces(inputs, study.full_options(sec["options"])).data_vars)
+    assert names and names <= set(parts[0].data_vars)
+    assert not names & (set(parts[1].data_vars) | set(parts[2].data_vars))
+    merged = doe.merge(design, parts)
+    xr.testing.assert_equal(merged[sorted(names)], parts[0][sorted(names)])

@@ -40,7 +40,28 @@ def test_roundtrip(tmp_path, result):
     import h5py
 
     with h5py.File(path) as f:
-        assert f["curve_load"].compression == "gzip"
+        assert f["curve_load"].compression is None and f["curve_load"].chunks is None  # floats: contiguous
+
+
+def test_filters_per_dtype_not_inherited(tmp_path):
+    """Floats contiguous and uncompressed, integers gzip + shuffle (store._encoding); a variable
+    loaded from a file does not bring that file's filters; complevel 0 compresses nothing."""
+    import h5py
+
+    ds = xr.Dataset({"x": ("run", np.linspace(0, 1, 500), {"units": "m", "long_name": "x"}),
+                     "status": ("run", np.zeros(500, np.int8), {"units": "1", "long_name": "status"})})
+    ds["x"].encoding.update(compression="gzip", compression_opts=9, chunksizes=(10,))  # as if loaded
+    a = store.write(ds, tmp_path / "a.h5")
+    b = store.write(store.load(a), tmp_path / "b.h5")
+    c = store.write(store.load(a), tmp_path / "c.h5", complevel=0)
+    for path in (a, b):
+        with h5py.File(path) as f:
+            assert f["x"].compression is None and f["x"].chunks is None
+            assert f["status"].compression == "gzip" and f["status"].shuffle
+    with h5py.File(c) as f:
+        assert f["status"].compression is None and f["x"].compression is None
+    assert ds["x"].encoding["compression"] == "gzip"  # the caller's Dataset is not changed
+    xr.testing.assert_identical(store.load(c), store.load(a))
 
 
 def test_missing_metadata_refused(tmp_path):

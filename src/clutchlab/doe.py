@@ -230,6 +230,8 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int) -> xr.Data
     idx, inputs = chunk_inputs(design, chunks, i)
     start = time.perf_counter()
     ds = _curve_subset(study.compute(inputs, options), idx, int(design.attrs.get("curve_stride", 1)))
+    if i == 0 and study.traces is not None:  # the seed design's traces: once per study, not per chunk
+        ds = ds.merge(study.traces(inputs, study.full_options(options)))
     seconds = time.perf_counter() - start
     coords = {"run": ("run", idx, {"long_name": "scenario index", "units": "1"})}
     for f in _factors(design):
@@ -268,9 +270,12 @@ def merge(design: xr.Dataset, parts: list[xr.Dataset]) -> xr.Dataset:
     design's fixed values are stored as 0-d input variables.
     """
     curves = [n for n, v in parts[0].data_vars.items() if "curve_run" in v.dims]
-    ds = xr.concat([p.drop_vars(curves + (["curve_run"] if curves else [])) for p in parts], dim="run",
-                   data_vars="minimal", coords="minimal", compat="override", join="outer",
-                   combine_attrs="drop_conflicts").sortby("run")
+    # the seed design's traces (no run dimension) come from the first chunk only (run_chunk)
+    seed = [n for n, v in parts[0].data_vars.items() if "run" not in v.dims and "curve_run" not in v.dims]
+    ds = xr.concat([p.drop_vars(curves + (["curve_run"] if curves else []) + [n for n in seed if n in p])
+                    for p in parts], dim="run", data_vars="minimal", coords="minimal", compat="override",
+                   join="outer", combine_attrs="drop_conflicts").sortby("run")
+    ds = ds.assign(parts[0][seed].drop_dims(["run", "curve_run"], errors="ignore"))
     if curves:  # the stored subset of the curves, along its own dimension
         ds = ds.assign(xr.concat([p[curves] for p in parts], dim="curve_run", combine_attrs="drop_conflicts"))
     n = n_scenarios(design)

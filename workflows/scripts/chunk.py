@@ -7,4 +7,4 @@ sm = snakemake  # noqa: F821
 i = int(re.search(r"chunk_(\d+)\.h5$", sm.output[0]).group(1))
 design = store.load(sm.input[0])
 store.write(doe.run_chunk(design, dict(sm.params.options), int(sm.params.chunks), i), sm.output[0],
-            with_checksum=True)
+            with_checksum=True, complevel=0)  # uncompressed: written once, read once by the merge

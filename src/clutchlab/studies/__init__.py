@@ -83,12 +83,22 @@ class Study:
     # rest of the drivetrain). A factorial grid over one is ranked within each of its values, so
     # the front never answers "choose the lightest load"
     conditions: tuple[str, ...] = ()
+    # (inputs, options) -> Dataset of the seed design's traces and curves (no ``run`` dimension):
+    # the same for every chunk, so computed once per study (by chunk 0, doe.run_chunk)
+    traces: Callable | None = None
 
     def parameter(self, name: str) -> Parameter:
         for p in self.parameters:
             if p.name == name:
                 return p
         raise KeyError(name)
+
+    def full_options(self, options=None) -> dict:
+        """``options`` completed with the study's defaults (the first listed value; ``accuracy``)."""
+        base = {k: v[0] for k, v in self.options.items()}
+        if self.accuracy is not None:
+            base["accuracy"] = self.accuracy
+        return base | dict(options or {})
 
     @property
     def defaults(self) -> dict[str, float]:

@@ -105,12 +105,11 @@ def compute(inputs, options=None) -> xr.Dataset:
         w, rated_passive_torque=p["rated_passive_torque"][:, None], rated_speed=p["rated_speed"][:, None],
         static_fraction=p["static_fraction"][:, None]), {"units": "N m", "long_name": "passive engine torque"})
     ds = xr.Dataset(data, coords={"speed": ("speed", SPEEDS, {"units": "rad/s", "long_name": "engine speed"})})
-    ds = ds.merge(seed_traces(inputs))
     ds.attrs["model_used"] = "closed form (eqs. 1-2; release: exact quadratic root and integral); traces: DOP853"
     return ds
 
 
-def seed_traces(inputs) -> xr.Dataset:
+def seed_traces(inputs, options=None) -> xr.Dataset:
     """Start-up and engine-failure traces of the seed design (identical in every chunk)."""
     p = seed_design(PARAMETERS, inputs)
     coords = {}
@@ -182,6 +181,7 @@ STUDY = register(Study(
     description="Centrifugal clutch with overrunning linkage: capacity, engagement, release (seed 001)",
     parameters=PARAMETERS,
     compute=compute,
+    traces=seed_traces,
     model="closed form: eqs. (1)-(2) capacities; release after engine failure by exact quadratic root and integral",
     figures=_figures,
     figure_stems=("capacity_curves", "release_map", "traces"),

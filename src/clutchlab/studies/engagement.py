@@ -185,7 +185,7 @@ def compute(inputs, options=None) -> xr.Dataset:
                                             "never_locked: slipping at end_time; not_converged: step limit; "
                                             "truncated: an event after end_time (break-away, the output "
                                             "stopping) would change the metrics: raise end_time"))
-    ds = xr.Dataset(data).merge(seed_traces(inputs, options))
+    ds = xr.Dataset(data)
     ds.attrs["model_used"] = "; ".join(MODEL_TEXT[m] for m in MODEL if (model == MODEL[m]).any())
     rtol, atol = tolerances(options["accuracy"])
     ds.attrs.update(accuracy=options["accuracy"], rtol=rtol, atol=atol)
@@ -229,6 +229,7 @@ STUDY = register(Study(
     description="Diaphragm-spring clutch engagement: lock-up, slip work, jerk (seed 000)",
     parameters=PARAMETERS,
     compute=compute,
+    traces=seed_traces,
     model="chosen by options (see model_used): closed form, or DOPRI5 with exact stick-slip events",
     figures=_figures,
     figure_stems=("tradeoff", "maps", "traces"),

@@ -160,7 +160,7 @@ def compute(inputs, options=None) -> xr.Dataset:
         "not_self_locking: tan(alpha/2) >= mu, never simulated; overrunning: the working mode lets this direction "
         "overrun (no engagement); above_allowable: static contact stress above the allowable; never_locked: "
         "not engaged before the control ring is stopped (control_stop_time) or by end_time"))
-    ds = xr.Dataset(data).merge(seed_trace(inputs, options))
+    ds = xr.Dataset(data)
     ds.attrs["model_used"] = ("statics closed form (eqs. 1-4, reading " + options["stress_reading"] + "); wedging: "
                               "reduced 2-ring model, Hertz contact with IMPACT damping, SDIRK4 with exact events; "
                               "mode " + options["mode"])
@@ -251,6 +251,7 @@ STUDY = register(Study(
     description="Roller-type controllable overrunning clutch: statics, self-locking, wedging dynamics (seed 003)",
     parameters=PARAMETERS,
     compute=compute,
+    traces=seed_trace,
     model="statics closed form (eqs. 1-4); wedging dynamics: Hertz contact with IMPACT damping, compiled SDIRK4",
     figures=_figures,
     figure_stems=("stress_engagement", "feasible_region", "engagement_trace"),

@@ -113,7 +113,7 @@ def compute(inputs, options=None) -> xr.Dataset:
     data["status"] = ("run", res["status"], st.attrs(
         "invalid_geometry: the sprag does not span the races; roll_over: loaded races open past the sprag's "
         "reach; pop_out_risk: V above its allowable; above_allowable: a stress above its allowable"))
-    ds = xr.Dataset(data).merge(impact_curves(inputs))
+    ds = xr.Dataset(data)
     ds.attrs["model_used"] = (f"closed-form statics with deflection fixed point (compliance {options['compliance']}); "
                               f"torque {options['torque_source']}")
     return ds
@@ -123,7 +123,7 @@ def _k(name):
     return {"impact_power": "power", "output_inertia": "inertia", "impact_damping": "damping"}.get(name, name)
 
 
-def impact_curves(inputs) -> xr.Dataset:
+def impact_curves(inputs, options=None) -> xr.Dataset:
     """Seed 002 Fig. 4: T(t) after the peak, and the peak T₀ against P₀, J, C, ω₀ one at a time
     around the nominal impact parameters (defaults overridden by the chunk's fixed inputs)."""
     nom = seed_design(PARAMETERS, inputs)
@@ -198,6 +198,7 @@ STUDY = register(Study(
     description="Sprag clutch: gripping angle with deflection, contact and shaft stresses, impact torque (seed 002)",
     parameters=PARAMETERS,
     compute=compute,
+    traces=impact_curves,
     model="closed-form statics (eqs. 6-8) with a vectorised deflection fixed point; impact torque eqs. 1-5 closed form",
     figures=_figures,
     figure_stems=("stress_vs_torque", "pass_map", "impact_torque"),
