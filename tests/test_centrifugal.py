@@ -152,3 +152,21 @@ def test_study_validation_rows():
     for q in ("forward capacity M at 5500 rpm (eq. 1)", "reverse capacity M' at 5500 rpm (eq. 2)", "engagement speed",
               "capacity at idle 1900-2100 rpm (disengaged)"):
         assert rows[q] == 1
+
+
+def test_near_jam_is_flagged_and_keeps_its_exact_numbers():
+    """Issue 16 item 4: designs whose f tan(alpha) is within the friction scatter of 1 (the forward
+    capacity ~ 1/(1 - f tan(alpha)) near-singular; in a 2^20 design a few reached 2e6 x the engine
+    torque) carry the status near_jam; their numbers stay (they are exact); a jam stays a jam."""
+    x = np.array([0.5, 0.79, 0.81, 0.99, 1.0 + 1e-9])  # f tan(alpha); near_jam from 1/1.25 = 0.8
+    alpha = np.arctan(x / SEED["friction_coefficient"])
+    kw = dict(rated_speed=5500 * RPM, rotor_load_torque=55.0, **{**SEED, "pressure_angle": alpha})
+    want = ["ok", "ok", "near_jam", "near_jam", "jammed"]
+    assert [st.FLAGS[c] for c in cf.design_status(**kw, friction_scatter=0.25)] == want
+    assert [st.FLAGS[c] for c in cf.design_status(**kw)] == ["ok"] * 4 + ["jammed"]  # no scatter asked
+    inputs = {q.name: q.default for q in study.PARAMETERS}
+    ds = study.compute({**inputs, "pressure_angle": alpha})
+    assert [st.FLAGS[c] for c in ds.status.values] == want
+    fwd, _ = cf.capacity(speed=5500 * RPM, **{**SEED, "pressure_angle": alpha})
+    np.testing.assert_array_equal(ds.capacity_forward.values[:4], fwd[:4])
+    assert ds.reserve_factor.values[3] > 20 * ds.reserve_factor.values[0] and np.isnan(ds.reserve_factor.values[4])

@@ -125,7 +125,8 @@ _DOMAIN = {"rated_speed": st.positive, "shoes": st.whole(1), "friction_coefficie
            "pressure_angle": st.between(0.0, np.pi / 2, hi_open=True), "shoe_mass": st.positive,
            "shoe_radius": st.positive, "drum_radius": st.positive, "spring_force": st.nonnegative,
            "rotor_load_torque": st.nonnegative, "engine_inertia": st.positive, "rotor_inertia": st.positive,
-           "rated_passive_torque": st.nonnegative, "static_fraction": st.between(0.0, 1.0)}
+           "rated_passive_torque": st.nonnegative, "static_fraction": st.between(0.0, 1.0),
+           "friction_scatter": st.nonnegative}
 
 
 def _domain(names):
@@ -198,26 +199,30 @@ def _inverse_quadratic_integral(a, c, lo, hi):
 
 
 def design_status(*, rated_speed, shoes, friction_coefficient, pressure_angle, shoe_mass, shoe_radius, drum_radius,
-           spring_force, rotor_load_torque):
+           spring_force, rotor_load_torque, friction_scatter=0.0):
     """``jammed`` where f·tanα ≥ 1 (to within :data:`JAM_TOLERANCE`); ``not_engaged`` where the
     springs beat the centrifugal force at rated speed or the forward capacity there is below the
-    rotor load; ``invalid_input`` where an input is not finite or not physical; else ``ok``."""
+    rotor load; ``near_jam`` where the design works but a friction coefficient higher by the
+    relative ``friction_scatter`` would jam it, (1 + scatter)·f·tanα ≥ 1: its forward capacity
+    M ∝ 1/(1 − f·tanα) is near-singular there (exact, but a few percent more friction multiplies
+    it); ``invalid_input`` where an input is not finite or not physical; else ``ok``."""
     inputs = dict(rated_speed=rated_speed, shoes=shoes, friction_coefficient=friction_coefficient,
                   pressure_angle=pressure_angle, shoe_mass=shoe_mass, shoe_radius=shoe_radius, drum_radius=drum_radius,
-                  spring_force=spring_force, rotor_load_torque=rotor_load_torque)
+                  spring_force=spring_force, rotor_load_torque=rotor_load_torque, friction_scatter=friction_scatter)
     return st.screened(_design_status, inputs, _domain(inputs))["status"]
 
 
 def _design_status(*, rated_speed, shoes, friction_coefficient, pressure_angle, shoe_mass, shoe_radius, drum_radius,
-                   spring_force, rotor_load_torque):
+                   spring_force, rotor_load_torque, friction_scatter):
     fwd, _ = capacity(speed=rated_speed, shoes=shoes, friction_coefficient=friction_coefficient,
                       pressure_angle=pressure_angle, shoe_mass=shoe_mass, shoe_radius=shoe_radius,
                       drum_radius=drum_radius, spring_force=spring_force)
     weak = (centrifugal_force(shoe_mass=shoe_mass, shoe_radius=shoe_radius, speed=rated_speed) <= spring_force) | (
         fwd < rotor_load_torque)
-    jam = _jammed(friction_coefficient * np.tan(pressure_angle))
-    return {"status": np.where(jam, st.CODE["jammed"], np.where(weak, st.CODE["not_engaged"],
-                                                                  st.CODE["ok"])).astype(st.DTYPE)}
+    x = friction_coefficient * np.tan(pressure_angle)
+    code = np.where(_jammed(x), st.CODE["jammed"], np.where(weak, st.CODE["not_engaged"], np.where(
+        _jammed(x * (1.0 + friction_scatter)), st.CODE["near_jam"], st.CODE["ok"])))
+    return {"status": code.astype(st.DTYPE)}
 
 
 def _params(p):

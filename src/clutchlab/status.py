@@ -24,6 +24,7 @@ FLAGS = {
     12: "overrunning",
     13: "truncated",
     14: "invalid_input",
+    15: "near_jam",
 }
 CODE = {meaning: code for code, meaning in FLAGS.items()}
 DTYPE = np.int8

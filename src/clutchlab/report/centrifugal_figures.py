@@ -55,18 +55,23 @@ def release_map(ds):
     fig, axes = plt.subplots(1, 2, figsize=A4_LANDSCAPE, gridspec_kw={"wspace": 0.35})
     keep = ("pressure_angle", "friction_coefficient")
     if "run" in ds.dims or not set(keep) <= set(ds.dims):
-        ok = ds["status"].values.reshape(-1) != st.CODE["jammed"]
+        code = ds["status"].values.reshape(-1)
+        ok = code != st.CODE["jammed"]
+        # colour limits from the designs without a near-singular capacity (near_jam: M ∝ 1/(1 - f tan(alpha)))
+        scale = code == st.CODE["ok"]
         for ax, name in zip(axes, ("release_margin", "reserve_factor")):
             x = np.rad2deg(ds["pressure_angle"].values.ravel()) if "pressure_angle" in ds.coords else np.zeros(ok.size)
             y = ds["friction_coefficient"].values.ravel() if "friction_coefficient" in ds.coords else np.zeros(ok.size)
             z = np.broadcast_to(ds[name].values, ds["status"].shape).reshape(-1)
-            limits = robust_limits(z[ok], symmetric=name == "release_margin", cap=4.0)
+            limits = robust_limits(z[scale] if scale.any() else z[ok], symmetric=name == "release_margin", cap=4.0)
             sampled_value_map(ax, x[ok], y[ok], z[ok], f"{name} [{ds[name].attrs['units']}]",
                               cmap="RdBu" if name == "release_margin" else "viridis", limits=limits)
             ax.set_xlabel("pressure angle [deg]")
             ax.set_ylabel("friction coefficient f")
+        near = int((code == st.CODE["near_jam"]).sum())
         fig.suptitle(f"Release margin and forward reserve of {ok.size} designs ({int((~ok).sum())} jammed left "
-                     "out; colours clipped to the 1st-99th percentiles, reserve at 4)")
+                     f"out, {near} near_jam drawn but not scaling the colours;\ncolours clipped to the 1st-99th "
+                     "percentiles of the ok designs, reserve at 4)")
         return fig
     sub = seed_view(ds, keep=keep).transpose("friction_coefficient", "pressure_angle", ...)
     a = np.rad2deg(sub["pressure_angle"].values)
@@ -90,6 +95,10 @@ def release_map(ds):
         fj = 1.0 / np.tan(np.deg2rad(aa))
         ax.fill_between(aa, fj, f.max() + 0.5 * (f.max() - f.min()), where=fj <= f.max(), hatch="xx",
                         facecolor="none", edgecolor="k", lw=0.5, label="jammed: f tan(alpha) >= 1")
+        if "friction_scatter" in sub and sub["friction_scatter"].ndim == 0:
+            scatter = float(sub["friction_scatter"])
+            ax.plot(aa, fj / (1.0 + scatter), "k--", lw=1.0,
+                    label=f"near_jam above: {1 + scatter:g} f tan(alpha) >= 1")
         ax.plot(np.rad2deg(SEED["pressure_angle"]), SEED["friction_coefficient"], "*", ms=16, mfc="orange", mec="k",
                 label="seed 001 design")
         ax.set_ylim(f.min(), f.max())
