@@ -140,6 +140,32 @@ def test_bad_option(raw):
     _expect(raw, "diaphragm_spring.options.friction_radius")
 
 
+def test_option_choices_per_scenario_only_in_sampled_designs(raw):
+    """Issue 16 item 3: an option given as {values: [...]} is drawn per scenario by a sampled
+    design; a factorial design, an unknown or a repeated choice is refused, naming the key."""
+    sec = raw["roller"]
+    sec["options"]["mode"] = {"values": ["bidirectional_lock", "overrun_forward"]}
+    _expect(raw, "roller.options.mode")  # the default config's roller study is a factorial grid
+    sec["options"]["stress_reading"] = {"values": ["all", "one_flank"]}
+    sec.update(design="sobol", samples=8, seed=1)
+    _expect(raw, "roller.options.stress_reading", "chooses a model")  # never ranked together
+    sec["options"]["stress_reading"] = "one_flank"
+    sec["parameters"] = {"wedge_angle": {"min": "7 deg", "max": "15 deg"}}
+    r = config.resolve(raw)["roller"]
+    assert r["option_factors"] == {"mode": ["bidirectional_lock", "overrun_forward"]}
+    assert r["options"]["mode"] == "bidirectional_lock"
+    sec["parameters"]["rollers"] = {"values": [6, 7]}
+    _expect(raw, "roller.parameters.rollers", "even")  # a one-flank reading meets 7 rollers
+    sec["options"]["stress_reading"] = "all"
+    assert config.resolve(raw)["roller"]["factors"]["rollers"] == {"values": [6.0, 7.0]}
+    sec["options"]["mode"] = {"values": ["bidirectional_lock", "sideways"]}
+    _expect(raw, "roller.options.mode.values.1", "sideways")
+    sec["options"]["mode"] = {"values": ["overrun_forward", "overrun_forward"]}
+    _expect(raw, "roller.options.mode.values")
+    sec["options"]["mode"] = {"values": ["overrun_forward"], "weights": [1]}
+    _expect(raw, "roller.options.mode.weights", "unknown key")
+
+
 def test_schema_lists_exactly_the_study_parameters():
     schema = config.schema()
     for name in schema["properties"]["studies"]["items"]["enum"]:

@@ -252,3 +252,54 @@ def test_seed_traces_once_per_study(name, factor):
     assert not names & (set(parts[1].data_vars) | set(parts[2].data_vars))
     merged = doe.merge(design, parts)
     xr.testing.assert_equal(merged[sorted(names)], parts[0][sorted(names)])
+
+
+@pytest.mark.parametrize("name, options, factor", [
+    ("roller", {"mode": ["bidirectional_lock", "overrun_forward", "overrun_reverse"]},
+     {"wedge_angle": {"min": "7 deg", "max": "15 deg"}, "drive_direction": {"values": [1, -1]}}),
+    ("engagement", {"profile": ["ramp", "cubic", "quintic"]}, {"ramp_time": {"min": "0.05 s", "max": "0.3 s"}}),
+    ("diaphragm_spring", {"friction_radius": ["uniform_pressure", "uniform_wear"]},
+     {"sheet_thickness": {"min": "1.8 mm", "max": "2.8 mm"}}),
+])
+def test_options_drawn_per_scenario(tmp_path, name, options, factor):
+    """Issue 16 item 3: categorical options in a sampled design. Each scenario's outputs equal
+    those of a run with that choice fixed (its own batch); the choice is stored per scenario as a
+    flagged code; the chunk count does not change the result; a refinement keeps the choices."""
+    from clutchlab import studies
+
+    sec = resolve({"studies": [name], name: {"design": "sobol", "samples": 16, "seed": 4, "parameters": factor,
+                                             "options": {o: {"values": v} for o, v in options.items()}}})[name]
+    one = doe.run_study(sec)
+    design = doe.build_design(sec)
+    paths = []
+    for i in range(3):
+        paths.append(tmp_path / f"c{i}.h5")
+        store.write(doe.run_chunk(design, sec["options"], 3, i), paths[-1], with_checksum=True, complevel=0)
+    doe.merge_to_file(design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"])
+    xr.testing.assert_identical(store.load(tmp_path / "out.h5"), one)
+    study = studies.get(name)
+    _, inputs = doe.chunk_inputs(design, 1, 0)
+    codes = {o: inputs.pop(o) for o in options}
+    within = one["pareto_rank"].attrs.get("ranked_within", "").split()
+    for o, labels in options.items():
+        assert one[o].attrs["flag_meanings"].split() == labels and one[o].dtype == np.int8
+        assert (o in within) == (o in study.conditions)  # a condition's choices each get their own front
+        assert set(np.unique(one[o].values)) == set(range(len(labels)))  # every choice drawn
+    seen = 0
+    for combo in {tuple(int(codes[o][k]) for o in options) for k in range(16)}:
+        sel = np.flatnonzero(np.all([codes[o] == c for o, c in zip(options, combo)], axis=0))
+        alone = study.compute({k: (v[sel] if np.ndim(v) else v) for k, v in inputs.items()},
+                              {**sec["options"], **{o: options[o][c] for o, c in zip(options, combo)}})
+        for var in study.outputs:
+            np.testing.assert_array_equal(one[var].values[sel], alone[var].values)
+        np.testing.assert_array_equal(one["status"].values[sel], alone["status"].values)
+        seen += sel.size
+    assert seen == 16
+    (tmp_path / "r").mkdir()
+    store.write(one, tmp_path / "r" / "first.h5")
+    ref = resolve({"studies": [name], "results": str(tmp_path / "new"),
+                   name: {"design": "refine", "samples": 6, "seed": 1, "refine": {"from": str(tmp_path / "r" / "first.h5")}}})[name]
+    second = doe.run_study(ref)
+    front = explore.front_order(one)
+    for o in options:
+        assert set(second[o].values) <= set(explore.flat(one, o)[front])

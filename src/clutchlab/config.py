@@ -234,7 +234,21 @@ def _resolve_study(name: str, section: dict, default_chunks, max_scenarios: int,
         "factors": {},
     }
     for opt, allowed in study.options.items():
-        out["options"][opt] = section.get("options", {}).get(opt, allowed[0])
+        given = (section.get("options") or {}).get(opt, allowed[0])
+        if isinstance(given, dict):  # {values: [...]}: a categorical factor, drawn per scenario
+            key = f"{name}.options.{opt}"
+            if design == "factorial":
+                raise ConfigError(key, "a list of choices is drawn per scenario by a sampled design (lhs, sobol, "
+                                  "saltelli); for a factorial design run one config per choice")
+            if opt in study.model_options:
+                raise ConfigError(key, "chooses a model (or a reading of the paper), not a design or an operating "
+                                  "condition: its choices ranked together would compare models; run one config "
+                                  "per choice")
+            if len(set(given["values"])) != len(given["values"]):
+                raise ConfigError(f"{key}.values", "values must be distinct")
+            out.setdefault("option_factors", {})[opt] = list(given["values"])
+            given = given["values"][0]  # the seed design's traces use the first choice
+        out["options"][opt] = given
     if study.accuracy is not None:
         acc = section.get("accuracy", study.accuracy)
         if not ACCURACY_RANGE[0] <= acc <= ACCURACY_RANGE[1]:
@@ -320,7 +334,8 @@ def _resolve_study(name: str, section: dict, default_chunks, max_scenarios: int,
     elif design == "saltelli":
         if not out["factors"]:
             raise ConfigError(f"{name}.parameters", "design 'saltelli' needs at least one factor (min/max)")
-        n = out["samples"] * (len(out["factors"]) + 2)  # A, B and one AB matrix per factor
+        # A, B and one AB matrix per factor (option choices included)
+        n = out["samples"] * (len(out["factors"]) + len(out.get("option_factors", {})) + 2)
         if n > max_scenarios:
             raise _ceiling(name, n, max_scenarios)
     else:

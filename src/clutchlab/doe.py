@@ -55,6 +55,7 @@ def build_design(resolved_study: dict) -> xr.Dataset:
     study = studies.get(resolved_study["name"])
     kind = resolved_study["design"]
     factors = resolved_study["factors"]
+    choices = resolved_study.get("option_factors", {})  # categorical options drawn per scenario
     coords, data = {}, {}
     if kind == "factorial":
         for name, spec in factors.items():
@@ -68,9 +69,11 @@ def build_design(resolved_study: dict) -> xr.Dataset:
         for name in factors:
             attrs = {**_param_attrs(study.parameter(name)), "refine_halfwidth": halfwidth[name]}
             coords[name] = ("run", values[name], attrs)
+        for name, labels in choices.items():  # kept at the front design's choice
+            coords[name] = ("run", values[name], option_attrs(name, labels))
     else:
         n = resolved_study["samples"]
-        d = len(factors)
+        d = len(factors) + len(choices)
         rng = np.random.default_rng(resolved_study["seed"])
         if d:
             from scipy.stats import qmc
@@ -95,16 +98,31 @@ def build_design(resolved_study: dict) -> xr.Dataset:
             lo, hi = spec["min"], spec["max"]
             vals = np.exp(np.log(lo) + u * np.log(hi / lo)) if spec["scale"] == "log" else lo + u * (hi - lo)
             coords[name] = ("run", vals, _param_attrs(study.parameter(name)))
+        for j, (name, labels) in enumerate(choices.items(), start=len(factors)):  # each on an equal share
+            codes = np.minimum((unit[:, j] * len(labels)).astype(np.int64), len(labels) - 1).astype(np.int8)
+            coords[name] = ("run", codes, option_attrs(name, labels))
     for name, value in resolved_study["fixed"].items():
         data[name] = ((), float(value), _param_attrs(study.parameter(name)))
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update(_provenance(resolved_study))
-    ds.attrs["factors"] = " ".join(factors)
+    ds.attrs["factors"] = " ".join([*factors, *choices])
+    ds.attrs["option_factors"] = " ".join(choices)
     ds.attrs["curve_stride"] = int(resolved_study.get("curve_stride", 1))
     if kind == "refine":
         ds.attrs["refine_from"] = resolved_study["refine"]["from"]
         ds.attrs["refine_within"] = first["pareto_rank"].attrs.get("ranked_within", "")
     return ds
+
+
+def option_attrs(name: str, labels) -> dict:
+    """Attributes of a categorical option drawn per scenario: an int8 code, CF flags naming the choices."""
+    return {"long_name": f"option {name} (code; the choices are its flag_meanings)", "units": "1",
+            "flag_values": np.arange(len(labels), dtype=np.int8), "flag_meanings": " ".join(labels)}
+
+
+def option_factors(design: xr.Dataset) -> dict:
+    """{option: [choices]} of the options a design draws per scenario (codes index the choices)."""
+    return {o: design[o].attrs["flag_meanings"].split() for o in design.attrs.get("option_factors", "").split()}
 
 
 def _unit_map(spec):
@@ -161,6 +179,8 @@ def refine_samples(first: xr.Dataset, resolved_study: dict, rng) -> tuple[dict, 
         x = np.abs(x)  # reflected at 0 and at 1
         x = np.where(x > 1.0, 2.0 - x, x)
         halfwidth[name], values[name] = h, from_unit(np.clip(x, 0.0, 1.0))
+    for name in resolved_study.get("option_factors", {}):  # a choice stays the front design's
+        values[name] = explore.flat(first, name)[owner].astype(np.int8)
     return values, halfwidth
 
 
@@ -228,18 +248,60 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int) -> xr.Data
     """Compute chunk ``i``: a Dataset on ``run`` with every factor as a 1-D coordinate."""
     study = studies.get(design.attrs["study"])
     idx, inputs = chunk_inputs(design, chunks, i)
+    choices = option_factors(design)
+    codes = {o: inputs.pop(o) for o in choices}
     start = time.perf_counter()
-    ds = _curve_subset(study.compute(inputs, options), idx, int(design.attrs.get("curve_stride", 1)))
-    if i == 0 and study.traces is not None:  # the seed design's traces: once per study, not per chunk
+    ds = _compute_by_choice(study, inputs, options, choices, codes) if choices else study.compute(inputs, options)
+    ds = _curve_subset(ds, idx, int(design.attrs.get("curve_stride", 1)))
+    if idx.size and idx[0] == 0 and study.traces is not None:  # the seed design's traces: once per study,
+        # by the chunk holding scenario 0 (with more chunks than scenarios, chunk 0 may be empty)
         ds = ds.merge(study.traces(inputs, study.full_options(options)))
     seconds = time.perf_counter() - start
     coords = {"run": ("run", idx, {"long_name": "scenario index", "units": "1"})}
     for f in _factors(design):
-        coords[f] = ("run", np.asarray(inputs[f]), dict(design[f].attrs))
+        coords[f] = ("run", np.asarray(codes[f] if f in codes else inputs[f]), dict(design[f].attrs))
     ds = ds.assign_coords(coords)
     ds.attrs.update(design.attrs)
     ds.attrs["chunk"] = f"{i + 1} of {chunks}"
     ds.attrs["compute_seconds"] = seconds  # the physics' own time (benchmark_million); not merged
+    return ds
+
+
+def _compute_by_choice(study, inputs, options, choices, codes) -> xr.Dataset:
+    """A chunk whose scenarios draw categorical options: one compute per combination of choices
+    present, each on its own scenarios (a batch of its own), put back in scenario order. An
+    attribute the groups disagree on (model_used) lists each group's value with its choices."""
+    names = list(choices)
+    n = len(next(iter(codes.values())))
+    key = np.stack([np.asarray(codes[o]) for o in names], axis=1)
+    combos, group = np.unique(key, axis=0, return_inverse=True) if n else (np.zeros((1, len(names)), int), None)
+    parts, where = [], []
+    for g, combo in enumerate(combos):
+        sel = np.flatnonzero(group.reshape(-1) == g) if n else np.zeros(0, np.int64)
+        chosen = {o: choices[o][int(c)] for o, c in zip(names, combo)}
+        part = study.compute({k: (v[sel] if np.ndim(v) else v) for k, v in inputs.items()}, {**options, **chosen})
+        label = ", ".join(f"{o} {c}" for o, c in chosen.items())
+        parts.append((label, part))
+        where.append(sel)
+    ds = xr.concat([p for _, p in parts], dim="run", data_vars="minimal", coords="minimal", compat="override",
+                   join="outer", combine_attrs="override")  # variables' attributes: the first group's
+    ds = ds.isel(run=np.argsort(np.concatenate(where), kind="stable"))
+    ds.attrs = {}
+    # attributes: one that differs between choices (the model text) lists every combination of the
+    # design's choices (from an empty batch each, so it is the same in every chunk); one the groups
+    # present disagree on otherwise (which models ran) is left out, as the merge does
+    import itertools
+
+    empty = {k: (v[:0] if np.ndim(v) else v) for k, v in inputs.items()}
+    every = {", ".join(f"{o} {c}" for o, c in zip(names, combo)):
+             study.compute(empty, {**options, **dict(zip(names, combo))}).attrs
+             for combo in itertools.product(*choices.values())}
+    labels = list(every)
+    for k in dict.fromkeys(k for _, p in parts for k in p.attrs):
+        if not all(k in a and _same(a[k], every[labels[0]].get(k)) for a in every.values()):
+            ds.attrs[k] = "; ".join(f"[{label}] {every[label].get(k, '')}" for label in labels)
+        elif all(k in p.attrs and _same(p.attrs[k], parts[0][1].attrs[k]) for _, p in parts):
+            ds.attrs[k] = parts[0][1].attrs[k]
     return ds
 
 
@@ -270,12 +332,13 @@ def merge(design: xr.Dataset, parts: list[xr.Dataset]) -> xr.Dataset:
     design's fixed values are stored as 0-d input variables.
     """
     curves = [n for n, v in parts[0].data_vars.items() if "curve_run" in v.dims]
-    # the seed design's traces (no run dimension) come from the first chunk only (run_chunk)
-    seed = [n for n, v in parts[0].data_vars.items() if "run" not in v.dims and "curve_run" not in v.dims]
+    # the seed design's traces (no run dimension) come from the chunk holding scenario 0 (run_chunk)
+    first = next((p for p in parts if p.sizes.get("run", 0) and int(p["run"][0]) == 0), parts[0])
+    seed = [n for n, v in first.data_vars.items() if "run" not in v.dims and "curve_run" not in v.dims]
     ds = xr.concat([p.drop_vars(curves + (["curve_run"] if curves else []) + [n for n in seed if n in p])
                     for p in parts], dim="run", data_vars="minimal", coords="minimal", compat="override",
                    join="outer", combine_attrs="drop_conflicts").sortby("run")
-    ds = ds.assign(parts[0][seed].drop_dims(["run", "curve_run"], errors="ignore"))
+    ds = ds.assign(first[seed].drop_dims(["run", "curve_run"], errors="ignore"))
     if curves:  # the stored subset of the curves, along its own dimension
         ds = ds.assign(xr.concat([p[curves] for p in parts], dim="curve_run", combine_attrs="drop_conflicts"))
     n = n_scenarios(design)

@@ -254,15 +254,17 @@ def feasible(ds, constraints: dict) -> tuple[np.ndarray, dict]:
 
 def condition_factors(ds) -> tuple[list[str], list[str]]:
     """The study's operating conditions (:attr:`clutchlab.studies.Study.conditions`) among the
-    factors of ``ds``: (those it is ranked within — grid dimensions, or the conditions a refined
-    design kept at its first stage's grid values — and those sampled, which cannot be grouped)."""
+    factors of ``ds``: (those it is ranked within — grid dimensions, the conditions a refined
+    design kept at its first stage's grid values, options drawn per scenario — and those sampled,
+    which cannot be grouped)."""
     from . import studies
 
     conditions = studies.get(ds.attrs["study"]).conditions if "study" in ds.attrs else ()
     dims = ds["status"].dims
     factors = ds.attrs.get("factors", "").split()
     kept = ds.attrs.get("refine_within", "").split()
-    grouped = [c for c in conditions if c in dims or c in kept]
+    options = ds.attrs.get("option_factors", "").split()  # drawn per scenario, but a few choices: grouped
+    grouped = [c for c in conditions if c in dims or c in kept or c in options]
     return grouped, [c for c in conditions if c in factors and c not in grouped]
 
 

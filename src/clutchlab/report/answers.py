@@ -26,14 +26,27 @@ def factors(ds) -> list[str]:
 
 def front_rows(ds) -> tuple[list[str], list[list]]:
     """Header and rows of the front's designs (at most ``MAX_ROWS``, spread along the first
-    objective, per operating condition where the ranks are): factor values and objectives in SI."""
+    objective, per operating condition where the ranks are): factor values and objectives in SI,
+    an option drawn per scenario by the name of its choice."""
     objectives = [o.split(":")[0] for o in ds["pareto_rank"].attrs["objectives"].split()]
     names = factors(ds)
+    options = {o: ds[o].attrs["flag_meanings"].split() for o in ds.attrs.get("option_factors", "").split()}
     cols = {n: _flat(ds, n) for n in names}
     front = spread(front_order(ds), MAX_ROWS)
-    header = [f"{n} [{ds[n].attrs.get('units', '')}]" for n in names + objectives]
-    rows = [[float(cols[n][i]) for n in names] + [float(_flat(ds, o)[i]) for o in objectives] for i in front]
+    header = [n if n in options else f"{n} [{ds[n].attrs.get('units', '')}]" for n in names + objectives]
+    rows = [[options[n][int(cols[n][i])] if n in options else float(cols[n][i]) for n in names]
+            + [float(_flat(ds, o)[i]) for o in objectives] for i in front]
     return header, rows
+
+
+def _value_text(ds, name, v) -> str:
+    """"name value" of a factor, a flagged code (an option drawn per scenario) by its meaning."""
+    meanings = ds[name].attrs.get("flag_meanings", "").split()
+    return f"{name} {meanings[int(v)]}" if meanings else f"{name} {v:.4g}"
+
+
+def _text(v, fmt) -> str:
+    return v if isinstance(v, str) else format(v, fmt)
 
 
 def write_csv(ds, path) -> None:
@@ -42,7 +55,7 @@ def write_csv(ds, path) -> None:
         w = csv.writer(fh)
         w.writerow(header)
         for r in rows:
-            w.writerow([f"{v:.6g}" for v in r])
+            w.writerow([_text(v, ".6g") for v in r])
 
 
 def page(name, ds):
@@ -103,7 +116,7 @@ def page(name, ds):
     header, rows = front_rows(ds)
     ax_t.set_axis_off()
     if rows:
-        table = ax_t.table(cellText=[[f"{v:.4g}" for v in r] for r in rows],
+        table = ax_t.table(cellText=[[_text(v, ".4g") for v in r] for r in rows],
                            colLabels=[textwrap.fill(h, 16) for h in header], cellLoc="center",
                            bbox=(0.0, 0.0, 1.0, 1.0))  # the table fills its axes, never past the page
         table.auto_set_font_size(False)
@@ -134,7 +147,7 @@ def _front_panel(ax, ds, ox, oy, feas, rank, within, seed, lines, legend):
         members = front[(key == combo).all(axis=1)]
         members = members[np.argsort(x[members], kind="stable")]
         if within:
-            label = (", ".join(f"{w} {v:.4g}" for w, v in zip(within, combo)) if j < 8
+            label = (", ".join(_value_text(ds, w, v) for w, v in zip(within, combo)) if j < 8
                      else (f"... {len(combos) - 8} more" if j == 8 else None))
         else:
             label = "Pareto front"

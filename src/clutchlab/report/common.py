@@ -28,8 +28,12 @@ def seed_view(ds, seed, keep=()):
     distance."""
     if "run" in ds.dims:
         dist = np.zeros(ds.sizes["run"])
+        options = ds.attrs.get("option_factors", "").split()
         for name in ds.attrs.get("factors", "").split():
             v = ds[name].values
+            if name in options:  # an option drawn per scenario: its first listed choice, as the traces
+                dist += np.where(v == 0, 0.0, 1e6)
+                continue
             dist += ((v - seed[name]) / (np.ptp(v) or 1.0)) ** 2
         return ds.isel(run=int(np.argmin(dist)))
     sel = {d: seed[d] for d in ds.dims if d in seed and d not in keep}

@@ -82,9 +82,12 @@ class Study:
     # operating conditions: parameters the engineer does not choose (loads, speeds, inertias of the
     # rest of the drivetrain). A factorial grid over one is ranked within each of its values, so
     # the front never answers "choose the lightest load"
-    conditions: tuple[str, ...] = ()
+    conditions: tuple[str, ...] = ()  # options too (a roller's commanded working mode)
+    # options that choose a model or a reading of the paper, not a design or an operating
+    # condition: never drawn per scenario (its choices ranked together would compare models)
+    model_options: tuple[str, ...] = ()
     # (inputs, options) -> Dataset of the seed design's traces and curves (no ``run`` dimension):
-    # the same for every chunk, so computed once per study (by chunk 0, doe.run_chunk)
+    # the same for every chunk, so computed once per study (by the chunk holding scenario 0, doe.run_chunk)
     traces: Callable | None = None
 
     def parameter(self, name: str) -> Parameter:

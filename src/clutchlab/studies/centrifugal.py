@@ -41,6 +41,8 @@ PARAMETERS = (
     Parameter("rotor_inertia", "kg m^2", "rotor-side inertia J_r referred to the clutch (assumed)", 0.5),
     Parameter("rotor_load_torque", "N m", "rotor drag torque at rated speed (assumed)", 55.0, minimum_inclusive=True),
     Parameter("startup_time", "s", "engine speed ramp from 2000 rpm to rated (start-up trace)", 8.0),
+    Parameter("friction_scatter", "1", "relative rise of f the linkage must survive without jamming (near_jam "
+              "status; assumed: dry friction scatters by about 25 %)", 0.25, minimum_inclusive=True),
 )
 
 # engine torque over speed relative to the rated value (illustrative shape for the Fig. 5 page; the
@@ -67,7 +69,8 @@ _CAP = ("shoes", "friction_coefficient", "pressure_angle", "shoe_mass", "shoe_ra
 def compute(inputs, options=None) -> xr.Dataset:
     p = flat_inputs(inputs)
     cap = {k: p[k] for k in _CAP}
-    code = cf.design_status(rated_speed=p["rated_speed"], rotor_load_torque=p["rotor_load_torque"], **cap)
+    code = cf.design_status(rated_speed=p["rated_speed"], rotor_load_torque=p["rotor_load_torque"],
+                            friction_scatter=p["friction_scatter"], **cap)
     fwd, rev = cf.capacity(speed=p["rated_speed"], **cap)
     idle, _ = cf.capacity(speed=p["idle_speed"], **cap)
     rel = cf.release_after_failure(rated_speed=p["rated_speed"], engine_inertia=p["engine_inertia"],
@@ -84,13 +87,15 @@ def compute(inputs, options=None) -> xr.Dataset:
         "linkage_factor": p["friction_coefficient"] * np.tan(p["pressure_angle"]),
         "release_speed": rel["release_speed"], "release_time": rel["release_time"],
     }
-    bad = code != st.CODE["ok"]
+    bad = (code != st.CODE["ok"]) & (code != st.CODE["near_jam"])  # near_jam: exact numbers, flagged
     keep_when_bad = {"engagement_speed", "linkage_factor", "capacity_reverse", "release_margin", "idle_capacity"}
     data = {k: ("run", np.where(bad & (k not in keep_when_bad), np.nan, v), {"units": OUTPUTS[k][0],
                                                                              "long_name": OUTPUTS[k][1]})
             for k, v in values.items()}
     data["status"] = ("run", code, st.attrs("jammed: f tan(alpha) >= 1 (forward linkage self-locks); not_engaged: "
-                                            "springs beat the centrifugal force at rated speed, or M < rotor load"))
+                                            "springs beat the centrifugal force at rated speed, or M < rotor load; "
+                                            "near_jam: works, but (1 + friction_scatter) f tan(alpha) >= 1: a "
+                                            "friction rise within the scatter jams it (outputs kept, exact)"))
     # capacity curves over engine speed (Fig. 5), per scenario
     w = SPEEDS[None, :]
     cw = {k: v[:, None] for k, v in cap.items()}

@@ -200,7 +200,8 @@ STUDY = register(Study(
              "deflection_operating": "m"},
     # torque reserve against the peak release force the bearing must overcome (load at the hump A;
     # the clamp load itself is proportional to the reserve, no trade-off); seed 000 takes beta >= 1.2
-    conditions=("max_engine_torque", "stack_mass"),
+    # the lining's state (new: uniform pressure; worn in: uniform wear) is a condition of its life
+    conditions=("max_engine_torque", "stack_mass", "friction_radius"),
     objectives=("reserve_factor:max", "load_peak:min"),
     constraints={"reserve_factor": ("min", 1.2)},
     options=OPTIONS,

@@ -238,6 +238,7 @@ STUDY = register(Study(
              "accel_jump": "rad/s^2", "peak_jerk": "rad/s^3", "peak_bearing_force": "N", "clamp_load": "N"},
     # seed 000: a cool (little slip work) and smooth (little jerk) engagement, locked within 0.5 s
     conditions=("engine_speed", "engine_inertia", "engine_torque", "driven_inertia", "load_torque", "aero_coefficient"),
+    model_options=("driveline", "capacity_formula"),
     objectives=("slip_work:min", "peak_jerk:min"),
     constraints={"lockup_time": ("max", 0.5)},
     accuracy=ACCURACY,

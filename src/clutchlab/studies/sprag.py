@@ -207,6 +207,7 @@ STUDY = register(Study(
              "margin_gripping_angle": "1", "gripping_angle": "rad", "contact_stress_inner": "Pa"},
     # seed 002 Table 2: every allowable met (margins >= 0); the largest contact and grip margins
     conditions=("torque", "impact_power", "output_inertia", "impact_damping", "initial_speed", "rise_time"),
+    model_options=("compliance", "torque_source"),
     objectives=("margin_contact_inner:max", "margin_gripping_angle:max"),
     constraints={f"margin_{c}": ("min", 0.0) for c in ("contact_inner", "contact_outer", "vm_inner", "vm_outer",
                                                         "gripping_angle")},
