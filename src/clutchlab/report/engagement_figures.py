@@ -1,6 +1,8 @@
 """Figures of the engagement study: efficiency-smoothness trade-off and maps."""
 from __future__ import annotations
 
+import textwrap
+
 import matplotlib.pyplot as plt
 import numpy as np
 
@@ -46,9 +48,10 @@ def tradeoff(ds):
     ax.set_yscale("log")
     ax.set_xlabel("slip work [kJ]  (efficiency: lower is better)")
     ax.set_ylabel("peak output jerk [rad/s³]  (smoothness: lower is better)")
-    ax.set_title("Efficiency-smoothness trade-off of the engagement (%d locked scenarios, %d not locked)%s\nmodel: %s"
-                 % (ok.sum(), (~ok).sum(), drawn_note(int(ok.sum())),
-                    ds.attrs.get("model_used", ds.attrs.get("model", ""))))
+    title = ("Efficiency-smoothness trade-off of the engagement (%d locked scenarios, %d not locked)%s"
+             % (ok.sum(), (~ok).sum(), drawn_note(int(ok.sum()))))
+    model = "model: " + ds.attrs.get("model_used", ds.attrs.get("model", ""))
+    ax.set_title("\n".join(textwrap.wrap(title, 110) + textwrap.wrap(model, 110)), fontsize=10)
     ax.grid(alpha=0.3, which="both")
     ax.legend(loc="upper right", fontsize=8)
     return fig
