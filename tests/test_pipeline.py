@@ -46,8 +46,16 @@ def test_outputs_exist_and_open(small_run):
               "results/sprag/sprag.h5", "results/report/sprag_stress_vs_torque.png",
               "results/report/sprag_pass_map.png", "results/report/sprag_impact_torque.png",
               "results/roller/roller.h5", "results/report/roller_stress_engagement.png",
-              "results/report/roller_feasible_region.png", "results/report/roller_engagement_trace.png"):
+              "results/report/roller_feasible_region.png", "results/report/roller_engagement_trace.png",
+              "results/report/hard_cases.png"):
         assert (small_run / f).stat().st_size > 0, f
+    # issue 17: the hard cases of the studies run, computed in this run, every one passing
+    import csv
+
+    with open(small_run / "results/report/hard_cases.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert {r["study"] for r in rows} == {"diaphragm_spring", "centrifugal", "sprag", "roller"}
+    assert all(r["passed"] == "1" and r["right_answer"] and r["source"] for r in rows)
     with xr.open_dataset(small_run / "results/diaphragm/spring.h5", engine="h5netcdf") as ds:
         for name, var in {**ds.coords, **ds.data_vars}.items():
             assert var.attrs.get("units") is not None and var.attrs.get("long_name"), name

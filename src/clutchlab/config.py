@@ -463,7 +463,9 @@ def resolve(raw: dict) -> dict:
                           "character)")
     results_dir = cfg.get("results", "results")
     resolved = {"studies": list(cfg["studies"]), "max_scenarios": max_scenarios,
-                "results": results_dir, "report": {"title": "clutchlab report", "dpi": 120, "benchmark": False, **cfg.get("report", {})}}
+                "results": results_dir, "report": {"title": "clutchlab report", "dpi": 120, "benchmark": False, "hard_cases": True,
+                           "numerics": True,
+                           **cfg.get("report", {})}}
     for name in cfg["studies"]:
         if name not in cfg:
             raise ConfigError(name, "section missing for a study listed in 'studies'")

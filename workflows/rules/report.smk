@@ -3,14 +3,19 @@ import sys
 
 from clutchlab.report import answer_files as _answer_files
 from clutchlab.report import figure_stems as _figure_stems
+from clutchlab.numerics import files as _numerics_files
 
 REPORT_DIR = f"{RESULTS}/report"
 BENCHMARK_PAGE = RESOLVED["report"]["benchmark"]  # the engagement work-precision page (runs the benchmark)
+HARD_CASES = RESOLVED["report"]["hard_cases"]  # the hard-case table of the studies run
+NUMERICS = [f"{RESULTS}/numerics/{f}" for f in _numerics_files(STUDIES)] if RESOLVED["report"]["numerics"] else []
 # validation.csv and its page exist only where a study reproduces seed numbers
 REPORT_FILES = [f"{REPORT_DIR}/report.pdf"] + ([f"{REPORT_DIR}/validation.csv"] if VALIDATED else []) + [
     f"{REPORT_DIR}/{stem}.png"
-    for stem in _figure_stems(STUDIES, BENCHMARK_PAGE, [s for s in STUDIES if sensitivity_files(s)], REFINED)
-] + [f"{REPORT_DIR}/{f}" for f in _answer_files(STUDIES, REFINED)]
+    for stem in _figure_stems(STUDIES, BENCHMARK_PAGE, [s for s in STUDIES if sensitivity_files(s)], REFINED,
+                              HARD_CASES, bool(NUMERICS))
+] + [f"{REPORT_DIR}/{f}" for f in _answer_files(STUDIES, REFINED)] + (
+    [f"{REPORT_DIR}/hard_cases.csv"] if HARD_CASES else [])
 
 
 rule report:
@@ -20,6 +25,8 @@ rule report:
         validation=[f"{RESULTS}/validation/{s}.h5" for s in VALIDATED],
         benchmark=[f"{RESULTS}/benchmark/engagement_benchmark.csv"] if BENCHMARK_PAGE else [],
         refined=[refine_source(s) for s in REFINED],
+        hard_cases=[f"{RESULTS}/numerics/hard_cases.h5"] if HARD_CASES else [],
+        numerics=NUMERICS,
     output:
         REPORT_FILES,
     benchmark:
@@ -36,6 +43,37 @@ rule report:
         mem_mb=4000,
     script:
         "../scripts/report.py"
+
+
+rule hard_cases:
+    # each hard case of the studies run: right answer, clutchlab's value, error, off-the-shelf solver
+    output:
+        f"{RESULTS}/numerics/hard_cases.h5",
+    params:
+        studies=STUDIES,
+        source=SOURCE,
+    resources:
+        runtime=5,
+        mem_mb=1000,
+    script:
+        "../scripts/hard_cases.py"
+
+
+if NUMERICS:
+
+    rule numerics:
+        # small work-precision runs of the solvers the studies use (about 20 s; clutchlab.numerics)
+        output:
+            NUMERICS,
+        params:
+            studies=STUDIES,
+            python=sys.executable,
+            source=SOURCE,
+        resources:
+            runtime=10,
+            mem_mb=2000,
+        shell:
+            "{params.python} -m clutchlab.numerics {RESULTS}/numerics {params.studies}"
 
 
 rule benchmark:

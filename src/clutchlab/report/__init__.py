@@ -18,21 +18,26 @@ from .. import status as st  # noqa: E402
 from ..explore import refinement_gain  # noqa: E402
 from ..validation import to_csv  # noqa: E402
 from . import answers  # noqa: E402
-from .common import title_page, validation_table  # noqa: E402
+from .common import hard_case_table, title_page, validation_table  # noqa: E402
 
 __all__ = ["build", "figure_stems", "answer_files"]
 
 
-def figure_stems(study_names, benchmark=False, sensitivity=(), refined=()) -> list[str]:
+def figure_stems(study_names, benchmark=False, sensitivity=(), refined=(), hard_cases=False,
+                 numerics=False) -> list[str]:
     """PNG stems the report produces for these studies (for Snakemake outputs); a sensitivity page
     for the studies in ``sensitivity`` (factorial grids), a refinement page for those in ``refined``
-    (design refine); the validation table only where one of them reproduces seed numbers."""
+    (design refine); the validation table only where one of them reproduces seed numbers; the
+    hard-case table with ``hard_cases``; the work-precision pages of the solvers used with ``numerics``."""
+    from ..numerics import stems as numerics_stems
+
     stems = ["title"] + [f"{name}_{s}" for name in study_names
                          for s in (*studies.get(name).figure_stems, "answers",
                                    *(["sensitivity"] if name in sensitivity else []),
                                    *(["refinement"] if name in refined else []))]
     validated = any(studies.get(name).validation is not None for name in study_names)
-    return stems + (["engagement_work_precision"] if benchmark else []) + (["validation_table"] if validated else [])
+    return (stems + (["engagement_work_precision"] if benchmark else []) + (["validation_table"] if validated else [])
+            + (["hard_cases"] if hard_cases else []) + (numerics_stems(study_names) if numerics else []))
 
 
 def answer_files(study_names, refined=()) -> list[str]:
@@ -41,7 +46,8 @@ def answer_files(study_names, refined=()) -> list[str]:
 
 
 def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab report", dpi=120,
-          benchmark_csv=None, sensitivity_files=None, refine_files=None) -> list[Path]:
+          benchmark_csv=None, sensitivity_files=None, refine_files=None, hard_cases_file=None,
+          numerics_dir=None) -> list[Path]:
     """Build the report from stored results.
 
     Parameters
@@ -57,6 +63,12 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
     refine_files : dict or None
         Study name -> the first-stage result a ``design: refine`` study refined: adds a page with
         the hypervolume before and after, and ``<study>_refinement.csv``.
+    hard_cases_file : path or None
+        The hard cases computed in this run (:mod:`clutchlab.hardcases`): adds their table page
+        and ``hard_cases.csv``.
+    numerics_dir : path or None
+        The folder of this run's small solver benchmarks (:mod:`clutchlab.numerics`): adds a
+        work-precision page per solver.
     outdir : path
         Folder for ``report.pdf``, ``validation.csv`` and the PNGs.
     """
@@ -86,6 +98,17 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
         pages.append(("validation_table", validation_table(validations)))
         with store.atomic(outdir / "validation.csv") as tmp:
             to_csv(validations, tmp)
+    if numerics_dir is not None:
+        from ..numerics import pages as numerics_pages
+
+        pages += numerics_pages(numerics_dir)
+    if hard_cases_file is not None:
+        from ..hardcases import to_csv as hard_cases_csv
+
+        cases = store.load(hard_cases_file)
+        pages.append(("hard_cases", hard_case_table(cases)))
+        with store.atomic(outdir / "hard_cases.csv") as tmp:
+            hard_cases_csv(cases, tmp)
     written = []
     with store.atomic(outdir / "report.pdf") as tmp_pdf, \
             PdfPages(tmp_pdf, metadata={"Title": title, "Creator": f"clutchlab {__version__}",

@@ -104,25 +104,53 @@ def validation_table(validations):
                 "yes" if int(v["passed"].values[i]) else "NO",
                 textwrap.fill(str(v["note"].values[i]), 54),
             ])
+    cols = ["seed", "quantity", "source", "published", "computed", "units", "rel. error", "tol.", "pass", "note"]
+    return table_page("Validation against the seed papers", cols, rows,
+                      [0.035, 0.2, 0.09, 0.065, 0.065, 0.06, 0.06, 0.04, 0.035, 0.25])
+
+
+def hard_case_table(ds):
+    """The hard cases (:mod:`clutchlab.hardcases`) as a table page."""
+    rows = []
+    for i in range(ds.sizes["case"]):
+        err = float(ds["error"].values[i])
+        rows.append([
+            textwrap.fill(str(ds["study"].values[i]), 12),
+            textwrap.fill(str(ds["name"].values[i]), 30),
+            textwrap.fill(str(ds["right_answer"].values[i]), 34),
+            textwrap.fill(str(ds["source"].values[i]), 24),
+            textwrap.fill(str(ds["computed"].values[i]), 34),
+            "status" if np.isnan(err) else f"{err:.1e}" + (" rel." if ds["error_kind"].values[i] == "relative" else ""),
+            "" if np.isnan(err) else f"{float(ds['tolerance'].values[i]):.0e}",
+            "yes" if int(ds["passed"].values[i]) else "NO",
+            textwrap.fill(str(ds["off_the_shelf"].values[i]), 38),
+        ])
+    cols = ["study", "case", "right answer", "source", "clutchlab (this run)", "error", "tol.", "pass",
+            "off-the-shelf solver"]
+    n_pass = int(ds["passed"].values.sum())
+    return table_page(f"Hard cases: {n_pass} of {ds.sizes['case']} pass (computed in this run; hard_cases.csv)", cols,
+                      rows, [0.06, 0.14, 0.16, 0.115, 0.16, 0.06, 0.035, 0.03, 0.19])
+
+
+def table_page(title, cols, rows, widths):
+    """A table page that grows with its rows (multi-line cells); a "NO" in the column "pass" is red."""
     n_lines = sum(max(c.count("\n") + 1 for c in r) for r in rows) + 1
-    # the page grows with the table (one page for every row, however many seeds report)
     height = max(A4_LANDSCAPE[1], 0.95 + 0.16 * n_lines + 0.09 * len(rows))
     fig = plt.figure(figsize=(A4_LANDSCAPE[0], height))
     ax = fig.add_axes([0.01, 0.02, 0.98, 1.0 - 0.9 / height])
     ax.axis("off")
-    fig.text(0.02, 1.0 - 0.45 / height, "Validation against the seed papers", fontsize=14, weight="bold")
-    cols = ["seed", "quantity", "source", "published", "computed", "units", "rel. error", "tol.", "pass", "note"]
-    table = ax.table(cellText=rows, colLabels=cols, loc="upper center", cellLoc="left",
-                     colWidths=[0.035, 0.2, 0.09, 0.065, 0.065, 0.06, 0.06, 0.04, 0.035, 0.25])
+    fig.text(0.02, 1.0 - 0.45 / height, title, fontsize=14, weight="bold")
+    table = ax.table(cellText=rows, colLabels=cols, loc="upper center", cellLoc="left", colWidths=widths)
     table.auto_set_font_size(False)
     table.set_fontsize(6.5)
     cells = table.get_celld()
     lines = {}
     for (r, c), cell in cells.items():
         lines[r] = max(lines.get(r, 1), cell.get_text().get_text().count("\n") + 1)
+    verdict = cols.index("pass")
     for (r, c), cell in cells.items():
         cell.set_height((0.022 * lines[r] + 0.01) * A4_LANDSCAPE[1] / height)
-        if r > 0 and c == 8 and cell.get_text().get_text() == "NO":
+        if r > 0 and c == verdict and cell.get_text().get_text() == "NO":
             cell.set_facecolor("#f4c7c3")
     return fig
 
