@@ -9,7 +9,7 @@ from clutchlab import numerics  # noqa: E402
 
 def test_files_and_stems_follow_the_studies():
     assert numerics.files(["diaphragm_spring", "sprag", "roller"]) == ["sprag_benchmark.csv", "roller_benchmark.csv"]
-    assert numerics.stems(["centrifugal", "engagement"]) == ["numerics_engagement"]
+    assert numerics.stems(["diaphragm_spring", "engagement"]) == ["numerics_engagement"]
 
 
 def test_ratio_at_equal_error():
@@ -22,12 +22,14 @@ def test_ratio_at_equal_error():
 
 
 def test_small_runs_draw_their_pages(tmp_path):
-    written = numerics.run(tmp_path, ["sprag", "roller", "centrifugal"])
-    assert [p.name for p in written] == ["sprag_benchmark.csv", "roller_benchmark.csv"]
+    written = numerics.run(tmp_path, ["sprag", "roller", "diaphragm_spring", "centrifugal"])
+    assert [p.name for p in written] == ["sprag_benchmark.csv", "roller_benchmark.csv", "centrifugal_benchmark.csv"]
     pages = dict(numerics.pages(tmp_path))
-    assert set(pages) == {"numerics_sprag", "numerics_roller"}
+    assert set(pages) == {"numerics_sprag", "numerics_roller", "numerics_centrifugal"}
     for fig in pages.values():
-        text = " ".join(t.get_text() for t in fig.axes[0].texts)
+        text = " ".join(t.get_text() for t in fig.texts)
         assert "x faster" in text  # the ratio at equal error, measured in this run
+    release = numerics._read(tmp_path / "centrifugal_benchmark.csv")
+    assert release[0]["max_release_time_error_s"] < 1e-10  # the closed form against DOP853 at rtol 1e-13
     roller = numerics._read(tmp_path / "roller_benchmark.csv")
     assert {"scipy solve_ivp LSODA per scenario", "scipy solve_ivp Radau per scenario"} <= {r["method"] for r in roller}
