@@ -202,3 +202,14 @@ def test_status_is_monotone_in_torque_past_roll_over(factor):
     rolled = np.flatnonzero(code == st.CODE["roll_over"])
     assert rolled.size and (code[rolled[0]:] == st.CODE["roll_over"]).all()
     assert 500.0 < torque[rolled[0]] < 1e4  # a few times the 750 N m of Table 2
+
+
+def test_study_records_its_fixed_point_statistics():
+    """Issue 17 item 3: iterations per scenario and the tolerance the fixed point ran with."""
+    import inspect
+
+    inputs = {p.name: p.default for p in study.PARAMETERS}
+    ds = study.compute({**inputs, "torque": np.array([0.0, 300.0, 750.0])}, {"compliance": "physical"})
+    assert study.GRIP_TOL == inspect.signature(sp.gripping_angle).parameters["tol"].default
+    assert ds.attrs["fixed_point_tolerance"] == study.GRIP_TOL
+    assert ds["n_iterations"].dtype == np.int32 and (ds["n_iterations"].values[1:] > 0).all()

@@ -237,8 +237,9 @@ def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **g
     dict of ndarrays: ``V``, ``W``, ``psi`` [rad]; deformed radii ``inner_race_radius``,
     ``outer_race_radius``, ``sprag_inner_radius``, ``sprag_outer_radius`` [m]; ``load_inner``,
     ``load_outer`` [N]; ``status`` (ok, invalid_geometry: the sprag does not span the races at rest;
-    roll_over: the loaded races open past the sprag's reach; not_converged). At zero torque the
-    result is the rest geometry (:func:`rest_geometry`) with zero loads.
+    roll_over: the loaded races open past the sprag's reach; not_converged); ``n_iterations``
+    (bracketing steps taken). At zero torque the result is the rest geometry
+    (:func:`rest_geometry`) with zero loads.
     """
     g = _geometry(geometry)
     torque = np.asarray(torque, float)
@@ -257,10 +258,12 @@ def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **g
             return v - _deformed(t, v, g, c)["V"]
     f_lo, f_hi = f(lo), f(hi)
     side = np.zeros(lo.shape, np.int8)
+    iterations = np.zeros(lo.shape, np.int32)
     for _ in range(max_iter):
         active = valid & (hi - lo > tol)
         if not active.any():
             break
+        iterations += active
         with np.errstate(divide="ignore", invalid="ignore"):  # inactive (e.g. unloaded) lanes: unused
             x = np.where(active, (lo * f_hi - hi * f_lo) / (f_hi - f_lo), lo)
         x = np.where(active & ~((x > lo) & (x < hi)), 0.5 * (lo + hi), x)
@@ -296,6 +299,7 @@ def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **g
     bad = code != st.CODE["ok"]
     res = {k: np.where(bad, np.nan, val).reshape(shape) for k, val in out.items() if k != "overlap"}
     res["status"] = code.reshape(shape)
+    res["n_iterations"] = iterations.reshape(shape)  # bracketing steps taken (Illinois regula falsi)
     return res
 
 
@@ -400,6 +404,7 @@ def _statics(torque, *, compliance_factor, contact_allowable, shaft_allowable, g
     with np.errstate(divide="ignore"):  # unloaded: an infinite margin
         for name, (value, allowable) in checks.items():
             out[f"margin_{name}"] = allowable / value - 1.0
+    out["n_iterations"] = grip["n_iterations"]
     code = np.array(grip["status"], copy=True)
     ok = code == st.CODE["ok"]
     stress_bad = np.zeros(code.shape, bool)

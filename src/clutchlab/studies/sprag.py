@@ -83,6 +83,9 @@ def seed_compliance() -> float:
     return float(sp.fit_compliance_factor(torque=750.0, gripping_angle_target=np.deg2rad(5.097)))
 
 
+GRIP_TOL = 1e-12  # rad: clutchlab.sprag.gripping_angle's bracket width at convergence (its default)
+
+
 def compute(inputs, options=None) -> xr.Dataset:
     options = {k: v[0] for k, v in OPTIONS.items()} | (options or {})
     p = flat_inputs(inputs)
@@ -113,7 +116,10 @@ def compute(inputs, options=None) -> xr.Dataset:
     data["status"] = ("run", res["status"], st.attrs(
         "invalid_geometry: the sprag does not span the races; roll_over: loaded races open past the sprag's "
         "reach; pop_out_risk: V above its allowable; above_allowable: a stress above its allowable"))
+    data["n_iterations"] = ("run", np.asarray(res["n_iterations"], np.int32), {
+        "units": "1", "long_name": "fixed-point bracketing steps taken (Illinois regula falsi; 0: not solved)"})
     ds = xr.Dataset(data)
+    ds.attrs.update(fixed_point_tolerance=GRIP_TOL, fixed_point_tolerance_units="rad (final bracket width of V)")
     ds.attrs["model_used"] = (f"closed-form statics with deflection fixed point (compliance {options['compliance']}); "
                               f"torque {options['torque_source']}")
     return ds
