@@ -303,3 +303,20 @@ def test_options_drawn_per_scenario(tmp_path, name, options, factor):
     front = explore.front_order(one)
     for o in options:
         assert set(second[o].values) <= set(explore.flat(one, o)[front])
+
+
+def test_a_large_chunk_runs_in_batches_with_progress(monkeypatch):
+    """Issue 18 item 5: a chunk above doe.PROGRESS_MIN scenarios runs in batches, a progress line
+    (scenarios done, rate, time left) after each, and gives the numbers of one batch."""
+    sec = _study("sobol", sheet_thickness={"min": "1.8 mm", "max": "2.8 mm"}, cone_height_ratio={"min": 1.2, "max": 2.2},
+                 _samples=64)
+    design = doe.build_design(sec)
+    whole = doe.run_chunk(design, {}, 1, 0)
+    monkeypatch.setattr(doe, "PROGRESS_MIN", 10)
+    lines = []
+    batched = doe.run_chunk(design, {}, 1, 0, progress=lines.append)
+    xr.testing.assert_identical(batched.drop_attrs(), whole.drop_attrs())
+    assert {k: v for k, v in batched.attrs.items() if k != "compute_seconds"} == \
+        {k: v for k, v in whole.attrs.items() if k != "compute_seconds"}
+    assert len(lines) == doe.PROGRESS_BATCHES and "6 of 64 scenarios" in lines[0] and "s left" in lines[0]
+    assert "64 scenarios computed" in lines[-1]

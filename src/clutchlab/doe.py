@@ -244,14 +244,45 @@ def chunk_inputs(design: xr.Dataset, chunks: int, i: int) -> tuple[np.ndarray, d
     return idx, inputs
 
 
-def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int) -> xr.Dataset:
-    """Compute chunk ``i``: a Dataset on ``run`` with every factor as a 1-D coordinate."""
+# a chunk of more than PROGRESS_MIN scenarios runs as PROGRESS_BATCHES batches with a progress line
+# after each (scenarios are independent, so the numbers are those of one batch)
+PROGRESS_MIN = 20_000
+PROGRESS_BATCHES = 10
+
+
+def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=None) -> xr.Dataset:
+    """Compute chunk ``i``: a Dataset on ``run`` with every factor as a 1-D coordinate.
+    ``progress``: a callable given one line of text (scenarios done, rate, time left) after each
+    batch of a large chunk and at the end."""
     study = studies.get(design.attrs["study"])
     idx, inputs = chunk_inputs(design, chunks, i)
     choices = option_factors(design)
     codes = {o: inputs.pop(o) for o in choices}
     start = time.perf_counter()
-    ds = _compute_by_choice(study, inputs, options, choices, codes) if choices else study.compute(inputs, options)
+    n = idx.size
+
+    def compute(sel):
+        part = {k: (v[sel] if np.ndim(v) else v) for k, v in inputs.items()}
+        if choices:
+            return _compute_by_choice(study, part, options, choices, {o: c[sel] for o, c in codes.items()})
+        return study.compute(part, options)
+
+    if n <= PROGRESS_MIN:
+        ds = compute(slice(None))
+    else:
+        bounds = np.linspace(0, n, PROGRESS_BATCHES + 1).round().astype(np.int64)
+        parts = []
+        for b in range(PROGRESS_BATCHES):
+            parts.append(compute(slice(int(bounds[b]), int(bounds[b + 1]))))
+            if progress is not None and b < PROGRESS_BATCHES - 1:
+                done, spent = int(bounds[b + 1]), time.perf_counter() - start
+                progress(f"{study.name} chunk {i + 1} of {chunks}: {done} of {n} scenarios ({100 * done / n:.0f} %), "
+                         f"{done / spent:,.0f} per second, about {spent * (n - done) / done:.0f} s left")
+        ds = _join_batches(parts)
+    if progress is not None:
+        spent = time.perf_counter() - start
+        progress(f"{study.name} chunk {i + 1} of {chunks}: {n} scenarios computed in {spent:.1f} s"
+                 + (f" ({n / spent:,.0f} per second)" if n and spent > 0 else ""))
     ds = _curve_subset(ds, idx, int(design.attrs.get("curve_stride", 1)))
     if idx.size and idx[0] == 0 and study.traces is not None:  # the seed design's traces: once per study,
         # by the chunk holding scenario 0 (with more chunks than scenarios, chunk 0 may be empty)
@@ -264,6 +295,21 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int) -> xr.Data
     ds.attrs.update(design.attrs)
     ds.attrs["chunk"] = f"{i + 1} of {chunks}"
     ds.attrs["compute_seconds"] = seconds  # the physics' own time (benchmark_million); not merged
+    return ds
+
+
+def _join_batches(parts) -> xr.Dataset:
+    """Batches of one chunk, in order, as one Dataset; an attribute the batches disagree on (the
+    models that ran, "; "-separated) is the union of their parts."""
+    ds = xr.concat(parts, dim="run", data_vars="minimal", coords="minimal", compat="override", join="outer",
+                   combine_attrs="override")
+    ds.attrs = {}
+    for k in dict.fromkeys(k for p in parts for k in p.attrs):
+        vals = [p.attrs[k] for p in parts if k in p.attrs]
+        if len(vals) == len(parts) and all(_same(v, vals[0]) for v in vals):
+            ds.attrs[k] = vals[0]
+        elif all(isinstance(v, str) for v in vals):
+            ds.attrs[k] = "; ".join(dict.fromkeys(seg for v in vals for seg in v.split("; ") if seg))
     return ds
 
 

@@ -23,6 +23,8 @@ rule chunk:
         f"{WORK}/{{study}}/chunk_{{i}}.h5",
     benchmark:
         f"{WORK}/{{study}}/benchmark/chunk_{{i}}.tsv"  # wall time and peak RSS of the job
+    log:
+        f"{WORK}/{{study}}/log/chunk_{{i}}.log",  # progress: scenarios done, rate, time left
     params:
         options=lambda wc: RESOLVED[wc.study]["options"],
         chunks=lambda wc: RESOLVED[wc.study]["chunks"],
