@@ -29,3 +29,22 @@ def parse(doc, default_scenarios, argv=None, **extra):
     for name, default in extra.items():
         p.add_argument(f"--{name.replace('_', '-')}", type=int, default=default)
     return p.parse_args(argv)
+
+
+def per_scenario_sweep(solve, scenarios, ref, methods, rtols, error_key, label) -> list[dict]:
+    """Rows of the per-scenario scipy way: for each method and rtol, the time per scenario of
+    ``solve(scenario, method, rtol)`` over ``scenarios`` and the largest |result - ref|
+    (``error_key``); ``label`` is formatted with the method."""
+    import time
+
+    import numpy as np
+
+    rows = []
+    for method in methods:
+        for rtol in rtols:
+            t0 = time.perf_counter()
+            v = np.array([solve(p, method, rtol) for p in scenarios])
+            rows.append({"method": label.format(method=method), "rtol": rtol,
+                         "seconds_per_scenario": (time.perf_counter() - t0) / len(scenarios),
+                         error_key: float(np.nanmax(np.abs(v - ref)))})
+    return rows

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ._bench import parse, write_rows
+from ._bench import parse, per_scenario_sweep, write_rows
 from . import _contact_kernel as _k
 from . import roller
 
@@ -101,13 +101,8 @@ def run(outdir="results/benchmark", n=40):
         rows.append(dict(method="clutchlab SDIRK4 (numba, events by re-stepping)", rtol=rtol,
                          seconds_per_scenario=best / n,
                          max_engagement_error_s=float(np.nanmax(np.abs(res["engagement_time"] - ref)))))
-    for method in ("LSODA", "Radau"):
-        for rtol in (1e-4, 1e-6, 1e-8, 1e-10):
-            t0 = time.perf_counter()
-            te = np.array([scipy_engagement(p, method, rtol) for p in P])
-            rows.append(dict(method=f"scipy solve_ivp {method} per scenario", rtol=rtol,
-                             seconds_per_scenario=(time.perf_counter() - t0) / n,
-                             max_engagement_error_s=float(np.nanmax(np.abs(te - ref)))))
+    rows += per_scenario_sweep(scipy_engagement, P, ref, ("LSODA", "Radau"), (1e-4, 1e-6, 1e-8, 1e-10),
+                               "max_engagement_error_s", "scipy solve_ivp {method} per scenario")
     for r in rows:
         print(f"{r['method']:<50s} rtol {r['rtol']:.0e}: {r['seconds_per_scenario'] * 1e6:9.1f} us/scenario, "
               f"max |engagement time error| {r['max_engagement_error_s']:.2e} s")

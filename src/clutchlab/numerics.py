@@ -106,7 +106,7 @@ def release_benchmark(outdir, n=20_000, n_ref=30) -> list[dict]:
     import numpy as np
 
     from . import centrifugal as cf
-    from ._bench import write_rows
+    from ._bench import per_scenario_sweep, write_rows
 
     d = release_design(n)
     best = np.inf
@@ -118,13 +118,8 @@ def release_benchmark(outdir, n=20_000, n_ref=30) -> list[dict]:
     ref = np.array([_release_ivp(p, "DOP853", 1e-13) for p in scen])
     rows = [dict(method="clutchlab closed form (vectorised)", rtol=float("nan"), seconds_per_scenario=best / n,
                  max_release_time_error_s=float(np.nanmax(np.abs(res["release_time"][:n_ref] - ref))))]
-    for method in ("RK45", "DOP853"):
-        for rtol in RELEASE_RTOLS:
-            t0 = time.perf_counter()
-            te = np.array([_release_ivp(p, method, rtol) for p in scen])
-            rows.append(dict(method=f"scipy solve_ivp {method} per scenario (release event)", rtol=rtol,
-                             seconds_per_scenario=(time.perf_counter() - t0) / n_ref,
-                             max_release_time_error_s=float(np.nanmax(np.abs(te - ref)))))
+    rows += per_scenario_sweep(_release_ivp, scen, ref, ("RK45", "DOP853"), RELEASE_RTOLS, "max_release_time_error_s",
+                               "scipy solve_ivp {method} per scenario (release event)")
     for r in rows:
         print(f"{r['method']:<55s} rtol {r['rtol']:.0e}: {r['seconds_per_scenario'] * 1e6:10.2f} us/scenario, "
               f"max |release time error| {r['max_release_time_error_s']:.1e} s")
