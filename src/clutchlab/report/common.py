@@ -6,6 +6,8 @@ import textwrap
 import matplotlib.pyplot as plt
 import numpy as np
 
+from .. import status as st
+
 A4_LANDSCAPE = (11.69, 8.27)
 
 
@@ -198,6 +200,15 @@ def sampled_category_map(ax, x, y, category, categories, bins=30):
                          rasterized=True)
     ax.figure.colorbar(mesh, ax=ax, label=f"share of designs: {categories[0][0]} ({x.size} designs binned)")
     return []
+
+
+def status_categories(status, categories: dict, other: int) -> np.ndarray:
+    """A category number per scenario from its status ({meaning: number}; ``other`` for the rest)."""
+    status = np.asarray(status)
+    cat = np.full(status.shape, other)
+    for meaning, k in categories.items():
+        cat[status == st.CODE[meaning]] = k
+    return cat
 
 
 def robust_limits(z, symmetric=False, cap=None):

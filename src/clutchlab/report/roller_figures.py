@@ -8,7 +8,8 @@ from matplotlib.colors import BoundaryNorm, ListedColormap
 
 from .. import status as st
 from ..studies.roller import PARAMETERS, RPM
-from .common import A4_LANDSCAPE, drawn, drawn_note, fixed_text, sampled_category_map, seed_view
+from .common import (A4_LANDSCAPE, drawn, drawn_note, fixed_text, sampled_category_map, seed_view,
+                     status_categories)
 
 SEED = {p.name: p.default for p in PARAMETERS}
 BAND = (3041.0, 3247.0)  # MPa, seed 003 section 2.2 (10^6 wedging cycles)
@@ -94,12 +95,7 @@ CATEGORIES = (("ok", "#4daf4a"), ("static stress above allowable", "#ffb000"), (
 
 
 def _categories(code):
-    cat = np.full(code.shape, 3)
-    cat[code == st.CODE["ok"]] = 0
-    cat[code == st.CODE["above_allowable"]] = 1
-    cat[code == st.CODE["not_self_locking"]] = 2
-    cat[code == st.CODE["overrunning"]] = 4
-    return cat
+    return status_categories(code, {"ok": 0, "above_allowable": 1, "not_self_locking": 2, "overrunning": 4}, 3)
 
 
 def feasible_region(ds):

@@ -6,9 +6,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap
 
-from .. import status as st
 from ..studies.sprag import CHECKS, PARAMETERS
-from .common import A4_LANDSCAPE, drawn, drawn_note, fixed_text, sampled_category_map, seed_view
+from .common import (A4_LANDSCAPE, drawn, drawn_note, fixed_text, sampled_category_map, seed_view,
+                     status_categories)
 
 SEED = {p.name: p.default for p in PARAMETERS}
 MPA = 1e6
@@ -94,13 +94,8 @@ CATEGORIES = (("passes every allowable", "#4daf4a"), ("stress above allowable", 
 
 
 def _category(status):
-    cat = np.full(status.shape, 5)
-    cat[status == st.CODE["ok"]] = 0
-    cat[status == st.CODE["above_allowable"]] = 1
-    cat[status == st.CODE["pop_out_risk"]] = 2
-    cat[status == st.CODE["roll_over"]] = 3
-    cat[status == st.CODE["invalid_geometry"]] = 4
-    return cat
+    return status_categories(status, {"ok": 0, "above_allowable": 1, "pop_out_risk": 2, "roll_over": 3,
+                                      "invalid_geometry": 4}, 5)
 
 
 def pass_map(ds):
