@@ -298,3 +298,21 @@ def test_pareto_rank_of_a_stored_result_asks_a_new_question():
     want = explore.pareto_rank(f, explore.flat(ds, "feasible").astype(bool),
                                explore.group_ids(ds, ["load_torque"]))
     assert (new.values.reshape(-1) == want).all() and new.attrs["ranked_within"] == "load_torque"
+
+
+def test_best_compromise_is_the_front_design_nearest_the_ideal_point():
+    """Issue 18 item 3: the summary page's best design: on the front, objectives normalised over
+    the feasible designs (best 0, worst 1), nearest the origin."""
+    import xarray as xr
+
+    f1 = np.array([0.0, 1.0, 2.0, 4.0, 3.0])
+    f2 = np.array([4.0, 1.5, 1.0, 0.0, 3.0])  # front: 0, 1, 2, 3; design 4 dominated
+    ds = xr.Dataset({"a": ("run", f1, {"units": "1", "long_name": "a"}), "b": ("run", f2, {"units": "1", "long_name": "b"}),
+                     "status": ("run", np.zeros(5, np.int8), {"units": "1", "long_name": "status"})})
+    ds = explore.annotate(ds, ["a:min", "b:min"], {})
+    # normalised: (0, 1), (.25, .375), (.5, .25), (1, 0): nearest the origin is design 1 (0.45)
+    assert explore.best_compromise(ds) == 1
+    ds2 = explore.annotate(ds.assign(status=ds.status.where(ds.run != 1, 4).astype(np.int8)), ["a:min", "b:min"], {})
+    assert explore.best_compromise(ds2) == 2
+    none = explore.annotate(ds.assign(status=ds.status * 0 + 4), ["a:min", "b:min"], {})
+    assert explore.best_compromise(none) is None

@@ -305,3 +305,24 @@ def test_a_changed_chunk_is_found_by_the_merge_and_recomputed(small_run):
     assert not chunk.exists()
     _snakemake(small_run, "--configfile", "config/small.yaml")
     xr.testing.assert_identical(xr.load_dataset(result, engine="h5netcdf"), before)
+
+
+def test_every_report_page_keeps_its_text_on_the_page(small_run, tmp_path, monkeypatch):
+    """Issue 18 item 3: the summary page names each study's best design and its pages; no text of
+    any page (titles, labels, legends, tables, notes) runs off the page."""
+    import glob
+
+    from clutchlab import report, studies
+    from clutchlab.report.common import texts_outside
+
+    res = small_run / "results"
+    names = ["diaphragm_spring", "centrifugal", "sprag", "roller"]
+    figures = []
+    monkeypatch.setattr(report.plt, "close", figures.append)
+    report.build({n: res / studies.get(n).output for n in names}, sorted(glob.glob(str(res / "validation/*.h5"))),
+                 tmp_path, hard_cases_file=res / "numerics/hard_cases.h5", numerics_dir=res / "numerics")
+    assert len(figures) >= 20
+    for fig in figures:
+        assert not texts_outside(fig), texts_outside(fig)
+    summary = " ".join(t.get_text() for t in figures[0].texts)
+    assert summary.count("best compromise: ") == len(names) and "roller_answers" in summary

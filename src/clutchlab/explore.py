@@ -17,7 +17,7 @@ from numba import njit
 
 from . import status as st
 
-__all__ = ["pareto_rank", "dominates", "feasible", "condition_factors", "annotate", "hypervolume",
+__all__ = ["pareto_rank", "dominates", "feasible", "condition_factors", "annotate", "hypervolume", "best_compromise",
            "refinement_gain", "objective_table", "front_order", "grid_variance_decomposition",
            "sobol_indices", "sensitivity"]
 
@@ -379,6 +379,40 @@ def objective_table(ds, objectives, within) -> tuple[np.ndarray, np.ndarray, np.
     cols = [flat(ds, o.split(":")[0]) * (1.0 if o.endswith(":min") else -1.0) for o in objectives]
     key = np.stack([flat(ds, w) for w in within], axis=1) if within else np.zeros((ds["status"].size, 0))
     return np.stack(cols, axis=1), flat(ds, "feasible").astype(bool), key
+
+
+def best_compromise(ds) -> int | None:
+    """Flat index of the front design nearest its front's ideal point: each objective normalised
+    over the feasible designs of its operating condition (best 0, worst 1), the Euclidean distance
+    to the origin smallest; where the designs are ranked within operating conditions, on the front
+    of the condition nearest the seed design's (the first choice of an option). None without a
+    front. One design that answers "which one?" when the objectives weigh alike; the front itself
+    is the full answer."""
+    from . import studies
+
+    if "pareto_rank" not in ds or not (ds["pareto_rank"].values == 0).any():
+        return None
+    objectives = ds["pareto_rank"].attrs["objectives"].split()
+    within = ds["pareto_rank"].attrs.get("ranked_within", "").split()
+    f, ok, key = objective_table(ds, objectives, within)
+    ok &= np.isfinite(f).all(axis=1)
+    rank = ds["pareto_rank"].values.reshape(-1)
+    best, best_d = None, np.inf
+    combos = np.unique(key[ok], axis=0) if within else np.zeros((1, 0))
+    if within and combos.size:  # the operating condition nearest the seed design's
+        seed = studies.get(ds.attrs["study"]).defaults if "study" in ds.attrs else {}
+        span = np.where(np.ptp(combos, axis=0) > 0, np.ptp(combos, axis=0), 1.0)
+        target = np.array([seed.get(w, 0.0) for w in within])  # an option: its first choice (code 0)
+        combos = combos[[int(np.argmin((((combos - target) / span) ** 2).sum(axis=1)))]]
+    for combo in combos:
+        group = ok & (key == combo).all(axis=1)
+        lo, hi = f[group].min(axis=0), f[group].max(axis=0)
+        norm = (f - lo) / np.where(hi > lo, hi - lo, 1.0)
+        d = np.where(group & (rank == 0), np.sqrt((norm ** 2).sum(axis=1)), np.inf)
+        i = int(np.argmin(d))
+        if d[i] < best_d:
+            best, best_d = i, d[i]
+    return best
 
 
 def refinement_gain(first, second):

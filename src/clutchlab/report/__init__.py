@@ -76,7 +76,7 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
     outdir.mkdir(parents=True, exist_ok=True)
     results = {name: store.load(p) for name, p in study_files.items()}
     validations = [store.load(p) for p in validation_files]
-    pages = [("title", title_page(title, __version__, results, validations))]
+    pages = []
     for name, ds in results.items():
         pages += [(f"{name}_{stem}", fig) for stem, fig in studies.get(name).figures(ds)]
         pages.append((f"{name}_answers", answers.page(name, ds)))
@@ -109,6 +109,9 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
         pages.append(("hard_cases", hard_case_table(cases)))
         with store.atomic(outdir / "hard_cases.csv") as tmp:
             hard_cases_csv(cases, tmp)
+    # the summary page opens the report and names each study's pages
+    study_pages = {name: [stem for stem, _ in pages if stem.startswith(f"{name}_")] for name in results}
+    pages.insert(0, ("title", title_page(title, __version__, results, validations, study_pages)))
     written = []
     with store.atomic(outdir / "report.pdf") as tmp_pdf, \
             PdfPages(tmp_pdf, metadata={"Title": title, "Creator": f"clutchlab {__version__}",

@@ -45,6 +45,25 @@ def _value_text(ds, name, v) -> str:
     return f"{name} {meanings[int(v)]}" if meanings else f"{name} {v:.4g}"
 
 
+def best_text(ds) -> str:
+    """The best compromise design (:func:`clutchlab.explore.best_compromise`) in one line:
+    its factors, then its objectives."""
+    from ..explore import best_compromise
+
+    i = best_compromise(ds)
+    if i is None:
+        return "no feasible design on a Pareto front"
+    objectives = [o.split(":")[0] for o in ds["pareto_rank"].attrs["objectives"].split()]
+    parts = []
+    for n in factors(ds) + objectives:
+        v = _flat(ds, n)[i]
+        unit = ds[n].attrs.get("units", "")
+        parts.append(_value_text(ds, n, v).replace(" ", " = ", 1) + ("" if unit in ("1", "") or
+                                                                   ds[n].attrs.get("flag_meanings") else f" {unit}"))
+    k = len(factors(ds))
+    return ", ".join(parts[:k]) + " -> " + ", ".join(parts[k:])
+
+
 def _text(v, fmt) -> str:
     return v if isinstance(v, str) else format(v, fmt)
 

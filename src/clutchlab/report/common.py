@@ -53,8 +53,11 @@ def fixed_text(sub, dims):
     return ", ".join(out)
 
 
-def title_page(title, version, results, validations):
+def title_page(title, version, results, validations, pages=None):
+    """The summary page: per study what was run, its status counts, its best compromise design and
+    the pages that show it (``pages``: study -> page stems); the validation verdict."""
     from . import status_counts
+    from .answers import best_text
 
     fig = plt.figure(figsize=A4_LANDSCAPE)
     # the title is the user's text: drawn as it is written ("$" is not mathtext), wrapped to the page
@@ -69,6 +72,10 @@ def title_page(title, version, results, validations):
                  f"  {n} scenarios, design {ds.attrs.get('design')}, dimensions: {dims}",
                  f"  model: {ds.attrs.get('model', '')}",
                  "  status: " + ", ".join(f"{k} {v}" for k, v in status_counts(ds).items())]
+        if "pareto_rank" in ds:
+            lines.append("  best compromise: " + best_text(ds))
+        if pages and pages.get(name):
+            lines.append("  pages: " + ", ".join(pages[name]))
         blocks.append([w for line in lines for w in textwrap.wrap(line, 120, subsequent_indent="    ") or [""]])
     # the studies' lines share the page between the title and the footnote (0.80 .. 0.10)
     n_lines = sum(len(b) for b in blocks) + 0.7 * len(blocks) + (2 if validations else 0)
@@ -200,6 +207,31 @@ def sampled_category_map(ax, x, y, category, categories, bins=30):
                          rasterized=True)
     ax.figure.colorbar(mesh, ax=ax, label=f"share of designs: {categories[0][0]} ({x.size} designs binned)")
     return []
+
+
+def texts_outside(fig) -> list[str]:
+    """The texts of a figure (titles, labels, legends, table cells, notes; not tick labels, which
+    matplotlib clips to the axes) that reach beyond the page."""
+    import math
+
+    from matplotlib.text import Text
+
+    renderer = fig.canvas.get_renderer()
+    ticks = set()
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            ticks |= {id(t) for tick in axis.get_major_ticks() + axis.get_minor_ticks() for t in (tick.label1, tick.label2)}
+    width, height = fig.bbox.width, fig.bbox.height
+    out = []
+    for t in fig.findobj(Text):
+        if id(t) in ticks or not t.get_visible() or not t.get_text().strip():
+            continue
+        bb = t.get_window_extent(renderer)
+        if not all(map(math.isfinite, (bb.x0, bb.y0, bb.x1, bb.y1))):
+            continue
+        if bb.x0 < -1 or bb.y0 < -1 or bb.x1 > width + 1 or bb.y1 > height + 1:
+            out.append(t.get_text())
+    return out
 
 
 def status_categories(status, categories: dict, other: int) -> np.ndarray:
