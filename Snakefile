@@ -27,6 +27,10 @@ try:
 except clutchlab.config.ConfigError as _exc:
     sys.exit(f"clutchlab: {_exc}")
 
+# the description of Snakemake's own HTML report (`snakemake --report report.html`)
+report: "workflows/report/workflow.rst"
+
+
 include: "workflows/rules/common.smk"
 include: "workflows/rules/study.smk"
 include: "workflows/rules/report.smk"

@@ -326,3 +326,35 @@ def test_every_report_page_keeps_its_text_on_the_page(small_run, tmp_path, monke
         assert not texts_outside(fig), texts_outside(fig)
     summary = " ".join(t.get_text() for t in figures[0].texts)
     assert summary.count("best compromise: ") == len(names) and "roller_answers" in summary
+
+
+def test_snakemakes_own_report_holds_every_page_with_its_caption(small_run):
+    """Issue 18 item 2: `snakemake --report` gives one HTML with every report file, each with its
+    caption (clutchlab.report.captions), and the run's provenance (version, source hash, config)."""
+    import clutchlab
+    from clutchlab.report import captions
+
+    _snakemake(small_run, "--configfile", "config/small.yaml", "--report", "results/report.html")  # as the README
+    html = (small_run / "results/report.html").read_text()
+    names = ["diaphragm_spring", "centrifugal", "sprag", "roller"]
+    files = sorted(p.name for p in (small_run / "results/report").iterdir())
+    assert len(files) >= 25
+    for name in files:
+        assert name in html, name
+        words = [w for w in captions.caption(name, names).split() if w.isascii() and w.isalpha() and len(w) > 4]
+        assert all(w in html for w in words[:6]), (name, words[:6])  # its caption (non-ASCII is escaped)
+    assert clutchlab.__version__ in html and clutchlab.source_hash() in html
+    assert "Studies run: diaphragm_spring, centrifugal, sprag, roller" in html
+
+
+def test_every_report_file_has_a_caption():
+    from clutchlab.report import captions, figure_stems
+
+    names = ["diaphragm_spring", "engagement", "centrifugal", "sprag", "roller"]
+    stems = figure_stems(names, True, names, names, True, True)
+    for stem in stems:
+        assert captions.caption(f"{stem}.png", names)
+    for f in ("report.pdf", "validation.csv", "hard_cases.csv", "roller_pareto.csv", "sprag_refinement.csv"):
+        assert captions.caption(f, names)
+    with pytest.raises(KeyError):
+        captions.caption("nothing.png", names)

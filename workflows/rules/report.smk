@@ -1,9 +1,13 @@
 # Report: figures and PDF from stored results only.
 import sys
+from pathlib import Path
+
+import clutchlab
 
 from clutchlab.report import answer_files as _answer_files
 from clutchlab.report import figure_stems as _figure_stems
 from clutchlab.numerics import files as _numerics_files
+from clutchlab.report import captions as _captions
 
 REPORT_DIR = f"{RESULTS}/report"
 BENCHMARK_PAGE = RESOLVED["report"]["benchmark"]  # the engagement work-precision page (runs the benchmark)
@@ -16,6 +20,9 @@ REPORT_FILES = [f"{REPORT_DIR}/report.pdf"] + ([f"{REPORT_DIR}/validation.csv"] 
                               HARD_CASES, bool(NUMERICS))
 ] + [f"{REPORT_DIR}/{f}" for f in _answer_files(STUDIES, REFINED)] + (
     [f"{REPORT_DIR}/hard_cases.csv"] if HARD_CASES else [])
+# Snakemake's own HTML report (`snakemake --report report.html`): every report file with its caption
+# (clutchlab.report.captions, written to .snakemake/clutchlab_captions when the workflow is parsed)
+_CAPTION_FILES = _captions.write(".snakemake/clutchlab_captions", REPORT_FILES, STUDIES)
 
 
 rule report:
@@ -28,7 +35,8 @@ rule report:
         hard_cases=[f"{RESULTS}/numerics/hard_cases.h5"] if HARD_CASES else [],
         numerics=NUMERICS,
     output:
-        REPORT_FILES,
+        [report(f, caption=_CAPTION_FILES[f], category=_captions.category(Path(f).name, STUDIES))
+         for f in REPORT_FILES],
     benchmark:
         f"{WORK}/report_benchmark.tsv"
     params:
@@ -38,6 +46,7 @@ rule report:
         title=RESOLVED["report"]["title"],
         dpi=RESOLVED["report"]["dpi"],
         source=SOURCE,
+        version=clutchlab.__version__,
     resources:
         runtime=10,
         mem_mb=4000,
