@@ -1,6 +1,8 @@
 import os
+from pathlib import Path
 
 import matplotlib
+import pytest
 
 matplotlib.use("Agg")
 os.environ.setdefault("MPLBACKEND", "Agg")
@@ -30,3 +32,36 @@ def write_first_stage(path, study="engagement"):
     sec = config.resolve({"studies": [study], study: section})[study]
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     store.write(doe.run_study(sec), path)
+
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def snakemake_workdir(tmp_path: Path) -> Path:
+    """A working folder with the workflow (Snakefile, workflows, config) as a user's clone has it."""
+    import shutil
+
+    for item in ("Snakefile", "workflows", "config"):
+        src = ROOT / item
+        (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp_path / item)
+    (tmp_path / "profiles").symlink_to("workflows/profiles")
+    return tmp_path
+
+
+def run_snakemake(cwd, *args, check=True, **kw):
+    import subprocess
+    import sys
+
+    cmd = [sys.executable, "-m", "snakemake", "--cores", "2", *args]
+    proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=600, **kw)
+    if check and proc.returncode != 0:
+        raise AssertionError(f"snakemake failed:\n{proc.stdout}\n{proc.stderr}")
+    return proc
+
+
+@pytest.fixture(scope="session")
+def small_run(tmp_path_factory):
+    """config/small.yaml run through Snakemake once for the session (pipeline and notebook tests)."""
+    wd = snakemake_workdir(tmp_path_factory.mktemp("run"))
+    run_snakemake(wd, "--configfile", "config/small.yaml")
+    return wd

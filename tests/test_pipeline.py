@@ -15,27 +15,8 @@ ROOT = Path(__file__).resolve().parents[1]
 pytestmark = pytest.mark.slow
 
 
-def _workdir(tmp_path: Path) -> Path:
-    for item in ("Snakefile", "workflows", "config"):
-        src = ROOT / item
-        (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp_path / item)
-    (tmp_path / "profiles").symlink_to("workflows/profiles")
-    return tmp_path
-
-
-def _snakemake(cwd, *args, check=True, **kw):
-    cmd = [sys.executable, "-m", "snakemake", "--cores", "2", *args]
-    proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=600, **kw)
-    if check and proc.returncode != 0:
-        raise AssertionError(f"snakemake failed:\n{proc.stdout}\n{proc.stderr}")
-    return proc
-
-
-@pytest.fixture(scope="module")
-def small_run(tmp_path_factory):
-    wd = _workdir(tmp_path_factory.mktemp("run"))
-    _snakemake(wd, "--configfile", "config/small.yaml")
-    return wd
+from conftest import run_snakemake as _snakemake  # noqa: E402
+from conftest import snakemake_workdir as _workdir  # noqa: E402
 
 
 def test_outputs_exist_and_open(small_run):
