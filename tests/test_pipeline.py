@@ -293,7 +293,7 @@ def test_every_report_page_keeps_its_text_on_the_page(small_run, tmp_path, monke
     any page (titles, labels, legends, tables, notes) runs off the page."""
     import glob
 
-    from clutchlab import report, studies
+    from clutchlab import report, store, studies
     from clutchlab.report.common import texts_outside
 
     res = small_run / "results"
@@ -307,6 +307,10 @@ def test_every_report_page_keeps_its_text_on_the_page(small_run, tmp_path, monke
         assert not texts_outside(fig), texts_outside(fig)
     summary = " ".join(t.get_text() for t in figures[0].texts)
     assert summary.count("best compromise: ") == len(names) and "roller_answers" in summary
+    from clutchlab.report.common import title_page
+
+    page = title_page("t", "v", {"sprag": store.load(res / "sprag/sprag.h5")}, [], None, {"sprag": (3, 12.5)})
+    assert "computed by 3 jobs in 12.5 s of job time" in " ".join(t.get_text() for t in page.texts)
 
 
 def test_snakemakes_own_report_holds_every_page_with_its_caption(small_run):

@@ -47,6 +47,8 @@ rule report:
         dpi=RESOLVED["report"]["dpi"],
         source=SOURCE,
         version=clutchlab.__version__,
+        work=WORK,
+        chunks={s: RESOLVED[s]["chunks"] for s in STUDIES},
     resources:
         runtime=10,
         mem_mb=4000,

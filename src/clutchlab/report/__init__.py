@@ -47,7 +47,7 @@ def answer_files(study_names, refined=()) -> list[str]:
 
 def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab report", dpi=120,
           benchmark_csv=None, sensitivity_files=None, refine_files=None, hard_cases_file=None,
-          numerics_dir=None) -> list[Path]:
+          numerics_dir=None, job_seconds=None) -> list[Path]:
     """Build the report from stored results.
 
     Parameters
@@ -69,6 +69,9 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
     numerics_dir : path or None
         The folder of this run's small solver benchmarks (:mod:`clutchlab.numerics`): adds a
         work-precision page per solver.
+    job_seconds : dict or None
+        Study name -> (chunk jobs, their seconds and the merge's), from Snakemake's benchmark
+        files: the summary page says how long each study took.
     outdir : path
         Folder for ``report.pdf``, ``validation.csv`` and the PNGs.
     """
@@ -111,7 +114,7 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
             hard_cases_csv(cases, tmp)
     # the summary page opens the report and names each study's pages
     study_pages = {name: [stem for stem, _ in pages if stem.startswith(f"{name}_")] for name in results}
-    pages.insert(0, ("title", title_page(title, __version__, results, validations, study_pages)))
+    pages.insert(0, ("title", title_page(title, __version__, results, validations, study_pages, job_seconds)))
     written = []
     with store.atomic(outdir / "report.pdf") as tmp_pdf, \
             PdfPages(tmp_pdf, metadata={"Title": title, "Creator": f"clutchlab {__version__}",

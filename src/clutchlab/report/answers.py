@@ -58,6 +58,8 @@ def best_text(ds) -> str:
     for n in factors(ds) + objectives:
         v = _flat(ds, n)[i]
         unit = ds[n].attrs.get("units", "")
+        if unit == "rad":  # angles read in degrees
+            v, unit = np.rad2deg(v), "deg"
         parts.append(_value_text(ds, n, v).replace(" ", " = ", 1) + ("" if unit in ("1", "") or
                                                                    ds[n].attrs.get("flag_meanings") else f" {unit}"))
     k = len(factors(ds))

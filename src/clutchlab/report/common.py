@@ -53,9 +53,10 @@ def fixed_text(sub, dims):
     return ", ".join(out)
 
 
-def title_page(title, version, results, validations, pages=None):
-    """The summary page: per study what was run, its status counts, its best compromise design and
-    the pages that show it (``pages``: study -> page stems); the validation verdict."""
+def title_page(title, version, results, validations, pages=None, job_seconds=None):
+    """The summary page: per study what was run (and how long its jobs took: ``job_seconds``,
+    study -> (jobs, seconds)), its status counts, its best compromise design and the pages that
+    show it (``pages``: study -> page stems); the validation verdict."""
     from . import status_counts
     from .answers import best_text
 
@@ -71,6 +72,8 @@ def title_page(title, version, results, validations, pages=None):
         lines = [f"Study '{name}': {ds.attrs.get('title', '')}",
                  f"  {n} scenarios, design {ds.attrs.get('design')}, dimensions: {dims}",
                  f"  model: {ds.attrs.get('model', '')}",
+                 *([f"  computed by {job_seconds[name][0]} jobs in {job_seconds[name][1]:.1f} s of job time (chunks and "
+                    "merge, Snakemake's benchmark files)"] if job_seconds and name in job_seconds else []),
                  "  status: " + ", ".join(f"{k} {v}" for k, v in status_counts(ds).items())]
         if "pareto_rank" in ds:
             lines.append("  best compromise: " + best_text(ds))
