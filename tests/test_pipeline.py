@@ -330,6 +330,11 @@ def test_snakemakes_own_report_holds_every_page_with_its_caption(small_run):
         assert all(w in html for w in words[:6]), (name, words[:6])  # its caption (non-ASCII is escaped)
     assert clutchlab.__version__ in html and clutchlab.source_hash() in html
     assert "Studies run: diaphragm_spring, centrifugal, sprag, roller" in html
+    import zipfile
+
+    _snakemake(small_run, "--configfile", "config/small.yaml", "--report", "results/report.zip")
+    with zipfile.ZipFile(small_run / "results/report.zip") as z:
+        assert any(n.endswith("report.html") for n in z.namelist()) and len(z.namelist()) > len(files)
 
 
 def test_every_report_file_has_a_caption():
