@@ -36,6 +36,18 @@ include: "workflows/rules/study.smk"
 include: "workflows/rules/report.smk"
 
 
+# the target rule only collects files, and the benchmarks measure the machine they run on: they run
+# where snakemake runs, not as cluster jobs
+localrules:
+    all,
+    benchmark,
+    benchmark_sprag,
+    benchmark_pareto,
+    benchmark_million,
+    benchmark_roller,
+    benchmark_compliant,
+
+
 rule all:
     default_target: True
     input:

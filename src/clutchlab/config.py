@@ -18,7 +18,7 @@ from . import studies
 from .units import UnitError, to_si
 
 __all__ = ["ConfigError", "SCHEMA_PATH", "schema", "load", "read_file", "resolve", "study_config_text",
-           "stored_study", "DEFAULT_MAX_SCENARIOS"]
+           "stored_study", "scenario_count", "DEFAULT_MAX_SCENARIOS"]
 
 SCHEMA_PATH = files("clutchlab") / "config.schema.yaml"
 DEFAULT_CHUNKS = 4  # of a study whose config gives neither chunks nor chunk_size (historical)
@@ -181,6 +181,18 @@ def _count(section, key, name):
     return int(v)
 
 
+def scenario_count(resolved_study: dict) -> int:
+    """Scenarios of a resolved study: the grid's size (factorial), A, B and one AB matrix per
+    factor and option choice (saltelli), else its samples."""
+    design = resolved_study["design"]
+    if design == "factorial":
+        return int(np.prod([len(f["values"]) for f in resolved_study["factors"].values()], dtype=np.int64))
+    if design == "saltelli":
+        d = len(resolved_study["factors"]) + len(resolved_study.get("option_factors", {}))
+        return resolved_study["samples"] * (d + 2)
+    return resolved_study["samples"]
+
+
 def _chunking(section, key) -> tuple[str, int] | None:
     """("chunks", N) or ("chunk_size", S) as a config level gives it (never both), or None."""
     given = [k for k in ("chunks", "chunk_size") if k in section]
@@ -325,21 +337,11 @@ def _resolve_study(name: str, section: dict, default_chunks, max_scenarios: int,
             if "num" in spec:
                 raise ConfigError(f"{key}.num", f"not used by design '{design}' (use '{name}.samples')")
             out["factors"][param.name] = {"min": lo, "max": hi, "scale": scale}
-    if design == "factorial":
-        n = 1
-        for f in out["factors"].values():
-            n *= len(f["values"])
-        if n > max_scenarios:
-            raise _ceiling(name, n, max_scenarios)
-    elif design == "saltelli":
-        if not out["factors"]:
-            raise ConfigError(f"{name}.parameters", "design 'saltelli' needs at least one factor (min/max)")
-        # A, B and one AB matrix per factor (option choices included)
-        n = out["samples"] * (len(out["factors"]) + len(out.get("option_factors", {})) + 2)
-        if n > max_scenarios:
-            raise _ceiling(name, n, max_scenarios)
-    else:
-        n = out["samples"]
+    if design == "saltelli" and not out["factors"]:
+        raise ConfigError(f"{name}.parameters", "design 'saltelli' needs at least one factor (min/max)")
+    n = scenario_count(out)
+    if n > max_scenarios:
+        raise _ceiling(name, n, max_scenarios)
     out["chunks"] = chunk_count(n, _chunking(section, f"{name}.") or default_chunks)
     out["curve_stride"] = _curve_stride(name, section, design, n)
     out["objectives"], out["constraints"] = _answers(study, section)

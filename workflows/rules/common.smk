@@ -1,5 +1,6 @@
 # Paths and helpers shared by the rules. No physics here.
 import clutchlab as _clutchlab
+from clutchlab import cluster as _cluster
 from clutchlab import studies as _studies
 
 # the package's source hash: a param of every rule whose output the code determines, so that an
@@ -11,6 +12,21 @@ RESULTS = RESOLVED["results"]  # top-level key results (default "results")
 WORK = f"{RESULTS}/work"
 VALIDATED = [s for s in STUDIES if _studies.get(s).validation is not None]
 REFINED = [s for s in STUDIES if RESOLVED[s]["design"] == "refine"]
+
+
+def _all_cores():
+    """--cores of a local run; 1 under a cluster executor (no total core count there)."""
+    from snakemake.exceptions import WorkflowError
+
+    try:
+        return workflow.cores
+    except WorkflowError:
+        return 1
+
+
+# the benchmark rules take every core of the machine they run on (their timings are the point; they
+# are local rules: on a cluster they run where snakemake runs)
+ALL_CORES = _all_cores()
 
 
 def results(study):

@@ -50,8 +50,7 @@ rule report:
         work=WORK,
         chunks={s: RESOLVED[s]["chunks"] for s in STUDIES},
     resources:
-        runtime=10,
-        mem_mb=4000,
+        **_cluster.report_resources(RESOLVED),
     script:
         "../scripts/report.py"
 
@@ -94,7 +93,7 @@ rule benchmark:
     output:
         f"{RESULTS}/benchmark/engagement_benchmark.csv",
         f"{RESULTS}/benchmark/work_precision.png",
-    threads: workflow.cores  # alone on the machine: timings are not disturbed by other jobs
+    threads: ALL_CORES  # alone on the machine: timings are not disturbed by other jobs
     params:
         python=sys.executable,
     shell:
@@ -106,7 +105,7 @@ rule benchmark_sprag:
     # throughput at 1e5 and 1e6 scenarios and the ratio against per-scenario scipy brentq.
     output:
         f"{RESULTS}/benchmark/sprag_benchmark.csv",
-    threads: workflow.cores
+    threads: ALL_CORES
     params:
         python=sys.executable,
     shell:
@@ -131,7 +130,7 @@ rule benchmark_million:
     # outside the physics, peak RSS and job counts; for the run its wall time.
     output:
         f"{RESULTS}/benchmark/million_benchmark.csv",
-    threads: workflow.cores
+    threads: ALL_CORES
     params:
         python=sys.executable,
     shell:
@@ -143,7 +142,7 @@ rule benchmark_roller:
     # reference is slow). Compiled SDIRK4 against per-scenario solve_ivp LSODA and Radau.
     output:
         f"{RESULTS}/benchmark/roller_benchmark.csv",
-    threads: workflow.cores
+    threads: ALL_CORES
     params:
         python=sys.executable,
     shell:
@@ -157,7 +156,7 @@ rule benchmark_compliant:
     output:
         f"{RESULTS}/benchmark/compliant_benchmark.csv",
         f"{RESULTS}/benchmark/compliant_work_precision.png",
-    threads: workflow.cores
+    threads: ALL_CORES
     params:
         python=sys.executable,
     shell:

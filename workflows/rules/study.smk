@@ -29,9 +29,10 @@ rule chunk:
         options=lambda wc: RESOLVED[wc.study]["options"],
         chunks=lambda wc: RESOLVED[wc.study]["chunks"],
         source=SOURCE,
-    resources:
-        runtime=60,
-        mem_mb=4000,
+    resources:  # from the chunk's scenarios and the study's measured cost (clutchlab.cluster)
+        mem_mb=lambda wc: _cluster.chunk_resources(RESOLVED[wc.study])["mem_mb"],
+        runtime=lambda wc: _cluster.chunk_resources(RESOLVED[wc.study])["runtime"],
+        cpus_per_task=1,
     script:
         "../scripts/chunk.py"
 
@@ -54,8 +55,7 @@ for _study in STUDIES:
             constraints=RESOLVED[_study]["constraints"],
             source=SOURCE,
         resources:
-            runtime=30,
-            mem_mb=8000,
+            **_cluster.merge_resources(RESOLVED[_study]),
         script:
             "../scripts/merge.py"
 

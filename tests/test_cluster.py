@@ -1,0 +1,73 @@
+"""Issue 19: what each Snakemake job asks a cluster for (clutchlab.cluster), and the SLURM profile as
+shipped. The runs on a real cluster are in test_slurm.py."""
+import re
+import subprocess
+import sys
+
+import yaml
+
+from clutchlab import cluster, config
+
+from conftest import ROOT
+
+
+def _resolved(name="million.yaml", **top):
+    return config.resolve({**config.read_file(ROOT / "config" / name), **top})
+
+
+def test_chunk_requests_follow_the_chunk_size_and_the_measured_cost():
+    res = _resolved()
+    for s in res["studies"]:
+        n = cluster.chunk_scenarios(res[s])
+        assert n == 262144  # chunk_size of config/million.yaml
+        r = cluster.chunk_resources(res[s])
+        fixed_s, per_s, fixed_mb, per_mb = cluster.CHUNK_COST[s]
+        assert r["mem_mb"] >= cluster.MEMORY_MARGIN * (fixed_mb + per_mb * n)  # the measurement with its margin
+        assert r["runtime"] * 60 >= cluster.TIME_MARGIN * (fixed_s + per_s * n)
+        assert r["cpus_per_task"] == 1
+        assert r["mem_mb"] <= 4000  # a 2^18 chunk fits a common 4 GB-per-core node
+    # a quarter of the chunk size: at most the memory, at least the minimum
+    small = _resolved(chunk_size=65536)
+    for s in res["studies"]:
+        a, b = cluster.chunk_resources(small[s]), cluster.chunk_resources(res[s])
+        assert cluster.MIN_MEM_MB <= a["mem_mb"] <= b["mem_mb"] and a["runtime"] <= b["runtime"]
+    # the centrifugal chunk (4.6 kB a scenario) grows most: 2^18 scenarios ask for more than 2^16
+    assert cluster.chunk_resources(small["centrifugal"])["mem_mb"] < cluster.chunk_resources(res["centrifugal"])["mem_mb"]
+
+
+def test_merge_and_report_requests_grow_with_the_study():
+    res, tiny = _resolved(), _resolved("small.yaml")
+    for s in tiny["studies"]:
+        assert cluster.merge_resources(tiny[s])["mem_mb"] <= cluster.merge_resources(res[s])["mem_mb"]
+    assert cluster.report_resources(tiny)["mem_mb"] < cluster.report_resources(res)["mem_mb"]
+    assert cluster.report_resources(res)["mem_mb"] >= 1.38e3  # the million run's report job peaked at 1.38 GB
+
+
+def test_the_rules_ask_for_what_clutchlab_cluster_computes(tmp_path):
+    """A dry run of config/million.yaml prints each job's resources: the chunk jobs' mem_mb and
+    runtime are clutchlab.cluster's, for every study."""
+    from conftest import snakemake_workdir
+
+    wd = snakemake_workdir(tmp_path)
+    out = subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2", "--configfile", "config/million.yaml",
+                          "--dry-run"], cwd=wd, capture_output=True, text=True, check=True).stdout
+    res = _resolved()
+    seen = 0
+    for block in out.split("\nrule chunk:")[1:]:
+        study = re.search(r"wildcards: study=(\w+)", block).group(1)
+        want = cluster.chunk_resources(res[study])
+        assert f"runtime={want['runtime']}," in block and f"mem_mb={want['mem_mb']}," in block, block
+        assert "cpus_per_task=1" in block
+        seen += 1
+    assert seen == sum(res[s]["chunks"] for s in res["studies"])
+
+
+def test_the_slurm_profile_has_no_site_placeholders():
+    """Partition and account are the cluster's defaults unless a site sets them (README); the
+    profile once shipped 'compute' and 'your_account', which a real cluster rejects."""
+    text = (ROOT / "workflows/profiles/slurm/config.yaml").read_text()
+    prof = yaml.safe_load(text)
+    assert "default-resources" not in prof and not any(k.startswith("slurm-partition") or k.startswith("slurm-account")
+                                                        for k in prof)
+    assert prof["executor"] == "slurm" and prof["slurm-status-command"] == "squeue"
+    assert prof["slurm-logdir"] == "logs/slurm"
