@@ -57,7 +57,7 @@ def test_work_precision_page_from_stored_benchmark(tmp_path):
     assert {p.stem for p in written} == {"title", "engagement_work_precision", "report"}
     assert report.figure_stems([], benchmark=True) == ["title", "engagement_work_precision"]
     assert report.figure_stems(["engagement"]) == ["title", "engagement_tradeoff", "engagement_maps", "engagement_traces",
-                                                  "engagement_answers"]
+                                                  "engagement_heat", "engagement_answers"]
     assert report.figure_stems(["engagement"], sensitivity=["engagement"])[-1] == "engagement_sensitivity"
 
 

@@ -134,4 +134,61 @@ def traces(ds):
 
 
 def figures(ds):
-    return [("tradeoff", tradeoff(ds)), ("maps", maps(ds)), ("traces", traces(ds))]
+    return [("tradeoff", tradeoff(ds)), ("maps", maps(ds)), ("traces", traces(ds)), ("heat", heat_page(ds))]
+
+
+def heat_page(ds):
+    """Heat (issue 20): the seed design's friction-face and bulk temperature over the engagement
+    and over engagements in a row; the bulk temperature rise over the design; the trade-off coloured
+    by it."""
+    fig, axes = plt.subplots(2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.42, "wspace": 0.35})
+    ax = axes[0, 0]
+    if "trace_surface_temperature" in ds:
+        t = ds["trace_time"].values * 1e3
+        ax.plot(t, ds["trace_surface_temperature"].values - 273.15, "r-", label="friction face (flash, Duhamel)")
+        ax.plot(t, ds["trace_bulk_temperature"].values - 273.15, "k--", label="bulk (lumped)")
+        ax2 = ax.twinx()
+        ax2.plot(t, ds["trace_slip_power"].values / 1e3, "b:", lw=1)
+        ax2.set_ylabel("slip power [kW] (dotted)")
+        ax.set_xlabel("time [ms]")
+        ax.set_ylabel("pressure plate temperature [°C]")
+        ax.legend(fontsize=8, loc="center right")
+        ax.set_title("(a) seed design: peak face %.1f °C" % (float(ds["trace_peak_surface_temperature"]) - 273.15),
+                     fontsize=10)
+        ax = axes[0, 1]
+        n = ds["engagement_number"].values
+        ax.plot(n, ds["trace_sequence_temperature"].values - 273.15, "ko-", ms=3)
+        ax.set_xlabel("engagement in a row")
+        ax.set_ylabel("bulk temperature just after it [°C]")
+        ax.set_title("(b) seed design, engagements in a row: " + ds["trace_sequence_temperature"].attrs["long_name"]
+                     .split(" just")[0].replace("bulk temperature of the ", ""), fontsize=10)
+    else:
+        ax.text(0.5, 0.5, "no seed design traces (invalid spring)", ha="center", transform=ax.transAxes)
+    ok = (_flat(ds, "status") == st.CODE["ok"]) & np.isfinite(_flat(ds, "bulk_temperature_rise"))
+    ax = axes[1, 0]
+    x = flat(ds, "ramp_time") if "ramp_time" in ds.coords else np.zeros(ok.size)
+    x, y, z = x[ok], flat(ds, "clamp_load")[ok], _flat(ds, "bulk_temperature_rise")[ok]
+    pairs, inverse = np.unique(np.stack([x, y], axis=1), axis=0, return_inverse=True)
+    note = "all designs"
+    if len(pairs) < x.size:  # a grid: designs that differ in other factors share a point; draw the hottest
+        hottest = np.full(len(pairs), -np.inf)
+        np.maximum.at(hottest, inverse.ravel(), z)
+        x, y, z, note = pairs[:, 0], pairs[:, 1], hottest, "the hottest over the other factors"
+    sampled_value_map(ax, x, y, z, "bulk temperature rise [K]", cmap="inferno")
+    ax.set_xlabel("ramp time [s]")
+    ax.set_ylabel("clamp force [N]")
+    ax.set_title(f"(c) hottest part's bulk rise in one engagement ({note.replace('the hottest', 'max')})", fontsize=10)
+    ax = axes[1, 1]
+    show = drawn(ok)
+    m = ax.scatter(_flat(ds, "specific_friction_work")[show] / 1e3, _flat(ds, "peak_jerk")[show],
+                   c=_flat(ds, "bulk_temperature_rise")[show], cmap="inferno", s=8, rasterized=True)
+    fig.colorbar(m, ax=ax, label="bulk temperature rise [K]")
+    ax.set_yscale("log")
+    ax.set_xlabel("specific friction work [kJ/m²]")
+    ax.set_ylabel("peak output jerk [rad/s³]")
+    ax.set_title("(d) trade-off coloured by temperature%s" % drawn_note(int(ok.sum())), fontsize=10)
+    for a in axes.ravel():
+        a.grid(alpha=0.3)
+    fig.suptitle("Heat: friction face and parts (pressure plate, flywheel: cast iron; linings: organic; "
+                 "assumed materials, clutchlab.heat)", fontsize=10)
+    return fig

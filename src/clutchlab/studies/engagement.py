@@ -32,7 +32,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .. import diaphragm, engagement, friction
+from .. import diaphragm, engagement, friction, heat
 from .. import status as st
 from . import Parameter, Study, flat_inputs, register, seed_design
 from .diaphragm_spring import PARAMETERS as SPRING_PARAMETERS
@@ -62,6 +62,18 @@ PARAMETERS = SPRING_PARAMETERS + (
     Parameter("lever_ratio", "1", "finger lever ratio: bearing travel over plate lift (assumed)", 4.0),
     Parameter("end_time", "s", "end of the window searched for lock-up (a lock-up found is followed to its final "
               "metrics)", 0.5),
+    # heat (issue 20, clutchlab.heat): masses of seed 000 Table 3; the rest assumed (see heat.engagement_heat)
+    Parameter("flywheel_mass", "kg", "flywheel mass (seed 000 Table 3)", 10.3),
+    Parameter("pressure_plate_mass", "kg", "pressure plate mass (seed 000 Table 3)", 2.5),
+    Parameter("driven_plate_mass", "kg", "driven plate mass (seed 000 Table 3)", 1.9),
+    Parameter("heat_transfer_coefficient", "W/(m^2*K)", "convective heat transfer coefficient between "
+              "engagements (assumed)", 40.0),
+    Parameter("cooling_area", "m^2", "cooled area of the hottest part (assumed: both sides and rim)", 0.1),
+    Parameter("engagement_interval", "s", "time between engagements in a row (assumed: a retried start)", 60.0),
+    Parameter("ambient_temperature", "K", "air in the clutch housing, and the parts before the first engagement "
+              "(assumed: 40 C)", 313.15),
+    Parameter("temperature_limit", "K", "material limit of the hottest part's bulk temperature (assumed: 250 C, "
+              "organic linings)", 523.15),
 )
 
 ACCURACY = 1e-6  # default relative accuracy of lock-up time, slip work and peak jerk
@@ -82,7 +94,17 @@ OUTPUTS = {
     "peak_jerk": ("rad/s^3", "peak output jerk (compliant: from the model equations; rigid: slip phase only)"),
     "energy_residual": ("1", "input work - kinetic/elastic energy change - slip, load, damping work, relative"),
     "peak_bearing_force": ("N", "largest release-bearing force over the release travel (diaphragm curve, eq. 10)"),
+    "specific_friction_work": ("J/m^2", "slip work per friction area (all faces)"),
+    "peak_specific_friction_power": ("W/m^2", "peak slip power per friction area (all faces)"),
+    "heat_flywheel": ("J", "friction heat into the flywheel (effusivity partition)"),
+    "heat_pressure_plate": ("J", "friction heat into the pressure plate (effusivity partition)"),
+    "heat_driven_plate": ("J", "friction heat into the driven plate (its linings)"),
+    "bulk_temperature_rise": ("K", "lumped temperature rise of the hottest part in one engagement"),
+    "engagements_to_limit": ("1", "engagements in a row until the hottest part's bulk temperature reaches "
+                                  "temperature_limit (inf: never)"),
 }
+HEAT = ("specific_friction_work", "peak_specific_friction_power", "heat_flywheel", "heat_pressure_plate",
+        "heat_driven_plate", "bulk_temperature_rise", "engagements_to_limit")
 
 
 # per-scenario model (variable ``model``): code, and what it is
@@ -143,6 +165,15 @@ def _solver_inputs(p, cap, options):
                 release_ratio=(p["air_gap"] + p["cushion_travel"]) / p["cushion_travel"])
 
 
+def _heat(p, slip_work, peak_slip_power):
+    """clutchlab.heat.engagement_heat of the scenarios (NaN where the engagement has no slip work)."""
+    return heat.engagement_heat(
+        slip_work, peak_slip_power, p["lining_outer_radius"], p["lining_inner_radius"], p["friction_faces"],
+        temperature_margin=p["temperature_limit"] - p["ambient_temperature"],
+        **{k: p[k] for k in ("flywheel_mass", "pressure_plate_mass", "driven_plate_mass", "heat_transfer_coefficient",
+                             "cooling_area", "engagement_interval")})
+
+
 def compute(inputs, options=None) -> xr.Dataset:
     options = {k: v[0] for k, v in OPTIONS.items()} | {"accuracy": ACCURACY} | (options or {})
     p = flat_inputs(inputs)
@@ -174,8 +205,13 @@ def compute(inputs, options=None) -> xr.Dataset:
     res["clamp_load"], res["peak_capacity"] = force, cap
     with np.errstate(invalid="ignore"):
         res["peak_bearing_force"] = np.max(bearing_force(p, pts), axis=1)
+    hot = _heat(p, res["slip_work"], res["peak_slip_power"])
+    res.update({k: hot[k] for k in HEAT})
     code = np.where(spring_bad, st.CODE["invalid_geometry"], res["status"]).astype(st.DTYPE)
     data = {k: ("run", np.where(spring_bad, np.nan, res[k]), {"units": u, "long_name": ln}) for k, (u, ln) in OUTPUTS.items()}
+    data["hottest_part"] = ("run", hot["hottest_part"], {
+        "long_name": "part with the largest bulk temperature rise", "units": "1",
+        "flag_values": np.arange(len(heat.PARTS), dtype=np.int8), "flag_meanings": " ".join(heat.PARTS)})
     data["model"] = ("run", model.astype(np.int8), {
         "long_name": "model that computed the scenario (the cheapest exact one for its inputs)", "units": "1",
         "flag_values": np.array(sorted(MODEL.values()), np.int8), "flag_meanings": " ".join(MODEL)})
@@ -193,6 +229,7 @@ def compute(inputs, options=None) -> xr.Dataset:
 
 
 TRACE_POINTS = 401
+SEQUENCE_ENGAGEMENTS = 30  # engagements in a row drawn for the seed design
 
 
 def seed_traces(inputs, options) -> xr.Dataset:
@@ -214,7 +251,43 @@ def seed_traces(inputs, options) -> xr.Dataset:
     data["trace_clamp_force"] = (dim, tr["capacity"] / cap[0] * force[0], {
         "units": "N", "long_name": "clamp force (seed design; its rise follows the ramp profile)"})
     data["trace_lockup_time"] = ((), float(res["lockup_time"][0]), {"units": "s", "long_name": "lock-up time (seed)"})
+    data.update(_trace_temperatures(p, times, tr, dim))
     return xr.Dataset(data, coords={dim: (dim, times, {"units": "s", "long_name": "time (seed design traces)"})})
+
+
+def _trace_temperatures(p, times, tr, dim) -> dict:
+    """The seed design's heat history (clutchlab.heat): slip power P = T_c·(ω_e − ω_h); the pressure
+    plate's friction-face (flash) temperature, ambient + Duhamel's integral of its heat flux
+    q = γ·P/A (γ its effusivity share at the face, A the friction area of all faces; the solver's
+    own trace, not a second run); its bulk temperature, ambient + its share of the slip work so far
+    over m c."""
+    power = np.nan_to_num(tr["friction_torque"] * (tr["engine_speed"] - tr["hub_speed"]))
+    area = float(heat.lining_area(p["lining_outer_radius"][0], p["lining_inner_radius"][0]) * p["friction_faces"][0])
+    e_fw, e_pp, e_lining = heat.part_effusivities()
+    gamma = e_pp / (e_pp + e_lining)
+    ambient = float(p["ambient_temperature"][0])
+    surface = ambient + heat.duhamel_surface_temperature(times, gamma * power / area, e_pp)
+    bulk = ambient + 0.5 * gamma * np.nan_to_num(tr["slip_work"]) / (
+        float(p["pressure_plate_mass"][0]) * heat.MATERIALS["cast_iron"]["specific_heat"])
+    where = "(seed design; pressure plate)"
+    # engagements in a row, engagement_interval apart, the hottest part cooling between them
+    hot = _heat({k: v[:1] for k, v in p.items()}, np.nan_to_num(tr["slip_work"][-1:]),
+                np.array([power.max()]))
+    part = heat.PARTS[int(hot["hottest_part"][0])]
+    capacity = float(p[f"{part}_mass"][0]) * heat.MATERIALS[heat.BULK_MATERIAL[part]]["specific_heat"]
+    tau = capacity / float(p["heat_transfer_coefficient"][0] * p["cooling_area"][0])
+    seq = ambient + heat.sequence_temperatures(hot["bulk_temperature_rise"][0], float(p["engagement_interval"][0]),
+                                               tau, SEQUENCE_ENGAGEMENTS)
+    return {
+        "trace_sequence_temperature": ("engagement_number", seq, {
+            "units": "K", "long_name": f"bulk temperature of the {part.replace('_', ' ')} just after each engagement "
+                                       "in a row (seed design)"}),
+        "engagement_number": ("engagement_number", np.arange(1, SEQUENCE_ENGAGEMENTS + 1), {
+            "units": "1", "long_name": "engagement in a row (engagement_interval apart)"}),"trace_slip_power": (dim, power, {"units": "W", "long_name": "slip power (seed design)"}),
+            "trace_surface_temperature": (dim, surface, {"units": "K", "long_name": f"friction-face temperature {where}"}),
+            "trace_bulk_temperature": (dim, bulk, {"units": "K", "long_name": f"bulk temperature {where}"}),
+            "trace_peak_surface_temperature": ((), float(surface.max()), {
+                "units": "K", "long_name": f"peak friction-face temperature {where}"})}
 
 
 def _figures(ds):
@@ -232,9 +305,10 @@ STUDY = register(Study(
     traces=seed_traces,
     model="chosen by options (see model_used): closed form, or DOPRI5 with exact stick-slip events",
     figures=_figures,
-    figure_stems=("tradeoff", "maps", "traces"),
+    figure_stems=("tradeoff", "maps", "traces", "heat"),
     options=OPTIONS,
     outputs={"lockup_time": "s", "slip_work": "J", "peak_slip_power": "W", "peak_friction_torque": "N m",
+             "specific_friction_work": "J/m^2", "peak_specific_friction_power": "W/m^2", "bulk_temperature_rise": "K",
              "accel_jump": "rad/s^2", "peak_jerk": "rad/s^3", "peak_bearing_force": "N", "clamp_load": "N"},
     # seed 000: a cool (little slip work) and smooth (little jerk) engagement, locked within 0.5 s
     conditions=("engine_speed", "engine_inertia", "engine_torque", "driven_inertia", "load_torque", "aero_coefficient"),

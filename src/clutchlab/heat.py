@@ -1,0 +1,246 @@
+"""Heat of a dry-clutch engagement (issue 20): per-area loading, the split of the friction heat
+between the parts, their bulk temperature rise, the flash temperature of the friction face, and a
+sequence of engagements with cooling between them.
+
+Every slip joule is heat at the two friction faces of a single-plate clutch (seed 000: flywheel |
+lining | driven plate | lining | pressure plate; eq. 11's slip work W). Both faces carry the same
+clamp force and slip, so each takes W/2. At a face the heat divides between the metal part and the
+lining so that both surfaces reach the same temperature; for two semi-infinite bodies heated
+together this gives the share of each body in proportion to its thermal effusivity
+e = √(ρck) (Blok's partition; e.g. Limpert, *Brake Design and Safety*, ch. 3, for the brake
+rotor/pad pair). The shares of the three parts sum to one by construction, so the heat into the
+parts equals the slip work to rounding.
+
+- **bulk temperature rise** (lumped): ΔT_i = Q_i/(m_i c_i), the part's mass and specific heat;
+- **flash (surface) temperature** of the friction face: the metal face as a semi-infinite body
+  under the heat flux q(t) = γ P(t)/(2A) [W/m²] (P the slip power, A one face's area, γ the metal's
+  share), by Duhamel's integral ΔT(t) = 1/(e√π) ∫₀ᵗ q(τ)/√(t−τ) dτ. Constant flux: ΔT = 2q√(t/(πρck));
+  a ramp q = bt: ΔT = (4/3)·b·t^{3/2}/(e√π). :func:`duhamel_surface_temperature` integrates q
+  piecewise linear between its samples exactly against the kernel (exact for constant and
+  ramp flux; second order in the sample spacing for a smooth flux);
+- **repeated engagements**: each adds ΔT_bulk; between them the part cools towards ambient by
+  Newton's law with time constant τ = m c/(h A_cool). After engagement n (interval t_i, factor
+  r = exp(−t_i/τ)) the rise over ambient is ΔT·(1 − rⁿ)/(1 − r), tending to ΔT/(1 − r).
+
+Material values are documented defaults (:data:`MATERIALS`), assumptions to be replaced by the
+drivetrain's own data sheets.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["MATERIALS", "effusivity", "face_shares", "lining_area", "specific_loading", "bulk_rise",
+           "duhamel_surface_temperature", "surface_temperature_constant", "surface_temperature_ramp",
+           "sequence_temperatures", "engagements_to_limit"]
+
+# Typical room-temperature handbook values (assumed; replace by the part's data sheet):
+# grey cast iron (flywheel, pressure plate): rho 7200 kg/m^3, c 500 J/(kg K), k 50 W/(m K) -- the
+# range of EN-GJL-250 in Limpert, Brake Design and Safety (SAE), ch. 3, and ASM Handbook vol. 1;
+# steel (driven-plate carrier): rho 7850, c 460, k 45 -- structural carbon steel, ASM Handbook vol. 1;
+# organic (resin-bonded) lining: rho 2000, c 1000, k 0.5 -- the middle of the ranges for organic
+# friction materials quoted in Limpert, ch. 3 (rho 1800-2500, c 900-1300, k 0.3-1.5).
+MATERIALS = {
+    "cast_iron": {"density": 7200.0, "specific_heat": 500.0, "conductivity": 50.0},
+    "steel": {"density": 7850.0, "specific_heat": 460.0, "conductivity": 45.0},
+    "organic_lining": {"density": 2000.0, "specific_heat": 1000.0, "conductivity": 0.5},
+}
+
+
+def effusivity(density, specific_heat, conductivity):
+    """Thermal effusivity e = √(ρ c k) [W s^0.5/(m² K)]."""
+    return np.sqrt(np.asarray(density) * np.asarray(specific_heat) * np.asarray(conductivity))
+
+
+def lining_area(outer_radius, inner_radius):
+    """Area of one friction face of an annular lining, π(R₂² − R₁²) [m²]."""
+    return np.pi * (np.square(outer_radius) - np.square(inner_radius))
+
+
+def face_shares(flywheel_effusivity, pressure_plate_effusivity, lining_effusivity):
+    """Shares of the slip work into the flywheel, the pressure plate and the driven plate (its two
+    linings): each face takes half, split between metal and lining in proportion to their
+    effusivities. The three shares sum to one."""
+    g_fw = flywheel_effusivity / (flywheel_effusivity + lining_effusivity)
+    g_pp = pressure_plate_effusivity / (pressure_plate_effusivity + lining_effusivity)
+    return 0.5 * g_fw, 0.5 * g_pp, 0.5 * (1.0 - g_fw) + 0.5 * (1.0 - g_pp)
+
+
+def _loading(slip_work, peak_slip_power, outer_radius, inner_radius, faces):
+    area = faces * lining_area(outer_radius, inner_radius)
+    return {"friction_area": area, "specific_friction_work": slip_work / area,
+            "peak_specific_friction_power": peak_slip_power / area,
+            "status": np.zeros(np.shape(area), dtype=np.int8)}
+
+
+def specific_loading(slip_work, peak_slip_power, outer_radius, inner_radius, faces=2):
+    """Per-area loading of one engagement on the whole friction area A = z_f·π(R₂² − R₁²):
+    specific friction work q_A = W/A [J/m²] and peak specific friction power P_max/A [W/m²].
+
+    Per scenario: slip work and power finite and ≥ 0, R₂ > R₁ > 0, faces a whole number ≥ 1;
+    otherwise status ``invalid_input`` and NaN."""
+    from . import status as st
+
+    domain = {"slip_work": st.nonnegative, "peak_slip_power": st.nonnegative, "inner_radius": st.positive,
+              "outer_radius": st.positive, "faces": st.whole(1),
+              None: lambda a: a["outer_radius"] > a["inner_radius"]}
+    return st.screened(_loading, dict(slip_work=slip_work, peak_slip_power=peak_slip_power,
+                                      outer_radius=outer_radius, inner_radius=inner_radius, faces=faces), domain)
+
+
+def bulk_rise(heat, mass, specific_heat):
+    """Lumped (bulk) temperature rise Q/(m c) [K] of a part that takes the heat Q [J]."""
+    return np.asarray(heat) / (np.asarray(mass) * np.asarray(specific_heat))
+
+
+def surface_temperature_constant(flux, time, effusivity):
+    """Surface temperature rise of a semi-infinite body under a constant flux q from t = 0:
+    2q√(t/(πρck)) = 2q√t/(e√π) [K]."""
+    return 2.0 * np.asarray(flux) * np.sqrt(time) / (np.asarray(effusivity) * math.sqrt(math.pi))
+
+
+def surface_temperature_ramp(rate, time, effusivity):
+    """Surface temperature rise under a linearly rising flux q = b t: (4/3)·b·t^{3/2}/(e√π) [K]."""
+    return 4.0 / 3.0 * np.asarray(rate) * np.power(time, 1.5) / (np.asarray(effusivity) * math.sqrt(math.pi))
+
+
+def duhamel_surface_temperature(times, flux, effusivity):
+    """Surface temperature rise of a semi-infinite body, ΔT(t_k) = 1/(e√π) ∫₀^{t_k} q(τ)/√(t_k − τ) dτ,
+    at every sample time t_k of a flux q sampled at ``times`` (last axis; increasing, starting at the
+    start of heating) [K].
+
+    q is taken linear between samples and each segment integrated exactly against the kernel:
+    with u = t_k − τ and q = A + B·u on the segment, ∫ (A u^{-1/2} + B u^{1/2}) du
+    = 2A(√u_j − √u_{j+1}) + (2/3)B(u_j^{3/2} − u_{j+1}^{3/2}), written without cancellation. Exact
+    for a constant or linearly rising flux; error O(h²) in the spacing h for a smooth flux (both
+    tested). Leading axes are scenarios; memory and work O(n²) in the samples n.
+    """
+    t = np.asarray(times, dtype=float)
+    q = np.asarray(flux, dtype=float)
+    t, q = np.broadcast_arrays(t, q)
+    n = t.shape[-1]
+    out = np.zeros(t.shape)
+    if n < 2:
+        return out
+    h = np.diff(t, axis=-1)                                   # (..., n-1)
+    slope = np.diff(q, axis=-1) / h
+    tk = t[..., 1:, None]                                     # evaluation times t_1..t_{n-1}
+    u0 = np.maximum(tk - t[..., None, :-1], 0.0)              # u at the segment's start
+    u1 = np.maximum(tk - t[..., None, 1:], 0.0)               # u at its end (smaller)
+    valid = t[..., None, 1:] <= tk                            # segments before t_k
+    a = q[..., None, :-1] + slope[..., None, :] * u0
+    b = -slope[..., None, :]
+    s0, s1 = np.sqrt(u0), np.sqrt(u1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        d_sqrt = np.where(s0 + s1 > 0, (u0 - u1) / (s0 + s1), 0.0)
+    d_32 = d_sqrt * (u0 + s0 * s1 + u1)
+    seg = np.where(valid, 2.0 * a * d_sqrt + (2.0 / 3.0) * b * d_32, 0.0)
+    out[..., 1:] = seg.sum(axis=-1) / (np.asarray(effusivity)[..., None] * math.sqrt(math.pi))
+    return out
+
+
+def sequence_temperatures(rise, interval, time_constant, engagements):
+    """Temperature over ambient just after each of ``engagements`` engagements (last axis) of a
+    lumped part: each adds ``rise`` [K]; between them it cools exponentially (Newton's law,
+    time constant τ = m c/(h A) [s]) for ``interval`` [s]: T_n = r·T_{n−1} + ΔT, r = exp(−t_i/τ)."""
+    rise, r = np.broadcast_arrays(np.asarray(rise, dtype=float),
+                                  np.exp(-np.asarray(interval, dtype=float) / np.asarray(time_constant, dtype=float)))
+    out = np.empty(rise.shape + (int(engagements),))
+    temp = np.zeros(rise.shape)
+    for i in range(int(engagements)):
+        temp = temp * r + rise if i else rise.copy()
+        out[..., i] = temp
+    return out
+
+
+def periodic_temperature(rise, interval, time_constant):
+    """The sequence's periodic steady state just after an engagement, ΔT/(1 − r) [K] (geometric sum)."""
+    return np.asarray(rise) / (1.0 - np.exp(-np.asarray(interval) / np.asarray(time_constant)))
+
+
+def engagements_to_limit(rise, interval, time_constant, margin):
+    """Engagements in a row after which the part first reaches ``margin`` [K] over ambient (the
+    material limit minus ambient): the least n with ΔT(1 − rⁿ)/(1 − r) ≥ margin; inf if the
+    periodic state stays below it (or no heat)."""
+    rise, r, margin = np.broadcast_arrays(np.asarray(rise, dtype=float),
+                                          np.exp(-np.asarray(interval, dtype=float) / np.asarray(time_constant)),
+                                          np.asarray(margin, dtype=float))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = 1.0 - margin * (1.0 - r) / rise                 # r^n <= x
+        n = np.where(r > 0, np.ceil(np.log(np.maximum(x, 1e-300)) / np.log(r) - 1e-12), 1.0)
+    n = np.where(rise >= margin, 1.0, np.where(x <= 0, np.inf, np.maximum(n, 1.0)))
+    n = np.where(rise == 0, np.inf, n)
+    return np.where(np.isfinite(rise) & (rise >= 0) & np.isfinite(margin), n, np.nan)
+
+
+# the three parts of a single-plate clutch that take the friction heat, and their materials
+# (driven plate: its faces are the linings; its heat capacity mostly the steel carrier's)
+PARTS = ("flywheel", "pressure_plate", "driven_plate")
+FACE_MATERIAL = {"flywheel": "cast_iron", "pressure_plate": "cast_iron", "driven_plate": "organic_lining"}
+BULK_MATERIAL = {"flywheel": "cast_iron", "pressure_plate": "cast_iron", "driven_plate": "steel"}
+
+
+def part_effusivities() -> tuple[float, float, float]:
+    """Effusivities of the flywheel, pressure plate and driven-plate faces (:data:`MATERIALS`)."""
+    return tuple(float(effusivity(**MATERIALS[FACE_MATERIAL[p]])) for p in PARTS)
+
+
+def _engagement_heat(slip_work, peak_slip_power, outer_radius, inner_radius, faces, flywheel_mass,
+                     pressure_plate_mass, driven_plate_mass, heat_transfer_coefficient, cooling_area,
+                     engagement_interval, temperature_margin):
+    out = _loading(slip_work, peak_slip_power, outer_radius, inner_radius, faces)
+    shares = face_shares(*part_effusivities())
+    masses = {"flywheel": flywheel_mass, "pressure_plate": pressure_plate_mass, "driven_plate": driven_plate_mass}
+    rises = []
+    for part, share in zip(PARTS, shares):
+        out[f"heat_{part}"] = share * slip_work
+        capacity = masses[part] * MATERIALS[BULK_MATERIAL[part]]["specific_heat"]
+        rises.append((out[f"heat_{part}"] / capacity, capacity))
+    rise = np.stack([r for r, _ in rises])
+    hottest = np.argmax(rise, axis=0)
+    capacity = np.choose(hottest, [c * np.ones_like(slip_work) for _, c in rises])
+    out["bulk_temperature_rise"] = np.take_along_axis(rise, hottest[None], 0)[0]
+    out["hottest_part"] = hottest.astype(np.int8)
+    out["engagements_to_limit"] = engagements_to_limit(
+        out["bulk_temperature_rise"], engagement_interval, capacity / (heat_transfer_coefficient * cooling_area),
+        temperature_margin)
+    return out
+
+
+def engagement_heat(slip_work, peak_slip_power, outer_radius, inner_radius, faces=2, *, flywheel_mass=10.3,
+                    pressure_plate_mass=2.5, driven_plate_mass=1.9, heat_transfer_coefficient=40.0, cooling_area=0.1,
+                    engagement_interval=60.0, temperature_margin=210.0):
+    """Heat of one engagement of a single-plate dry clutch and of a sequence of them.
+
+    Returns per scenario: ``friction_area`` [m²], ``specific_friction_work`` [J/m²],
+    ``peak_specific_friction_power`` [W/m²] (:func:`specific_loading`); ``heat_flywheel``,
+    ``heat_pressure_plate``, ``heat_driven_plate`` [J] (:func:`face_shares` of the slip work; they
+    sum to it); ``bulk_temperature_rise`` [K] of the hottest part (``hottest_part``: index into
+    :data:`PARTS`); ``engagements_to_limit``: engagements in a row, ``engagement_interval`` [s]
+    apart, after which that part's bulk temperature first exceeds ambient by ``temperature_margin``
+    [K] (material limit minus ambient), cooling by Newton's law with time constant
+    m c/(h A) (h ``heat_transfer_coefficient`` [W/(m² K)], A ``cooling_area`` [m²]); inf if never.
+
+    Defaults: masses of seed 000 Table 3 (flywheel 10.3 kg, pressure plate 2.5 kg, driven plate
+    1.9 kg); h = 40 W/(m² K) (assumed: air moved by the spinning parts in a closed bell housing),
+    A = 0.1 m² (assumed: both sides and the rim of a 225 mm plate), 60 s between engagements
+    (assumed: a retried start), margin 210 K (assumed: 250 °C, the upper service temperature of
+    organic linings in Limpert ch. 3, over 40 °C in the housing). Two friction faces only (the
+    partition is a single plate's): another face count gives status ``invalid_input``, as do
+    non-finite or non-positive inputs.
+    """
+    from . import status as st
+
+    domain = {"slip_work": st.nonnegative, "peak_slip_power": st.nonnegative, "inner_radius": st.positive,
+              "outer_radius": st.positive, "faces": lambda x: x == 2,
+              None: lambda a: a["outer_radius"] > a["inner_radius"]}
+    for name in ("flywheel_mass", "pressure_plate_mass", "driven_plate_mass", "heat_transfer_coefficient",
+                 "cooling_area", "engagement_interval", "temperature_margin"):
+        domain[name] = st.positive
+    inputs = dict(slip_work=slip_work, peak_slip_power=peak_slip_power, outer_radius=outer_radius,
+                  inner_radius=inner_radius, faces=faces, flywheel_mass=flywheel_mass,
+                  pressure_plate_mass=pressure_plate_mass, driven_plate_mass=driven_plate_mass,
+                  heat_transfer_coefficient=heat_transfer_coefficient, cooling_area=cooling_area,
+                  engagement_interval=engagement_interval, temperature_margin=temperature_margin)
+    return st.screened(_engagement_heat, inputs, domain)

@@ -1,0 +1,168 @@
+"""Issue 20: clutchlab.heat — the flash temperature against the semi-infinite body's analytic
+solutions, the Duhamel integral's order, the heat partition, lumped cooling and the sequence of
+engagements against their closed forms."""
+import math
+
+import numpy as np
+import pytest
+
+from clutchlab import heat
+
+E_IRON = float(heat.effusivity(**heat.MATERIALS["cast_iron"]))
+
+
+@pytest.mark.parametrize("n", [2, 7, 151])
+def test_duhamel_equals_the_constant_flux_solution(n):
+    """ΔT = 2q√(t/(πρck)) at every sample, to 1e-6 relative (acceptance; it is exact to rounding)."""
+    t = np.linspace(0.0, 0.15, n)
+    q = np.full(n, 2.3e6)
+    num = heat.duhamel_surface_temperature(t, q, E_IRON)
+    ana = 2 * 2.3e6 * np.sqrt(t / (math.pi * 7200 * 500 * 50))
+    assert num[0] == 0
+    np.testing.assert_allclose(num[1:], ana[1:], rtol=1e-6)
+    np.testing.assert_allclose(heat.surface_temperature_constant(2.3e6, t, E_IRON), ana, rtol=1e-14)
+
+
+def test_duhamel_equals_the_ramp_flux_solution_on_uneven_samples():
+    """q = b·t: ΔT = (4/3)·b·t^{3/2}/√(πρck), on an uneven grid (as a solver's steps), to 1e-6."""
+    rng = np.random.default_rng(3)
+    t = np.concatenate([[0.0], np.sort(rng.uniform(0, 0.2, 200))])
+    b = 3.0e7
+    num = heat.duhamel_surface_temperature(t, b * t, E_IRON)
+    ana = 4 / 3 * b * t**1.5 / math.sqrt(math.pi * 7200 * 500 * 50)
+    np.testing.assert_allclose(num[1:], ana[1:], rtol=1e-6)
+    np.testing.assert_allclose(heat.surface_temperature_ramp(b, t, E_IRON), ana, rtol=1e-14)
+
+
+def test_duhamel_converges_at_second_order_for_a_smooth_flux():
+    """q = c·t²: exact ΔT = (16/15)·c·t^{5/2}/(e√π); halving the spacing divides the error by 4."""
+    c, T = 1e8, 0.15
+    exact = 16 / 15 * c * T**2.5 / (E_IRON * math.sqrt(math.pi))
+    errors = []
+    for n in (21, 41, 81, 161, 321):
+        t = np.linspace(0.0, T, n)
+        errors.append(abs(heat.duhamel_surface_temperature(t, c * t**2, E_IRON)[-1] / exact - 1))
+    orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
+    assert np.all((orders > 1.9) & (orders < 2.1)), orders
+    assert errors[-1] < 1e-5
+
+
+def test_duhamel_is_batched_over_scenarios():
+    t = np.linspace(0.0, 0.1, 51)
+    q = np.stack([np.full(51, 1e6), 2e7 * t])
+    e = np.array([E_IRON, 2 * E_IRON])
+    out = heat.duhamel_surface_temperature(t, q, e)
+    np.testing.assert_allclose(out[0], heat.duhamel_surface_temperature(t, q[0], e[0]), rtol=1e-15)
+    np.testing.assert_allclose(out[1], heat.duhamel_surface_temperature(t, q[1], e[1]), rtol=1e-15)
+
+
+def test_heat_shares_sum_to_one_and_follow_the_effusivities():
+    rng = np.random.default_rng(0)
+    e = rng.uniform(100, 30000, (3, 1000))
+    shares = heat.face_shares(*e)
+    np.testing.assert_allclose(sum(shares), 1.0, rtol=1e-15)
+    assert heat.face_shares(1.0, 1.0, 1.0) == (0.25, 0.25, 0.5)
+    # cast iron against an organic lining: the metal takes about 93 % at each face
+    fw, pp, dp = heat.face_shares(E_IRON, E_IRON, heat.effusivity(**heat.MATERIALS["organic_lining"]))
+    assert fw == pp and 0.46 < fw < 0.47 and abs(dp - 0.0694) < 1e-3
+
+
+def test_specific_loading_of_the_seed_lining_and_bad_scenarios():
+    """Seed 000: W ≈ 5.8 kJ on two faces of a 225/150 mm lining (A = 2·π(0.1125² − 0.075²) =
+    0.04418 m²): q_A = 131.3 kJ/m². A bad scenario gets invalid_input and NaN, the others not."""
+    out = heat.specific_loading(np.array([5800.0, np.nan, 5800.0, 5800.0]), 1.0e5, np.array([0.1125] * 3 + [0.07]),
+                                0.075, 2)
+    np.testing.assert_allclose(out["friction_area"][0], 2 * math.pi * (0.1125**2 - 0.075**2), rtol=1e-14)
+    np.testing.assert_allclose(out["specific_friction_work"][[0, 2]], 131285.144, rtol=1e-8)
+    np.testing.assert_allclose(out["peak_specific_friction_power"][0], 1e5 / out["friction_area"][0], rtol=1e-14)
+    assert list(out["status"]) == [0, 14, 0, 14]
+    assert np.isnan(out["specific_friction_work"][[1, 3]]).all()
+
+
+def test_lumped_cooling_matches_its_exponential_solution():
+    """Newton cooling m c dT/dt = −h A (T − T_amb), integrated tightly by scipy, against the factor
+    exp(−t/τ) the sequence uses."""
+    from scipy.integrate import solve_ivp
+
+    tau, dt, t0 = 412.0, 90.0, 37.0
+    sol = solve_ivp(lambda t, y: -y / tau, (0, dt), [t0], rtol=1e-12, atol=1e-14)
+    seq = heat.sequence_temperatures(t0, dt, tau, 2)  # [ΔT, ΔT·r + ΔT]
+    np.testing.assert_allclose(seq[1] - t0, sol.y[0, -1], rtol=1e-9)
+
+
+def test_sequence_reaches_the_periodic_state_of_the_geometric_sum():
+    rise, interval, tau = np.array([4.0, 11.5]), np.array([30.0, 120.0]), np.array([300.0, 900.0])
+    seq = heat.sequence_temperatures(rise[:, None], interval[:, None], tau[:, None], 400)[:, 0]
+    n = np.arange(1, 401)
+    r = np.exp(-interval / tau)
+    np.testing.assert_allclose(seq, rise[:, None] * (1 - r[:, None] ** n) / (1 - r[:, None]), rtol=1e-12)
+    np.testing.assert_allclose(seq[:, -1], heat.periodic_temperature(rise, interval, tau), rtol=1e-9)
+
+
+def test_engagements_to_limit_agrees_with_the_sequence():
+    rise, interval, tau = 10.0, 60.0, 600.0
+    seq = heat.sequence_temperatures(rise, interval, tau, 400)
+    for margin in (5.0, 10.0, 10.01, 50.0, 100.0, 104.9):
+        n = int(heat.engagements_to_limit(rise, interval, tau, margin))
+        assert seq[n - 1] >= margin and (n == 1 or seq[n - 2] < margin), (margin, n)
+    assert heat.engagements_to_limit(rise, interval, tau, 106.0) == np.inf  # periodic state 105.08 K
+    assert np.isnan(heat.engagements_to_limit(np.nan, interval, tau, 50.0))
+
+
+def _default_engagement():
+    import yaml
+
+    from clutchlab import config, doe
+
+    from conftest import ROOT
+
+    cfg = yaml.safe_load((ROOT / "config/config.yaml").read_text())
+    return doe.run_study(config.resolve({"studies": ["engagement"], "engagement": cfg["engagement"]})["engagement"])
+
+
+def test_heat_into_the_parts_equals_the_slip_work_in_the_default_study():
+    """Acceptance: in every scenario of the default engagement study the heat into flywheel,
+    pressure plate and driven plate sums to the slip work within 1e-9 relative; the per-area
+    loading is the slip work and peak power over the friction area of both faces."""
+    ds = _default_engagement()
+    ok = ds["status"] == 0
+    assert int(ok.sum()) > 100
+    total = ds["heat_flywheel"] + ds["heat_pressure_plate"] + ds["heat_driven_plate"]
+    assert float(abs(total / ds["slip_work"] - 1).where(ok).max()) < 1e-9
+    area = 2 * math.pi * (0.1125**2 - 0.075**2)
+    np.testing.assert_allclose(ds["specific_friction_work"].where(ok), ds["slip_work"].where(ok) / area, rtol=1e-12)
+    np.testing.assert_allclose(ds["peak_specific_friction_power"].where(ok), ds["peak_slip_power"].where(ok) / area,
+                               rtol=1e-12)
+    # the pressure plate (2.5 kg against the flywheel's 10.3 kg, the same share) is the hottest part
+    assert set(np.unique(ds["hottest_part"].values[ok.values])) == {1}
+    rise = ds["heat_pressure_plate"] / (2.5 * heat.MATERIALS["cast_iron"]["specific_heat"])
+    np.testing.assert_allclose(ds["bulk_temperature_rise"].where(ok), rise.where(ok), rtol=1e-12)
+    for name in ("specific_friction_work", "bulk_temperature_rise", "heat_flywheel"):
+        assert ds[name].attrs["units"] and ds[name].attrs["long_name"]
+
+
+def test_seed_design_heat_numbers_and_their_trace_resolution():
+    """The seed design's numbers quoted in docs/engagement.md (default study options: compliant
+    driveline, corrected capacity, ramp 0.15 s): slip work 6146 J, q_A = 139.1 kJ/m², peak slip
+    power 56.0 kW, pressure plate bulk 40 -> 42.29 °C, friction-face peak 68.45 °C; the face peak
+    changes by < 0.01 K from 401 to 3201 trace points (Duhamel's second order)."""
+    from clutchlab.studies import engagement as es
+
+    opts = {k: v[0] for k, v in es.OPTIONS.items()} | {"accuracy": 1e-6}
+    tr = es.seed_traces({}, opts)
+    work = float(tr["trace_slip_work"][-1])
+    assert abs(work - 6146.1) < 0.5
+    assert abs(work / (2 * math.pi * (0.1125**2 - 0.075**2)) - 139.12e3) < 50
+    assert abs(float(tr["trace_slip_power"].max()) - 56.0e3) < 100
+    assert abs(float(tr["trace_bulk_temperature"][-1]) - 273.15 - 42.288) < 1e-3
+    peak = float(tr["trace_peak_surface_temperature"]) - 273.15
+    assert abs(peak - 68.45) < 0.01
+    old = es.TRACE_POINTS
+    try:
+        es.TRACE_POINTS = 3201
+        fine = float(es.seed_traces({}, opts)["trace_peak_surface_temperature"]) - 273.15
+    finally:
+        es.TRACE_POINTS = old
+    assert abs(fine - peak) < 0.01
+    seq = tr["trace_sequence_temperature"].values - 273.15
+    assert seq[0] == pytest.approx(42.288, abs=1e-3) and np.all(np.diff(seq) > 0) and seq[-1] < 53.1
