@@ -71,3 +71,16 @@ def test_the_slurm_profile_has_no_site_placeholders():
                                                         for k in prof)
     assert prof["executor"] == "slurm" and prof["slurm-status-command"] == "squeue"
     assert prof["slurm-logdir"] == "logs/slurm"
+
+
+def test_the_slurm_extra_installs_the_tested_plugin():
+    """The README's `pip install -e ".[slurm]"`: the extra exists and asks for the plugin version the
+    cluster tests ran (the test extra installs the same requirement)."""
+    from importlib import metadata
+
+    from packaging.requirements import Requirement
+
+    reqs = [Requirement(r) for r in metadata.requires("clutchlab")]
+    slurm = [r for r in reqs if r.marker and r.marker.evaluate({"extra": "slurm"})]
+    assert [r.name for r in slurm] == ["snakemake-executor-plugin-slurm"]
+    assert metadata.version("snakemake-executor-plugin-slurm") in slurm[0].specifier
