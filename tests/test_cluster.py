@@ -84,3 +84,14 @@ def test_the_slurm_extra_installs_the_tested_plugin():
     slurm = [r for r in reqs if r.marker and r.marker.evaluate({"extra": "slurm"})]
     assert [r.name for r in slurm] == ["snakemake-executor-plugin-slurm"]
     assert metadata.version("snakemake-executor-plugin-slurm") in slurm[0].specifier
+
+
+def test_benchmark_helpers():
+    """benchmark_slurm's share of the wall time with no job running, and one chunk job of
+    benchmark_resources (a fresh process, as the chunk rule runs it)."""
+    from clutchlab import benchmark_resources, benchmark_slurm
+
+    assert benchmark_slurm.idle_share([(0, 1), (2, 3)], 0, 4) == 0.5
+    assert benchmark_slurm.idle_share([(1, 3), (0, 2), (5, 9)], 0, 4) == 0.25  # overlaps, one past the end
+    row = benchmark_resources.measure_one(ROOT / "config/million.yaml", "sprag", 64)
+    assert 0 < row["seconds"] < 60 and 50 < row["max_rss_mb"] < 4000

@@ -137,7 +137,12 @@ def test_heat_into_the_parts_equals_the_slip_work_in_the_default_study():
     assert set(np.unique(ds["hottest_part"].values[ok.values])) == {1}
     rise = ds["heat_pressure_plate"] / (2.5 * heat.MATERIALS["cast_iron"]["specific_heat"])
     np.testing.assert_allclose(ds["bulk_temperature_rise"].where(ok), rise.where(ok), rtol=1e-12)
-    for name in ("specific_friction_work", "bulk_temperature_rise", "heat_flywheel"):
+    seed = ds.sel(sheet_thickness=2.334e-3, friction_coefficient=0.4, ramp_time=0.15, driven_inertia=0.021,
+                  load_torque=44.0)
+    assert float(seed["peak_surface_temperature"]) - 273.15 == pytest.approx(68.45, abs=0.01)  # docs/engagement.md
+    temp = ds["peak_surface_temperature"].where(ok)
+    assert float(temp.min()) > 313.15 and float(temp.max()) < 313.15 + 100
+    for name in ("specific_friction_work", "bulk_temperature_rise", "heat_flywheel", "peak_surface_temperature"):
         assert ds[name].attrs["units"] and ds[name].attrs["long_name"]
 
 
@@ -166,3 +171,61 @@ def test_seed_design_heat_numbers_and_their_trace_resolution():
     assert abs(fine - peak) < 0.01
     seq = tr["trace_sequence_temperature"].values - 273.15
     assert seq[0] == pytest.approx(42.288, abs=1e-3) and np.all(np.diff(seq) > 0) and seq[-1] < 53.1
+
+
+def test_duhamel_peak_of_the_kernel_coarse_to_fine_equals_every_sample():
+    """The event solver's peak search (every stride-th sample, then around the best) finds the
+    same maximum as evaluating every sample, on slip power histories with one and with two bursts;
+    its integral at each sample equals heat.duhamel_surface_temperature's (the same exact segment
+    integrals), and the peak between samples lies within 1 % above the best sample."""
+    from clutchlab import _engagement_kernel as k
+
+    rng = np.random.default_rng(5)
+    for case in range(40):
+        n = int(rng.integers(20, 700))
+        t = np.cumsum(rng.uniform(0.2e-3, 2e-3, n))
+        t -= t[0]
+        burst = np.sin(np.pi * t / t[-1]) ** 2 if case % 2 else np.sin(2 * np.pi * t / t[-1]) ** 2 * (1 + 0.3 * (t > t[-1] / 2))
+        p = 5e4 * burst * rng.uniform(0.9, 1.1)
+        hist = np.stack([t, p])
+        full = k.duhamel_peak(hist, n, 1)
+        fast = k.duhamel_peak(hist, n, max(1, int(math.sqrt(n / 2))))
+        assert fast == pytest.approx(full, rel=1e-12), case
+        ref = heat.duhamel_surface_temperature(t, p, 1.0) * math.sqrt(math.pi)
+        np.testing.assert_allclose([k.duhamel_at(hist, j) for j in range(n)], ref, rtol=1e-10)
+        # the peak between samples (vertex of the parabola through the best sample and its neighbours)
+        assert ref.max() <= full <= ref.max() * (1 + 1e-2)  # (20 samples of a burst: a coarse history)
+
+
+@pytest.mark.parametrize("case", ["ramp", "cubic", "quintic", "stribeck", "free_engine", "rigid_stribeck"])
+def test_study_peak_surface_temperature_against_a_dense_trace(case):
+    """peak_surface_temperature comes from the solver's own slip power history (sampled every ramp
+    time / 64 while slipping, exact Duhamel segments); the reference is Duhamel's integral of the
+    same model's trace at 3 201 points: the rise above ambient within 5e-4 relative."""
+    from clutchlab.studies import engagement as es
+
+    inputs = {"ramp_time": 0.12}
+    opts = {k_: v[0] for k_, v in es.OPTIONS.items()} | {"accuracy": 1e-6}
+    if case in ("cubic", "quintic"):
+        opts["profile"] = case
+    if case in ("stribeck", "rigid_stribeck"):
+        inputs.update(stribeck_speed=40.0, static_ratio=1.25)
+    if case == "rigid_stribeck":
+        opts["driveline"] = "rigid"
+    if case == "free_engine":
+        inputs.update(engine_inertia=0.3, engine_torque=150.0)
+    from clutchlab.studies import seed_design
+
+    ds = es.compute({k_: np.atleast_1d(v) for k_, v in seed_design(es.PARAMETERS, inputs).items()}, opts)
+    assert int(ds["status"][0]) == 0 and int(ds["model"][0]) != es.MODEL["closed_form"]
+    old = es.TRACE_POINTS
+    try:
+        es.TRACE_POINTS = 3201
+        tr = es.seed_traces(inputs, opts)
+    finally:
+        es.TRACE_POINTS = old
+    ambient = 313.15
+    got = float(ds["peak_surface_temperature"][0]) - ambient
+    ref = float(tr["trace_peak_surface_temperature"]) - ambient
+    assert got == pytest.approx(ref, rel=5e-4), (got, ref)
+    assert 5 < got < 200

@@ -15,6 +15,16 @@ def write_rows(rows, path) -> None:
         w.writerows(rows)
 
 
+def report_rows(rows, outdir, name) -> None:
+    """Write the rows to ``outdir/name`` (:func:`write_rows`; the folder made) and print one line a row."""
+    from pathlib import Path
+
+    Path(outdir).mkdir(parents=True, exist_ok=True)
+    write_rows(rows, Path(outdir) / name)
+    for row in rows:
+        print(", ".join(f"{k}={v}" for k, v in row.items()))
+
+
 def save_figure(fig, path, dpi=120) -> None:
     """Save a figure as PNG atomically."""
     with atomic(path) as tmp:

@@ -1,7 +1,7 @@
 """What one chunk job of each study costs per scenario (issue 19): the measurement behind the
 cluster resources of :mod:`clutchlab.cluster` (not a unit test).
 
-``python -m clutchlab.benchmark_resources [outdir] [--sizes 2048 32768]`` runs, for each study of
+``python -m clutchlab.benchmark_resources [outdir] [--sizes 16384 262144]`` runs, for each study of
 ``config/million.yaml`` (the widest ranges clutchlab ships, each study's option choices drawn per
 scenario), one chunk job of each size in a fresh Python process, as the Snakemake chunk rule does
 (load the design, ``doe.run_chunk``, write the chunk file), and records its wall time and peak RSS.
@@ -16,9 +16,8 @@ import json
 import subprocess
 import sys
 import tempfile
-from pathlib import Path
 
-from ._bench import write_rows
+from ._bench import report_rows
 
 _CHILD = r"""
 import json, resource, sys, time
@@ -45,7 +44,7 @@ def measure_one(configfile, name, n, curves="all") -> dict:
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-def measure(configfile="config/million.yaml", sizes=(2048, 32768)) -> list[dict]:
+def measure(configfile="config/million.yaml", sizes=(16384, 262144)) -> list[dict]:
     from . import config
 
     cfg = config.load(configfile)
@@ -70,14 +69,10 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("outdir", nargs="?", default="results/benchmark")
     ap.add_argument("--configfile", default="config/million.yaml")
-    ap.add_argument("--sizes", type=int, nargs="+", default=[2048, 32768])
+    ap.add_argument("--sizes", type=int, nargs="+", default=[16384, 262144])
     args = ap.parse_args(argv)
     rows = measure(args.configfile, tuple(args.sizes))
-    out = Path(args.outdir)
-    out.mkdir(parents=True, exist_ok=True)
-    write_rows(rows, out / "resources_benchmark.csv")
-    for row in rows:
-        print(", ".join(f"{k}={v}" for k, v in row.items()))
+    report_rows(rows, args.outdir, "resources_benchmark.csv")
 
 
 if __name__ == "__main__":

@@ -20,9 +20,8 @@ import subprocess
 import sys
 import time
 from datetime import datetime
-from pathlib import Path
 
-from ._bench import write_rows
+from ._bench import report_rows
 
 SUBMITTED = re.compile(r"Job \d+ has been submitted with SLURM jobid (\d+)")
 
@@ -79,11 +78,7 @@ def main(argv=None):
     rows = [run(args.configfile)]
     if args.local:
         rows.append(run_local(args.configfile))
-    out = Path(args.outdir)
-    out.mkdir(parents=True, exist_ok=True)
-    write_rows(rows, out / "slurm_benchmark.csv")
-    for row in rows:
-        print(", ".join(f"{k}={v}" for k, v in row.items()))
+    report_rows(rows, args.outdir, "slurm_benchmark.csv")
 
 
 if __name__ == "__main__":

@@ -244,3 +244,14 @@ def engagement_heat(slip_work, peak_slip_power, outer_radius, inner_radius, face
                   heat_transfer_coefficient=heat_transfer_coefficient, cooling_area=cooling_area,
                   engagement_interval=engagement_interval, temperature_margin=temperature_margin)
     return st.screened(_engagement_heat, inputs, domain)
+
+
+def face_temperature_rise(duhamel_integral, outer_radius, inner_radius, faces=2):
+    """Friction-face (flash) temperature rise of the cast-iron faces (flywheel and pressure plate take
+    the same share γ = e_m/(e_m + e_lining) of their face's heat) from the solver's Duhamel integral
+    of the slip power, I = ∫ P(τ)/√(t − τ) dτ [W s^0.5]: ΔT = γ·I/(A·e_m·√π), A the friction area of
+    all faces (each face takes P/2 on A/2) [K]."""
+    e_fw, e_pp, e_lining = part_effusivities()
+    gamma = e_pp / (e_pp + e_lining)
+    area = faces * lining_area(outer_radius, inner_radius)
+    return gamma * np.asarray(duhamel_integral) / (area * e_pp * math.sqrt(math.pi))

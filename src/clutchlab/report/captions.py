@@ -23,7 +23,7 @@ FIGURES = {
     "engagement_traces": "Seed design traces (equivalents of seed 000 Figs. 7-11): clamp force, speeds, clutch "
                          "torque, slip work and output jerk over time.",
     "engagement_heat": "Heat: the seed design's friction-face (Duhamel) and bulk temperature over the engagement "
-                       "and over engagements in a row; the hottest part's bulk temperature rise over the design; the "
+                       "and over engagements in a row; the peak friction-face temperature over the design; the "
                        "trade-off coloured by it (assumed materials, clutchlab.heat).",
     "centrifugal_capacity_curves": "Forward and reverse capacity of the seed design over engine speed against the "
                                    "engine and passive torques (cf. seed 001 Fig. 5).",

@@ -139,8 +139,8 @@ def figures(ds):
 
 def heat_page(ds):
     """Heat (issue 20): the seed design's friction-face and bulk temperature over the engagement
-    and over engagements in a row; the bulk temperature rise over the design; the trade-off coloured
-    by it."""
+    and over engagements in a row; the peak friction-face temperature over the design; the
+    trade-off coloured by it."""
     fig, axes = plt.subplots(2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.42, "wspace": 0.35})
     ax = axes[0, 0]
     if "trace_surface_temperature" in ds:
@@ -164,25 +164,26 @@ def heat_page(ds):
                      .split(" just")[0].replace("bulk temperature of the ", ""), fontsize=10)
     else:
         ax.text(0.5, 0.5, "no seed design traces (invalid spring)", ha="center", transform=ax.transAxes)
-    ok = (_flat(ds, "status") == st.CODE["ok"]) & np.isfinite(_flat(ds, "bulk_temperature_rise"))
+    temp = _flat(ds, "peak_surface_temperature") - 273.15
+    ok = (_flat(ds, "status") == st.CODE["ok"]) & np.isfinite(temp)
     ax = axes[1, 0]
     x = flat(ds, "ramp_time") if "ramp_time" in ds.coords else np.zeros(ok.size)
-    x, y, z = x[ok], flat(ds, "clamp_load")[ok], _flat(ds, "bulk_temperature_rise")[ok]
+    x, y, z = x[ok], flat(ds, "clamp_load")[ok], temp[ok]
     pairs, inverse = np.unique(np.stack([x, y], axis=1), axis=0, return_inverse=True)
     note = "all designs"
     if len(pairs) < x.size:  # a grid: designs that differ in other factors share a point; draw the hottest
         hottest = np.full(len(pairs), -np.inf)
         np.maximum.at(hottest, inverse.ravel(), z)
         x, y, z, note = pairs[:, 0], pairs[:, 1], hottest, "the hottest over the other factors"
-    sampled_value_map(ax, x, y, z, "bulk temperature rise [K]", cmap="inferno")
+    sampled_value_map(ax, x, y, z, "peak friction-face temperature [°C]", cmap="inferno")
     ax.set_xlabel("ramp time [s]")
     ax.set_ylabel("clamp force [N]")
-    ax.set_title(f"(c) hottest part's bulk rise in one engagement ({note.replace('the hottest', 'max')})", fontsize=10)
+    ax.set_title(f"(c) peak face temperature, one engagement ({note.replace('the hottest', 'max')})", fontsize=10)
     ax = axes[1, 1]
     show = drawn(ok)
     m = ax.scatter(_flat(ds, "specific_friction_work")[show] / 1e3, _flat(ds, "peak_jerk")[show],
-                   c=_flat(ds, "bulk_temperature_rise")[show], cmap="inferno", s=8, rasterized=True)
-    fig.colorbar(m, ax=ax, label="bulk temperature rise [K]")
+                   c=temp[show], cmap="inferno", s=8, rasterized=True)
+    fig.colorbar(m, ax=ax, label="peak friction-face temperature [°C]")
     ax.set_yscale("log")
     ax.set_xlabel("specific friction work [kJ/m²]")
     ax.set_ylabel("peak output jerk [rad/s³]")

@@ -100,6 +100,8 @@ OUTPUTS = {
     "heat_pressure_plate": ("J", "friction heat into the pressure plate (effusivity partition)"),
     "heat_driven_plate": ("J", "friction heat into the driven plate (its linings)"),
     "bulk_temperature_rise": ("K", "lumped temperature rise of the hottest part in one engagement"),
+    "peak_surface_temperature": ("K", "peak friction-face (flash) temperature of flywheel and pressure plate in one "
+                                      "engagement from ambient (Duhamel; NaN for the closed-form model)"),
     "engagements_to_limit": ("1", "engagements in a row until the hottest part's bulk temperature reaches "
                                   "temperature_limit (inf: never)"),
 }
@@ -161,7 +163,7 @@ def _solver_inputs(p, cap, options):
                 ramp_time=p["ramp_time"], profile=options["profile"], static_ratio=p["static_ratio"],
                 t_end=p["end_time"], stribeck_speed=p["stribeck_speed"], aero_coefficient=p["aero_coefficient"],
                 compliant=not rigid, hub_fraction=p["hub_fraction"], damper_stiffness=p["damper_stiffness"],
-                damping_ratio=p["damping_ratio"], rtol=rtol, atol=atol,
+                damping_ratio=p["damping_ratio"], rtol=rtol, atol=atol, power_history=True,
                 release_ratio=(p["air_gap"] + p["cushion_travel"]) / p["cushion_travel"])
 
 
@@ -197,7 +199,7 @@ def compute(inputs, options=None) -> xr.Dataset:
             part["peak_jerk"] = part.pop("slip_jerk")
         else:
             part = engagement.simulate(**sub)
-        for k in (*OUTPUTS, "status", "capacity_at_lockup", *SOLVER_STATS):
+        for k in (*OUTPUTS, "status", "capacity_at_lockup", "flash_peak", *SOLVER_STATS):
             if k in part:
                 res.setdefault(k, np.zeros(mask.size, dtype=np.asarray(part[k]).dtype))[mask] = part[k]
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -207,6 +209,12 @@ def compute(inputs, options=None) -> xr.Dataset:
         res["peak_bearing_force"] = np.max(bearing_force(p, pts), axis=1)
     hot = _heat(p, res["slip_work"], res["peak_slip_power"])
     res.update({k: hot[k] for k in HEAT})
+    # the friction face's peak (flash) temperature from the event solver's slip power history (the
+    # closed form keeps none: NaN there)
+    flash = res.get("flash_peak", np.full(model.size, np.nan))
+    flash = np.where((model == MODEL["closed_form"]) | (hot["status"] != 0), np.nan, flash)
+    res["peak_surface_temperature"] = p["ambient_temperature"] + heat.face_temperature_rise(
+        flash, p["lining_outer_radius"], p["lining_inner_radius"], p["friction_faces"])
     code = np.where(spring_bad, st.CODE["invalid_geometry"], res["status"]).astype(st.DTYPE)
     data = {k: ("run", np.where(spring_bad, np.nan, res[k]), {"units": u, "long_name": ln}) for k, (u, ln) in OUTPUTS.items()}
     data["hottest_part"] = ("run", hot["hottest_part"], {
@@ -309,6 +317,7 @@ STUDY = register(Study(
     options=OPTIONS,
     outputs={"lockup_time": "s", "slip_work": "J", "peak_slip_power": "W", "peak_friction_torque": "N m",
              "specific_friction_work": "J/m^2", "peak_specific_friction_power": "W/m^2", "bulk_temperature_rise": "K",
+             "peak_surface_temperature": "K",
              "accel_jump": "rad/s^2", "peak_jerk": "rad/s^3", "peak_bearing_force": "N", "clamp_load": "N"},
     # seed 000: a cool (little slip work) and smooth (little jerk) engagement, locked within 0.5 s
     conditions=("engine_speed", "engine_inertia", "engine_torque", "driven_inertia", "load_torque", "aero_coefficient"),
