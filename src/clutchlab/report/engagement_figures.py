@@ -141,7 +141,7 @@ def heat_page(ds):
     """Heat (issue 20): the seed design's friction-face and bulk temperature over the engagement
     and over engagements in a row; the peak friction-face temperature over the design; the
     trade-off coloured by it."""
-    fig, axes = plt.subplots(2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.42, "wspace": 0.35})
+    fig, axes = plt.subplots(2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.45, "wspace": 0.5})
     ax = axes[0, 0]
     if "trace_surface_temperature" in ds:
         t = ds["trace_time"].values * 1e3
@@ -175,7 +175,7 @@ def heat_page(ds):
         hottest = np.full(len(pairs), -np.inf)
         np.maximum.at(hottest, inverse.ravel(), z)
         x, y, z, note = pairs[:, 0], pairs[:, 1], hottest, "the hottest over the other factors"
-    sampled_value_map(ax, x, y, z, "peak friction-face temperature [°C]", cmap="inferno")
+    sampled_value_map(ax, x, y, z, "peak face temperature [°C]", cmap="inferno")
     ax.set_xlabel("ramp time [s]")
     ax.set_ylabel("clamp force [N]")
     ax.set_title(f"(c) peak face temperature, one engagement ({note.replace('the hottest', 'max')})", fontsize=10)
@@ -187,7 +187,8 @@ def heat_page(ds):
     ax.set_yscale("log")
     ax.set_xlabel("specific friction work [kJ/m²]")
     ax.set_ylabel("peak output jerk [rad/s³]")
-    ax.set_title("(d) trade-off coloured by temperature%s" % drawn_note(int(ok.sum())), fontsize=10)
+    ax.set_title("\n".join(textwrap.wrap("(d) trade-off coloured by temperature%s" % drawn_note(int(ok.sum())), 55)),
+                 fontsize=10)
     for a in axes.ravel():
         a.grid(alpha=0.3)
     fig.suptitle("Heat: friction face and parts (pressure plate, flywheel: cast iron; linings: organic; "
