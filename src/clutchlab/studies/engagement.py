@@ -167,6 +167,24 @@ def _solver_inputs(p, cap, options):
                 release_ratio=(p["air_gap"] + p["cushion_travel"]) / p["cushion_travel"])
 
 
+def check_config(section):
+    """The material limit must lie above the ambient temperature for every scenario (else
+    engagements_to_limit would mean nothing): refuse the config where the lowest limit is not above
+    the highest ambient."""
+    def bounds(name):
+        if name in section["fixed"]:
+            return section["fixed"][name], section["fixed"][name]
+        spec = section["factors"][name]
+        vals = spec["values"] if "values" in spec else (spec["min"], spec["max"])
+        return min(vals), max(vals)
+
+    limit, ambient = bounds("temperature_limit"), bounds("ambient_temperature")
+    if not limit[0] > ambient[1]:
+        return ("engagement.parameters.temperature_limit",
+                f"the material limit ({limit[0]:g} K) must lie above the ambient temperature ({ambient[1]:g} K)")
+    return None
+
+
 def _heat(p, slip_work, peak_slip_power):
     """clutchlab.heat.engagement_heat of the scenarios (NaN where the engagement has no slip work)."""
     return heat.engagement_heat(
@@ -325,4 +343,5 @@ STUDY = register(Study(
     objectives=("slip_work:min", "peak_jerk:min"),
     constraints={"lockup_time": ("max", 0.5)},
     accuracy=ACCURACY,
+    check_config=check_config,
 ))
