@@ -186,7 +186,7 @@ def check_config(section):
 
 
 def _heat(p, slip_work, peak_slip_power):
-    """clutchlab.heat.engagement_heat of the scenarios (NaN where the engagement has no slip work)."""
+    """clutchlab.heat.engagement_heat of the scenarios (NaN where the slip work is NaN)."""
     return heat.engagement_heat(
         slip_work, peak_slip_power, p["lining_outer_radius"], p["lining_inner_radius"], p["friction_faces"],
         temperature_margin=p["temperature_limit"] - p["ambient_temperature"],
