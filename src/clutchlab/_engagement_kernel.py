@@ -26,12 +26,39 @@ from . import _linear_phase as _lp
 
 # parameter columns (one row per scenario)
 (WE0, JE, TE, JV, TM0, CMAX, TR, RS, VS, WC0, KA, DTM, TSTEP, PHI, K, ZETA, TEND, HELD, INV_JE, JH, JR,
- CD, KAPPA, TCON) = range(24)
-N_PARAM = 24
+ CD, KAPPA, TCON, FADE, FADE_ON, FACE_K, FTAB) = range(28)
+N_PARAM = 28
 NTAB = N_PARAM  # engine torque table: count, then speeds, then torques (shared, appended to every row)
+# FTAB: column of the friction table (0: none) after it, laid out alike: count, slip speeds, μ/μ_k
 # state columns: engine, hub, output speed, damper twist, slip/load/input/damping work
 H, WS, WL, WI, E, R, TH, WD = range(8)  # rigid held: the first 4 move; rigid free: 5
-N_STATE = 8
+N_MECH = 8
+# friction-face temperature as a state (only with fade, q[FADE] > 0; issue 20 item 4): Duhamel's
+# integral I(t) = ∫ P(τ)/√(t − τ) dτ of the slip power with the kernel split as
+# 1/√s = erf(√(λ_c s))/√s + erfc(√(λ_c s))/√s. The smooth first part is a sum of exponentials
+# Σ w_k e^{−λ_k s} (clutchlab.heat.kernel_modes: non-negative least squares on s ∈ [0, 10 s]
+# weighted by √s, λ_k geometric with ratio 2.5 from 4λ_c down to 0.01/s, zero weights dropped:
+# 15 modes; max error 3.0e-4/√s), so
+# I_slow = Σ w_k z_k with states z_k' = P − λ_k z_k; the second part lives on s ≲ 1/λ_c and is
+# taken quasi-statically, ∫ erfc(√(λ_c s))/√s · P(t − s) ds ≈ M0·P(t), M0 = 2/√(π λ_c) (error
+# ≈ M1·P', M1 = 2/(3√π λ_c^{3/2}) = 1.5e-6 s^1.5). λ_c = 4000/s: I within 7e-5 of its peak for a
+# seed-like slip power (1000/s: 6e-4), and the stiffest mode (6 552/s) within DOPRI5's stability
+# for steps up to 0.5 ms. Checked against a Picard iteration with the exact kernel in
+# tests/test_fade.py.
+SOE_LAMBDA = np.array([6551.82794011116, 2682.9030848013267, 1098.619961975734, 449.87306015227944,
+                       184.21818031306321, 75.43536380322267, 30.889970264900256, 12.64911064067352,
+                       5.179674782070132, 2.121021122366016, 0.8685353406927243, 0.3556558820077846,
+                       0.14563725905021752, 0.059636891435401344, 0.01])
+SOE_WEIGHT = np.array([1.0530600051732957, 23.723283392222843, 16.97838879544467, 10.605038794078247,
+                       6.868111310665909, 4.362443640753169, 2.805304573335715, 1.7886805840332438,
+                       1.1483443174771812, 0.7317541220924253, 0.47246489841591777, 0.29325528400612916,
+                       0.20871327506035586, 0.11227925977551365, 0.21804431165750585])
+SOE_CUT = 4000.0  # λ_c [1/s]
+SOE_M0 = 2.0 / math.sqrt(math.pi * SOE_CUT)
+SOE_TMAX = 10.0  # [s]: the longest window the fit covers
+NZ = SOE_LAMBDA.size
+Z0 = N_MECH
+N_STATE = N_MECH + NZ
 N_WORK = 31  # rows of the per-scenario scratch array (see _simulate_one)
 # events (falling through zero from > 0)
 LOCK, BREAK, UNPARK, PARK, PEAK = range(5)
@@ -48,12 +75,13 @@ RESULTS = ("lockup_time", "breakaway_time", "capacity_at_lockup", "accel_jump", 
            "n_rejected", "n_locate", "n_false_alarms", "n_event_steps", "truncated", "n_linear",
            "flash_peak", "n_power_samples")
 # the slip power history (issue 20; only when asked for: with_hist): sampled while slipping every ramp time / POWER_SAMPLES_PER_RAMP
-# (and at every step end and event), at most POWER_SAMPLES_MAX samples a scenario; its Duhamel
+# (a ramp shorter than window / 48, or a step: every window / 48²) and at every step end and event, at most POWER_SAMPLES_MAX samples a scenario; its Duhamel
 # integral's peak, max over t of ∫ P(τ)/√(t − τ) dτ [W s^0.5] (P linear between samples, each segment
 # integrated exactly), is the result FLASH_PEAK (NaN if the history overflowed)
 POWER_SAMPLES_PER_RAMP = 48
 POWER_SAMPLES_MAX = 4096
-TRACES = ("engine_speed", "hub_speed", "output_speed", "friction_torque", "capacity", "slip_work", "jerk")
+TRACES = ("engine_speed", "hub_speed", "output_speed", "friction_torque", "capacity", "slip_work", "jerk",
+          "face_temperature_rise")
 N_RESULTS, N_TRACES = len(RESULTS), len(TRACES)
 
 # Dormand-Prince 5(4)
@@ -122,16 +150,17 @@ def _capacity_rate(t, q, prof):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _interp(x, q):
-    """np.interp for a scalar (constant beyond the ends) on the engine torque table stored in the
-    parameter row after its N_PARAM columns: count, speeds, torques. (The table is not a separate
-    array argument: an array argument merely touched in the right-hand side cost ~55 ns a call.)"""
-    n = int(q[NTAB])
-    x0, y0 = NTAB + 1, NTAB + 1 + n
+def _table(x, q, base):
+    """(value, slope) of np.interp for a scalar (constant beyond the ends, slope 0 there) on a table
+    stored in the parameter row from column ``base``: count, abscissae, ordinates. (The tables are
+    not separate array arguments: an array argument merely touched in the right-hand side cost
+    ~55 ns a call.)"""
+    n = int(q[base])
+    x0, y0 = base + 1, base + 1 + n
     if x <= q[x0]:
-        return q[y0]
+        return q[y0], 0.0
     if x >= q[x0 + n - 1]:
-        return q[y0 + n - 1]
+        return q[y0 + n - 1], 0.0
     lo, hi = 0, n - 1
     while hi - lo > 1:
         mid = (lo + hi) // 2
@@ -139,7 +168,56 @@ def _interp(x, q):
             lo = mid
         else:
             hi = mid
-    return q[y0 + lo] + (q[y0 + hi] - q[y0 + lo]) * (x - q[x0 + lo]) / (q[x0 + hi] - q[x0 + lo])
+    slope = (q[y0 + hi] - q[y0 + lo]) / (q[x0 + hi] - q[x0 + lo])
+    return q[y0 + lo] + slope * (x - q[x0 + lo]), slope
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _interp(x, q):
+    """The engine torque table at speed x [N m]."""
+    return _table(x, q, NTAB)[0]
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _slip_law(slip, q):
+    """(f, df/d|Δω|) of the slipping friction law μ(|Δω|)/μ_k: 1 (constant μ_k), the Stribeck law
+    1 + (μ_s/μ_k − 1)·exp(−(Δω/v_s)²), or the tabulated μ(|Δω|)/μ_k (linear between its points)."""
+    if q[FTAB] > 0.0:
+        return _table(abs(slip), q, int(q[FTAB]))
+    if math.isfinite(q[VS]):
+        u = slip / q[VS]
+        uu = u * u
+        if uu >= 700.0:  # (no underflow: libm's slow path)
+            return 1.0, 0.0
+        e = (q[RS] - 1.0) * math.exp(-uu)  # f − 1: the slope needs no second exp
+        return 1.0 + e, e * (-2.0 * abs(slip) / q[VS] ** 2)
+    return 1.0, 0.0
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _face_rise(y, q):
+    """Friction-face temperature rise [K] from the slow modes alone (the slip power's quasi-static
+    part M0·P is added by :func:`_fade`)."""
+    acc = 0.0
+    for k in range(NZ):
+        acc += SOE_WEIGHT[k] * y[Z0 + k]
+    return q[FACE_K] * acc
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _fade(rise_slow, p0, q):
+    """(fade factor g, face temperature rise ΔT) that solve ΔT = ΔT_slow + K·M0·P0·g(ΔT) with
+    g = 1/(1 + β·(ΔT − ΔT_on)⁺) (β = q[FADE], ΔT_on = q[FADE_ON], K = q[FACE_K]; P0 ≥ 0 the
+    slip power at g = 1): in closed form, a quadratic in u = ΔT − ΔT_on."""
+    a = q[FACE_K] * SOE_M0 * p0
+    c = rise_slow - q[FADE_ON]
+    if c + a <= 0.0:
+        return 1.0, rise_slow + a
+    beta = q[FADE]
+    b = 1.0 - beta * c
+    root = math.sqrt(b * b + 4.0 * beta * (c + a))
+    u = 2.0 * (c + a) / (b + root) if b >= 0.0 else (root - b) / (2.0 * beta)
+    return 1.0 / (1.0 + beta * u), q[FADE_ON] + u
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -149,7 +227,8 @@ def _load_static(t, q):
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _forces(t, y, q, locked, parked, s, compliant, prof, dy):
-    """Fill dy; return (C, tc, tm, ts, t_need, slip, f, ar)."""
+    """Fill dy; return (C, tc, tm, ts, t_need, slip, f, ar, g, df/d|Δω|): f the slip law
+    (:func:`_slip_law`), g the fade factor (1 without fade or when locked)."""
     held = q[HELD] > 0.0
     we, wh = y[E], y[H]
     wr = y[R] if compliant else wh
@@ -161,11 +240,11 @@ def _forces(t, y, q, locked, parked, s, compliant, prof, dy):
         if q[NTAB] > 0.0:
             te += _interp(we, q)
     slip = we - wh
-    f = 1.0
-    if math.isfinite(q[VS]):
-        u = slip / q[VS]
-        uu = u * u
-        f = 1.0 + (q[RS] - 1.0) * math.exp(-uu) if uu < 700.0 else 1.0  # (no underflow: libm's slow path)
+    f, dfdv = _slip_law(slip, q)
+    fade = q[FADE] > 0.0
+    gf = 1.0
+    if fade and not locked:
+        gf, _ = _fade(_face_rise(y, q), s * f * C * slip, q)
     ts = 0.0
     if compliant:
         ts = q[K] * y[TH] + q[CD] * (wh - wr)
@@ -174,7 +253,7 @@ def _forces(t, y, q, locked, parked, s, compliant, prof, dy):
     else:
         jh = q[JV]
         hub_side = tm
-    tc_slip = s * f * C
+    tc_slip = s * f * gf * C
     ah_slip = (tc_slip - hub_side) / jh
     if parked and not compliant:
         ah_slip = 0.0
@@ -200,24 +279,36 @@ def _forces(t, y, q, locked, parked, s, compliant, prof, dy):
     dy[WS] = 0.0 if locked else tc_slip * slip
     dy[WL] = 0.0 if parked else tm * wr
     dy[WI] = tc * we if held else te * we
-    return C, tc, tm, ts, t_need, slip, f, ar
+    if fade:  # the face temperature's slow modes: z_k' = P − λ_k z_k
+        p = 0.0 if locked else tc_slip * slip
+        for k in range(NZ):
+            dy[Z0 + k] = p - SOE_LAMBDA[k] * y[Z0 + k]
+    return C, tc, tm, ts, t_need, slip, f, ar, gf, dfdv
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _slip_torque_rate(t, q, s, prof, dy, C, slip, f):
-    """d/dt of the slipping clutch torque s·f(|Δω|)·C(t) by the chain rule [N m/s]."""
+def _slip_torque_rate(t, q, s, prof, dy, aux):
+    """d/dt of the slipping clutch torque X = s·f(|Δω|)·g·C(t) by the chain rule [N m/s]. With
+    fade, g' = −β g² ΔT' and ΔT' = K·(Σ w_k z_k' + M0·P'), P' = X·Δω + T_c·Δω': linear in X,
+    solved for it."""
+    C, tc, slip, f, gf, dfdv = aux[0], aux[1], aux[5], aux[6], aux[8], aux[9]
     rate = _capacity_rate(t, q, prof)
-    dfdv = 0.0
-    if math.isfinite(q[VS]):  # f − 1 = (μs/μk − 1)·exp(−(Δω/v_s)²): no second exp
-        dfdv = (f - 1.0) * (-2.0 * abs(slip) / q[VS] ** 2)
     sgn = 1.0 if slip > 0 else (-1.0 if slip < 0 else 0.0)
-    return s * (f * rate + C * dfdv * sgn * (dy[E] - dy[H]))
+    slip_rate = dy[E] - dy[H]
+    x0 = s * gf * (f * rate + C * dfdv * sgn * slip_rate)
+    if gf < 1.0:
+        b = s * f * C * q[FADE] * gf * gf * q[FACE_K]
+        s1 = 0.0
+        for k in range(NZ):
+            s1 += SOE_WEIGHT[k] * dy[Z0 + k]
+        return (x0 - b * (s1 + SOE_M0 * tc * slip_rate)) / (1.0 + b * SOE_M0 * slip)
+    return x0
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _jerk(t, y, q, locked, parked, s, compliant, prof, dy, aux):
     """Output-side jerk from the state (chain rule, never by differencing) [rad/s³]."""
-    C, tc, tm, ts, t_need, slip, f, ar = aux
+    ar = aux[7]
     wr = y[R] if compliant else y[H]
     dtm = 2.0 * q[KA] * wr * ar
     if compliant:
@@ -228,35 +319,39 @@ def _jerk(t, y, q, locked, parked, s, compliant, prof, dy, aux):
         return 0.0 if q[HELD] > 0.0 else -dtm * q[INV_JE] / (1.0 + q[JV] * q[INV_JE])
     if parked:
         return 0.0
-    return (_slip_torque_rate(t, q, s, prof, dy, C, slip, f) - dtm) / q[JV]
+    return (_slip_torque_rate(t, q, s, prof, dy, aux) - dtm) / q[JV]
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _events(t, y, q, locked, parked, s, compliant, prof, dy, aux, g):
-    C, tc, tm, ts, t_need, slip, f, ar = aux
+    C, tc, ts, t_need, slip = aux[0], aux[1], aux[3], aux[4], aux[5]
     inf = np.inf
     g[LOCK] = inf if locked else s * slip
     g[BREAK] = q[RS] * C - abs(t_need) if locked else inf
     g[UNPARK] = _load_static(t, q) - (ts if compliant else tc) if parked else inf
     g[PARK] = (y[R] if compliant else y[H]) if (not parked and (not locked or compliant)) else inf
-    g[PEAK] = inf if locked else (_slip_torque_rate(t, q, s, prof, dy, C, slip, f) * slip + tc * (dy[E] - dy[H]))
+    g[PEAK] = inf if locked else (_slip_torque_rate(t, q, s, prof, dy, aux) * slip + tc * (dy[E] - dy[H]))
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _n_active(q, compliant):
-    """Number of state components that move: H, WS, WL, WI (+ E for a free engine; all 8 compliant)."""
-    return N_STATE if compliant else (4 if q[HELD] > 0.0 else 5)
+def _n_active(q, compliant, locked):
+    """Number of state components integrated: H, WS, WL, WI (+ E for a free engine; all 8 compliant;
+    with fade while slipping every component, the face temperature's modes too: while locked they
+    only decay, exactly, :func:`_decay_modes`)."""
+    if q[FADE] > 0.0 and not locked:
+        return N_STATE
+    return N_MECH if compliant else (4 if q[HELD] > 0.0 else 5)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _dopri(t, y, h, q, locked, parked, s, compliant, prof, d0, kk, yi, y_new, err):
     """One DOPRI5 step from (t, y) with first stage d0; fills y_new and err (only the moving
     components are integrated; the others are copied)."""
-    n = _n_active(q, compliant)
-    for m in range(n, N_STATE):
+    n = _n_active(q, compliant, locked)
+    for m in range(n, y.size):
         yi[m] = y_new[m] = y[m]
         err[m] = 0.0
-    for m in range(N_STATE):
+    for m in range(y.size):
         kk[0, m] = d0[m]
     for i in range(1, 7):
         for m in range(n):
@@ -276,14 +371,14 @@ def _dopri(t, y, h, q, locked, parked, s, compliant, prof, d0, kk, yi, y_new, er
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _err_norm(y0, y1, err, rtol, atol, n):
+def _err_norm(y0, y1, err, rtol, atol, n, compliant):
     """RMS norm of the error estimate over the n moving components, scaled by atol + rtol·|y|. In
-    the compliant model (n = N_STATE) the output speed's entry is the error of the relative speed
+    the compliant model the output speed's entry is the error of the relative speed
     ω_h − ω_r scaled by its own size: the twist rate, and with it the output jerk K·θ' + c·θ'', is
     a small difference of large speeds whose error the output speed's scale would not control."""
     acc = 0.0
     for m in range(n):
-        if m == R and n == N_STATE:
+        if m == R and compliant:
             e = err[H] - err[R]
             sc = atol + rtol * max(abs(y0[H] - y0[R]), abs(y1[H] - y1[R]))
         else:
@@ -299,7 +394,7 @@ def _initial_step(t, y, d, q, locked, parked, s, compliant, prof, rtol, atol, hm
     a difference estimate of f' so that the first step's error is about the tolerance; used at
     t = 0 and after every mode switch (the derivatives jump there). HINIT caps the step at 100
     times its probe; where the cap bites, the estimate is repeated once at the capped step."""
-    n = _n_active(q, compliant)
+    n = _n_active(q, compliant, locked)
     dnf = dny = 0.0
     for m in range(n):
         sk = atol + rtol * abs(y[m])
@@ -308,7 +403,7 @@ def _initial_step(t, y, d, q, locked, parked, s, compliant, prof, rtol, atol, hm
     h = 1e-6 if (dnf <= 1e-10 or dny <= 1e-10) else 0.01 * math.sqrt(dny / dnf)
     h = min(h, hmax)
     for _ in range(2):  # HINIT, then once more with the difference taken at the proposed step
-        for m in range(N_STATE):
+        for m in range(y.size):
             y1[m] = y[m] + h * d[m]
         _forces(t + h, y1, q, locked, parked, s, compliant, prof, d1)
         der2 = 0.0
@@ -330,14 +425,14 @@ def _hermite(y0, d0, y1, d1, h, th, out):
     h10 = th**3 - 2 * th**2 + th
     h01 = -2 * th**3 + 3 * th**2
     h11 = th**3 - th**2
-    for m in range(N_STATE):
+    for m in range(out.size):
         out[m] = h00 * y0[m] + h10 * h * d0[m] + h01 * y1[m] + h11 * h * d1[m]
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _dense_coefficients(y0, y1, kk, h, rc):
     """Coefficients of the step's order-4 continuous extension (stages kk of the step from y0)."""
-    for m in range(N_STATE):
+    for m in range(y0.size):
         ydiff = y1[m] - y0[m]
         bspl = h * kk[0, m] - ydiff
         acc = 0.0
@@ -353,7 +448,7 @@ def _dense_coefficients(y0, y1, kk, h, rc):
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _dense(rc, th, out):
     """The state at the fraction ``th`` of the step (continuous extension)."""
-    for m in range(N_STATE):
+    for m in range(out.size):
         out[m] = _dense_component(rc, th, m)
 
 
@@ -388,7 +483,7 @@ def _g_dense(kind, t, tau, h, rc, q, locked, parked, s, compliant, prof, dm, gm,
 def _g_true(kind, t, y, d, tau, q, locked, parked, s, compliant, prof, rtol, atol, kk, yi, dm, gm, yout, err):
     """Event function ``kind`` at t + tau by re-integration from (t, y): (g, error norm of that step)."""
     _dopri(t, y, tau, q, locked, parked, s, compliant, prof, d, kk, yi, yout, err)
-    return _g_state(kind, t + tau, yout, q, locked, parked, s, compliant, prof, dm, gm), _err_norm(y, yout, err, rtol, atol, _n_active(q, compliant))
+    return _g_state(kind, t + tau, yout, q, locked, parked, s, compliant, prof, dm, gm), _err_norm(y, yout, err, rtol, atol, _n_active(q, compliant, locked), compliant)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -404,8 +499,9 @@ def _line_norm(ya, dm, da, sigma, rtol, atol, n):
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _g_line(kind, t, ya, da, sigma, q, locked, parked, s, compliant, prof, dm, gm, yb):
     """Event function ``kind`` at t + σ on the local Taylor line ya + σ·da (dm: f there)."""
-    for m in range(N_STATE):
-        yb[m] = ya[m] + sigma * da[m]
+    n = _n_active(q, compliant, locked)  # (the others do not move along the line)
+    for m in range(yb.size):
+        yb[m] = ya[m] + sigma * da[m] if m < n else ya[m]
     return _g_state(kind, t + sigma, yb, q, locked, parked, s, compliant, prof, dm, gm)
 
 
@@ -481,7 +577,7 @@ def _locate(kind, t, y, d, rc, h, tau_hi, g0, q, locked, parked, s, compliant, p
         if not math.isfinite(s1):
             break
         _g_line(kind, ta, ya, da, s1, q, locked, parked, s, compliant, prof, dm, gm, yb)
-        if 0.0 < tau + s1 <= tau_hi and _line_norm(ya, dm, da, s1, rtol, atol, _n_active(q, compliant)) <= 0.1:
+        if 0.0 < tau + s1 <= tau_hi and _line_norm(ya, dm, da, s1, rtol, atol, _n_active(q, compliant, locked)) <= 0.1:
             _copy(ya, yb)
             return tau + s1, nv, n_re
         # not accepted (a long step: the line and the step map part): secant on the true function
@@ -591,8 +687,10 @@ def _peak_value(slot, th, t, h, rc, q, locked, parked, s, compliant, prof, yb, d
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _store_trace(trace, tt, t, y, wr_col, aux, jk):
-    """Record the state at the trace times equal to t (they are breakpoints: no interpolation)."""
+def _store_trace(trace, tt, t, y, q, wr_col, aux, jk):
+    """Record the state at the trace times equal to t (they are breakpoints: no interpolation); the
+    face temperature rise with fade only (the slow modes plus the quasi-static part of the slip
+    power, which is 0 when locked: the slip is exactly 0 then)."""
     for i in range(tt.size):
         if tt[i] == t:
             trace[i, 0] = y[E]
@@ -602,6 +700,8 @@ def _store_trace(trace, tt, t, y, wr_col, aux, jk):
             trace[i, 4] = aux[0]
             trace[i, 5] = y[WS]
             trace[i, 6] = jk
+            if q[FADE] > 0.0:
+                trace[i, 7] = _face_rise(y, q) + q[FACE_K] * SOE_M0 * aux[1] * aux[5]
 
 
 
@@ -613,9 +713,19 @@ def _store_trace(trace, tt, t, y, wr_col, aux, jk):
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _is_linear(q, locked):
     """Whether the compliant model's phase is linear with polynomial forcing: no rotor drag, a held
-    engine or one with constant torque, a finite damper stiffness, and constant μ unless locked."""
+    engine or one with constant torque, a finite damper stiffness, and constant μ unless locked (no
+    Stribeck law, friction table or fade while slipping; a locked phase with fade is linear too:
+    the face temperature's modes then only decay, :func:`_decay_modes`)."""
     return (q[KA] == 0.0 and (q[HELD] > 0.0 or q[NTAB] == 0.0) and math.isfinite(q[K]) and q[K] > 0.0
-            and (locked or not math.isfinite(q[VS])))
+            and (locked or (not math.isfinite(q[VS]) and q[FTAB] == 0.0 and q[FADE] == 0.0)))
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _decay_modes(y, q, dt):
+    """The face temperature's modes over dt without slip power: z_k·exp(−λ_k dt)."""
+    if q[FADE] > 0.0:
+        for k in range(NZ):
+            y[Z0 + k] *= math.exp(-SOE_LAMBDA[k] * dt)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -1210,6 +1320,21 @@ def duhamel_peak(hist, n, stride):
     return best
 
 
+@njit(cache=True, error_model="numpy")
+def flash_peaks(times, power):
+    """:func:`duhamel_peak` of each row of sampled slip powers (times non-decreasing from 0; a
+    repeated time is skipped), e.g. of the closed form's exact slip power."""
+    n_s, n = times.shape
+    out = np.empty(n_s)
+    hist = np.empty((2, n))
+    for i in range(n_s):
+        m = 0
+        for j in range(n):
+            m = _hist_add(hist, m, times[i, j], power[i, j]) if m < n else m
+        out[i] = duhamel_peak(hist, m, max(1, int(math.sqrt(m / 2.0))))
+    return out
+
+
 @njit(cache=True, error_model="numpy", _nrt=False, inline="always")
 def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_steps, out, trace, work,
                   ft, pw, tq, osc, armed, hist, with_hist):
@@ -1229,22 +1354,23 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
         out[i] = nan
     out[N_REJECTED] = out[N_LOCATE] = out[N_FALSE_ALARMS] = out[N_EVENT_STEPS] = out[TRUNCATED] = 0.0
     out[N_LINEAR] = 0.0
-    y, d, d1, dm, y1, ym, err, yi, ya, yb, y_best = (work[0], work[1], work[2], work[3], work[4], work[5], work[6],
-                                                      work[7], work[8], work[9], work[10])
-    kk = work[11:18]
+    ns = N_STATE if q[FADE] > 0.0 else N_MECH  # state components (the face temperature's modes with fade)
+    y, d, d1, dm, y1, ym, err, yi, ya, yb, y_best = (work[0, :ns], work[1, :ns], work[2, :ns], work[3, :ns],
+                                                      work[4, :ns], work[5, :ns], work[6, :ns], work[7, :ns],
+                                                      work[8, :ns], work[9, :ns], work[10, :ns])
+    kk = work[11:18, :ns]
     g, g1, gm, tau_hi = work[18, :N_EVENTS], work[19, :N_EVENTS], work[20, :N_EVENTS], work[21, :N_EVENTS]
     pk = work[22, :3]  # running maxima: slip power, |friction torque|, |output jerk|
     pk[:] = 0.0
     ths = work[23, :5]  # Hermite sample points in a step (fractions of it)
-    rc = work[24:29]  # the step's continuous extension
-    da = work[29]
-    y_end = work[30]  # the state at the window's end (the works and energies are over the window)
+    rc = work[24:29, :ns]  # the step's continuous extension
+    da = work[29, :ns]
+    y_end = work[30, :ns]  # the state at the window's end (the works and energies are over the window)
     y[:] = 0.0
     y[E] = q[WE0]
     y[H] = q[WC0]
     y[R] = q[WC0]
     wr_col = R if compliant else H
-    nst = _n_active(q, compliant)
     ths[0] = 0.5
 
     # initial modes, decided from torques (never from sign(0))
@@ -1252,7 +1378,7 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
     parked = q[WC0] <= 0.0
     s = 1.0
     aux = _forces(0.0, y, q, locked, parked, s, compliant, prof, d)
-    drive0 = aux[3] if compliant else aux[6] * aux[0]
+    drive0 = aux[3] if compliant else aux[6] * aux[8] * aux[0]
     parked = parked and _load_static(0.0, q) > drive0
     if q[WE0] == q[WC0]:
         aux_l = _forces(0.0, y, q, True, False, s, compliant, prof, d)
@@ -1272,9 +1398,10 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
     h_acc, fac_acc, last_rejected = 0.0, 1.0, False
     _events(t, y, q, locked, parked, s, compliant, prof, d, aux, g)
     jk = _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk)
-    _store_trace(trace, tt, t, y, wr_col, aux, jk)
+    _store_trace(trace, tt, t, y, q, wr_col, aux, jk)
     j_left, tc_left = jk, aux[1]  # jerk and clutch torque at the left end of the next step
-    dt_s = max(min(q[TR], q[TEND]), 1e-6) / POWER_SAMPLES_PER_RAMP
+    # (a step or very short clamp rise: spacing from the window, so that a long slip cannot overflow the history)
+    dt_s = max(min(q[TR], q[TEND]), q[TEND] / POWER_SAMPLES_PER_RAMP) / POWER_SAMPLES_PER_RAMP
     n_hist = _hist_add(hist, 0, 0.0, 0.0 if locked else aux[1] * aux[5])
     n_steps = 0
     t_stop, past = q[TEND], False
@@ -1310,6 +1437,7 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
             out[N_LINEAR] += 1
             t_new, kind, _ = _linear_segment(t, nb, t, y, q, locked, parked, s, prof, False, pk, ft, pw, tq, osc,
                                              armed)
+            _decay_modes(y, q, t_new - t)  # (a linear phase with fade is a locked one)
             if with_hist and not past:
                 n_hist = (_hist_add(hist, n_hist, t_new, 0.0) if locked
                           else _hist_linear(hist, n_hist, t, t_new, dt_s, ft, osc))
@@ -1328,13 +1456,13 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                 aux = _forces(t, y, q, locked, parked, s, compliant, prof, d)
                 _events(t, y, q, locked, parked, s, compliant, prof, d, aux, g)
                 jk = _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk)
-                _store_trace(trace, tt, t, y, wr_col, aux, jk)
+                _store_trace(trace, tt, t, y, q, wr_col, aux, jk)
                 j_left, tc_left = jk, aux[1]
             continue
         h_try = min(h, max_step, nb - t)
         hit = h_try >= nb - t
         _dopri(t, y, h_try, q, locked, parked, s, compliant, prof, d, kk, yi, y1, err)
-        norm = _err_norm(y, y1, err, rtol, atol, nst)
+        norm = _err_norm(y, y1, err, rtol, atol, _n_active(q, compliant, locked), compliant)
         n_steps += 1
         # step-size control: Gustafsson's predictive controller (as in radau5.f): the smaller of the
         # elementary and the predicted step, factors in [0.2, 10], safety 0.9, no growth after a rejection
@@ -1432,6 +1560,8 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                 if with_hist and not locked:
                     n_hist = _hist_step(hist, n_hist, t, h_try, t + best_tau, dt_s, y, d, y1, d1, q, locked, parked,
                                         s, compliant, prof, ym, dm)
+                if locked:
+                    _decay_modes(y_best, q, best_tau)
                 t = t + best_tau
                 _copy(y, y_best)
                 # the peaks up to the event, at the state just before it (a lock-up ends the slip at
@@ -1466,11 +1596,13 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                 n_hist = _hist_step(hist, n_hist, t, h_try, t_right, dt_s, y, d, y1, d1, q, locked, parked, s,
                                     compliant, prof, ym, dm)
             n_hist = _hist_add(hist, n_hist, t_right, 0.0 if locked else aux1[1] * aux1[5])
+        if locked:
+            _decay_modes(y1, q, t_right - t)
         t = t_right
         _copy(y, y1)
         _copy(d, d1)
         _copy(g, g1)
-        _store_trace(trace, tt, t, y, wr_col, aux1, jk)
+        _store_trace(trace, tt, t, y, q, wr_col, aux1, jk)
 
     out[PEAK_SLIP_POWER], out[PEAK_FRICTION_TORQUE], out[PEAK_JERK] = pk[0], pk[1], pk[2]
     out[N_POWER_SAMPLES] = n_hist if with_hist else 0.0

@@ -173,6 +173,33 @@ def _quantity(value, param, key, finite=False) -> float:
     return v
 
 
+def _table(study, tname, spec, key) -> dict:
+    """A measured table of a study section in SI: {x name: [...], y name: [...]}, both finite, of equal
+    length, x increasing from ≥ 0, y > 0."""
+    if tname not in study.tables:
+        raise ConfigError(key, f"not read by the {study.name} study")
+    (xn, xu), (yn, yu), _ = study.tables[tname]
+    cols = {}
+    for col, units in ((xn, xu), (yn, yu)):
+        vals = []
+        for i, v in enumerate(spec[col]):
+            try:
+                vals.append(to_si(v, units))
+            except UnitError as exc:
+                raise ConfigError(f"{key}.{col}[{i}]", str(exc)) from None
+            if not np.isfinite(vals[-1]):
+                raise ConfigError(f"{key}.{col}[{i}]", f"must be finite, got {vals[-1]:g}")
+        cols[col] = vals
+    x, y = np.array(cols[xn]), np.array(cols[yn])
+    if x.size != y.size:
+        raise ConfigError(key, f"'{xn}' and '{yn}' must be of equal length, got {x.size} and {y.size}")
+    if x[0] < 0 or np.any(np.diff(x) <= 0):
+        raise ConfigError(f"{key}.{xn}", "must increase from a value >= 0")
+    if np.any(y <= 0):
+        raise ConfigError(f"{key}.{yn}", "must be > 0")
+    return cols
+
+
 def _count(section, key, name):
     """An integer count of the config (samples, num, seed, chunks): a whole number, never coerced."""
     v = section[key]
@@ -261,6 +288,9 @@ def _resolve_study(name: str, section: dict, default_chunks, max_scenarios: int,
             out.setdefault("option_factors", {})[opt] = list(given["values"])
             given = given["values"][0]  # the seed design's traces use the first choice
         out["options"][opt] = given
+    for tname in ("friction_table",):  # (the tables the schema knows)
+        if tname in section:
+            out["options"][tname] = _table(study, tname, section[tname], f"{name}.{tname}")
     if study.accuracy is not None:
         acc = section.get("accuracy", study.accuracy)
         if not ACCURACY_RANGE[0] <= acc <= ACCURACY_RANGE[1]:

@@ -126,11 +126,15 @@ _DOMAIN_SIMULATE = {
     "load_step": st.finite, "load_step_time": st.nonnegative_or_inf,
     "hub_fraction": st.between(0.0, 1.0, lo_open=True, hi_open=True), "damper_stiffness": st.positive_or_inf,
     "damping_ratio": st.nonnegative, "release_ratio": st.at_least(1.0),
+    "fade_coefficient": st.nonnegative, "fade_onset": st.nonnegative, "face_temperature_factor": st.nonnegative,
+    # and fade needs the face temperature (factor > 0) and a window its kernel fit covers
+    None: lambda a: _DOMAIN[None](a) & ((a["fade_coefficient"] == 0) | (
+        (a["face_temperature_factor"] > 0) & (a["t_end"] <= _k.SOE_TMAX))),
 }
 
 
 def closed_form(*, engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque, peak_capacity,
-                ramp_time, profile="ramp", static_ratio=1.0, driven_speed=0.0, t_end=np.inf):
+                ramp_time, profile="ramp", static_ratio=1.0, driven_speed=0.0, t_end=np.inf, power_history=False):
     """Exact engagement for constant μ, constant torques and a polynomial clamp profile.
 
     Parameters
@@ -171,17 +175,22 @@ def closed_form(*, engine_speed, engine_inertia, engine_torque, driven_inertia, 
         (or [0, t_end] if never locked). A scenario with an input outside its domain (NaN; J ≤ 0;
         T_m, C_max, t_r or ω_e < 0; μ_s/μ_k < 1; ω_c(0) outside [0, ω_e(0)]) has status
         ``invalid_input`` and NaN outputs; the others are computed as if it were not there.
+        With ``power_history``, ``flash_peak`` [W s^0.5] as :func:`simulate` gives it: the peak of
+        Duhamel's integral ∫ P(τ)/√(t − τ) dτ of the exact slip power, sampled at
+        ``CLOSED_FORM_POWER_SAMPLES`` points on each of its polynomial pieces (parked, moving on
+        the profile, after it; P linear between samples, each segment integrated exactly).
     """
     if profile not in PROFILES:
         raise ValueError(f"profile must be one of {PROFILES}, got {profile!r}")
     return st.screened(_closed_form, dict(
         engine_speed=engine_speed, engine_inertia=engine_inertia, engine_torque=engine_torque,
         driven_inertia=driven_inertia, load_torque=load_torque, peak_capacity=peak_capacity, ramp_time=ramp_time,
-        static_ratio=static_ratio, driven_speed=driven_speed, t_end=t_end), _DOMAIN, extra={"profile": profile})
+        static_ratio=static_ratio, driven_speed=driven_speed, t_end=t_end), _DOMAIN,
+        extra={"profile": profile, "power_history": power_history})
 
 
 def _closed_form(*, engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque, peak_capacity,
-                 ramp_time, static_ratio, driven_speed, t_end, profile):
+                 ramp_time, static_ratio, driven_speed, t_end, profile, power_history=False):
     arrs = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (
         engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque, peak_capacity, ramp_time,
         static_ratio, driven_speed, t_end)))
@@ -189,15 +198,17 @@ def _closed_form(*, engine_speed, engine_inertia, engine_torque, driven_inertia,
     flat = [a.astype(float).ravel() for a in arrs]
     n = flat[0].size
     if n > _BLOCK:  # cache-sized blocks: ~4x faster than whole-array temporaries at 1e6 scenarios
-        parts = [_closed_form_flat([a[i:i + _BLOCK] for a in flat], profile) for i in range(0, n, _BLOCK)]
+        parts = [_closed_form_flat([a[i:i + _BLOCK] for a in flat], profile, power_history)
+                 for i in range(0, n, _BLOCK)]
         return {k: np.concatenate([p[k] for p in parts]).reshape(shape) for k in parts[0]}
-    return {k: v.reshape(shape) for k, v in _closed_form_flat(flat, profile).items()}
+    return {k: v.reshape(shape) for k, v in _closed_form_flat(flat, profile, power_history).items()}
 
 
 _BLOCK = 8192
+CLOSED_FORM_POWER_SAMPLES = 96  # slip power samples on each polynomial piece (flash_peak)
 
 
-def _closed_form_flat(flat, profile):
+def _closed_form_flat(flat, profile, power_history=False):
     we0, je, te, jv, tm, cmax, tr, rs, wc0, tend = flat
     held = ~np.isfinite(je)
     inv_je = np.where(held, 0.0, 1.0 / np.where(held, 1.0, je))
@@ -336,6 +347,18 @@ def _closed_form_flat(flat, profile):
         "slip_jerk": _peak_rate(t0, t_stop, cmax, tr, profile) * inv_jv,
         "status": code,
     }
+    if power_history:
+        # the slip power on each piece between the knots (zero-length pieces give repeated times,
+        # which the history skips); 0 from lock-up on
+        frac = np.linspace(0.0, 1.0, CLOSED_FORM_POWER_SAMPLES + 1)[:-1]
+        times = np.concatenate([a[:, None] + (b - a)[:, None] * frac[None, :]
+                                for a, b in zip(knots[:-1], knots[1:])] + [t_stop[:, None]], axis=1)
+        power = np.empty_like(times)
+        for j in range(times.shape[1]):
+            c, dw, _, _ = state(times[:, j])
+            power[:, j] = c * dw
+        power[:, -1] = np.where(locked, 0.0, power[:, -1])
+        out["flash_peak"] = _k.flash_peaks(times, power)
     for k, v in out.items():
         if k != "status":
             out[k] = np.where(finite_window, v, np.nan)
@@ -435,10 +458,27 @@ def ramp_time_for_lockup(target_lockup_time, **kwargs):
 EVENT_TIME_TOL = _k.EVENT_TIME_TOL
 
 
+def _check_table(table, name, x_name, y_name, y_positive):
+    """(x, y) arrays of a shared table: at least one point, finite, x increasing (≥ 0 for the
+    friction table), y > 0 where asked; else ValueError naming it."""
+    try:
+        tx, ty = (np.asarray(a, dtype=float).ravel() for a in table)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a pair ({x_name}, {y_name}) of equal-length sequences") from None
+    if tx.size == 0 or tx.size != ty.size or not (np.all(np.isfinite(tx)) and np.all(np.isfinite(ty))):
+        raise ValueError(f"{name}: {x_name} and {y_name} must be finite and of equal, non-zero length")
+    if np.any(np.diff(tx) <= 0):
+        raise ValueError(f"{name}: {x_name} must increase")
+    if y_positive and (tx[0] < 0 or np.any(ty <= 0)):
+        raise ValueError(f"{name}: {x_name} must be >= 0 and {y_name} > 0")
+    return tx, ty
+
+
 def _parameter_table(*, engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque, peak_capacity,
                      ramp_time, profile, static_ratio, stribeck_speed, driven_speed, aero_coefficient, load_step,
                      load_step_time, engine_torque_table, hub_fraction, damper_stiffness, damping_ratio,
-                     release_ratio, t_end):
+                     release_ratio, t_end, friction_table=None, fade_coefficient=0.0, fade_onset=0.0,
+                     face_temperature_factor=0.0):
     """The kernel's parameter table (one row per scenario, columns of :mod:`._engagement_kernel`)
     and the scenarios' broadcast shape."""
     if profile not in PROFILES:
@@ -447,19 +487,27 @@ def _parameter_table(*, engine_speed, engine_inertia, engine_torque, driven_iner
             _k.TM0: load_torque, _k.CMAX: peak_capacity, _k.TR: ramp_time, _k.RS: static_ratio,
             _k.VS: stribeck_speed, _k.WC0: driven_speed, _k.KA: aero_coefficient, _k.DTM: load_step,
             _k.TSTEP: load_step_time, _k.PHI: hub_fraction, _k.K: damper_stiffness, _k.ZETA: damping_ratio,
-            _k.TEND: t_end, _k.KAPPA: release_ratio}
+            _k.TEND: t_end, _k.KAPPA: release_ratio, _k.FADE: fade_coefficient, _k.FADE_ON: fade_onset,
+            _k.FACE_K: face_temperature_factor}
     arrs = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in vals.values()))
     shape = arrs[0].shape
-    if engine_torque_table is None:
-        tx = ty = np.zeros(0)
-    else:
-        tx, ty = (np.asarray(a, dtype=float).ravel() for a in engine_torque_table)
-    Q = np.empty((arrs[0].size, _k.N_PARAM + 1 + 2 * tx.size))  # the shared table rides on every row
+    tx = ty = fx = fy = np.zeros(0)
+    if engine_torque_table is not None:
+        tx, ty = _check_table(engine_torque_table, "engine_torque_table", "speeds", "torques", False)
+    if friction_table is not None:
+        fx, fy = _check_table(friction_table, "friction_table", "slip speeds", "friction ratios", True)
+    ftab = _k.N_PARAM + 1 + 2 * tx.size  # the shared tables ride on every row
+    Q = np.empty((arrs[0].size, ftab + (1 + 2 * fx.size if fx.size else 0)))
     for col, a in zip(vals, arrs):
         Q[:, col] = a.ravel()
     Q[:, _k.NTAB] = tx.size
     Q[:, _k.NTAB + 1:_k.NTAB + 1 + tx.size] = tx
-    Q[:, _k.NTAB + 1 + tx.size:] = ty
+    Q[:, _k.NTAB + 1 + tx.size:ftab] = ty
+    Q[:, _k.FTAB] = ftab if fx.size else 0.0
+    if fx.size:
+        Q[:, ftab] = fx.size
+        Q[:, ftab + 1:ftab + 1 + fx.size] = fx
+        Q[:, ftab + 1 + fx.size:] = fy
     kappa = Q[:, _k.KAPPA]
     with np.errstate(divide="ignore"):  # the cushion is touched (kink of C(t)) where p = 1 − 1/κ
         Q[:, _k.TCON] = np.where(kappa > 1.0, Q[:, _k.TR] * _invert_profile(1.0 - 1.0 / kappa, profile), 0.0)
@@ -485,7 +533,8 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
              aero_coefficient=0.0, load_step=0.0, load_step_time=np.inf, engine_torque_table=None,
              compliant=False, hub_fraction=0.5, damper_stiffness=np.inf, damping_ratio=0.0,
              release_ratio=1.0, t_end=0.5, rtol=1e-10, atol=1e-10, max_step=np.inf, first_step=None,
-             max_steps=200000, trace_times=None, power_history=False):
+             max_steps=200000, trace_times=None, power_history=False, friction_table=None, fade_coefficient=0.0,
+             fade_onset=0.0, face_temperature_factor=0.0):
     """Engagement by a Dormand-Prince 5(4) integrator with exact stick-slip events.
 
     Every scenario has its own step sizes; steps end on breakpoints (profile end, load step, trace
@@ -516,6 +565,24 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
     engine_torque_table : (speeds [rad/s], torques [N m]) or None
         Engine torque versus speed (linear interpolation, constant beyond the ends), added to
         ``engine_torque`` (shared by all scenarios).
+    friction_table : (slip speeds [rad/s], μ/μ_k [-]) or None
+        The slipping friction law as a table (measured data, as the Modelica library's ``mu_pos``):
+        μ(|Δω|)/μ_k, linear between the points, constant beyond the ends; it replaces the Stribeck
+        law (``stribeck_speed`` is then ignored). ``peak_capacity`` is the capacity at μ_k;
+        sticking still holds up to ``static_ratio``·C. Shared by all scenarios.
+    fade_coefficient, fade_onset, face_temperature_factor : array_like
+        Friction fade (off with β = 0, the default): while slipping, μ_k is divided by
+        1 + β·(ΔT − ΔT_on)⁺, ΔT the friction face's temperature rise over its start temperature
+        [K], β ``fade_coefficient`` [1/K], ΔT_on ``fade_onset`` [K]; ΔT = K·I with I Duhamel's
+        integral of the slip power (the face as a semi-infinite body, :mod:`clutchlab.heat`) and K
+        ``face_temperature_factor`` [K/(W s^0.5)] (:func:`clutchlab.heat.face_temperature_rise` of
+        1 W s^0.5). The face temperature becomes a state: the smooth part of the kernel
+        1/√(t − τ) as 15 exponential modes, its singular part quasi-static (see
+        :mod:`._engagement_kernel`; against a Picard iteration with the exact kernel: ΔT within
+        4e-5 of its peak while slipping, lock-up time within 6e-6, slip work 5e-7). Static friction
+        is not faded. Needs K > 0 and t_end ≤ 10 s (the fit's span). Costs: with fade every
+        slipping phase is integrated with the 15 modes, steps ≤ 0.5 ms (the stiffest mode): about
+        0.7 ms a scenario of the compliant model instead of 22 µs.
     release_ratio : array_like
         κ [-] of the release-bearing travel model (:func:`bearing_travel_clamp`): the profile is the
         bearing travel and the capacity C_max·max(0, 1 − κ(1 − p)); 1 (default) is the profile
@@ -555,7 +622,8 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
         every ramp time / 48, at every step end and event; see
         :func:`clutchlab.heat.face_temperature_rise`; NaN without) and ``n_power_samples``, and, with
         ``trace_times``, a ``trace`` dict of arrays (scenario..., time): engine, hub and output
-        speed [rad/s], friction torque and capacity [N m], slip work [J], output jerk [rad/s³].
+        speed [rad/s], friction torque and capacity [N m], slip work [J], output jerk [rad/s³],
+        with fade the friction face's temperature rise [K] (NaN without).
         Inputs are screened as in :func:`closed_form` (plus v_s, J-split, stiffness > 0, ζ, k_a ≥ 0,
         κ ≥ 1, a finite t_end > 0): a bad scenario has status ``invalid_input`` and NaN outputs.
     """
@@ -567,15 +635,18 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
         static_ratio=static_ratio, stribeck_speed=stribeck_speed, driven_speed=driven_speed,
         aero_coefficient=aero_coefficient, load_step=load_step, load_step_time=load_step_time,
         hub_fraction=hub_fraction, damper_stiffness=damper_stiffness, damping_ratio=damping_ratio,
-        release_ratio=release_ratio, t_end=t_end), _DOMAIN_SIMULATE, extra=dict(
-        profile=profile, engine_torque_table=engine_torque_table, compliant=compliant, rtol=rtol, atol=atol,
+        release_ratio=release_ratio, t_end=t_end, fade_coefficient=fade_coefficient, fade_onset=fade_onset,
+        face_temperature_factor=face_temperature_factor), _DOMAIN_SIMULATE, extra=dict(
+        profile=profile, engine_torque_table=engine_torque_table, friction_table=friction_table,
+        compliant=compliant, rtol=rtol, atol=atol,
         max_step=max_step, first_step=first_step, max_steps=max_steps, trace_times=trace_times,
         power_history=power_history))
 
 
-def _simulate(*, profile, engine_torque_table, compliant, rtol, atol, max_step, first_step, max_steps, trace_times,
-              power_history, **scenario):
-    Q, shape = _parameter_table(profile=profile, engine_torque_table=engine_torque_table, **scenario)
+def _simulate(*, profile, engine_torque_table, friction_table, compliant, rtol, atol, max_step, first_step,
+              max_steps, trace_times, power_history, **scenario):
+    Q, shape = _parameter_table(profile=profile, engine_torque_table=engine_torque_table,
+                                friction_table=friction_table, **scenario)
     tt = np.zeros(0) if trace_times is None else np.ascontiguousarray(trace_times, dtype=float).ravel()
     res, trace = _k.simulate_batch(Q, bool(compliant), PROFILES.index(profile), tt, float(rtol), float(atol),
                                    float(max_step), float(first_step or 0.0), int(max_steps), bool(power_history))

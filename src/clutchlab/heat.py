@@ -33,7 +33,7 @@ import numpy as np
 
 __all__ = ["MATERIALS", "effusivity", "face_shares", "lining_area", "specific_loading", "bulk_rise",
            "duhamel_surface_temperature", "surface_temperature_constant", "surface_temperature_ramp",
-           "sequence_temperatures", "engagements_to_limit"]
+           "sequence_temperatures", "engagements_to_limit", "kernel_modes"]
 
 # Typical room-temperature handbook values (assumed; replace by the part's data sheet):
 # grey cast iron (flywheel, pressure plate): rho 7200 kg/m^3, c 500 J/(kg K), k 50 W/(m K) -- the
@@ -244,6 +244,26 @@ def engagement_heat(slip_work, peak_slip_power, outer_radius, inner_radius, face
                   heat_transfer_coefficient=heat_transfer_coefficient, cooling_area=cooling_area,
                   engagement_interval=engagement_interval, temperature_margin=temperature_margin)
     return st.screened(_engagement_heat, inputs, domain)
+
+
+def kernel_modes(cut=4000.0, span=10.0, ratio=2.5, top=4.0):
+    """The exponential modes of the smooth part of Duhamel's kernel that the engagement solver
+    integrates for the friction-face temperature (friction fade; constants of
+    :mod:`clutchlab._engagement_kernel`, which this regenerates): (λ_k [1/s], w_k [s^-0.5]) with
+    Σ w_k e^{−λ_k s} ≈ erf(√(λ_c s))/√s on s ∈ [0, span], by non-negative least squares weighted by
+    √s (the error relative to the whole kernel 1/√s), λ_k geometric with ``ratio`` from
+    ``top``·λ_c down to 0.1/span; modes of zero weight dropped."""
+    from scipy.optimize import nnls
+    from scipy.special import erf
+
+    n = int(np.ceil(np.log(top * cut * span / 0.1) / np.log(ratio))) + 1
+    lam = np.geomspace(top * cut, 0.1 / span, n)
+    s = np.concatenate([np.linspace(0.0, 20.0 / cut, 400), np.geomspace(1e-7, span, 2000)])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        target = np.where(s > 0, erf(np.sqrt(cut * s)) / np.sqrt(s), 2.0 * np.sqrt(cut / np.pi))
+    weight = np.sqrt(np.maximum(s, 1.0 / cut))
+    w, _ = nnls(np.exp(-np.outer(s, lam)) * weight[:, None], target * weight)
+    return lam[w > 0], w[w > 0]
 
 
 def face_temperature_rise(duhamel_integral, outer_radius, inner_radius, faces=2):

@@ -28,6 +28,13 @@ _PROFILES = {"ramp": lambda x: x, "cubic": lambda x: x * x * (3 - 2 * x),
              "quintic": lambda x: x ** 3 * (10 + x * (-15 + 6 * x))}
 
 
+def _slip_law(slip, rs, vs, table):
+    """μ/μ_k while slipping: the friction table (np.interp of |Δω|), the Stribeck law, or 1."""
+    if table is not None:
+        return float(np.interp(abs(slip), *table))
+    return 1.0 if not np.isfinite(vs) else 1.0 + (rs - 1.0) * math.exp(-(slip / vs) ** 2)
+
+
 def compliant(p, *, method="DOP853", rtol=1e-12, atol=None, jerk_peak="dense", follow=0.3, profile="ramp",
               max_step=np.inf):
     """One scenario (``p``: the keyword arguments of :func:`clutchlab.engagement.simulate`, scalars)
@@ -51,8 +58,10 @@ def compliant(p, *, method="DOP853", rtol=1e-12, atol=None, jerk_peak="dense", f
         x = prof(min(max(t / tr, 0.0), 1.0)) if tr > 0 else 1.0
         return cmax * max(0.0, 1.0 - kappa * (1.0 - x))
 
+    table = p.get("friction_table")
+
     def mu_f(slip):
-        return 1.0 if not np.isfinite(vs) else 1.0 + (rs - 1.0) * math.exp(-(slip / vs) ** 2)
+        return _slip_law(slip, rs, vs, table)
 
     def rhs_factory(locked, parked, s):
         def rhs(t, y):
@@ -175,3 +184,65 @@ def _invert(prof, q):
             break
         lo, hi = (mid, hi) if prof(mid) < q else (lo, mid)
     return hi
+
+
+def rigid_fade(p, *, rtol=1e-12, samples=20001, iterations=40, tol=1e-10):
+    """Engagement of the rigid model with a held engine and friction fade (the model of
+    :func:`clutchlab.engagement.simulate` with ``fade_coefficient`` > 0; constant μ_k, the Stribeck
+    law or a ``friction_table``), independently of its face-temperature state: Picard iteration on
+    the face temperature rise ΔT(t). Given ΔT_j(t), ``solve_ivp`` (DOP853) integrates the driven
+    speed with μ_k/(1 + β(ΔT_j − ΔT_on)⁺) (the driven side held by its static load until the clutch
+    torque exceeds it; terminal event at lock-up); the slip power on ``samples`` equal steps to
+    lock-up then gives ΔT_{j+1} = K·∫P(τ)/√(t − τ)dτ exactly for P linear between the samples (the
+    kernel's own :func:`duhamel_at`, O(n²)). Stops when the lock-up time changes by less than
+    ``tol`` (relative). Returns dict(lockup_time, slip_work, peak_face_rise, times, face_rise,
+    iterations)."""
+    from ._engagement_kernel import duhamel_at
+
+    we0, jv, tm, cmax, tr = (float(p[k]) for k in ("engine_speed", "driven_inertia", "load_torque", "peak_capacity",
+                                                     "ramp_time"))
+    rs, vs, table = p.get("static_ratio", 1.0), p.get("stribeck_speed", np.inf), p.get("friction_table")
+    beta, on, kf, t_end = p["fade_coefficient"], p.get("fade_onset", 0.0), p["face_temperature_factor"], p["t_end"]
+    prof = _PROFILES[p.get("profile", "ramp")]
+
+    def cap(t):
+        return cmax * (prof(min(max(t / tr, 0.0), 1.0)) if tr > 0 else 1.0)
+
+    def mu_f(slip):
+        return _slip_law(slip, rs, vs, table)
+
+    times, rise = np.array([0.0, t_end]), np.zeros(2)
+    t_lock_prev = np.nan
+    for it in range(1, iterations + 1):
+        def torque(t, wh, times=times, rise=rise):
+            g = 1.0 / (1.0 + beta * max(0.0, float(np.interp(t, times, rise)) - on))
+            return mu_f(we0 - wh) * g * cap(t)
+
+        def rhs(t, y):
+            tc = torque(t, y[0])
+            return [0.0 if (y[0] <= 0.0 and tc <= tm) else (tc - tm) / jv, tc * (we0 - y[0])]
+
+        def lock(t, y):
+            return we0 - y[0]
+        lock.terminal, lock.direction = True, -1
+        sol = solve_ivp(rhs, (0.0, t_end), [0.0, 0.0], method="DOP853", rtol=rtol, atol=rtol, events=lock,
+                        dense_output=True)
+        t_lock = float(sol.t_events[0][0]) if sol.t_events[0].size else np.nan
+        t_stop = t_lock if np.isfinite(t_lock) else t_end
+        grid = np.linspace(0.0, t_stop, samples)
+        wh = sol.sol(grid)[0]
+        hist = np.vstack([grid, np.array([torque(t, w) * (we0 - w) for t, w in zip(grid, wh)])])
+        hist[1, -1] = 0.0 if np.isfinite(t_lock) else hist[1, -1]
+        new_rise = np.array([kf * duhamel_at(hist, k) if k else 0.0 for k in range(samples)])
+        # after lock-up the face cools: the same integral of the (ended) power at later times
+        after = np.linspace(t_stop, t_end, 200)[1:] if t_stop < t_end else np.zeros(0)
+        if after.size:
+            ext = np.hstack([hist, np.vstack([after, np.zeros(after.size)])])
+            new_rise = np.concatenate([new_rise, [kf * duhamel_at(ext, samples + k) for k in range(after.size)]])
+            grid = np.concatenate([grid, after])
+        times, rise = grid, new_rise
+        if abs(t_lock - t_lock_prev) <= tol * t_lock:
+            break
+        t_lock_prev = t_lock
+    return dict(lockup_time=t_lock, slip_work=float(sol.y[1, -1]), peak_face_rise=float(rise.max()), times=times,
+                face_rise=rise, iterations=it)

@@ -89,6 +89,9 @@ class Study:
     # (inputs, options) -> Dataset of the seed design's traces and curves (no ``run`` dimension):
     # the same for every chunk, so computed once per study (by the chunk holding scenario 0, doe.run_chunk)
     traces: Callable | None = None
+    # measured tables a study section may give (config key -> ((x name, x units), (y name, y units),
+    # description)); resolved to SI lists and passed to compute as options[key]
+    tables: dict = field(default_factory=dict)
 
     def parameter(self, name: str) -> Parameter:
         for p in self.parameters:

@@ -74,6 +74,11 @@ PARAMETERS = SPRING_PARAMETERS + (
               "(assumed: 40 C)", 313.15),
     Parameter("temperature_limit", "K", "material limit of the hottest part's bulk temperature (assumed: 250 C, "
               "organic linings)", 523.15),
+    # friction fade (issue 20 item 4; off by default): mu_k / (1 + beta (T_face - T_onset)+) while slipping
+    Parameter("fade_coefficient", "1/K", "friction fade beta: kinetic mu divided by 1 + beta*(T_face - "
+              "fade_onset_temperature) above the onset (0: no fade)", 0.0, minimum_inclusive=True),
+    Parameter("fade_onset_temperature", "K", "friction-face temperature at which fade begins (assumed: 200 C, "
+              "organic linings; not below ambient_temperature)", 473.15),
 )
 
 ACCURACY = 1e-6  # default relative accuracy of lock-up time, slip work and peak jerk
@@ -101,7 +106,7 @@ OUTPUTS = {
     "heat_driven_plate": ("J", "friction heat into the driven plate (its linings)"),
     "bulk_temperature_rise": ("K", "lumped temperature rise of the hottest part in one engagement"),
     "peak_surface_temperature": ("K", "peak friction-face (flash) temperature of flywheel and pressure plate in one "
-                                      "engagement from ambient (Duhamel; NaN for the closed-form model)"),
+                                      "engagement from ambient (Duhamel's integral of the slip power history)"),
     "engagements_to_limit": ("1", "engagements in a row until the hottest part's bulk temperature reaches "
                                   "temperature_limit (inf: never)"),
 }
@@ -154,6 +159,16 @@ def tolerances(accuracy):
     return accuracy / 10.0, accuracy / 1e3
 
 
+def _friction_table(p, options):
+    """The config's friction table as simulate's (slip speeds, μ/μ_k), μ_k the (fixed) friction
+    coefficient; None without one."""
+    table = options.get("friction_table")
+    if table is None:
+        return None
+    return (np.asarray(table["slip_speed"]),
+            np.asarray(table["friction_coefficient"]) / float(np.asarray(p["friction_coefficient"]).flat[0]))
+
+
 def _solver_inputs(p, cap, options):
     """Keyword arguments of :func:`clutchlab.engagement.simulate` shared by the study and its traces."""
     rigid = options["driveline"] == "rigid"
@@ -164,13 +179,26 @@ def _solver_inputs(p, cap, options):
                 t_end=p["end_time"], stribeck_speed=p["stribeck_speed"], aero_coefficient=p["aero_coefficient"],
                 compliant=not rigid, hub_fraction=p["hub_fraction"], damper_stiffness=p["damper_stiffness"],
                 damping_ratio=p["damping_ratio"], rtol=rtol, atol=atol, power_history=True,
-                release_ratio=(p["air_gap"] + p["cushion_travel"]) / p["cushion_travel"])
+                release_ratio=(p["air_gap"] + p["cushion_travel"]) / p["cushion_travel"],
+                friction_table=_friction_table(p, options), **_fade_inputs(p))
+
+
+def _fade_inputs(p):
+    """simulate's fade arguments (zero where fade is off, so that nothing of it is screened there)."""
+    on = p["fade_coefficient"] > 0
+    with np.errstate(invalid="ignore"):
+        factor = heat.face_temperature_rise(1.0, p["lining_outer_radius"], p["lining_inner_radius"],
+                                            p["friction_faces"])
+    return dict(fade_coefficient=p["fade_coefficient"],
+                fade_onset=np.where(on, p["fade_onset_temperature"] - p["ambient_temperature"], 0.0),
+                face_temperature_factor=np.where(on, factor, 0.0))
 
 
 def check_config(section):
     """The material limit must lie above the ambient temperature for every scenario (else
     engagements_to_limit would mean nothing): refuse the config where the lowest limit is not above
-    the highest ambient."""
+    the highest ambient. A friction table replaces the Stribeck law and is read relative to a fixed
+    friction_coefficient: refuse it with a Stribeck speed or a friction coefficient factor."""
     def bounds(name):
         if name in section["fixed"]:
             return section["fixed"][name], section["fixed"][name]
@@ -182,6 +210,18 @@ def check_config(section):
     if not limit[0] > ambient[1]:
         return ("engagement.parameters.temperature_limit",
                 f"the material limit ({limit[0]:g} K) must lie above the ambient temperature ({ambient[1]:g} K)")
+    onset = bounds("fade_onset_temperature")
+    if bounds("fade_coefficient")[1] > 0 and not onset[0] >= ambient[1]:
+        return ("engagement.parameters.fade_onset_temperature",
+                f"fade must begin at or above the ambient temperature ({onset[0]:g} K < {ambient[1]:g} K)")
+    if "friction_table" in section["options"]:
+        if "friction_coefficient" in section["factors"]:
+            return ("engagement.parameters.friction_coefficient",
+                    "must be fixed with a friction_table (the table's mu is read relative to it: mu_k of the "
+                    "capacity and of static_ratio)")
+        if bounds("stribeck_speed")[0] < np.inf:
+            return ("engagement.parameters.stribeck_speed",
+                    "a friction_table replaces the Stribeck law: leave stribeck_speed at inf")
     return None
 
 
@@ -200,9 +240,11 @@ def compute(inputs, options=None) -> xr.Dataset:
     force, cap, spring_bad, pts = capacity(p, options, with_points=True)
     rigid = options["driveline"] == "rigid"
     # the cheapest exact model per scenario (issue 16 item 2): the closed form where the rigid model
-    # has a held engine, no drag, constant mu and no air gap; the event solver elsewhere
+    # has a held engine, no drag, constant mu (no Stribeck law, friction table or fade) and no air
+    # gap; the event solver elsewhere
     closed = rigid & ~np.isfinite(p["engine_inertia"]) & (p["aero_coefficient"] == 0) \
-        & ~np.isfinite(p["stribeck_speed"]) & (p["air_gap"] == 0)
+        & ~np.isfinite(p["stribeck_speed"]) & (p["air_gap"] == 0) & (p["fade_coefficient"] == 0) \
+        & ("friction_table" not in options)
     model = np.where(closed, MODEL["closed_form"], MODEL["rigid_events" if rigid else "compliant_events"])
     kw = _solver_inputs(p, cap, options)
     res = {}
@@ -213,7 +255,7 @@ def compute(inputs, options=None) -> xr.Dataset:
         if closed_form:
             part = engagement.closed_form(**{k: sub[k] for k in (
                 "engine_speed", "engine_inertia", "engine_torque", "driven_inertia", "load_torque", "peak_capacity",
-                "ramp_time", "profile", "static_ratio", "t_end")})
+                "ramp_time", "profile", "static_ratio", "t_end")}, power_history=True)
             part["peak_jerk"] = part.pop("slip_jerk")
         else:
             part = engagement.simulate(**sub)
@@ -227,10 +269,9 @@ def compute(inputs, options=None) -> xr.Dataset:
         res["peak_bearing_force"] = np.max(bearing_force(p, pts), axis=1)
     hot = _heat(p, res["slip_work"], res["peak_slip_power"])
     res.update({k: hot[k] for k in HEAT})
-    # the friction face's peak (flash) temperature from the event solver's slip power history (the
-    # closed form keeps none: NaN there)
-    flash = res.get("flash_peak", np.full(model.size, np.nan))
-    flash = np.where((model == MODEL["closed_form"]) | (hot["status"] != 0), np.nan, flash)
+    # the friction face's peak (flash) temperature from the slip power history (the event solver's
+    # samples, or the closed form's exact slip power sampled on its pieces)
+    flash = np.where(hot["status"] != 0, np.nan, res.get("flash_peak", np.full(model.size, np.nan)))
     res["peak_surface_temperature"] = p["ambient_temperature"] + heat.face_temperature_rise(
         flash, p["lining_outer_radius"], p["lining_inner_radius"], p["friction_faces"])
     code = np.where(spring_bad, st.CODE["invalid_geometry"], res["status"]).astype(st.DTYPE)
@@ -309,11 +350,12 @@ def _trace_temperatures(p, times, tr, dim) -> dict:
             "units": "K", "long_name": f"bulk temperature of the {part.replace('_', ' ')} just after each engagement "
                                        "in a row (seed design)"}),
         "engagement_number": ("engagement_number", np.arange(1, SEQUENCE_ENGAGEMENTS + 1), {
-            "units": "1", "long_name": "engagement in a row (engagement_interval apart)"}),"trace_slip_power": (dim, power, {"units": "W", "long_name": "slip power (seed design)"}),
-            "trace_surface_temperature": (dim, surface, {"units": "K", "long_name": f"friction-face temperature {where}"}),
-            "trace_bulk_temperature": (dim, bulk, {"units": "K", "long_name": f"bulk temperature {where}"}),
-            "trace_peak_surface_temperature": ((), float(surface.max()), {
-                "units": "K", "long_name": f"peak friction-face temperature {where}"})}
+            "units": "1", "long_name": "engagement in a row (engagement_interval apart)"}),
+        "trace_slip_power": (dim, power, {"units": "W", "long_name": "slip power (seed design)"}),
+        "trace_surface_temperature": (dim, surface, {"units": "K", "long_name": f"friction-face temperature {where}"}),
+        "trace_bulk_temperature": (dim, bulk, {"units": "K", "long_name": f"bulk temperature {where}"}),
+        "trace_peak_surface_temperature": ((), float(surface.max()), {
+            "units": "K", "long_name": f"peak friction-face temperature {where}"})}
 
 
 def _figures(ds):
@@ -340,6 +382,8 @@ STUDY = register(Study(
     # seed 000: a cool (little slip work) and smooth (little jerk) engagement, locked within 0.5 s
     conditions=("engine_speed", "engine_inertia", "engine_torque", "driven_inertia", "load_torque", "aero_coefficient"),
     model_options=("driveline", "capacity_formula"),
+    tables={"friction_table": (("slip_speed", "rad/s"), ("friction_coefficient", "1"),
+                               "measured kinetic friction coefficient over slip speed (replaces the Stribeck law)")},
     objectives=("slip_work:min", "peak_jerk:min"),
     constraints={"lockup_time": ("max", 0.5)},
     accuracy=ACCURACY,
