@@ -12,7 +12,8 @@ documented in :mod:`clutchlab.engagement`; this module only makes it fast:
 * no allocation anywhere, so every function is compiled without numba's reference counting
   (``_nrt=False``): the atomic reference-count updates on every call with an array argument
   were half of the run time (a step cost 0.55 µs with them, 0.27 µs without);
-* only the moving state components are integrated (4 for a held engine, 5 free, 8 compliant);
+* only the moving state components are integrated (4 for a held engine, 5 free, 8 compliant; with
+  fade, while slipping, the 15 modes of the friction face's temperature too);
 * the rigid and the compliant model are compiled as two loops with the flag a constant.
 """
 from __future__ import annotations
