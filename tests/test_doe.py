@@ -189,7 +189,8 @@ def test_curves_of_a_subset_of_a_large_sampled_design(tmp_path, name):
     scenarios, about 1 000 designs' above; a factorial grid keeps all."""
     import matplotlib.pyplot as plt
 
-    from clutchlab import config, studies
+    from clutchlab import config
+    from clutchlab.report import study_pages
 
     base = {"design": "sobol", "samples": 64, "seed": 4,
             "parameters": {"friction_coefficient": {"min": 0.3, "max": 0.5}}}
@@ -212,7 +213,7 @@ def test_curves_of_a_subset_of_a_large_sampled_design(tmp_path, name):
     for n, v in full.data_vars.items():
         if n not in curves and "run" in v.dims:
             np.testing.assert_array_equal(got[n].values, v.values)
-    for stem, fig in studies.get(name).figures(got):
+    for stem, fig in study_pages(name, got):
         fig.canvas.draw()
         plt.close(fig)
     big = {**base, "samples": 2**15}

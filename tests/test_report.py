@@ -69,11 +69,9 @@ def test_pages_draw_with_any_factor_fixed(name, section):
     diaphragm reserve map used to crash on a fixed cone-height ratio)."""
     import matplotlib.pyplot as plt
 
-    from clutchlab import studies
-
     ds = doe.run_study(resolve({"studies": [name], name: section})[name])
-    pages = studies.get(name).figures(ds)
-    assert [s for s, _ in pages] == list(studies.get(name).figure_stems)
+    pages = report.study_pages(name, ds)
+    assert [s for s, _ in pages] == list(report.study_page_stems(name))
     for _, fig in pages:
         fig.canvas.draw()
         plt.close(fig)
@@ -152,11 +150,10 @@ def test_every_page_draws_a_sampled_design(name):
     pass map and the roller pages printed 'needs a factorial design' instead)."""
     import matplotlib.pyplot as plt
 
-    from clutchlab import studies
     from clutchlab.report import answers
 
     ds = doe.run_study(resolve({"studies": [name], name: _sampled_section(name)})[name])
-    for stem, fig in studies.get(name).figures(ds) + [("answers", answers.page(name, ds))]:
+    for stem, fig in report.study_pages(name, ds) + [("answers", answers.page(name, ds))]:
         fig.canvas.draw()
         texts = [t.get_text() for t in fig.texts] + [t.get_text() for ax in fig.axes for t in ax.texts]
         assert not [t for t in texts if "needs a" in t or "not a dimension" in t], (stem, texts)
@@ -183,3 +180,31 @@ def test_sampled_maps_bin_many_designs():
             share = ax.collections[0].get_array().reshape(30, 30)
             assert share[0, 0] == 1.0 and share[-1, -1] == 0.0
         plt.close(fig)
+
+
+def test_studies_never_import_the_report():
+    """DESIGN.md: studies compute, the report draws and looks a study's pages up by its name; a
+    study job (all of clutchlab.studies loaded) imports neither the report nor matplotlib, and
+    every registered study has its pages."""
+    import ast
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    import clutchlab.studies
+
+    for path in Path(clutchlab.studies.__file__).parent.glob("*.py"):  # also imports inside functions
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, (ast.Import, ast.ImportFrom)):
+                names = [getattr(node, "module", None) or ""] + [a.name for a in node.names]
+                assert not any("report" in n or "matplotlib" in n for n in names), (path.name, names)
+    code = ("import sys; from clutchlab import studies; studies._load_all(); "
+            "print(sorted(studies.REGISTRY), 'clutchlab.report' in sys.modules, 'matplotlib' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+    assert out[-2:] == ["False", "False"], out
+    from clutchlab import studies
+
+    studies._load_all()
+    assert sorted(report.FIGURE_MODULES) == sorted(studies.REGISTRY)
+    for name in studies.REGISTRY:
+        assert report.study_page_stems(name)

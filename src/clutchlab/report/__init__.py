@@ -5,6 +5,7 @@
 """
 from __future__ import annotations
 
+import importlib
 from pathlib import Path
 
 import matplotlib
@@ -20,7 +21,35 @@ from ..validation import to_csv  # noqa: E402
 from . import answers  # noqa: E402
 from .common import hard_case_table, title_page, validation_table  # noqa: E402
 
-__all__ = ["build", "figure_stems", "answer_files"]
+__all__ = ["build", "figure_stems", "answer_files", "study_pages", "study_page_stems"]
+
+# study name -> the module of this package that draws its pages (its ``PAGES``: stem -> function of
+# the study's Dataset). The report looks figures up by study name; studies never import the report.
+FIGURE_MODULES = {
+    "diaphragm_spring": "diaphragm_figures",
+    "engagement": "engagement_figures",
+    "centrifugal": "centrifugal_figures",
+    "sprag": "sprag_figures",
+    "roller": "roller_figures",
+}
+
+
+def _pages_of(name: str) -> dict:
+    try:
+        module = FIGURE_MODULES[name]
+    except KeyError:
+        raise KeyError(f"no report pages for study {name!r}; known: {sorted(FIGURE_MODULES)}") from None
+    return importlib.import_module(f".{module}", __name__).PAGES
+
+
+def study_page_stems(name: str) -> tuple[str, ...]:
+    """Stems of the study's own pages, in report order (without the answers and other pages)."""
+    return tuple(_pages_of(name))
+
+
+def study_pages(name: str, ds) -> list:
+    """The study's own pages drawn from its stored Dataset: [(stem, Figure)] in report order."""
+    return [(stem, draw(ds)) for stem, draw in _pages_of(name).items()]
 
 
 def figure_stems(study_names, benchmark=False, sensitivity=(), refined=(), hard_cases=False,
@@ -32,7 +61,7 @@ def figure_stems(study_names, benchmark=False, sensitivity=(), refined=(), hard_
     from ..numerics import stems as numerics_stems
 
     stems = ["title"] + [f"{name}_{s}" for name in study_names
-                         for s in (*studies.get(name).figure_stems, "answers",
+                         for s in (*study_page_stems(name), "answers",
                                    *(["sensitivity"] if name in sensitivity else []),
                                    *(["refinement"] if name in refined else []))]
     validated = any(studies.get(name).validation is not None for name in study_names)
@@ -81,7 +110,7 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
     validations = [store.load(p) for p in validation_files]
     pages = []
     for name, ds in results.items():
-        pages += [(f"{name}_{stem}", fig) for stem, fig in studies.get(name).figures(ds)]
+        pages += [(f"{name}_{stem}", fig) for stem, fig in study_pages(name, ds)]
         pages.append((f"{name}_answers", answers.page(name, ds)))
         if name in (sensitivity_files or {}):
             pages.append((f"{name}_sensitivity", answers.sensitivity_page(name, store.load(sensitivity_files[name]))))
@@ -113,8 +142,8 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
         with store.atomic(outdir / "hard_cases.csv") as tmp:
             hard_cases_csv(cases, tmp)
     # the summary page opens the report and names each study's pages
-    study_pages = {name: [stem for stem, _ in pages if stem.startswith(f"{name}_")] for name in results}
-    pages.insert(0, ("title", title_page(title, __version__, results, validations, study_pages, job_seconds)))
+    stems_of = {name: [stem for stem, _ in pages if stem.startswith(f"{name}_")] for name in results}
+    pages.insert(0, ("title", title_page(title, __version__, results, validations, stems_of, job_seconds)))
     written = []
     with store.atomic(outdir / "report.pdf") as tmp_pdf, \
             PdfPages(tmp_pdf, metadata={"Title": title, "Creator": f"clutchlab {__version__}",

@@ -136,5 +136,5 @@ def traces(ds):
     return fig
 
 
-def figures(ds):
-    return [("capacity_curves", capacity_curves(ds)), ("release_map", release_map(ds)), ("traces", traces(ds))]
+# page stem -> function drawing it from the study's Dataset, in report order
+PAGES = {"capacity_curves": capacity_curves, "release_map": release_map, "traces": traces}

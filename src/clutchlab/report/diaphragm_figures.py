@@ -114,5 +114,5 @@ def reserve_map(ds):
     return fig
 
 
-def figures(ds):
-    return [("load_curves", load_curves(ds)), ("reserve_map", reserve_map(ds))]
+# page stem -> function drawing it from the study's Dataset, in report order
+PAGES = {"load_curves": load_curves, "reserve_map": reserve_map}

@@ -133,10 +133,6 @@ def traces(ds):
     return fig
 
 
-def figures(ds):
-    return [("tradeoff", tradeoff(ds)), ("maps", maps(ds)), ("traces", traces(ds)), ("heat", heat_page(ds))]
-
-
 def heat_page(ds):
     """Heat (issue 20): the seed design's friction-face and bulk temperature over the engagement
     and over engagements in a row; the peak friction-face temperature over the design; the
@@ -194,3 +190,7 @@ def heat_page(ds):
     fig.suptitle("Heat: friction face and parts (pressure plate, flywheel: cast iron; linings: organic; "
                  "assumed materials, clutchlab.heat)", fontsize=10)
     return fig
+
+
+# page stem -> function drawing it from the study's Dataset, in report order
+PAGES = {"tradeoff": tradeoff, "maps": maps, "traces": traces, "heat": heat_page}

@@ -173,6 +173,6 @@ def engagement_trace(ds):
     return fig
 
 
-def figures(ds):
-    return [("stress_engagement", stress_engagement(ds)), ("feasible_region", feasible_region(ds)),
-            ("engagement_trace", engagement_trace(ds))]
+# page stem -> function drawing it from the study's Dataset, in report order
+PAGES = {"stress_engagement": stress_engagement, "feasible_region": feasible_region,
+         "engagement_trace": engagement_trace}

@@ -197,5 +197,5 @@ def impact_torque(ds):
     return fig
 
 
-def figures(ds):
-    return [("stress_vs_torque", stress_vs_torque(ds)), ("pass_map", pass_map(ds)), ("impact_torque", impact_torque(ds))]
+# page stem -> function drawing it from the study's Dataset, in report order
+PAGES = {"stress_vs_torque": stress_vs_torque, "pass_map": pass_map, "impact_torque": impact_torque}

@@ -63,8 +63,6 @@ class Study:
     parameters: tuple[Parameter, ...]
     compute: Callable
     model: str  # which model runs, recorded in the results
-    figures: Callable | None = None  # Dataset -> [(stem, Figure)], stems as in figure_stems
-    figure_stems: tuple[str, ...] = ()
     validation: Callable | None = None  # () -> validation Dataset (seed rows) or None
     options: dict = field(default_factory=dict)
     # default relative accuracy of the headline outputs (config key ``accuracy``, passed to compute

@@ -174,12 +174,6 @@ def validation():
     return to_dataset(rows, "seed 001: centrifugal clutch with overrunning linkage")
 
 
-def _figures(ds):
-    from ..report import centrifugal_figures
-
-    return centrifugal_figures.figures(ds)
-
-
 STUDY = register(Study(
     name="centrifugal",
     output="centrifugal/centrifugal.h5",
@@ -188,8 +182,6 @@ STUDY = register(Study(
     compute=compute,
     traces=seed_traces,
     model="closed form: eqs. (1)-(2) capacities; release after engine failure by exact quadratic root and integral",
-    figures=_figures,
-    figure_stems=("capacity_curves", "release_map", "traces"),
     validation=validation,
     outputs={"reserve_factor": "1", "release_margin": "N m", "release_time": "s", "engagement_speed": "rad/s",
              "capacity_forward": "N m", "idle_capacity": "N m"},

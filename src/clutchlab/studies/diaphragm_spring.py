@@ -180,12 +180,6 @@ def validation() -> xr.Dataset:
     return to_dataset(rows, "seed 000: diaphragm spring, damper, spline, capacity, engagement")
 
 
-def _figures(ds):
-    from ..report import diaphragm_figures
-
-    return diaphragm_figures.figures(ds)
-
-
 STUDY = register(Study(
     name="diaphragm_spring",
     output="diaphragm/spring.h5",
@@ -193,8 +187,6 @@ STUDY = register(Study(
     parameters=PARAMETERS,
     compute=compute,
     model="closed form: Almen-Laszlo eq. (10) with analytic stationary points; capacity eqs. (13)-(14) corrected",
-    figures=_figures,
-    figure_stems=("load_curves", "reserve_map"),
     validation=validation,
     outputs={"clamp_load": "N", "reserve_factor": "1", "torque_capacity": "N m", "load_peak": "N", "load_valley": "N",
              "deflection_operating": "m"},

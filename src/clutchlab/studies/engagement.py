@@ -358,12 +358,6 @@ def _trace_temperatures(p, times, tr, dim) -> dict:
             "units": "K", "long_name": f"peak friction-face temperature {where}"})}
 
 
-def _figures(ds):
-    from ..report import engagement_figures
-
-    return engagement_figures.figures(ds)
-
-
 STUDY = register(Study(
     name="engagement",
     output="diaphragm/engagement.h5",
@@ -372,8 +366,6 @@ STUDY = register(Study(
     compute=compute,
     traces=seed_traces,
     model="chosen by options (see model_used): closed form, or DOPRI5 with exact stick-slip events",
-    figures=_figures,
-    figure_stems=("tradeoff", "maps", "traces", "heat"),
     options=OPTIONS,
     outputs={"lockup_time": "s", "slip_work": "J", "peak_slip_power": "W", "peak_friction_torque": "N m",
              "specific_friction_work": "J/m^2", "peak_specific_friction_power": "W/m^2", "bulk_temperature_rise": "K",

@@ -251,12 +251,6 @@ def validation():
     return to_dataset(rows, "seed 003: roller-type controllable overrunning clutch")
 
 
-def _figures(ds):
-    from ..report import roller_figures
-
-    return roller_figures.figures(ds)
-
-
 STUDY = register(Study(
     name="roller",
     output="roller/roller.h5",
@@ -265,8 +259,6 @@ STUDY = register(Study(
     compute=compute,
     traces=seed_trace,
     model="statics closed form (eqs. 1-4); wedging dynamics: Hertz contact with IMPACT damping, compiled SDIRK4",
-    figures=_figures,
-    figure_stems=("stress_engagement", "feasible_region", "engagement_trace"),
     validation=validation,
     options=OPTIONS,
     outputs={"contact_stress": "Pa", "engagement_time": "s", "self_locking_margin": "1", "spring_margin": "1",

@@ -192,12 +192,6 @@ def validation():
     return to_dataset(rows, "seed 002: sprag clutch statics (Table 2)")
 
 
-def _figures(ds):
-    from ..report import sprag_figures
-
-    return sprag_figures.figures(ds)
-
-
 STUDY = register(Study(
     name="sprag",
     output="sprag/sprag.h5",
@@ -206,8 +200,6 @@ STUDY = register(Study(
     compute=compute,
     traces=impact_curves,
     model="closed-form statics (eqs. 6-8) with a vectorised deflection fixed point; impact torque eqs. 1-5 closed form",
-    figures=_figures,
-    figure_stems=("stress_vs_torque", "pass_map", "impact_torque"),
     validation=validation,
     outputs={"margin_contact_inner": "1", "margin_contact_outer": "1", "margin_vm_inner": "1", "margin_vm_outer": "1",
              "margin_gripping_angle": "1", "gripping_angle": "rad", "contact_stress_inner": "Pa"},
