@@ -20,7 +20,7 @@ def write_first_stage(path, study="engagement"):
 
     import yaml
 
-    from clutchlab import config, doe, store
+    from clutchlab import config, pipeline, store
 
     raw = yaml.safe_load((Path(__file__).resolve().parents[1] / "config" / "config.yaml").read_text())[study]
     params = {k: v for k, v in raw["parameters"].items() if isinstance(v, dict)}
@@ -31,7 +31,7 @@ def write_first_stage(path, study="engagement"):
                                       **small}}
     sec = config.resolve({"studies": [study], study: section})[study]
     Path(path).parent.mkdir(parents=True, exist_ok=True)
-    store.write(doe.run_study(sec), path)
+    store.write(pipeline.run_study(sec), path)
 
 
 ROOT = Path(__file__).resolve().parents[1]

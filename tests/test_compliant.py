@@ -209,11 +209,11 @@ def test_accuracy_sets_the_tolerance_that_meets_it(accuracy):
 
 
 def test_study_records_its_tolerances():
-    from clutchlab import config, doe
+    from clutchlab import config, pipeline
 
     sec = config.resolve({"studies": ["engagement"], "engagement": {
         "design": "factorial", "accuracy": 1e-5, "parameters": {"ramp_time": {"values": ["0.1 s", "0.2 s"]}}}})
-    ds = doe.run_study(sec["engagement"])
+    ds = pipeline.run_study(sec["engagement"])
     assert ds.attrs["accuracy"] == 1e-5
     assert (ds.attrs["rtol"], ds.attrs["atol"]) == pytest.approx((1e-6, 1e-8), rel=1e-12)
     assert "closed form" in ds.attrs["model_used"]
@@ -227,7 +227,7 @@ def test_study_records_its_tolerances():
 @pytest.mark.slow
 def test_benchmark_runs_and_reports_ratios(tmp_path, capsys):
     """The compliant benchmark on a tiny design: CSV, figure, and ratios against solve_ivp printed."""
-    from clutchlab import benchmark_compliant as bc
+    from clutchlab.bench import compliant as bc
 
     rows = bc.run(tmp_path, n=40, n_ref=2)
     assert (tmp_path / "compliant_work_precision.png").stat().st_size > 0

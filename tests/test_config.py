@@ -182,9 +182,9 @@ def test_resolve_does_not_mutate_input(raw):
 def test_seed000_config_reproduces_the_paper():
     """config/seed000.yaml: lock-up 0.150 s (tol 1 %), about 5800 J (tol 2 %) at the 0.15 s ramp,
     and the shortened/lengthened variants lock up at 0.1 s and 0.2 s (seed 000 section 5.2)."""
-    from clutchlab import doe
+    from clutchlab import pipeline
 
-    ds = doe.run_study(config.load(ROOT / "config" / "seed000.yaml")["engagement"])
+    ds = pipeline.run_study(config.load(ROOT / "config" / "seed000.yaml")["engagement"])
     assert ds["lockup_time"].values == pytest.approx([0.1, 0.150, 0.2], rel=0.01)
     assert float(ds["slip_work"].sel(ramp_time=0.15)) == pytest.approx(5800.0, rel=0.02)
 

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from clutchlab import doe, explore, store
+from clutchlab import doe, explore, pipeline, store
 from clutchlab.config import resolve
 
 
@@ -16,15 +16,15 @@ def _study(design="factorial", **params):
 
 def test_factorial_dimensions():
     sec = _study(sheet_thickness={"values": ["2 mm", "2.5 mm"]}, cone_height_ratio={"min": 1.2, "max": 2.0, "num": 5})
-    ds = doe.run_study(sec)
+    ds = pipeline.run_study(sec)
     assert ds["clamp_load"].dims == ("sheet_thickness", "cone_height_ratio")
     assert ds["curve_load"].dims == ("sheet_thickness", "cone_height_ratio", "deflection_ratio")
     assert float(ds["clamp_load"].sel(sheet_thickness=2.5e-3, cone_height_ratio=1.6)) > 0
-    assert doe.n_scenarios(doe.build_design(sec)) == 10
+    assert pipeline.n_scenarios(doe.build_design(sec)) == 10
 
 
 def test_fixed_only_design_is_one_scenario():
-    ds = doe.run_study(_study())
+    ds = pipeline.run_study(_study())
     assert ds["clamp_load"].dims == () and np.isfinite(float(ds["clamp_load"]))
 
 
@@ -50,21 +50,21 @@ def test_chunked_equals_unchunked(chunks):
     sec = _study(sheet_thickness={"values": ["2 mm", "2.3 mm", "2.6 mm"]}, radius_ratio={"values": [1.2, 1.3]},
                  operating_point_factor={"values": [0.8, 0.9]})
     design = doe.build_design(sec)
-    merged = doe.merge(design, [doe.run_chunk(design, {}, chunks, i) for i in range(chunks)])
+    merged = pipeline.merge(design, [pipeline.run_chunk(design, {}, chunks, i) for i in range(chunks)])
     # the design answers (feasibility, Pareto rank) too do not depend on the chunk count
     merged = explore.annotate(merged, sec["objectives"], sec["constraints"])
-    xr.testing.assert_identical(merged, doe.run_study(sec))
+    xr.testing.assert_identical(merged, pipeline.run_study(sec))
 
 
 def test_merge_detects_missing_chunk():
     design = doe.build_design(_study(sheet_thickness={"values": ["2 mm", "2.3 mm", "2.6 mm"]}))
     with pytest.raises(ValueError, match="missing or duplicated"):
-        doe.merge(design, [doe.run_chunk(design, {}, 3, i) for i in (0, 2)])
+        pipeline.merge(design, [pipeline.run_chunk(design, {}, 3, i) for i in (0, 2)])
 
 
 def test_chunk_slices_partition():
     for n, k in [(10, 3), (5, 8), (1_000_000, 200)]:
-        sl = [doe.chunk_slice(n, k, i) for i in range(k)]
+        sl = [pipeline.chunk_slice(n, k, i) for i in range(k)]
         assert sl[0].start == 0 and sl[-1].stop == n
         assert all(a.stop == b.start for a, b in zip(sl, sl[1:]))
         sizes = [s.stop - s.start for s in sl]
@@ -74,7 +74,7 @@ def test_chunk_slices_partition():
 def test_sampled_merge_keeps_run_dimension():
     sec = _study("sobol", sheet_thickness={"min": "2 mm", "max": "3 mm"}, _samples=32)
     design = doe.build_design(sec)
-    merged = doe.merge(design, [doe.run_chunk(design, {}, 4, i) for i in range(4)])
+    merged = pipeline.merge(design, [pipeline.run_chunk(design, {}, 4, i) for i in range(4)])
     assert merged["clamp_load"].dims == ("run",)
     np.testing.assert_array_equal(merged["sheet_thickness"].values, design["sheet_thickness"].values)
 
@@ -115,18 +115,18 @@ def test_streamed_merge_equals_the_in_memory_merge(tmp_path, name, section, chun
     paths = []
     for i in range(chunks):
         paths.append(tmp_path / f"chunk_{i}.h5")
-        store.write(doe.run_chunk(design, sec["options"], chunks, i), paths[-1], with_checksum=True)
-    want = explore.annotate(doe.merge(design, [store.load(p) for p in paths]), sec["objectives"],
+        store.write(pipeline.run_chunk(design, sec["options"], chunks, i), paths[-1], with_checksum=True)
+    want = explore.annotate(pipeline.merge(design, [store.load(p) for p in paths]), sec["objectives"],
                             sec["constraints"])
     sens = tmp_path / "sensitivity.h5" if sec["design"] == "factorial" else None
-    doe.merge_to_file(design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"], sens)
+    pipeline.merge_to_file(design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"], sens)
     xr.testing.assert_identical(store.load(tmp_path / "out.h5"), want)
     if sens:
         outputs = [o.split(":")[0] for o in sec["objectives"]] + list(sec["constraints"])
         xr.testing.assert_identical(store.load(sens), explore.sensitivity(want, outputs))
     full = [p for p in paths if store.load(p).sizes["run"]]
     with pytest.raises(ValueError, match="missing or duplicated"):
-        doe.merge_to_file(design, [p for p in paths if p != full[1]], tmp_path / "bad.h5", sec["objectives"],
+        pipeline.merge_to_file(design, [p for p in paths if p != full[1]], tmp_path / "bad.h5", sec["objectives"],
                           sec["constraints"])
     assert not (tmp_path / "bad.h5").exists()
 
@@ -146,11 +146,11 @@ def test_streamed_merge_memory_follows_the_chunk_not_the_study(tmp_path):
     paths = []
     for i in range(16):
         paths.append(tmp_path / f"chunk_{i}.h5")
-        store.write(doe.run_chunk(design, sec["options"], 16, i), paths[-1], with_checksum=True)
+        store.write(pipeline.run_chunk(design, sec["options"], 16, i), paths[-1], with_checksum=True)
     chunk_bytes = store.load(paths[0]).nbytes
     explore.pareto_rank(np.random.default_rng(0).random((50, 2)))  # numba loads its compiled code once
     tracemalloc.start()
-    doe.merge_to_file(design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"])
+    pipeline.merge_to_file(design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"])
     streamed = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     study_bytes = store.load(tmp_path / "out.h5").nbytes
@@ -167,7 +167,7 @@ def test_sampled_designs_with_discrete_factors():
 
     sec = resolve({"studies": ["sprag"], "sprag": {"design": "sobol", "samples": 1024, "seed": 2, "parameters": {
         "torque": {"min": "200 N*m", "max": "900 N*m"}, "sprags": {"min": 14, "max": 22}}}})["sprag"]
-    ds = doe.run_study(sec)
+    ds = pipeline.run_study(sec)
     values, counts = np.unique(ds["sprags"].values, return_counts=True)
     assert values.tolist() == list(range(14, 23)) and counts.min() >= 1024 // 9 - 2
     assert np.isfinite(ds["margin_contact_inner"].values).any()
@@ -194,15 +194,15 @@ def test_curves_of_a_subset_of_a_large_sampled_design(tmp_path, name):
 
     base = {"design": "sobol", "samples": 64, "seed": 4,
             "parameters": {"friction_coefficient": {"min": 0.3, "max": 0.5}}}
-    full = doe.run_study(resolve({"studies": [name], name: base})[name])
+    full = pipeline.run_study(resolve({"studies": [name], name: base})[name])
     sec = resolve({"studies": [name], name: {**base, "curves": 7}})[name]
     design = doe.build_design(sec)
     paths = []
     for i in range(3):
         paths.append(tmp_path / f"chunk_{i}.h5")
-        store.write(doe.run_chunk(design, sec["options"], 3, i), paths[-1], with_checksum=True)
-    want = explore.annotate(doe.merge(design, [store.load(p) for p in paths]), sec["objectives"], sec["constraints"])
-    doe.merge_to_file(design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"])
+        store.write(pipeline.run_chunk(design, sec["options"], 3, i), paths[-1], with_checksum=True)
+    want = explore.annotate(pipeline.merge(design, [store.load(p) for p in paths]), sec["objectives"], sec["constraints"])
+    pipeline.merge_to_file(design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"])
     got = store.load(tmp_path / "out.h5")
     xr.testing.assert_identical(got, want)
     assert got["curve_run"].values.tolist() == list(range(0, 64, 7))
@@ -229,7 +229,7 @@ def test_curve_subset_of_a_study_without_curves():
     sec = resolve({"studies": ["engagement"], "engagement": {
         "design": "sobol", "samples": 16, "seed": 1, "curves": 5, "options": {"driveline": "rigid"},
         "parameters": {"ramp_time": {"min": "0.05 s", "max": "0.3 s"}}}})["engagement"]
-    ds = doe.run_study(sec)
+    ds = pipeline.run_study(sec)
     assert "curve_run" not in ds.dims and ds.sizes["run"] == 16
 
 
@@ -246,12 +246,12 @@ def test_seed_traces_once_per_study(name, factor):
     sec = resolve({"studies": [name], name: {"design": "lhs", "samples": 6, "seed": 2, "parameters": factor}})[name]
     design = doe.build_design(sec)
     study = studies.get(name)
-    parts = [doe.run_chunk(design, sec["options"], 3, i) for i in range(3)]
-    _, inputs = doe.chunk_inputs(design, 3, 0)
+    parts = [pipeline.run_chunk(design, sec["options"], 3, i) for i in range(3)]
+    _, inputs = pipeline.chunk_inputs(design, 3, 0)
     names = set(study.traces(inputs, study.full_options(sec["options"])).data_vars)
     assert names and names <= set(parts[0].data_vars)
     assert not names & (set(parts[1].data_vars) | set(parts[2].data_vars))
-    merged = doe.merge(design, parts)
+    merged = pipeline.merge(design, parts)
     xr.testing.assert_equal(merged[sorted(names)], parts[0][sorted(names)])
 
 
@@ -270,16 +270,16 @@ def test_options_drawn_per_scenario(tmp_path, name, options, factor):
 
     sec = resolve({"studies": [name], name: {"design": "sobol", "samples": 16, "seed": 4, "parameters": factor,
                                              "options": {o: {"values": v} for o, v in options.items()}}})[name]
-    one = doe.run_study(sec)
+    one = pipeline.run_study(sec)
     design = doe.build_design(sec)
     paths = []
     for i in range(3):
         paths.append(tmp_path / f"c{i}.h5")
-        store.write(doe.run_chunk(design, sec["options"], 3, i), paths[-1], with_checksum=True, complevel=0)
-    doe.merge_to_file(design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"])
+        store.write(pipeline.run_chunk(design, sec["options"], 3, i), paths[-1], with_checksum=True, complevel=0)
+    pipeline.merge_to_file(design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"])
     xr.testing.assert_identical(store.load(tmp_path / "out.h5"), one)
     study = studies.get(name)
-    _, inputs = doe.chunk_inputs(design, 1, 0)
+    _, inputs = pipeline.chunk_inputs(design, 1, 0)
     codes = {o: inputs.pop(o) for o in options}
     within = one["pareto_rank"].attrs.get("ranked_within", "").split()
     for o, labels in options.items():
@@ -300,24 +300,24 @@ def test_options_drawn_per_scenario(tmp_path, name, options, factor):
     store.write(one, tmp_path / "r" / "first.h5")
     ref = resolve({"studies": [name], "results": str(tmp_path / "new"),
                    name: {"design": "refine", "samples": 6, "seed": 1, "refine": {"from": str(tmp_path / "r" / "first.h5")}}})[name]
-    second = doe.run_study(ref)
+    second = pipeline.run_study(ref)
     front = explore.front_order(one)
     for o in options:
         assert set(second[o].values) <= set(explore.flat(one, o)[front])
 
 
 def test_a_large_chunk_runs_in_batches_with_progress(monkeypatch):
-    """Issue 18 item 5: a chunk above doe.PROGRESS_MIN scenarios runs in batches, a progress line
+    """Issue 18 item 5: a chunk above pipeline.PROGRESS_MIN scenarios runs in batches, a progress line
     (scenarios done, rate, time left) after each, and gives the numbers of one batch."""
     sec = _study("sobol", sheet_thickness={"min": "1.8 mm", "max": "2.8 mm"}, cone_height_ratio={"min": 1.2, "max": 2.2},
                  _samples=64)
     design = doe.build_design(sec)
-    whole = doe.run_chunk(design, {}, 1, 0)
-    monkeypatch.setattr(doe, "PROGRESS_MIN", 10)
+    whole = pipeline.run_chunk(design, {}, 1, 0)
+    monkeypatch.setattr(pipeline, "PROGRESS_MIN", 10)
     lines = []
-    batched = doe.run_chunk(design, {}, 1, 0, progress=lines.append)
+    batched = pipeline.run_chunk(design, {}, 1, 0, progress=lines.append)
     xr.testing.assert_identical(batched.drop_attrs(), whole.drop_attrs())
     assert {k: v for k, v in batched.attrs.items() if k != "compute_seconds"} == \
         {k: v for k, v in whole.attrs.items() if k != "compute_seconds"}
-    assert len(lines) == doe.PROGRESS_BATCHES and "6 of 64 scenarios" in lines[0] and "s left" in lines[0]
+    assert len(lines) == pipeline.PROGRESS_BATCHES and "6 of 64 scenarios" in lines[0] and "s left" in lines[0]
     assert "64 scenarios computed" in lines[-1]

@@ -4,7 +4,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from clutchlab import benchmark
+from clutchlab.bench import engagement as benchmark
 from clutchlab import engagement as eng
 from clutchlab import status as st
 

@@ -4,7 +4,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from clutchlab import config, doe, report, store
+from clutchlab import config, doe, pipeline, report, store
 from clutchlab import status as st
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -20,7 +20,7 @@ def test_seed000_through_the_whole_chain():
     lock-up 0.150 s (tol 1 %) and slip work 5800 J (tol 2 %), seed 000 sections 5.2-5.3."""
     sec = _study({"driveline": "rigid", "capacity_formula": "eq14_as_printed"}, cone_height_ratio=3.5 / 2.334,
                  stack_mass="4.757 kg", engine_inertia="inf")
-    ds = doe.run_study(sec)
+    ds = pipeline.run_study(sec)
     assert ds.attrs["model_used"] == "rigid two-inertia, closed form"
     assert float(ds["peak_capacity"]) == pytest.approx(239.3, rel=2e-3)
     assert float(ds["lockup_time"]) == pytest.approx(0.150, rel=0.01)
@@ -34,7 +34,7 @@ def test_seed000_through_the_whole_chain():
 def test_default_study_energy_and_metadata(tmp_path):
     """Acceptance: energy_residual <= 1e-9 relative for every scenario of the default study."""
     sec = config.load(ROOT / "config" / "config.yaml")["engagement"]
-    ds = doe.run_study(sec)
+    ds = pipeline.run_study(sec)
     ok = ds["status"] == st.CODE["ok"]
     assert int(ok.sum()) > 0.8 * ok.size
     assert float(np.abs(ds["energy_residual"]).max()) <= 1e-9
@@ -46,7 +46,7 @@ def test_default_study_energy_and_metadata(tmp_path):
 
 def test_work_precision_page_from_stored_benchmark(tmp_path):
     """The report's work-precision page is drawn from the benchmark's CSV (no solver re-run)."""
-    from clutchlab import benchmark
+    from clutchlab.bench import engagement as benchmark
 
     rows = [dict(method=benchmark.CLUTCHLAB, rtol=r, seconds_per_scenario=5e-5 * (1 + i), max_lockup_error_s=r,
                  scenarios=10_000) for i, r in enumerate((1e-4, 1e-8))]
@@ -78,7 +78,7 @@ def test_model_chosen_per_scenario():
                   stribeck_speed={"values": ["inf", "20 rad/s"]}, load_torque={"values": ["44 N*m", "80 N*m"]})
     sec = _study({"driveline": "rigid"}, **params)
     sec["options"]["accuracy"] = 1e-8
-    ds = doe.run_study(sec)
+    ds = pipeline.run_study(sec)
     closed = (~np.isfinite(ds["engine_inertia"]) & ~np.isfinite(ds["stribeck_speed"])).broadcast_like(ds["status"])
     assert ((ds["model"] == MODEL["closed_form"]) == closed).all()
     assert ((ds["model"] == MODEL["rigid_events"]) == ~closed).all()
@@ -87,18 +87,18 @@ def test_model_chosen_per_scenario():
     # each model alone: the closed-form scenarios by the event solver (forced by a vanishing drag)
     forced = _study({"driveline": "rigid"}, **params, aero_coefficient=1e-300)
     forced["options"]["accuracy"] = 1e-8
-    ref = doe.run_study(forced)
+    ref = pipeline.run_study(forced)
     assert (ref["model"] == MODEL["rigid_events"]).all()
     for name in ("lockup_time", "slip_work", "peak_friction_torque"):
         np.testing.assert_allclose(ds[name].values, ref[name].values, rtol=1e-6)
     sec = _study({"driveline": "compliant"}, ramp_time={"values": ["0.1 s", "0.2 s"]})
-    assert (doe.run_study(sec)["model"] == MODEL["compliant_events"]).all()
+    assert (pipeline.run_study(sec)["model"] == MODEL["compliant_events"]).all()
 
 
 def test_an_empty_chunk_runs():
     """More chunks than scenarios: an empty chunk of a per-scenario-model study gives an empty result."""
     sec = _study({"driveline": "rigid"}, ramp_time={"values": ["0.1 s", "0.2 s"]})
     design = doe.build_design(sec)
-    assert doe.chunk_slice(2, 5, 0) == slice(0, 0)
-    empty = doe.run_chunk(design, sec["options"], 5, 0)
+    assert pipeline.chunk_slice(2, 5, 0) == slice(0, 0)
+    empty = pipeline.run_chunk(design, sec["options"], 5, 0)
     assert empty.sizes["run"] == 0 and "model" in empty

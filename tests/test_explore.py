@@ -94,11 +94,11 @@ def test_every_study_result_answers(name, section):
     """A study result carries feasible, constraint_margin and pareto_rank (with the objectives it
     ranks), consistent with each other: feasible = status ok and every margin >= 0; ranked =
     feasible with finite objectives; rank 0 = the brute-force front of the feasible designs."""
-    from clutchlab import doe
+    from clutchlab import pipeline
     from clutchlab.config import resolve
 
     sec = resolve({"studies": [name], name: section})[name]
-    ds = doe.run_study(sec)
+    ds = pipeline.run_study(sec)
     dims = ds["status"].dims
     assert ds["feasible"].dims == dims and ds["pareto_rank"].dims == dims
     assert ds["constraint_margin"].dims == ("constraint",) + dims
@@ -141,7 +141,7 @@ def test_grouped_ranks_are_ranks_within_each_group():
 
 def _engagement_over_two_loads():
     """A rigid engagement grid over ramp time, mu and two load torques: (resolved section, result)."""
-    from clutchlab import doe
+    from clutchlab import pipeline
     from clutchlab.config import resolve
 
     section = {"design": "factorial", "options": {"driveline": "rigid"},
@@ -149,14 +149,14 @@ def _engagement_over_two_loads():
                               "friction_coefficient": {"values": [0.3, 0.35, 0.4]},
                               "load_torque": {"values": ["44 N*m", "80 N*m"]}}}
     sec = resolve({"studies": ["engagement"], "engagement": section})["engagement"]
-    return sec, doe.run_study(sec)
+    return sec, pipeline.run_study(sec)
 
 
 def test_operating_conditions_are_not_design_choices():
     """An engagement grid over the load torque: without grouping, every front design would carry the
     lightest load (it always needs less slip work); ranked within each load torque, each load has
     its own front. A sampled load torque cannot be grouped and is named in conditions_mixed."""
-    from clutchlab import doe
+    from clutchlab import pipeline
     from clutchlab.config import resolve
 
     sec, ds = _engagement_over_two_loads()
@@ -169,14 +169,14 @@ def test_operating_conditions_are_not_design_choices():
                "parameters": {"ramp_time": {"min": "0.05 s", "max": "0.3 s"},
                               "load_torque": {"min": "40 N*m", "max": "80 N*m"}}}
     sec = resolve({"studies": ["engagement"], "engagement": sampled})["engagement"]
-    ds = doe.run_study(sec)
+    ds = pipeline.run_study(sec)
     assert ds["pareto_rank"].attrs["conditions_mixed"] == "load_torque"
     assert ds["pareto_rank"].attrs["ranked_within"] == ""
 
 
 def test_benchmark_runs_small(tmp_path):
     """The benchmark's own check on a small run: equal ranks to the O(N^2) peeling."""
-    from clutchlab import benchmark_pareto
+    from clutchlab.bench import pareto as benchmark_pareto
 
     rows = benchmark_pareto.run(tmp_path, 3000, reference=300)
     assert all(r["equal_to_reference"] for r in rows) and (tmp_path / "pareto_benchmark.csv").exists()
@@ -207,13 +207,13 @@ def test_grid_decomposition_leaves_failed_cells_out():
 
 
 def test_sensitivity_of_a_factorial_study():
-    from clutchlab import doe
+    from clutchlab import pipeline
     from clutchlab.config import resolve
 
     sec = resolve({"studies": ["centrifugal"], "centrifugal": {"design": "factorial", "parameters": {
         "pressure_angle": {"values": ["25 deg", "38.84 deg", "53 deg", "65 deg"]},
         "friction_coefficient": {"values": [0.3, 0.4046, 0.5, 0.6]}}}})["centrifugal"]
-    ds = doe.run_study(sec)
+    ds = pipeline.run_study(sec)
     se = explore.sensitivity(ds, ["reserve_factor", "release_time"])
     assert list(se["output"].values) == ["reserve_factor", "release_time", "failure"]
     assert set(se["factor"].values) == {"pressure_angle", "friction_coefficient"}
@@ -268,20 +268,20 @@ def test_sobol_indices_of_an_additive_function_and_failed_blocks():
 
 
 def test_saltelli_study_sensitivity():
-    from clutchlab import doe
+    from clutchlab import pipeline
     from clutchlab.config import resolve
 
     sec = resolve({"studies": ["centrifugal"], "centrifugal": {"design": "saltelli", "samples": 256, "parameters": {
         "pressure_angle": {"min": "25 deg", "max": "55 deg"}, "friction_coefficient": {"min": 0.3, "max": 0.5},
         "spring_force": {"min": "380 N", "max": "480 N"}}}})["centrifugal"]
-    ds = doe.run_study(sec)
+    ds = pipeline.run_study(sec)
     assert ds.sizes["run"] == 256 * 5
     se = explore.sensitivity(ds, ["reserve_factor", "release_time"])
     outs = se.sel(output=["reserve_factor", "release_time"])
     assert outs["first_order_conf"].notnull().all() and (outs["total"] > 0).all()
     assert se["total"].sel(output="failure").isnull().all() == (int((ds["status"] != 0).sum()) == 0)
     with pytest.raises(ValueError, match="no sensitivity"):
-        explore.sensitivity(doe.run_study(resolve({"studies": ["centrifugal"], "centrifugal": {
+        explore.sensitivity(pipeline.run_study(resolve({"studies": ["centrifugal"], "centrifugal": {
             "design": "lhs", "samples": 8, "parameters": {"spring_force": {"min": "380 N", "max": "480 N"}}}})
             ["centrifugal"]), ["reserve_factor"])
 

@@ -246,9 +246,9 @@ def test_study_with_fade_runs_the_event_solver_and_fades():
     """fade_coefficient as a factor [0, 0.05/K] with the onset at the ambient temperature: the faded
     design locks later with more slip work and heat; the unfaded one keeps the closed form; heat
     into the parts still equals the slip work."""
-    from clutchlab import doe
+    from clutchlab import pipeline
 
-    ds = doe.run_study(_study(fade_coefficient={"values": [0.0, 0.05]}, fade_onset_temperature="313.15 K"))
+    ds = pipeline.run_study(_study(fade_coefficient={"values": [0.0, 0.05]}, fade_onset_temperature="313.15 K"))
     off, on = ds.sel(fade_coefficient=0.0), ds.sel(fade_coefficient=0.05)
     assert int(off["model"]) == 0 and int(on["model"]) == 1  # closed form, rigid event solver
     assert int(on["status"]) == 0
@@ -266,12 +266,12 @@ def test_study_with_fade_runs_the_event_solver_and_fades():
 def test_study_reads_a_measured_friction_table():
     """friction_table in the config (μ over slip speed, units converted): the study's engagement is
     simulate's with the table divided by the fixed friction coefficient."""
-    from clutchlab import doe
+    from clutchlab import pipeline
 
     table = {"slip_speed": ["0 rpm", "500 rpm", "3000 rpm", "6000 rpm"], "friction_coefficient": [0.5, 0.45, 0.4, 0.39]}
     sec = _study({"friction_table": table}, ramp_time={"values": [0.1, 0.2]})
     assert sec["options"]["friction_table"]["slip_speed"][1] == pytest.approx(500 * 2 * math.pi / 60)
-    ds = doe.run_study(sec)
+    ds = pipeline.run_study(sec)
     assert (ds["model"] == 1).all() and (ds["status"] == 0).all()
     mu = 0.4  # the default friction coefficient
     x = np.array(sec["options"]["friction_table"]["slip_speed"])

@@ -112,12 +112,12 @@ def test_engagements_to_limit_agrees_with_the_sequence():
 def _default_engagement():
     import yaml
 
-    from clutchlab import config, doe
+    from clutchlab import config, pipeline
 
     from conftest import ROOT
 
     cfg = yaml.safe_load((ROOT / "config/config.yaml").read_text())
-    return doe.run_study(config.resolve({"studies": ["engagement"], "engagement": cfg["engagement"]})["engagement"])
+    return pipeline.run_study(config.resolve({"studies": ["engagement"], "engagement": cfg["engagement"]})["engagement"])
 
 
 def test_heat_into_the_parts_equals_the_slip_work_in_the_default_study():

@@ -4,7 +4,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-from clutchlab import numerics  # noqa: E402
+from clutchlab.bench import numerics  # noqa: E402
 
 
 def test_files_and_stems_follow_the_studies():

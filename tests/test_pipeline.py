@@ -222,7 +222,7 @@ def test_every_config_runs_with_any_chunk_count(name, tmp_path, monkeypatch):
     crash the map pages."""
     import yaml
 
-    from clutchlab import config, doe
+    from clutchlab import config, doe, pipeline
 
     from conftest import refine_sources
 
@@ -236,7 +236,7 @@ def test_every_config_runs_with_any_chunk_count(name, tmp_path, monkeypatch):
         assert all((wd / s).exists() for s in refine_sources(cfg))
     monkeypatch.chdir(wd)  # relative paths of the config (refine.from) as Snakemake reads them
     resolved = config.resolve(cfg)
-    sizes = {s: doe.n_scenarios(doe.build_design(resolved[s])) for s in resolved["studies"]}
+    sizes = {s: pipeline.n_scenarios(doe.build_design(resolved[s])) for s in resolved["studies"]}
     for chunks in (1, max(own, max(sizes.values()) + 1)):  # (own counts also run in small_run and CI)
         _snakemake(wd, "--configfile", "tiny.yaml", "--config", f"chunks={chunks}", "--forceall")
         out = wd / resolved["results"]

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import yaml
 
-from clutchlab import config, doe, explore, store, studies
+from clutchlab import config, doe, explore, pipeline, store, studies
 from clutchlab.config import ConfigError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -52,7 +52,7 @@ def _first_stage(folder: Path, section: dict | None = None) -> Path:
     sec = config.resolve({"studies": ["engagement"], "engagement": section})["engagement"]
     path = folder / "results" / studies.get("engagement").output
     path.parent.mkdir(parents=True, exist_ok=True)
-    store.write(doe.run_study(sec), path)
+    store.write(pipeline.run_study(sec), path)
     return path
 
 
@@ -93,7 +93,7 @@ def test_refine_refuses_another_studys_result_and_a_factorial_refine_key(tmp_pat
     sec = config.resolve({"studies": ["centrifugal"], "centrifugal": {"design": "factorial", "parameters": {
         "pressure_angle": {"values": ["30 deg", "40 deg"]}}}})["centrifugal"]
     other = tmp_path / "centrifugal.h5"
-    store.write(doe.run_study(sec), other)
+    store.write(pipeline.run_study(sec), other)
     with pytest.raises(ConfigError, match="result of study 'centrifugal'"):
         config.resolve(_refine(other))
     with pytest.raises(ConfigError) as exc:
@@ -142,7 +142,7 @@ def test_refinement_moves_the_engagement_front_with_fewer_scenarios(tmp_path):
     refine["refine"]["from"] = str(path)
     sec = config.resolve({"studies": ["engagement"], "results": str(tmp_path / "refined"),
                           "engagement": refine})["engagement"]
-    first, second = store.load(path), doe.run_study(sec)
+    first, second = store.load(path), pipeline.run_study(sec)
     assert second.sizes["run"] < first["status"].size
     gain = explore.refinement_gain(first, second)
     assert gain.sizes["group"] == 4  # 2 load torques x 2 driven inertias

@@ -5,7 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from clutchlab import doe, report, store
+from clutchlab import pipeline, report, store
 from clutchlab.config import resolve
 from clutchlab.studies import diaphragm_spring
 
@@ -28,7 +28,7 @@ def test_report_pages(tmp_path, design):
     if design == "lhs":
         sec["samples"] = 50
     cfg = resolve({"studies": ["diaphragm_spring"], "diaphragm_spring": sec})
-    spring = store.write(doe.run_study(cfg["diaphragm_spring"]), tmp_path / "spring.h5")
+    spring = store.write(pipeline.run_study(cfg["diaphragm_spring"]), tmp_path / "spring.h5")
     val = store.write(diaphragm_spring.validation(), tmp_path / "val.h5")
     written = report.build({"diaphragm_spring": spring}, [val], tmp_path / "report")
     stems = sorted(p.stem for p in written if p.suffix == ".png")
@@ -69,7 +69,7 @@ def test_pages_draw_with_any_factor_fixed(name, section):
     diaphragm reserve map used to crash on a fixed cone-height ratio)."""
     import matplotlib.pyplot as plt
 
-    ds = doe.run_study(resolve({"studies": [name], name: section})[name])
+    ds = pipeline.run_study(resolve({"studies": [name], name: section})[name])
     pages = report.study_pages(name, ds)
     assert [s for s, _ in pages] == list(report.study_page_stems(name))
     for _, fig in pages:
@@ -87,7 +87,7 @@ def test_front_table_lists_front_designs_spread_along_it():
     sec = resolve({"studies": ["centrifugal"], "centrifugal": {"design": "factorial", "parameters": {
         "pressure_angle": {"min": "20 deg", "max": "60 deg", "num": 25},
         "friction_coefficient": {"min": 0.25, "max": 0.6, "num": 25}}}})["centrifugal"]
-    ds = doe.run_study(sec)
+    ds = pipeline.run_study(sec)
     header, rows = answers.front_rows(ds)
     assert header[:2] == ["friction_coefficient [1]", "pressure_angle [rad]"] and len(rows) <= answers.MAX_ROWS
     front = ds.where(ds["pareto_rank"] == 0)
@@ -114,14 +114,14 @@ def test_answers_page_projects_three_or_more_objectives(objectives, panels):
         "design": "factorial", "objectives": objectives, "parameters": {
             "pressure_angle": {"min": "20 deg", "max": "60 deg", "num": 6},
             "friction_coefficient": {"min": 0.25, "max": 0.6, "num": 5}}}})["centrifugal"]
-    fig = answers.page("centrifugal", doe.run_study(sec))
+    fig = answers.page("centrifugal", pipeline.run_study(sec))
     fig.canvas.draw()
     labelled = [ax for ax in fig.axes if ax.get_xlabel().endswith(("(min)", "(max)"))]
     assert len(labelled) == panels
     pairs = {(ax.get_xlabel().split(" [")[0], ax.get_ylabel().split(" [")[0]) for ax in labelled}
     names = [o.split(":")[0] for o in objectives]
     assert len(pairs) == panels and all(a in names and b in names for a, b in pairs)
-    header, _ = answers.front_rows(doe.run_study(sec))
+    header, _ = answers.front_rows(pipeline.run_study(sec))
     assert all(any(h.startswith(n + " [") for h in header) for n in names)
     import matplotlib.pyplot as plt
 
@@ -152,7 +152,7 @@ def test_every_page_draws_a_sampled_design(name):
 
     from clutchlab.report import answers
 
-    ds = doe.run_study(resolve({"studies": [name], name: _sampled_section(name)})[name])
+    ds = pipeline.run_study(resolve({"studies": [name], name: _sampled_section(name)})[name])
     for stem, fig in report.study_pages(name, ds) + [("answers", answers.page(name, ds))]:
         fig.canvas.draw()
         texts = [t.get_text() for t in fig.texts] + [t.get_text() for ax in fig.axes for t in ax.texts]

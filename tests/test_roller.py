@@ -4,7 +4,7 @@ reference, working modes, the study."""
 import numpy as np
 import pytest
 
-from clutchlab import benchmark_roller as bench
+from clutchlab.bench import roller as bench
 from clutchlab import contact
 from clutchlab import roller as rl
 from clutchlab import status as st

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from clutchlab import doe, store
+from clutchlab import doe, pipeline, store
 from clutchlab.config import resolve
 
 
@@ -14,7 +14,7 @@ def result():
     sec = resolve({"studies": ["diaphragm_spring"], "diaphragm_spring": {
         "design": "factorial", "parameters": {"sheet_thickness": {"values": ["2 mm", "2.5 mm"]},
                                               "cone_height_ratio": {"values": [1.3, 1.6, 1.9]}}}})["diaphragm_spring"]
-    return doe.run_study(sec)
+    return pipeline.run_study(sec)
 
 
 def test_every_variable_has_units_and_long_name(result):
@@ -136,7 +136,7 @@ def chunk(tmp_path):
     sec = resolve({"studies": ["roller"], "roller": {"design": "factorial", "parameters": {
         "rollers": {"values": [8, 12]}, "wedge_angle": {"values": ["9 deg", "11 deg"]}}}})["roller"]
     design = doe.build_design(sec)
-    return store.write(doe.run_chunk(design, sec["options"], 1, 0), tmp_path / "chunk_0000.h5", with_checksum=True)
+    return store.write(pipeline.run_chunk(design, sec["options"], 1, 0), tmp_path / "chunk_0000.h5", with_checksum=True)
 
 
 def test_a_chunk_reads_back_against_its_checksum(chunk):

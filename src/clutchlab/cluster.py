@@ -3,7 +3,7 @@
 A chunk job's memory and run time follow from the scenarios it holds (the study's size over its
 chunk count) and the study's measured cost: a fixed part (Python, imports, the compiled-code
 cache) plus a cost per scenario. :data:`CHUNK_COST` holds the measurement of
-``python -m clutchlab.benchmark_resources --sizes 16384 262144`` (one chunk job of each size in a
+``python -m clutchlab.bench.resources --sizes 16384 262144`` (one chunk job of each size in a
 fresh process, on the widest ranges clutchlab ships, ``config/million.yaml``, with every scenario's
 curves stored as a factorial grid stores them; 2-core x86_64 workstation, 2026-11-24). A cluster
 node may be slower or shared, and a design's hard corner slower than the sample, so the request

@@ -60,7 +60,8 @@ def _f(x) -> float:
 def engagement_cases() -> list[Case]:
     from scipy.optimize import brentq
 
-    from . import benchmark, reference
+    from . import reference
+    from .bench import engagement as benchmark
     from . import engagement as eng
 
     out = []
@@ -77,7 +78,7 @@ def engagement_cases() -> list[Case]:
              for rtol in (1e-6, 1e-9)]
     out.append(Case("engagement", "start of motion with zero acceleration (ramp clamp, Stribeck μ; benchmark "
                     "scenario 5)", f"lock-up {right:.12g} s",
-                    "DOP853 at rtol 1e-12 from the analytic start of motion (clutchlab.benchmark.reference)",
+                    "DOP853 at rtol 1e-12 from the analytic start of motion (clutchlab.bench.engagement.reference)",
                     f"{_f(sim['lockup_time']):.12g} s ({int(sim['n_steps'])} steps)",
                     abs(_f(sim["lockup_time"]) - right), 1e-6, _name(sim["status"]) == "ok",
                     "; ".join(shelf) + " (the first steps jump over the start of motion)"))

@@ -6,7 +6,7 @@ import clutchlab
 
 from clutchlab.report import answer_files as _answer_files
 from clutchlab.report import figure_stems as _figure_stems
-from clutchlab.numerics import files as _numerics_files
+from clutchlab.bench.numerics import files as _numerics_files
 from clutchlab.report import captions as _captions
 
 REPORT_DIR = f"{RESULTS}/report"
@@ -72,7 +72,7 @@ rule hard_cases:
 if NUMERICS:
 
     rule numerics:
-        # small work-precision runs of the solvers the studies use (about 20 s; clutchlab.numerics)
+        # small work-precision runs of the solvers the studies use (about 20 s; clutchlab.bench.numerics)
         output:
             NUMERICS,
         params:
@@ -83,7 +83,7 @@ if NUMERICS:
             runtime=10,
             mem_mb=2000,
         shell:
-            "{params.python} -m clutchlab.numerics {RESULTS}/numerics {params.studies}"
+            "{params.python} -m clutchlab.bench.numerics {RESULTS}/numerics {params.studies}"
 
 
 rule benchmark:
@@ -97,7 +97,7 @@ rule benchmark:
     params:
         python=sys.executable,
     shell:
-        "{params.python} -m clutchlab.benchmark {RESULTS}/benchmark"
+        "{params.python} -m clutchlab.bench.engagement {RESULTS}/benchmark"
 
 
 rule benchmark_sprag:
@@ -109,7 +109,7 @@ rule benchmark_sprag:
     params:
         python=sys.executable,
     shell:
-        "{params.python} -m clutchlab.benchmark_sprag {RESULTS}/benchmark"
+        "{params.python} -m clutchlab.bench.sprag {RESULTS}/benchmark"
 
 
 rule benchmark_pareto:
@@ -120,7 +120,7 @@ rule benchmark_pareto:
     params:
         python=sys.executable,
     shell:
-        "{params.python} -m clutchlab.benchmark_pareto {RESULTS}/benchmark"
+        "{params.python} -m clutchlab.bench.pareto {RESULTS}/benchmark"
 
 
 rule benchmark_million:
@@ -134,7 +134,7 @@ rule benchmark_million:
     params:
         python=sys.executable,
     shell:
-        "{params.python} -m clutchlab.benchmark_million {RESULTS}/benchmark --cores {threads}"
+        "{params.python} -m clutchlab.bench.million {RESULTS}/benchmark --cores {threads}"
 
 
 rule benchmark_roller:
@@ -146,7 +146,7 @@ rule benchmark_roller:
     params:
         python=sys.executable,
     shell:
-        "{params.python} -m clutchlab.benchmark_roller {RESULTS}/benchmark"
+        "{params.python} -m clutchlab.bench.roller {RESULTS}/benchmark"
 
 
 rule benchmark_compliant:
@@ -160,4 +160,4 @@ rule benchmark_compliant:
     params:
         python=sys.executable,
     shell:
-        "{params.python} -m clutchlab.benchmark_compliant {RESULTS}/benchmark"
+        "{params.python} -m clutchlab.bench.compliant {RESULTS}/benchmark"

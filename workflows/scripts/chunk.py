@@ -2,7 +2,7 @@
 import re
 import sys
 
-from clutchlab import doe, store
+from clutchlab import pipeline, store
 
 sm = snakemake  # noqa: F821
 i = int(re.search(r"chunk_(\d+)\.h5$", sm.output[0]).group(1))
@@ -12,5 +12,5 @@ with open(sm.log[0], "w") as log:
         for stream in (log, sys.stderr):
             print(line, file=stream, flush=True)
 
-    ds = doe.run_chunk(design, dict(sm.params.options), int(sm.params.chunks), i, progress=progress)
+    ds = pipeline.run_chunk(design, dict(sm.params.options), int(sm.params.chunks), i, progress=progress)
 store.write(ds, sm.output[0], with_checksum=True, complevel=0)  # uncompressed: written once, read once by the merge

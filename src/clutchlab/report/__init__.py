@@ -58,7 +58,7 @@ def figure_stems(study_names, benchmark=False, sensitivity=(), refined=(), hard_
     for the studies in ``sensitivity`` (factorial grids), a refinement page for those in ``refined``
     (design refine); the validation table only where one of them reproduces seed numbers; the
     hard-case table with ``hard_cases``; the work-precision pages of the solvers used with ``numerics``."""
-    from ..numerics import stems as numerics_stems
+    from ..bench.numerics import stems as numerics_stems
 
     stems = ["title"] + [f"{name}_{s}" for name in study_names
                          for s in (*study_page_stems(name), "answers",
@@ -86,7 +86,7 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
     validation_files : list
         Paths of validation Datasets (one per seed).
     benchmark_csv : path or None
-        ``engagement_benchmark.csv`` of :mod:`clutchlab.benchmark`: adds the work-precision page.
+        ``engagement_benchmark.csv`` of :mod:`clutchlab.bench.engagement`: adds the work-precision page.
     sensitivity_files : dict or None
         Study name -> its ``sensitivity.h5`` (factorial studies): adds a sensitivity page.
     refine_files : dict or None
@@ -96,7 +96,7 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
         The hard cases computed in this run (:mod:`clutchlab.hardcases`): adds their table page
         and ``hard_cases.csv``.
     numerics_dir : path or None
-        The folder of this run's small solver benchmarks (:mod:`clutchlab.numerics`): adds a
+        The folder of this run's small solver benchmarks (:mod:`clutchlab.bench.numerics`): adds a
         work-precision page per solver.
     job_seconds : dict or None
         Study name -> (chunk jobs, their seconds and the merge's), from Snakemake's benchmark
@@ -123,7 +123,7 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
             with store.atomic(outdir / f"{name}_refinement.csv") as tmp:
                 answers.write_refinement_csv(gain, tmp)
     if benchmark_csv is not None:
-        from ..benchmark import read_rows, work_precision_figure
+        from ..bench.engagement import read_rows, work_precision_figure
 
         pages.append(("engagement_work_precision", work_precision_figure(read_rows(benchmark_csv))))
     if validations:
@@ -131,7 +131,7 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
         with store.atomic(outdir / "validation.csv") as tmp:
             to_csv(validations, tmp)
     if numerics_dir is not None:
-        from ..numerics import pages as numerics_pages
+        from ..bench.numerics import pages as numerics_pages
 
         pages += numerics_pages(numerics_dir)
     if hard_cases_file is not None:

@@ -3,7 +3,8 @@
 A study never touches a file. ``compute(inputs)`` receives a mapping of parameter name to a
 flat numpy array (one entry per scenario of the chunk, or a scalar for a fixed value) in SI
 units and returns an :class:`xarray.Dataset` whose scenario dimension is ``run``; extra
-dimensions (e.g. points of a curve) are allowed. :mod:`clutchlab.doe` does the rest.
+dimensions (e.g. points of a curve) are allowed. :mod:`clutchlab.doe` builds the design,
+:mod:`clutchlab.pipeline` runs and merges its chunks.
 """
 from __future__ import annotations
 
@@ -85,7 +86,7 @@ class Study:
     # condition: never drawn per scenario (its choices ranked together would compare models)
     model_options: tuple[str, ...] = ()
     # (inputs, options) -> Dataset of the seed design's traces and curves (no ``run`` dimension):
-    # the same for every chunk, so computed once per study (by the chunk holding scenario 0, doe.run_chunk)
+    # the same for every chunk, so computed once per study (by the chunk holding scenario 0, pipeline.run_chunk)
     traces: Callable | None = None
     # measured tables a study section may give (config key -> ((x name, x units), (y name, y units),
     # description)); resolved to SI lists and passed to compute as options[key]

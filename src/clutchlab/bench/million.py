@@ -1,7 +1,7 @@
 """The million-design benchmark (issue 16): run ``config/million.yaml`` (every study at 2^20
 sampled designs) through Snakemake and measure it (not a unit test).
 
-``python -m clutchlab.benchmark_million [outdir] [--configfile config/million.yaml] [--cores 2]``
+``python -m clutchlab.bench.million [outdir] [--configfile config/million.yaml] [--cores 2]``
 runs ``snakemake --forceall`` on that config as a subprocess in the current project folder and
 writes ``million_benchmark.csv``: per study the scenarios, chunk jobs, the physics' own time (sum
 over chunks of the time inside the study's compute function), the jobs' time (chunk, merge),
@@ -21,8 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
-from . import config, studies
-from ._bench import write_rows
+from .. import config, studies
+from ._common import write_rows
 
 
 def _tsv(path) -> dict:

@@ -1,6 +1,6 @@
 """Sprag statics benchmark: throughput and accuracy, measured in one run (not a unit test).
 
-``python -m clutchlab.benchmark_sprag [outdir] [--scenarios N]`` (or ``snakemake benchmark_sprag``)
+``python -m clutchlab.bench.sprag [outdir] [--scenarios N]`` (or ``snakemake benchmark_sprag``)
 prints and writes ``sprag_benchmark.csv``:
 
 * a random design of N (default 10⁵, and 10⁶) scenarios around the seed 002 geometry (torque,
@@ -22,8 +22,8 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
-from ._bench import parse, write_rows
-from . import sprag as sp
+from ._common import parse, write_rows
+from .. import sprag as sp
 
 
 def design(n, seed=0):

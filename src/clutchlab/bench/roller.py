@@ -1,7 +1,7 @@
 """Roller-clutch wedging benchmark: the compiled SDIRK4 against scipy's stiff solvers, speed against
 error measured in one run (not a unit test).
 
-``python -m clutchlab.benchmark_roller [outdir] [--scenarios N]`` (or ``snakemake benchmark_roller``)
+``python -m clutchlab.bench.roller [outdir] [--scenarios N]`` (or ``snakemake benchmark_roller``)
 prints and writes ``roller_benchmark.csv``:
 
 * N (default 40) random wedging scenarios around the seed 003 design (inertias, wedge angle,
@@ -23,9 +23,9 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ._bench import parse, per_scenario_sweep, write_rows
-from . import _contact_kernel as _k
-from . import roller
+from ._common import parse, per_scenario_sweep, write_rows
+from .. import _contact_kernel as _k
+from .. import roller
 
 
 RTOLS = tuple(10.0 ** -np.arange(4.0, 10.01, 0.5))

@@ -4,12 +4,12 @@ numbers shows how fast and how accurate each solver was against the natural alte
 in the same run, and the ratio at equal error. The full benchmarks stay targets of their own
 (``snakemake benchmark_compliant``, ``benchmark_roller``, ``benchmark_sprag``, ``benchmark``).
 
-* engagement — the compliant driveline the study runs (:mod:`clutchlab.benchmark_compliant`):
+* engagement — the compliant driveline the study runs (:mod:`clutchlab.bench.compliant`):
   clutchlab over its accuracy sweep against per-scenario ``solve_ivp`` RK45 (as usually written)
   and DOP853 (as an expert would), reference DOP853 at rtol 1e-13;
-* roller — the wedging (:mod:`clutchlab.benchmark_roller`): the compiled SDIRK4 against
+* roller — the wedging (:mod:`clutchlab.bench.roller`): the compiled SDIRK4 against
   per-scenario LSODA and Radau, reference Radau at rtol 1e-12;
-* sprag — the gripping-angle fixed point (:mod:`clutchlab.benchmark_sprag`): vectorised against
+* sprag — the gripping-angle fixed point (:mod:`clutchlab.bench.sprag`): vectorised against
   per-scenario ``brentq``, reference brentq at xtol 1e-15;
 * centrifugal — the release after an engine failure (:func:`release_benchmark`): the closed form
   against integrating the held phase with ``solve_ivp`` (RK45, DOP853) and the release as an
@@ -18,7 +18,7 @@ in the same run, and the ratio at equal error. The full benchmarks stay targets 
 The diaphragm statics and the centrifugal capacities are closed forms without an iterative
 alternative worth timing; their checks are the validation table and the hard cases.
 
-``python -m clutchlab.numerics OUTDIR STUDY...`` writes ``<name>_benchmark.csv`` per solver.
+``python -m clutchlab.bench.numerics OUTDIR STUDY...`` writes ``<name>_benchmark.csv`` per solver.
 """
 from __future__ import annotations
 
@@ -42,9 +42,9 @@ def files(study_names) -> list[str]:
 
 
 def run(outdir, study_names) -> list[Path]:
-    from . import benchmark_compliant, benchmark_roller, benchmark_sprag
+    from . import compliant, roller, sprag
 
-    runner = {"engagement": benchmark_compliant.run, "roller": benchmark_roller.run, "sprag": benchmark_sprag.run,
+    runner = {"engagement": compliant.run, "roller": roller.run, "sprag": sprag.run,
               "centrifugal": release_benchmark}
     out = []
     for s in study_names:
@@ -60,7 +60,7 @@ def release_design(n, seed=0) -> dict:
     inertias) that stay engaged at rated speed."""
     import numpy as np
 
-    from .studies.centrifugal import PARAMETERS
+    from ..studies.centrifugal import PARAMETERS
 
     rng = np.random.default_rng(seed)
     d = {p.name: np.full(n, p.default) for p in PARAMETERS}
@@ -82,7 +82,7 @@ def _release_ivp(p, method, rtol):
     """The held phase integrated, the release (T_need = M') as a terminal event: its time [s]."""
     from scipy.integrate import solve_ivp
 
-    from . import centrifugal as cf
+    from .. import centrifugal as cf
 
     k, p0, p2, caps = cf._params(p)
     je, jr = p["engine_inertia"], p["rotor_inertia"]
@@ -105,8 +105,8 @@ def release_benchmark(outdir, n=20_000, n_ref=30) -> list[dict]:
 
     import numpy as np
 
-    from . import centrifugal as cf
-    from ._bench import per_scenario_sweep, write_rows
+    from .. import centrifugal as cf
+    from ._common import per_scenario_sweep, write_rows
 
     d = release_design(n)
     best = np.inf
@@ -172,7 +172,7 @@ def _setting(r, key) -> str:
 def _wp_figure(rows, error, ours, title, ylabel, label_key):
     import matplotlib.pyplot as plt
 
-    from .report.common import A4_LANDSCAPE
+    from ..report.common import A4_LANDSCAPE
 
     fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
     for j, method in enumerate(dict.fromkeys(r["method"] for r in rows)):
@@ -217,13 +217,13 @@ def sprag_figure(rows):
 
 def pages(numerics_dir) -> list[tuple]:
     """(stem, figure) of every numerics CSV present in ``numerics_dir``."""
-    from . import benchmark_compliant
+    from . import compliant
 
     d = Path(numerics_dir)
     out = []
     if (d / FILES["engagement"]).exists():
-        out.append(("numerics_engagement", benchmark_compliant.work_precision_figure(
-            benchmark_compliant.read_rows(d / FILES["engagement"]))))
+        out.append(("numerics_engagement", compliant.work_precision_figure(
+            compliant.read_rows(d / FILES["engagement"]))))
     if (d / FILES["roller"]).exists():
         out.append(("numerics_roller", roller_figure(_read(d / FILES["roller"]))))
     if (d / FILES["sprag"]).exists():

@@ -1,6 +1,6 @@
 """Engagement benchmark: speed against error, measured in one run (not a unit test).
 
-``python -m clutchlab.benchmark [outdir] [--scenarios N]`` (or ``snakemake benchmark``) prints and
+``python -m clutchlab.bench.engagement [outdir] [--scenarios N]`` (or ``snakemake benchmark``) prints and
 writes ``engagement_benchmark.csv`` and ``work_precision.png``:
 
 * a random design of N (default 10⁴) scenarios with Stribeck friction, held engine;
@@ -23,8 +23,8 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ._bench import parse, save_figure, write_rows
-from . import engagement as eng
+from ._common import parse, save_figure, write_rows
+from .. import engagement as eng
 
 RS = 1.3  # μ_s/μ_k
 

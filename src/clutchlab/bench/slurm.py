@@ -1,7 +1,7 @@
 """A large config through the SLURM profile (issue 19): wall time, jobs, and the share of time spent
 waiting on the scheduler (not a unit test; needs a SLURM cluster, e.g. ``bash .ci/slurm-up``).
 
-``python -m clutchlab.benchmark_slurm [outdir] [--configfile config/million.yaml] [--local]``
+``python -m clutchlab.bench.slurm [outdir] [--configfile config/million.yaml] [--local]``
 runs ``snakemake --workflow-profile workflows/profiles/slurm --configfile ... --forceall`` in the
 current project folder and reads back from SLURM (``squeue --states=all``; the CI cluster keeps
 finished jobs for an hour) each job's submit, start and end time. It writes ``slurm_benchmark.csv``
@@ -21,7 +21,7 @@ import sys
 import time
 from datetime import datetime
 
-from ._bench import report_rows
+from ._common import report_rows
 
 SUBMITTED = re.compile(r"Job \d+ has been submitted with SLURM jobid (\d+)")
 

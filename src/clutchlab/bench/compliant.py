@@ -1,6 +1,6 @@
 """Benchmark of the model the engagement study runs: the compliant driveline, speed against error.
 
-``python -m clutchlab.benchmark_compliant [outdir] [--scenarios N] [--reference-scenarios M]`` (or
+``python -m clutchlab.bench.compliant [outdir] [--scenarios N] [--reference-scenarios M]`` (or
 ``snakemake --cores 1 benchmark_compliant``) prints and writes ``compliant_benchmark.csv`` and
 ``compliant_work_precision.png``, all measured in one run:
 
@@ -27,10 +27,10 @@ from pathlib import Path
 
 import numpy as np
 
-from . import engagement as eng
-from . import reference
-from ._bench import parse, save_figure, write_rows
-from .studies.engagement import tolerances
+from .. import engagement as eng
+from .. import reference
+from ._common import parse, save_figure, write_rows
+from ..studies.engagement import tolerances
 
 METRICS = ("lockup_time", "slip_work", "peak_jerk")
 COLUMNS = ("variant", "method", "setting", "seconds_per_scenario", "err_lockup_time", "err_slip_work",

@@ -1,6 +1,6 @@
 """Pareto ranking benchmark: time against design count and objective count (not a unit test).
 
-``python -m clutchlab.benchmark_pareto [outdir] [--scenarios N]`` prints and writes
+``python -m clutchlab.bench.pareto [outdir] [--scenarios N]`` prints and writes
 ``pareto_benchmark.csv``: :func:`clutchlab.explore.pareto_rank` on N uniform random points
 (default 10⁶; the hardest usual case: no correlation, hundreds of fronts) with 2, 3 and 4
 objectives, 5 objectives on N/10; best of 3 (one run for 4 and 5 objectives) after a warm-up call
@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ._bench import parse, write_rows
-from .explore import pareto_rank
+from ._common import parse, write_rows
+from ..explore import pareto_rank
 
 
 def peel(f):

@@ -4,7 +4,7 @@ from __future__ import annotations
 import argparse
 import csv
 
-from .store import atomic
+from ..store import atomic
 
 
 def write_rows(rows, path) -> None:

@@ -1,10 +1,10 @@
 """What one chunk job of each study costs per scenario (issue 19): the measurement behind the
 cluster resources of :mod:`clutchlab.cluster` (not a unit test).
 
-``python -m clutchlab.benchmark_resources [outdir] [--sizes 16384 262144]`` runs, for each study of
+``python -m clutchlab.bench.resources [outdir] [--sizes 16384 262144]`` runs, for each study of
 ``config/million.yaml`` (the widest ranges clutchlab ships, each study's option choices drawn per
 scenario), one chunk job of each size in a fresh Python process, as the Snakemake chunk rule does
-(load the design, ``doe.run_chunk``, write the chunk file), and records its wall time and peak RSS.
+(load the design, ``pipeline.run_chunk``, write the chunk file), and records its wall time and peak RSS.
 A straight line through the sizes gives the fixed cost (imports, compiled-code cache, Python) and
 the cost per scenario; it writes ``resources_benchmark.csv`` and prints the table. Run it alone on
 the machine.
@@ -17,20 +17,20 @@ import subprocess
 import sys
 import tempfile
 
-from ._bench import report_rows
+from ._common import report_rows
 
 _CHILD = r"""
 import json, resource, sys, time
 t0 = time.perf_counter()
 import yaml
-from clutchlab import config, doe, store
+from clutchlab import config, doe, pipeline, store
 cfg = yaml.safe_load(open(sys.argv[1]))
 name, n, path, curves = sys.argv[2], int(sys.argv[3]), sys.argv[4], sys.argv[5]
 section = dict(cfg[name], samples=n, curves=curves)
 section.pop("chunk_size", None)
 rs = config.resolve({"studies": [name], name: section, "chunks": 1})[name]
 design = doe.build_design(rs)
-ds = doe.run_chunk(design, rs["options"], 1, 0)
+ds = pipeline.run_chunk(design, rs["options"], 1, 0)
 store.write(ds, path, with_checksum=True, complevel=0)
 print(json.dumps({"seconds": time.perf_counter() - t0,
                   "max_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
@@ -45,7 +45,7 @@ def measure_one(configfile, name, n, curves="all") -> dict:
 
 
 def measure(configfile="config/million.yaml", sizes=(16384, 262144)) -> list[dict]:
-    from . import config
+    from .. import config
 
     cfg = config.load(configfile)
     rows = []

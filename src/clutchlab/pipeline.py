@@ -1,0 +1,292 @@
+"""Running a design: split it into chunks, compute a chunk, merge the chunks (in memory or
+streamed into one HDF5 file), or a whole study in memory for notebooks and tests.
+
+A design comes from :func:`clutchlab.doe.build_design`; a chunk is computed by the study's pure
+``compute`` (:mod:`clutchlab.studies`); the Snakemake job scripts call :func:`run_chunk` and
+:func:`merge_to_file`.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import xarray as xr
+
+from . import studies
+from .doe import build_design, option_factors
+
+__all__ = ["n_scenarios", "chunk_slice", "chunk_inputs", "run_chunk", "merge", "merge_to_file", "run_study"]
+
+
+def _factors(design: xr.Dataset) -> list[str]:
+    return design.attrs["factors"].split()
+
+
+def n_scenarios(design: xr.Dataset) -> int:
+    """Number of scenarios in a design."""
+    if design.attrs["design"] == "factorial":
+        return int(np.prod([design.sizes[f] for f in _factors(design)], dtype=np.int64))
+    return int(design.sizes["run"])
+
+
+def chunk_slice(n: int, chunks: int, i: int) -> slice:
+    """Scenarios [start, stop) of chunk ``i`` of ``chunks`` (sizes differ by at most one)."""
+    if not 0 <= i < chunks:
+        raise IndexError(f"chunk {i} out of range 0..{chunks - 1}")
+    bounds = np.linspace(0, n, chunks + 1).round().astype(np.int64)
+    return slice(int(bounds[i]), int(bounds[i + 1]))
+
+
+def chunk_inputs(design: xr.Dataset, chunks: int, i: int) -> tuple[np.ndarray, dict]:
+    """Global scenario indices of chunk ``i`` and its inputs (flat arrays / scalars, SI)."""
+    sl = chunk_slice(n_scenarios(design), chunks, i)
+    idx = np.arange(sl.start, sl.stop)
+    factors = _factors(design)
+    inputs = {}
+    if design.attrs["design"] == "factorial":
+        shape = tuple(design.sizes[f] for f in factors)
+        sub = np.unravel_index(idx, shape) if factors else ()
+        for f, s in zip(factors, sub):
+            inputs[f] = design[f].values[s]
+    else:
+        for f in factors:
+            inputs[f] = design[f].values[sl]
+    for name, var in design.data_vars.items():
+        inputs[name] = float(var.values)
+    return idx, inputs
+
+
+# a chunk of more than PROGRESS_MIN scenarios runs as PROGRESS_BATCHES batches with a progress line
+# after each (scenarios are independent, so the numbers are those of one batch)
+PROGRESS_MIN = 20_000
+PROGRESS_BATCHES = 10
+
+
+def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=None) -> xr.Dataset:
+    """Compute chunk ``i``: a Dataset on ``run`` with every factor as a 1-D coordinate.
+    ``progress``: a callable given one line of text (scenarios done, rate, time left) after each
+    batch of a large chunk and at the end."""
+    study = studies.get(design.attrs["study"])
+    idx, inputs = chunk_inputs(design, chunks, i)
+    choices = option_factors(design)
+    codes = {o: inputs.pop(o) for o in choices}
+    start = time.perf_counter()
+    n = idx.size
+
+    def compute(sel):
+        part = {k: (v[sel] if np.ndim(v) else v) for k, v in inputs.items()}
+        if choices:
+            return _compute_by_choice(study, part, options, choices, {o: c[sel] for o, c in codes.items()})
+        return study.compute(part, options)
+
+    if n <= PROGRESS_MIN:
+        ds = compute(slice(None))
+    else:
+        bounds = np.linspace(0, n, PROGRESS_BATCHES + 1).round().astype(np.int64)
+        parts = []
+        for b in range(PROGRESS_BATCHES):
+            parts.append(compute(slice(int(bounds[b]), int(bounds[b + 1]))))
+            if progress is not None and b < PROGRESS_BATCHES - 1:
+                done, spent = int(bounds[b + 1]), time.perf_counter() - start
+                progress(f"{study.name} chunk {i + 1} of {chunks}: {done} of {n} scenarios ({100 * done / n:.0f} %), "
+                         f"{done / spent:,.0f} per second, about {spent * (n - done) / done:.0f} s left")
+        ds = _join_batches(parts)
+    if progress is not None:
+        spent = time.perf_counter() - start
+        progress(f"{study.name} chunk {i + 1} of {chunks}: {n} scenarios computed in {spent:.1f} s"
+                 + (f" ({n / spent:,.0f} per second)" if n and spent > 0 else ""))
+    ds = _curve_subset(ds, idx, int(design.attrs.get("curve_stride", 1)))
+    if idx.size and idx[0] == 0 and study.traces is not None:  # the seed design's traces: once per study,
+        # by the chunk holding scenario 0 (with more chunks than scenarios, chunk 0 may be empty)
+        ds = ds.merge(study.traces(inputs, study.full_options(options)))
+    seconds = time.perf_counter() - start
+    coords = {"run": ("run", idx, {"long_name": "scenario index", "units": "1"})}
+    for f in _factors(design):
+        coords[f] = ("run", np.asarray(codes[f] if f in codes else inputs[f]), dict(design[f].attrs))
+    ds = ds.assign_coords(coords)
+    ds.attrs.update(design.attrs)
+    ds.attrs["chunk"] = f"{i + 1} of {chunks}"
+    ds.attrs["compute_seconds"] = seconds  # the physics' own time (benchmark_million); not merged
+    return ds
+
+
+def _join_batches(parts) -> xr.Dataset:
+    """Batches of one chunk, in order, as one Dataset; an attribute the batches disagree on (the
+    models that ran, "; "-separated) is the union of their parts."""
+    ds = xr.concat(parts, dim="run", data_vars="minimal", coords="minimal", compat="override", join="outer",
+                   combine_attrs="override")
+    ds.attrs = {}
+    for k in dict.fromkeys(k for p in parts for k in p.attrs):
+        vals = [p.attrs[k] for p in parts if k in p.attrs]
+        if len(vals) == len(parts) and all(_same(v, vals[0]) for v in vals):
+            ds.attrs[k] = vals[0]
+        elif all(isinstance(v, str) for v in vals):
+            ds.attrs[k] = "; ".join(dict.fromkeys(seg for v in vals for seg in v.split("; ") if seg))
+    return ds
+
+
+def _compute_by_choice(study, inputs, options, choices, codes) -> xr.Dataset:
+    """A chunk whose scenarios draw categorical options: one compute per combination of choices
+    present, each on its own scenarios (a batch of its own), put back in scenario order. An
+    attribute the groups disagree on (model_used) lists each group's value with its choices."""
+    names = list(choices)
+    n = len(next(iter(codes.values())))
+    key = np.stack([np.asarray(codes[o]) for o in names], axis=1)
+    combos, group = np.unique(key, axis=0, return_inverse=True) if n else (np.zeros((1, len(names)), int), None)
+    parts, where = [], []
+    for g, combo in enumerate(combos):
+        sel = np.flatnonzero(group.reshape(-1) == g) if n else np.zeros(0, np.int64)
+        chosen = {o: choices[o][int(c)] for o, c in zip(names, combo)}
+        part = study.compute({k: (v[sel] if np.ndim(v) else v) for k, v in inputs.items()}, {**options, **chosen})
+        label = ", ".join(f"{o} {c}" for o, c in chosen.items())
+        parts.append((label, part))
+        where.append(sel)
+    ds = xr.concat([p for _, p in parts], dim="run", data_vars="minimal", coords="minimal", compat="override",
+                   join="outer", combine_attrs="override")  # variables' attributes: the first group's
+    ds = ds.isel(run=np.argsort(np.concatenate(where), kind="stable"))
+    ds.attrs = {}
+    # attributes: one that differs between choices (the model text) lists every combination of the
+    # design's choices (from an empty batch each, so it is the same in every chunk); one the groups
+    # present disagree on otherwise (which models ran) is left out, as the merge does
+    import itertools
+
+    empty = {k: (v[:0] if np.ndim(v) else v) for k, v in inputs.items()}
+    every = {", ".join(f"{o} {c}" for o, c in zip(names, combo)):
+             study.compute(empty, {**options, **dict(zip(names, combo))}).attrs
+             for combo in itertools.product(*choices.values())}
+    labels = list(every)
+    for k in dict.fromkeys(k for _, p in parts for k in p.attrs):
+        if not all(k in a and _same(a[k], every[labels[0]].get(k)) for a in every.values()):
+            ds.attrs[k] = "; ".join(f"[{label}] {every[label].get(k, '')}" for label in labels)
+        elif all(k in p.attrs and _same(p.attrs[k], parts[0][1].attrs[k]) for _, p in parts):
+            ds.attrs[k] = parts[0][1].attrs[k]
+    return ds
+
+
+# attributes of one chunk file that a merged result does not carry
+CHUNK_ATTRS = ("chunk", "compute_seconds")
+
+
+def _curve_subset(ds: xr.Dataset, idx, stride: int) -> xr.Dataset:
+    """Keep the per-scenario curves (variables on ``run`` and another dimension) of every
+    ``stride``-th scenario only, on dimension ``curve_run`` whose coordinate is their scenario
+    index (issue 16 item 5: a million spring curves are not stored unasked)."""
+    if stride <= 1:
+        return ds
+    curves = [n for n, v in ds.data_vars.items() if "run" in v.dims and v.ndim > 1]
+    if not curves:
+        return ds
+    keep = np.flatnonzero(idx % stride == 0)
+    sub = ds[curves].isel(run=keep).rename(run="curve_run")
+    out = ds.drop_vars(curves).assign({n: sub[n] for n in curves})
+    return out.assign_coords(curve_run=("curve_run", idx[keep], {
+        "long_name": f"scenario index of the stored curves (every {stride}th scenario)", "units": "1"}))
+
+
+def merge(design: xr.Dataset, parts: list[xr.Dataset]) -> xr.Dataset:
+    """Merge chunk results into one study Dataset shaped like the design.
+
+    Factorial designs get their factors back as dimensions; sampled designs keep ``run``. The
+    design's fixed values are stored as 0-d input variables.
+    """
+    curves = [n for n, v in parts[0].data_vars.items() if "curve_run" in v.dims]
+    # the seed design's traces (no run dimension) come from the chunk holding scenario 0 (run_chunk)
+    first = next((p for p in parts if p.sizes.get("run", 0) and int(p["run"][0]) == 0), parts[0])
+    seed = [n for n, v in first.data_vars.items() if "run" not in v.dims and "curve_run" not in v.dims]
+    ds = xr.concat([p.drop_vars(curves + (["curve_run"] if curves else []) + [n for n in seed if n in p])
+                    for p in parts], dim="run", data_vars="minimal", coords="minimal", compat="override",
+                   join="outer", combine_attrs="drop_conflicts").sortby("run")
+    ds = ds.assign(first[seed].drop_dims(["run", "curve_run"], errors="ignore"))
+    if curves:  # the stored subset of the curves, along its own dimension
+        ds = ds.assign(xr.concat([p[curves] for p in parts], dim="curve_run", combine_attrs="drop_conflicts"))
+    n = n_scenarios(design)
+    if ds.sizes["run"] != n or not np.array_equal(ds["run"].values, np.arange(n)):
+        raise ValueError(f"chunks cover {ds.sizes['run']} scenarios, the design has {n} (missing or duplicated)")
+    for key in CHUNK_ATTRS:
+        ds.attrs.pop(key, None)
+    factors = _factors(design)
+    if design.attrs["design"] == "factorial":
+        shape = tuple(design.sizes[f] for f in factors)
+        out = {}
+        for name, var in ds.data_vars.items():
+            if "run" in var.dims:
+                var = var.transpose("run", ...)
+                rest = var.dims[1:]
+                out[name] = (tuple(factors) + rest, var.values.reshape(shape + var.shape[1:]), var.attrs)
+            else:
+                out[name] = var
+        other = {c: v for c, v in ds.coords.items() if "run" not in v.dims}
+        ds = xr.Dataset(out, coords={**{f: design[f] for f in factors}, **other}, attrs=ds.attrs)
+    for name, var in design.data_vars.items():
+        ds[name] = var
+    return ds
+
+
+def merge_to_file(design: xr.Dataset, chunk_paths, path, objectives=(), constraints=None,
+                  sensitivity_path=None) -> None:
+    """Merge chunk files into the study's result file without holding the study in memory.
+
+    Each chunk is read (checked against its checksum, :func:`clutchlab.store.load_verified`) and
+    written into its region of a pre-sized HDF5 file (:class:`clutchlab.store.StreamWriter`): a
+    factorial design's flat scenario range as blocks of its grid, a sampled design's as a slice of
+    ``run``; global attributes are those every chunk agrees on (as :func:`merge`). The design
+    answers (:func:`clutchlab.explore.annotate`) are then computed from the objectives,
+    constraints and status alone, read back from the file, and appended; the sensitivity indices
+    likewise (``sensitivity_path``). Peak memory: one chunk plus a few per-scenario columns. The
+    same values as :func:`merge` followed by :func:`~clutchlab.explore.annotate` (tested)."""
+    from . import explore, store
+
+    constraints = dict(constraints or {})
+    factors = _factors(design)
+    factorial = design.attrs["design"] == "factorial"
+    n = n_scenarios(design)
+    grid = {f: design[f] for f in factors} if factorial else None
+    attrs, bounds = None, []
+    with store.atomic(path) as tmp:
+        with store.StreamWriter(tmp, n, grid, curve_stride=int(design.attrs.get("curve_stride", 1))) as out:
+            for p in chunk_paths:
+                chunk = store.load_verified(p)
+                for key in CHUNK_ATTRS:
+                    chunk.attrs.pop(key, None)
+                attrs = dict(chunk.attrs) if attrs is None else {
+                    k: v for k, v in attrs.items() if k in chunk.attrs and _same(chunk.attrs[k], v)}
+                if chunk.sizes.get("run", 0) == 0:
+                    continue
+                idx = chunk["run"].values
+                start = int(idx[0])
+                if not np.array_equal(idx, np.arange(start, start + idx.size)):
+                    raise ValueError(f"{p}: scenarios are not one contiguous range")
+                bounds.append((start, start + idx.size))
+                for name, var in design.data_vars.items():
+                    chunk[name] = var
+                out.write(chunk, start)
+            covered = sorted(bounds)
+            if [a for a, _ in covered] != [0] + [b for _, b in covered[:-1]] or covered[-1][1] != n:
+                raise ValueError(f"chunks cover {covered}, the design has {n} scenarios (missing or duplicated)")
+            out.set_attrs(attrs)
+        needed = ["status"] + [o.split(":")[0] for o in objectives] + list(constraints)
+        with xr.open_dataset(tmp, engine=store.ENGINE) as lazy:
+            columns = lazy[list(dict.fromkeys(needed))].load()
+        answers = explore.annotate(columns, list(objectives), constraints)
+        new = answers[[v for v in ("feasible", "constraint_margin", "pareto_rank") if v in answers]]
+        new.to_netcdf(tmp, mode="a", engine=store.ENGINE, encoding=store._encoding(new, 4))
+    if sensitivity_path is not None:
+        outputs = [o.split(":")[0] for o in objectives] + list(constraints)
+        store.write(explore.sensitivity(columns, outputs), sensitivity_path)
+
+
+def _same(a, b) -> bool:
+    try:
+        return bool(np.all(a == b)) and np.shape(a) == np.shape(b)
+    except ValueError:
+        return False
+
+
+def run_study(resolved_study: dict) -> xr.Dataset:
+    """Design, compute and merge a whole study in memory (one chunk), with its design answers
+    (:func:`clutchlab.explore.annotate`); for notebooks and tests."""
+    from .explore import annotate
+
+    design = build_design(resolved_study)
+    ds = merge(design, [run_chunk(design, resolved_study["options"], 1, 0)])
+    return annotate(ds, resolved_study.get("objectives", []), resolved_study.get("constraints", {}))
