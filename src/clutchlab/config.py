@@ -272,6 +272,45 @@ def _resolve_study(name: str, section: dict, default_chunks, max_scenarios: int,
         "fixed": {},
         "factors": {},
     }
+    _resolve_options(study, section, out)
+    if design != "factorial":
+        if "samples" not in section:
+            raise ConfigError(f"{name}.samples", f"required for design '{design}'")
+        out["samples"] = _count(section, "samples", f"{name}.samples")
+        if out["samples"] > max_scenarios:
+            raise _ceiling(name, out["samples"], max_scenarios)
+    else:
+        for key in ("samples", "seed"):
+            if key in section:
+                raise ConfigError(f"{name}.{key}", "not used by a factorial design (its scenarios are the "
+                                  "grid of the factors' values); remove it or choose design lhs/sobol")
+    given = section.get("parameters", {}) or {}
+    for param in study.parameters:
+        key = f"{name}.parameters.{param.name}"
+        spec = given.get(param.name, param.default)
+        if isinstance(spec, dict):
+            out["factors"][param.name] = _factor(param, spec, design, key, name, max_scenarios)
+        else:
+            out["fixed"][param.name] = _quantity(spec, param, key)
+    if design == "saltelli" and not out["factors"]:
+        raise ConfigError(f"{name}.parameters", "design 'saltelli' needs at least one factor (min/max)")
+    n = scenario_count(out)
+    if n > max_scenarios:
+        raise _ceiling(name, n, max_scenarios)
+    out["chunks"] = chunk_count(n, _chunking(section, f"{name}.") or default_chunks)
+    out["curve_stride"] = _curve_stride(name, section, design, n)
+    out["objectives"], out["constraints"] = _answers(study, section)
+    if study.check_config is not None:
+        problem = study.check_config(out)
+        if problem:
+            raise ConfigError(*problem)
+    return out
+
+
+def _resolve_options(study, section: dict, out: dict) -> None:
+    """A study section's options into ``out["options"]`` (a ``{values: [...]}`` choice drawn per
+    scenario also into ``out["option_factors"]``), its measured tables and its accuracy."""
+    name, design = out["name"], out["design"]
     for opt, allowed in study.options.items():
         given = (section.get("options") or {}).get(opt, allowed[0])
         if isinstance(given, dict):  # {values: [...]}: a categorical factor, drawn per scenario
@@ -300,86 +339,58 @@ def _resolve_study(name: str, section: dict, default_chunks, max_scenarios: int,
     elif "accuracy" in section:
         raise ConfigError(f"{name}.accuracy", "this study has no tolerance to set (its models are closed forms "
                           "or fixed-point solutions to round-off)")
-    if design != "factorial":
-        if "samples" not in section:
-            raise ConfigError(f"{name}.samples", f"required for design '{design}'")
-        out["samples"] = _count(section, "samples", f"{name}.samples")
-        if out["samples"] > max_scenarios:
-            raise _ceiling(name, out["samples"], max_scenarios)
-    else:
-        for key in ("samples", "seed"):
-            if key in section:
-                raise ConfigError(f"{name}.{key}", "not used by a factorial design (its scenarios are the "
-                                  "grid of the factors' values); remove it or choose design lhs/sobol")
-    given = section.get("parameters", {}) or {}
-    for param in study.parameters:
-        key = f"{name}.parameters.{param.name}"
-        spec = given.get(param.name, param.default)
-        if not isinstance(spec, dict):
-            out["fixed"][param.name] = _quantity(spec, param, key)
-            continue
-        if "values" in spec:
-            if set(spec) - {"values"}:
-                raise ConfigError(key, "give either 'values' or 'min'/'max'[/'num'/'scale'], not both")
-            # factorial: the grid's values; sampled: a discrete factor drawn uniformly among them
-            vals = [_quantity(v, param, f"{key}.values[{i}]") for i, v in enumerate(spec["values"])]
-            if len(set(vals)) != len(vals):
-                raise ConfigError(f"{key}.values", "values must be distinct")
-            out["factors"][param.name] = {"values": vals}
-            continue
-        if param.choices is not None:
-            raise ConfigError(key, f"must be one of {param.choices}: give a fixed value or a 'values' list, "
-                              "not a range")
-        lo = _quantity(spec["min"], param, f"{key}.min", finite=True)
-        hi = _quantity(spec["max"], param, f"{key}.max", finite=True)
-        if param.integer and design != "factorial":  # a sampled count: every whole number in [min, max]
-            for bound, v in (("min", lo), ("max", hi)):
-                if v != round(v):
-                    raise ConfigError(f"{key}.{bound}", f"a count: must be a whole number, got {v:g}")
-            if set(spec) - {"min", "max"}:
-                raise ConfigError(key, "a sampled count takes only 'min' and 'max' (every whole number between)")
-            if not lo < hi:
-                raise ConfigError(key, f"min ({lo:g}) must be below max ({hi:g})")
-            out["factors"][param.name] = {"values": [float(v) for v in range(int(lo), int(hi) + 1)]}
-            continue
-        scale = spec.get("scale", "linear")
+
+
+def _factor(param, spec: dict, design: str, key: str, name: str, max_scenarios: int) -> dict:
+    """One parameter given as a factor (``key`` names it in errors): its grid values
+    ``{"values": [...]}`` (a factorial grid, a values list, a sampled count's whole numbers) or a
+    sampled range ``{"min", "max", "scale"}``, in SI."""
+    if "values" in spec:
+        if set(spec) - {"values"}:
+            raise ConfigError(key, "give either 'values' or 'min'/'max'[/'num'/'scale'], not both")
+        # factorial: the grid's values; sampled: a discrete factor drawn uniformly among them
+        vals = [_quantity(v, param, f"{key}.values[{i}]") for i, v in enumerate(spec["values"])]
+        if len(set(vals)) != len(vals):
+            raise ConfigError(f"{key}.values", "values must be distinct")
+        return {"values": vals}
+    if param.choices is not None:
+        raise ConfigError(key, f"must be one of {param.choices}: give a fixed value or a 'values' list, "
+                          "not a range")
+    lo = _quantity(spec["min"], param, f"{key}.min", finite=True)
+    hi = _quantity(spec["max"], param, f"{key}.max", finite=True)
+    if param.integer and design != "factorial":  # a sampled count: every whole number in [min, max]
+        for bound, v in (("min", lo), ("max", hi)):
+            if v != round(v):
+                raise ConfigError(f"{key}.{bound}", f"a count: must be a whole number, got {v:g}")
+        if set(spec) - {"min", "max"}:
+            raise ConfigError(key, "a sampled count takes only 'min' and 'max' (every whole number between)")
         if not lo < hi:
             raise ConfigError(key, f"min ({lo:g}) must be below max ({hi:g})")
-        if scale == "log" and lo <= 0:
-            raise ConfigError(f"{key}.min", "log scale needs min > 0")
-        if design == "factorial":
-            if "num" not in spec:
-                raise ConfigError(f"{key}.num", "required for a factorial min/max factor")
-            num = _count(spec, "num", f"{key}.num")
-            if num < 2:
-                raise ConfigError(f"{key}.num", f"must be at least 2 to span min and max (got {num}); "
-                                  "for one value give it as a fixed value")
-            if num > max_scenarios:
-                raise _ceiling(name, num, max_scenarios)
-            if param.integer:
-                step = (hi - lo) / (num - 1)
-                if lo != round(lo) or step != round(step):
-                    raise ConfigError(key, f"a count: min {lo:g}, max {hi:g} with num {num} gives non-whole "
-                                      "values; give a 'values' list")
-            vals = np.geomspace(lo, hi, num) if scale == "log" else np.linspace(lo, hi, num)
-            out["factors"][param.name] = {"values": [float(v) for v in vals]}
-        else:
-            if "num" in spec:
-                raise ConfigError(f"{key}.num", f"not used by design '{design}' (use '{name}.samples')")
-            out["factors"][param.name] = {"min": lo, "max": hi, "scale": scale}
-    if design == "saltelli" and not out["factors"]:
-        raise ConfigError(f"{name}.parameters", "design 'saltelli' needs at least one factor (min/max)")
-    n = scenario_count(out)
-    if n > max_scenarios:
-        raise _ceiling(name, n, max_scenarios)
-    out["chunks"] = chunk_count(n, _chunking(section, f"{name}.") or default_chunks)
-    out["curve_stride"] = _curve_stride(name, section, design, n)
-    out["objectives"], out["constraints"] = _answers(study, section)
-    if study.check_config is not None:
-        problem = study.check_config(out)
-        if problem:
-            raise ConfigError(*problem)
-    return out
+        return {"values": [float(v) for v in range(int(lo), int(hi) + 1)]}
+    scale = spec.get("scale", "linear")
+    if not lo < hi:
+        raise ConfigError(key, f"min ({lo:g}) must be below max ({hi:g})")
+    if scale == "log" and lo <= 0:
+        raise ConfigError(f"{key}.min", "log scale needs min > 0")
+    if design != "factorial":
+        if "num" in spec:
+            raise ConfigError(f"{key}.num", f"not used by design '{design}' (use '{name}.samples')")
+        return {"min": lo, "max": hi, "scale": scale}
+    if "num" not in spec:
+        raise ConfigError(f"{key}.num", "required for a factorial min/max factor")
+    num = _count(spec, "num", f"{key}.num")
+    if num < 2:
+        raise ConfigError(f"{key}.num", f"must be at least 2 to span min and max (got {num}); "
+                          "for one value give it as a fixed value")
+    if num > max_scenarios:
+        raise _ceiling(name, num, max_scenarios)
+    if param.integer:
+        step = (hi - lo) / (num - 1)
+        if lo != round(lo) or step != round(step):
+            raise ConfigError(key, f"a count: min {lo:g}, max {hi:g} with num {num} gives non-whole "
+                              "values; give a 'values' list")
+    vals = np.geomspace(lo, hi, num) if scale == "log" else np.linspace(lo, hi, num)
+    return {"values": [float(v) for v in vals]}
 
 
 REFINE_KEYS = ("design", "refine", "samples", "seed", "chunks", "chunk_size", "curves")
