@@ -290,8 +290,8 @@ def test_study_reads_a_measured_friction_table():
 def test_closed_form_flash_peak_converges_at_second_order(profile, monkeypatch):
     """flash_peak of the closed form on 40 random designs (held and free engine, step to 0.3 s
     ramps): samples per piece 24 → 48 → 96 divide the error by about 4 (second order), 96 within
-    1.5e-4 of 1 300 per piece; the event solver's own history agrees within 2e-3 (it samples every
-    ramp time / 48: 21 samples before an early lock-up; measured 1.7e-3 at worst)."""
+    1.5e-4 of 1 300 per piece; the event solver's own history agrees within 5e-4 (measured 2.1e-4;
+    1.3e-3 when it sampled every ramp time / 48 only: 21 samples before an early lock-up)."""
     rng = np.random.default_rng(2)
     n = 40
     kw = dict(engine_speed=rng.uniform(300, 600, n),
@@ -308,4 +308,4 @@ def test_closed_form_flash_peak_converges_at_second_order(profile, monkeypatch):
     assert 3.0 < err[24] / err[48] < 5.0 and 3.0 < err[48] / err[96] < 5.0, err
     assert err[96] < 1.5e-4
     events = engagement.simulate(**kw, power_history=True, rtol=1e-9, atol=1e-9)["flash_peak"]
-    assert np.abs(events / peaks[1300] - 1).max() < 2e-3
+    assert np.abs(events / peaks[1300] - 1).max() < 5e-4

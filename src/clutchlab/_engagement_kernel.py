@@ -78,8 +78,13 @@ RESULTS = ("lockup_time", "breakaway_time", "capacity_at_lockup", "accel_jump", 
 # the slip power history (issue 20; only when asked for: with_hist): sampled while slipping every ramp time / POWER_SAMPLES_PER_RAMP
 # (a ramp shorter than window / 48, or a step: every window / 48²) and at every step end and event, at most POWER_SAMPLES_MAX samples a scenario; its Duhamel
 # integral's peak, max over t of ∫ P(τ)/√(t − τ) dτ [W s^0.5] (P linear between samples, each segment
-# integrated exactly), is the result FLASH_PEAK (NaN if the history overflowed)
+# integrated exactly), is the result FLASH_PEAK (NaN if the history overflowed). A slip that ends early in
+# the ramp would get few samples (second order: 18 samples gave 5e-3): within a slip phase the spacing is
+# also at most (time slipped by the segment's end) / POWER_SAMPLES_PER_SLIP, but not below the ramp
+# spacing / POWER_SAMPLES_DENSER (at most POWER_SAMPLES_PER_SLIP · POWER_SAMPLES_DENSER more samples a slip phase)
 POWER_SAMPLES_PER_RAMP = 48
+POWER_SAMPLES_PER_SLIP = 64
+POWER_SAMPLES_DENSER = 8
 POWER_SAMPLES_MAX = 4096
 TRACES = ("engine_speed", "hub_speed", "output_speed", "friction_torque", "capacity", "slip_work", "jerk",
           "face_temperature_rise")
@@ -1240,6 +1245,12 @@ def _hist_add(hist, n, t, p):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
+def _slip_spacing(dt, t_slip, t1):
+    """Spacing of the power samples of a slipping segment ending at t1 of a slip phase begun at t_slip."""
+    return min(dt, max((t1 - t_slip) / POWER_SAMPLES_PER_SLIP, dt / POWER_SAMPLES_DENSER))
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _hist_linear(hist, n, t0, t1, dt, ft, osc):
     """Sample the slip power form of a linear slipping segment on the grid k·dt in (t0, t1) and at t1."""
     k = math.floor(t0 / dt) + 1.0
@@ -1404,6 +1415,7 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
     # (a step or very short clamp rise: spacing from the window, so that a long slip cannot overflow the history)
     dt_s = max(min(q[TR], q[TEND]), q[TEND] / POWER_SAMPLES_PER_RAMP) / POWER_SAMPLES_PER_RAMP
     n_hist = _hist_add(hist, 0, 0.0, 0.0 if locked else aux[1] * aux[5])
+    t_slip = 0.0  # start of the current slip phase (power sample spacing)
     n_steps = 0
     t_stop, past = q[TEND], False
     while n_steps < max_steps:
@@ -1441,13 +1453,16 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
             _decay_modes(y, q, t_new - t)  # (a linear phase with fade is a locked one)
             if with_hist and not past:
                 n_hist = (_hist_add(hist, n_hist, t_new, 0.0) if locked
-                          else _hist_linear(hist, n_hist, t, t_new, dt_s, ft, osc))
+                          else _hist_linear(hist, n_hist, t, t_new, _slip_spacing(dt_s, t_slip, t_new), ft, osc))
             t = t_new
             if kind >= 0:
                 if past:
                     out[TRUNCATED] = 1.0
                     break
+                was_locked = locked
                 locked, parked, s = _apply_event(kind, t, y, q, locked, parked, s, compliant, prof, d, dm, g, pk, out)
+                if was_locked and not locked:
+                    t_slip = t
                 j_left, tc_left = _jerk_torque(t, y, q, locked, parked, s, compliant, prof, dm)
                 h = _initial_step(t, y, d, q, locked, parked, s, compliant, prof, rtol, atol,
                                   min(max_step, q[TEND]), y1, d1)
@@ -1559,8 +1574,8 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                     out[TRUNCATED] = 1.0
                     break
                 if with_hist and not locked:
-                    n_hist = _hist_step(hist, n_hist, t, h_try, t + best_tau, dt_s, y, d, y1, d1, q, locked, parked,
-                                        s, compliant, prof, ym, dm)
+                    n_hist = _hist_step(hist, n_hist, t, h_try, t + best_tau, _slip_spacing(dt_s, t_slip, t + best_tau),
+                                        y, d, y1, d1, q, locked, parked, s, compliant, prof, ym, dm)
                 if locked:
                     _decay_modes(y_best, q, best_tau)
                 t = t + best_tau
@@ -1571,8 +1586,11 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                 _record_peaks(t, y, q, locked, parked, s, compliant, prof, dm, aux_e, pk)
                 if with_hist:
                     n_hist = _hist_add(hist, n_hist, t, 0.0 if locked else aux_e[1] * aux_e[5])
+                was_locked = locked
                 locked, parked, s = _apply_event(best_kind, t, y, q, locked, parked, s, compliant, prof, d, dm, g,
                                                  pk, out)
+                if was_locked and not locked:
+                    t_slip = t
                 j_left, tc_left = _jerk_torque(t, y, q, locked, parked, s, compliant, prof, dm)
                 h = _initial_step(t, y, d, q, locked, parked, s, compliant, prof, rtol, atol, min(max_step, q[TEND]),
                                   y1, d1)
@@ -1594,8 +1612,8 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
         j_left, tc_left = jk, aux1[1]
         if with_hist and not past:
             if not locked:
-                n_hist = _hist_step(hist, n_hist, t, h_try, t_right, dt_s, y, d, y1, d1, q, locked, parked, s,
-                                    compliant, prof, ym, dm)
+                n_hist = _hist_step(hist, n_hist, t, h_try, t_right, _slip_spacing(dt_s, t_slip, t_right), y, d, y1,
+                                    d1, q, locked, parked, s, compliant, prof, ym, dm)
             n_hist = _hist_add(hist, n_hist, t_right, 0.0 if locked else aux1[1] * aux1[5])
         if locked:
             _decay_modes(y1, q, t_right - t)

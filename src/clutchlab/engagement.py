@@ -619,7 +619,7 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
         ``n_event_steps`` (re-integrations spent locating events: one per event when the first
         correction is accepted); with ``power_history``, ``flash_peak`` [W s^0.5]: max over t of
         Duhamel's integral ∫ P(τ)/√(t − τ) dτ of the slip power history (sampled while slipping
-        every ramp time / 48, at every step end and event; see
+        every ramp time / 48 and at least 64 times a slip phase, at every step end and event; see
         :func:`clutchlab.heat.face_temperature_rise`; NaN without) and ``n_power_samples``, and, with
         ``trace_times``, a ``trace`` dict of arrays (scenario..., time): engine, hub and output
         speed [rad/s], friction torque and capacity [N m], slip work [J], output jerk [rad/s³],
