@@ -582,7 +582,7 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
         4e-5 of its peak while slipping, lock-up time within 6e-6, slip work 5e-7). Static friction
         is not faded. Needs K > 0 and t_end ≤ 10 s (the fit's span). Costs: with fade every
         slipping phase is integrated with the 15 modes, steps ≤ 0.5 ms (the stiffest mode): about
-        0.7 ms a scenario of the compliant model instead of 22 µs.
+        0.7 ms a scenario of the compliant model instead of 27 µs.
     release_ratio : array_like
         κ [-] of the release-bearing travel model (:func:`bearing_travel_clamp`): the profile is the
         bearing travel and the capacity C_max·max(0, 1 − κ(1 − p)); 1 (default) is the profile
