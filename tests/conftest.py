@@ -22,13 +22,24 @@ def write_first_stage(path, study="engagement"):
 
     from clutchlab import config, pipeline, store
 
-    raw = yaml.safe_load((Path(__file__).resolve().parents[1] / "config" / "config.yaml").read_text())[study]
+    raw = yaml.safe_load(
+        (Path(__file__).resolve().parents[1] / "config" / "config.yaml").read_text()
+    )[study]
     params = {k: v for k, v in raw["parameters"].items() if isinstance(v, dict)}
     small = {}
     for k, v in list(params.items())[:2]:
-        small[k] = {"values": (v["values"] if "values" in v else [v["min"], v["max"]])[: 3 if not small else 2]}
-    section = {**raw, "parameters": {**{k: v for k, v in raw["parameters"].items() if not isinstance(v, dict)},
-                                      **small}}
+        small[k] = {
+            "values": (v["values"] if "values" in v else [v["min"], v["max"]])[
+                : 3 if not small else 2
+            ]
+        }
+    section = {
+        **raw,
+        "parameters": {
+            **{k: v for k, v in raw["parameters"].items() if not isinstance(v, dict)},
+            **small,
+        },
+    }
     sec = config.resolve({"studies": [study], study: section})[study]
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     store.write(pipeline.run_study(sec), path)

@@ -1,4 +1,5 @@
 """Centrifugal clutch with overrunning linkage (seed 001 eqs. 1-2) and release after engine failure."""
+
 import numpy as np
 import pytest
 from scipy.integrate import quad, solve_ivp
@@ -9,10 +10,22 @@ from clutchlab.studies import centrifugal as study
 
 RPM = np.pi / 30
 # seed 001 section 2.3: z = 3 (fits 2 * 248 N * sin 60 deg = 430 N), f = 0.4046, alpha = 38.84 deg
-SEED = dict(shoes=3, friction_coefficient=0.4046, pressure_angle=np.deg2rad(38.84), shoe_mass=0.178,
-            shoe_radius=0.034, drum_radius=0.045, spring_force=430.0)
-DYN = dict(engine_inertia=0.02, rotor_inertia=0.5, rotor_load_torque=55.0, rated_passive_torque=65.5,
-           static_fraction=0.3)
+SEED = dict(
+    shoes=3,
+    friction_coefficient=0.4046,
+    pressure_angle=np.deg2rad(38.84),
+    shoe_mass=0.178,
+    shoe_radius=0.034,
+    drum_radius=0.045,
+    spring_force=430.0,
+)
+DYN = dict(
+    engine_inertia=0.02,
+    rotor_inertia=0.5,
+    rotor_load_torque=55.0,
+    rated_passive_torque=65.5,
+    static_fraction=0.3,
+)
 
 
 def test_seed001_capacities():
@@ -48,14 +61,20 @@ def test_jam_and_weak_springs_are_flagged():
     """f tan(alpha) >= 1 is a jam, springs stronger than the centrifugal force at rated speed a
     'not_engaged' status: never a number that looks valid."""
     alpha = np.arctan(np.array([0.5, 1.0 + 1e-9, 1.5]) / 0.4046)
-    code = cf.design_status(rated_speed=5500 * RPM, rotor_load_torque=55.0, **{**SEED, "pressure_angle": alpha})
+    code = cf.design_status(
+        rated_speed=5500 * RPM, rotor_load_torque=55.0, **{**SEED, "pressure_angle": alpha}
+    )
     assert list(code) == [st.CODE["ok"], st.CODE["jammed"], st.CODE["jammed"]]
     fwd, _ = cf.capacity(speed=5500 * RPM, **{**SEED, "pressure_angle": alpha})
     assert np.isfinite(fwd[0]) and np.all(np.isnan(fwd[1:]))
-    code = cf.design_status(rated_speed=5500 * RPM, rotor_load_torque=55.0, **{**SEED, "spring_force": 2500.0})
+    code = cf.design_status(
+        rated_speed=5500 * RPM, rotor_load_torque=55.0, **{**SEED, "spring_force": 2500.0}
+    )
     assert code == st.CODE["not_engaged"]
     inputs = {q.name: q.default for q in study.PARAMETERS}
-    ds = study.compute({**inputs, "pressure_angle": np.array([SEED["pressure_angle"], np.arctan(1.2 / 0.4046)])})
+    ds = study.compute(
+        {**inputs, "pressure_angle": np.array([SEED["pressure_angle"], np.arctan(1.2 / 0.4046)])}
+    )
     assert ds.status.values[1] == st.CODE["jammed"] and np.isnan(ds.capacity_forward.values[1])
     assert np.isnan(ds.reserve_factor.values[1]) and np.isnan(ds.release_time.values[1])
 
@@ -74,30 +93,51 @@ def _reference_release(p, w_r, rtol=1e-13):
     p2 = p["rated_passive_torque"] * (1 - p["static_fraction"]) / w_r**2
     j = p["engine_inertia"] + p["rotor_inertia"]
     cap = {k_: p[k_] for k_ in SEED}
-    w0 = cf.engagement_speed(shoe_mass=p["shoe_mass"], shoe_radius=p["shoe_radius"], spring_force=p["spring_force"])
+    w0 = cf.engagement_speed(
+        shoe_mass=p["shoe_mass"], shoe_radius=p["shoe_radius"], spring_force=p["spring_force"]
+    )
 
     def g(t, y):  # needed reverse torque reaches M'
-        need = cf.needed_reverse_torque(y[0], engine_inertia=p["engine_inertia"], rotor_inertia=p["rotor_inertia"],
-                                        rotor_drag=k, p0=p0, p2=p2)
+        need = cf.needed_reverse_torque(
+            y[0],
+            engine_inertia=p["engine_inertia"],
+            rotor_inertia=p["rotor_inertia"],
+            rotor_drag=k,
+            p0=p0,
+            p2=p2,
+        )
         return need - cf.capacity(speed=y[0], **cap)[1]
 
     def lift(t, y):  # shoes off the drum
         return y[0] - w0
 
     g.terminal, g.direction, lift.terminal, lift.direction = True, 1, True, -1
-    sol = solve_ivp(lambda t, y: [-(p0 + (p2 + k) * y[0] ** 2) / j], (0, 50.0), [w_r], method="DOP853",
-                    rtol=rtol, atol=1e-12, events=(g, lift))
+    sol = solve_ivp(
+        lambda t, y: [-(p0 + (p2 + k) * y[0] ** 2) / j],
+        (0, 50.0),
+        [w_r],
+        method="DOP853",
+        rtol=rtol,
+        atol=1e-12,
+        events=(g, lift),
+    )
     i = 0 if sol.t_events[0].size else 1
     return sol.t_events[i][0], sol.y_events[i][0][0]
 
 
-@pytest.mark.parametrize("variant", [
-    {},  # seed: held, releases at 5214 rpm
-    {"rotor_inertia": 2.0, "rotor_load_torque": 30.0},
-    {"spring_force": 300.0, "pressure_angle": np.deg2rad(25.0)},
-    {"static_fraction": 0.0},
-    {"rotor_inertia": 0.01, "rotor_load_torque": 200.0},  # rotor drag carries the engine: held down to w0
-])
+@pytest.mark.parametrize(
+    "variant",
+    [
+        {},  # seed: held, releases at 5214 rpm
+        {"rotor_inertia": 2.0, "rotor_load_torque": 30.0},
+        {"spring_force": 300.0, "pressure_angle": np.deg2rad(25.0)},
+        {"static_fraction": 0.0},
+        {
+            "rotor_inertia": 0.01,
+            "rotor_load_torque": 200.0,
+        },  # rotor drag carries the engine: held down to w0
+    ],
+)
 def test_release_closed_form_against_tight_ode(variant):
     """Acceptance: release instant (an exact root, not a step) equals a DOP853 rtol 1e-13 event
     solution to 1e-9 relative, for releases at a speed root and at the engagement speed."""
@@ -113,8 +153,9 @@ def test_release_closed_form_against_tight_ode(variant):
 def test_release_at_once_when_needed_torque_beats_reverse_capacity():
     """With the engine alone on the clutch (J_r >> J_e, no rotor drag) the passive 65.5 N m beats
     M' = 65.0 N m: the paper's 'immediate release'."""
-    r = cf.release_after_failure(rated_speed=5500 * RPM, **{**SEED, **DYN, "rotor_inertia": 1e6,
-                                                            "rotor_load_torque": 0.0})
+    r = cf.release_after_failure(
+        rated_speed=5500 * RPM, **{**SEED, **DYN, "rotor_inertia": 1e6, "rotor_load_torque": 0.0}
+    )
     assert r["released_at_once"] and r["release_time"] == 0.0 and r["release_speed"] == 5500 * RPM
 
 
@@ -132,7 +173,9 @@ def test_failure_trace_matches_closed_form():
     assert tr["release_time"] == pytest.approx(float(r["release_time"]), rel=1e-8)
     assert np.all(np.diff(tr["engine_speed"]) <= 1e-9)  # the dead engine only slows down
     after = tr["time"] > tr["release_time"]
-    assert np.all(tr["rotor_speed"][after] >= tr["engine_speed"][after])  # overrunning: rotor runs free
+    assert np.all(
+        tr["rotor_speed"][after] >= tr["engine_speed"][after]
+    )  # overrunning: rotor runs free
     assert tr["engine_speed"][-1] == 0.0
 
 
@@ -142,15 +185,21 @@ def test_startup_trace_locks_and_engages_above_idle():
     w0 = cf.engagement_speed(shoe_mass=0.178, shoe_radius=0.034, spring_force=430.0)
     assert np.isfinite(up["lockup_time"]) and up["lockup_speed"] > w0
     moving = up["rotor_speed"] > 0
-    assert np.all(up["engine_speed"][moving] >= w0 * (1 - 1e-9))  # picked up only above the engagement speed
+    assert np.all(
+        up["engine_speed"][moving] >= w0 * (1 - 1e-9)
+    )  # picked up only above the engagement speed
     assert np.nanmax(up["rotor_speed"] - up["engine_speed"]) <= 1e-6
 
 
 def test_study_validation_rows():
     v = study.validation()
     rows = dict(zip(v.quantity.values, v.passed.values))
-    for q in ("forward capacity M at 5500 rpm (eq. 1)", "reverse capacity M' at 5500 rpm (eq. 2)", "engagement speed",
-              "capacity at idle 1900-2100 rpm (disengaged)"):
+    for q in (
+        "forward capacity M at 5500 rpm (eq. 1)",
+        "reverse capacity M' at 5500 rpm (eq. 2)",
+        "engagement speed",
+        "capacity at idle 1900-2100 rpm (disengaged)",
+    ):
         assert rows[q] == 1
 
 
@@ -163,10 +212,14 @@ def test_near_jam_is_flagged_and_keeps_its_exact_numbers():
     kw = dict(rated_speed=5500 * RPM, rotor_load_torque=55.0, **{**SEED, "pressure_angle": alpha})
     want = ["ok", "ok", "near_jam", "near_jam", "jammed"]
     assert [st.FLAGS[c] for c in cf.design_status(**kw, friction_scatter=0.25)] == want
-    assert [st.FLAGS[c] for c in cf.design_status(**kw)] == ["ok"] * 4 + ["jammed"]  # no scatter asked
+    assert [st.FLAGS[c] for c in cf.design_status(**kw)] == ["ok"] * 4 + [
+        "jammed"
+    ]  # no scatter asked
     inputs = {q.name: q.default for q in study.PARAMETERS}
     ds = study.compute({**inputs, "pressure_angle": alpha})
     assert [st.FLAGS[c] for c in ds.status.values] == want
     fwd, _ = cf.capacity(speed=5500 * RPM, **{**SEED, "pressure_angle": alpha})
     np.testing.assert_array_equal(ds.capacity_forward.values[:4], fwd[:4])
-    assert ds.reserve_factor.values[3] > 20 * ds.reserve_factor.values[0] and np.isnan(ds.reserve_factor.values[4])
+    assert ds.reserve_factor.values[3] > 20 * ds.reserve_factor.values[0] and np.isnan(
+        ds.reserve_factor.values[4]
+    )

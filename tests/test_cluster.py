@@ -1,5 +1,6 @@
 """Issue 19: what each Snakemake job asks a cluster for (clutchlab.cluster), and the SLURM profile as
 shipped. The runs on a real cluster are in test_slurm.py."""
+
 import re
 import subprocess
 import sys
@@ -22,7 +23,9 @@ def test_chunk_requests_follow_the_chunk_size_and_the_measured_cost():
         assert n == 262144  # chunk_size of config/million.yaml
         r = cluster.chunk_resources(res[s])
         fixed_s, per_s, fixed_mb, per_mb = cluster.CHUNK_COST[s]
-        assert r["mem_mb"] >= cluster.MEMORY_MARGIN * (fixed_mb + per_mb * n)  # the measurement with its margin
+        assert r["mem_mb"] >= cluster.MEMORY_MARGIN * (
+            fixed_mb + per_mb * n
+        )  # the measurement with its margin
         assert r["runtime"] * 60 >= cluster.TIME_MARGIN * (fixed_s + per_s * n)
         assert r["cpus_per_task"] == 1
         assert r["mem_mb"] <= 4000  # a 2^18 chunk fits a common 4 GB-per-core node
@@ -32,15 +35,22 @@ def test_chunk_requests_follow_the_chunk_size_and_the_measured_cost():
         a, b = cluster.chunk_resources(small[s]), cluster.chunk_resources(res[s])
         assert cluster.MIN_MEM_MB <= a["mem_mb"] <= b["mem_mb"] and a["runtime"] <= b["runtime"]
     # the centrifugal chunk (4.6 kB a scenario) grows most: 2^18 scenarios ask for more than 2^16
-    assert cluster.chunk_resources(small["centrifugal"])["mem_mb"] < cluster.chunk_resources(res["centrifugal"])["mem_mb"]
+    assert (
+        cluster.chunk_resources(small["centrifugal"])["mem_mb"]
+        < cluster.chunk_resources(res["centrifugal"])["mem_mb"]
+    )
 
 
 def test_merge_and_report_requests_grow_with_the_study():
     res, tiny = _resolved(), _resolved("small.yaml")
     for s in tiny["studies"]:
-        assert cluster.merge_resources(tiny[s])["mem_mb"] <= cluster.merge_resources(res[s])["mem_mb"]
+        assert (
+            cluster.merge_resources(tiny[s])["mem_mb"] <= cluster.merge_resources(res[s])["mem_mb"]
+        )
     assert cluster.report_resources(tiny)["mem_mb"] < cluster.report_resources(res)["mem_mb"]
-    assert cluster.report_resources(res)["mem_mb"] >= 1.38e3  # the million run's report job peaked at 1.38 GB
+    assert (
+        cluster.report_resources(res)["mem_mb"] >= 1.38e3
+    )  # the million run's report job peaked at 1.38 GB
 
 
 def test_the_rules_ask_for_what_clutchlab_cluster_computes(tmp_path):
@@ -49,14 +59,30 @@ def test_the_rules_ask_for_what_clutchlab_cluster_computes(tmp_path):
     from conftest import snakemake_workdir
 
     wd = snakemake_workdir(tmp_path)
-    out = subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2", "--configfile", "config/million.yaml",
-                          "--dry-run"], cwd=wd, capture_output=True, text=True, check=True).stdout
+    out = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "snakemake",
+            "--cores",
+            "2",
+            "--configfile",
+            "config/million.yaml",
+            "--dry-run",
+        ],
+        cwd=wd,
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
     res = _resolved()
     seen = 0
     for block in out.split("\nrule chunk:")[1:]:
         study = re.search(r"wildcards: study=(\w+)", block).group(1)
         want = cluster.chunk_resources(res[study])
-        assert f"runtime={want['runtime']}," in block and f"mem_mb={want['mem_mb']}," in block, block
+        assert f"runtime={want['runtime']}," in block and f"mem_mb={want['mem_mb']}," in block, (
+            block
+        )
         assert "cpus_per_task=1" in block
         seen += 1
     assert seen == sum(res[s]["chunks"] for s in res["studies"])
@@ -67,8 +93,9 @@ def test_the_slurm_profile_has_no_site_placeholders():
     profile once shipped 'compute' and 'your_account', which a real cluster rejects."""
     text = (ROOT / "workflows/profiles/slurm/config.yaml").read_text()
     prof = yaml.safe_load(text)
-    assert "default-resources" not in prof and not any(k.startswith("slurm-partition") or k.startswith("slurm-account")
-                                                        for k in prof)
+    assert "default-resources" not in prof and not any(
+        k.startswith("slurm-partition") or k.startswith("slurm-account") for k in prof
+    )
     assert prof["executor"] == "slurm" and prof["slurm-status-command"] == "squeue"
     assert prof["slurm-logdir"] == "logs/slurm"
 
@@ -92,6 +119,8 @@ def test_benchmark_helpers():
     from clutchlab.bench import resources as benchmark_resources, slurm as benchmark_slurm
 
     assert benchmark_slurm.idle_share([(0, 1), (2, 3)], 0, 4) == 0.5
-    assert benchmark_slurm.idle_share([(1, 3), (0, 2), (5, 9)], 0, 4) == 0.25  # overlaps, one past the end
+    assert (
+        benchmark_slurm.idle_share([(1, 3), (0, 2), (5, 9)], 0, 4) == 0.25
+    )  # overlaps, one past the end
     row = benchmark_resources.measure_one(ROOT / "config/million.yaml", "sprag", 64)
     assert 0 < row["seconds"] < 60 and 50 < row["max_rss_mb"] < 4000

@@ -1,6 +1,7 @@
 """Compliant-driveline engagement (seed 000 eqs. 1-2, 11, 12 with the damper springs between plate
 hub and output): the exact linear phases against a much tighter reference, metrics independent of
 where the window ends, the hybrid with integrated (Stribeck) phases."""
+
 import numpy as np
 import pytest
 
@@ -10,8 +11,17 @@ from clutchlab import status as st
 
 METRICS = ("lockup_time", "slip_work", "peak_jerk")
 # the metrics a lock-up found reports; none may depend on where the window ends
-WINDOW_METRICS = ("lockup_time", "lockup_speed", "slip_work", "peak_slip_power", "peak_friction_torque",
-                  "capacity_at_lockup", "accel_jump", "peak_jerk", "breakaway_time")
+WINDOW_METRICS = (
+    "lockup_time",
+    "lockup_speed",
+    "slip_work",
+    "peak_slip_power",
+    "peak_friction_torque",
+    "capacity_at_lockup",
+    "accel_jump",
+    "peak_jerk",
+    "breakaway_time",
+)
 
 
 def _design(n, seed, *, load_step=False):
@@ -21,13 +31,20 @@ def _design(n, seed, *, load_step=False):
     the release-bearing air gap, damping ratio 0 to 0.3 and any hub share."""
     rng = np.random.default_rng(seed)
     tm = rng.uniform(30, 80, n)
-    d = dict(engine_speed=rng.uniform(300, 600, n),
-             engine_inertia=np.where(rng.random(n) < 0.6, np.inf, rng.uniform(0.3, 2.0, n)),
-             driven_inertia=rng.uniform(0.015, 0.06, n), load_torque=tm,
-             peak_capacity=tm * rng.uniform(1.4, 3.0, n), ramp_time=rng.uniform(0.0, 0.3, n),
-             static_ratio=rng.uniform(1.0, 1.3, n), damper_stiffness=rng.uniform(2000, 9000, n),
-             damping_ratio=rng.uniform(0.0, 0.3, n), hub_fraction=rng.uniform(0.2, 0.8, n),
-             release_ratio=np.where(rng.random(n) < 0.3, rng.uniform(1.2, 3.0, n), 1.0), t_end=np.full(n, 1.5))
+    d = dict(
+        engine_speed=rng.uniform(300, 600, n),
+        engine_inertia=np.where(rng.random(n) < 0.6, np.inf, rng.uniform(0.3, 2.0, n)),
+        driven_inertia=rng.uniform(0.015, 0.06, n),
+        load_torque=tm,
+        peak_capacity=tm * rng.uniform(1.4, 3.0, n),
+        ramp_time=rng.uniform(0.0, 0.3, n),
+        static_ratio=rng.uniform(1.0, 1.3, n),
+        damper_stiffness=rng.uniform(2000, 9000, n),
+        damping_ratio=rng.uniform(0.0, 0.3, n),
+        hub_fraction=rng.uniform(0.2, 0.8, n),
+        release_ratio=np.where(rng.random(n) < 0.3, rng.uniform(1.2, 3.0, n), 1.0),
+        t_end=np.full(n, 1.5),
+    )
     d["engine_torque"] = np.where(np.isinf(d["engine_inertia"]), 0.0, tm * rng.uniform(1.1, 1.3, n))
     if load_step:  # a load step after lock-up (collective pulled): break-away and re-lock
         d["load_step"] = np.where(np.isinf(d["engine_inertia"]), tm * rng.uniform(0.2, 0.6, n), 0.0)
@@ -86,9 +103,19 @@ def test_breakaway_and_relock_in_the_locked_phase():
 def test_seed_design_exact_and_integrated_agree():
     """Seed 000 design on the compliant driveline: the closed-form phases and the DOPRI5 path
     (forced by a Stribeck speed so large that μ is constant: static ratio 1) at rtol 1e-12."""
-    kw = dict(engine_speed=570.0, engine_inertia=np.inf, engine_torque=156.0, driven_inertia=0.021,
-              load_torque=44.0, peak_capacity=239.3, ramp_time=0.15, compliant=True, damper_stiffness=4498.0,
-              damping_ratio=0.05, t_end=0.6)
+    kw = dict(
+        engine_speed=570.0,
+        engine_inertia=np.inf,
+        engine_torque=156.0,
+        driven_inertia=0.021,
+        load_torque=44.0,
+        peak_capacity=239.3,
+        ramp_time=0.15,
+        compliant=True,
+        damper_stiffness=4498.0,
+        damping_ratio=0.05,
+        t_end=0.6,
+    )
     exact = eng.simulate(**kw)
     integ = eng.simulate(**kw, stribeck_speed=1e12, rtol=1e-12, atol=1e-12)
     assert exact["n_steps"] == 0 and integ["n_steps"] > 500
@@ -143,8 +170,18 @@ def test_metrics_do_not_depend_on_the_window_end(variant):
 def test_locked_at_the_window_end_is_followed_to_its_final_peak():
     """The issue's case: a lock-up 0.1 ms before the window ends. The post-lock transient (its jerk
     peak comes a quarter period later) is followed past the window: same peak jerk as a long window."""
-    kw = dict(engine_speed=570.0, engine_inertia=np.inf, engine_torque=0.0, driven_inertia=0.05, load_torque=80.0,
-              peak_capacity=180.0, ramp_time=0.3, compliant=True, damper_stiffness=4498.0, damping_ratio=0.05)
+    kw = dict(
+        engine_speed=570.0,
+        engine_inertia=np.inf,
+        engine_torque=0.0,
+        driven_inertia=0.05,
+        load_torque=80.0,
+        peak_capacity=180.0,
+        ramp_time=0.3,
+        compliant=True,
+        damper_stiffness=4498.0,
+        damping_ratio=0.05,
+    )
     t_lock = float(eng.simulate(**kw, t_end=2.0)["lockup_time"])
     short = eng.simulate(**kw, t_end=t_lock + 1e-4)
     long = eng.simulate(**kw, t_end=2.0)
@@ -155,21 +192,43 @@ def test_locked_at_the_window_end_is_followed_to_its_final_peak():
 def test_truncated_when_an_event_follows_the_window():
     """A free engine that cannot carry the load decelerates after lock-up until the output stops:
     an event after the window that would change the metrics — status truncated, NaN metrics."""
-    res = eng.simulate(engine_speed=570.0, engine_inertia=0.5, engine_torque=30.0, driven_inertia=0.03,
-                       load_torque=60.0, peak_capacity=200.0, ramp_time=0.1, compliant=True, damper_stiffness=4498.0,
-                       damping_ratio=0.05, t_end=0.6)
+    res = eng.simulate(
+        engine_speed=570.0,
+        engine_inertia=0.5,
+        engine_torque=30.0,
+        driven_inertia=0.03,
+        load_torque=60.0,
+        peak_capacity=200.0,
+        ramp_time=0.1,
+        compliant=True,
+        damper_stiffness=4498.0,
+        damping_ratio=0.05,
+        t_end=0.6,
+    )
     assert res["status"] == st.CODE["truncated"]
-    assert np.isnan(res["lockup_time"]) and np.isnan(res["peak_jerk"]) and np.isnan(res["slip_work"])
+    assert (
+        np.isnan(res["lockup_time"]) and np.isnan(res["peak_jerk"]) and np.isnan(res["slip_work"])
+    )
 
 
 def test_restart_at_an_event_does_not_fire_at_once():
     """PHYSICS.md hard case. Right after the output unparks its speed and acceleration are zero; the
     park function must not fire at the restart (it did, one ulp later, before the fix, and the output
     then never moved again: never_locked instead of a lock-up at 0.383 s)."""
-    p = dict(engine_speed=570.0, engine_inertia=np.inf, engine_torque=0.0, driven_inertia=0.04478219675494552,
-             load_torque=53.91347757013077, peak_capacity=175.34809669906292, ramp_time=0.2646604830414761,
-             static_ratio=1.1104845505417242, damper_stiffness=4361.988757965115,
-             damping_ratio=0.02798763262542414, hub_fraction=0.405630050395109, t_end=0.6)
+    p = dict(
+        engine_speed=570.0,
+        engine_inertia=np.inf,
+        engine_torque=0.0,
+        driven_inertia=0.04478219675494552,
+        load_torque=53.91347757013077,
+        peak_capacity=175.34809669906292,
+        ramp_time=0.2646604830414761,
+        static_ratio=1.1104845505417242,
+        damper_stiffness=4361.988757965115,
+        damping_ratio=0.02798763262542414,
+        hub_fraction=0.405630050395109,
+        t_end=0.6,
+    )
     res = eng.simulate(**p, compliant=True)
     assert res["status"] == st.CODE["ok"]
     ref = reference.compliant(p, rtol=1e-13, atol=1e-13)
@@ -179,8 +238,18 @@ def test_restart_at_an_event_does_not_fire_at_once():
 def test_undamped_locked_phase_settles_after_one_period():
     """Zero damping: the post-lock oscillation never decays; with constant forcing one period shows
     every peak, so the follow still ends (and the peak is the same with any window)."""
-    kw = dict(engine_speed=570.0, engine_inertia=np.inf, engine_torque=0.0, driven_inertia=0.03, load_torque=50.0,
-              peak_capacity=200.0, ramp_time=0.1, compliant=True, damper_stiffness=4498.0, damping_ratio=0.0)
+    kw = dict(
+        engine_speed=570.0,
+        engine_inertia=np.inf,
+        engine_torque=0.0,
+        driven_inertia=0.03,
+        load_torque=50.0,
+        peak_capacity=200.0,
+        ramp_time=0.1,
+        compliant=True,
+        damper_stiffness=4498.0,
+        damping_ratio=0.0,
+    )
     a, b = eng.simulate(**kw, t_end=0.5), eng.simulate(**kw, t_end=1.7)
     assert a["status"] == b["status"] == st.CODE["ok"]
     assert a["peak_jerk"] == pytest.approx(float(b["peak_jerk"]), rel=1e-12)
@@ -211,15 +280,25 @@ def test_accuracy_sets_the_tolerance_that_meets_it(accuracy):
 def test_study_records_its_tolerances():
     from clutchlab import config, pipeline
 
-    sec = config.resolve({"studies": ["engagement"], "engagement": {
-        "design": "factorial", "accuracy": 1e-5, "parameters": {"ramp_time": {"values": ["0.1 s", "0.2 s"]}}}})
+    sec = config.resolve(
+        {
+            "studies": ["engagement"],
+            "engagement": {
+                "design": "factorial",
+                "accuracy": 1e-5,
+                "parameters": {"ramp_time": {"values": ["0.1 s", "0.2 s"]}},
+            },
+        }
+    )
     ds = pipeline.run_study(sec["engagement"])
     assert ds.attrs["accuracy"] == 1e-5
     assert (ds.attrs["rtol"], ds.attrs["atol"]) == pytest.approx((1e-6, 1e-8), rel=1e-12)
     assert "closed form" in ds.attrs["model_used"]
     for bad, why in ((1e-9, "within"), (0.5, "within"), ("tight", "number")):
         with pytest.raises(config.ConfigError, match="engagement.accuracy"):
-            config.resolve({"studies": ["engagement"], "engagement": {"design": "factorial", "accuracy": bad}})
+            config.resolve(
+                {"studies": ["engagement"], "engagement": {"design": "factorial", "accuracy": bad}}
+            )
     with pytest.raises(config.ConfigError, match="sprag.accuracy.*no tolerance"):
         config.resolve({"studies": ["sprag"], "sprag": {"design": "factorial", "accuracy": 1e-6}})
 

@@ -1,4 +1,5 @@
 """Config validation: each kind of bad config fails with the key named, before any job runs."""
+
 import copy
 from pathlib import Path
 
@@ -21,7 +22,9 @@ def raw():
 def test_shipped_configs_resolve(name, tmp_path, monkeypatch):
     from conftest import refine_sources, write_first_stage
 
-    for source in refine_sources(config.read_file(ROOT / "config" / name)):  # a second stage reads a first
+    for source in refine_sources(
+        config.read_file(ROOT / "config" / name)
+    ):  # a second stage reads a first
         monkeypatch.chdir(tmp_path)
         write_first_stage(tmp_path / source)
     cfg = config.load(ROOT / "config" / name)
@@ -36,7 +39,9 @@ def test_units_converted_and_defaults_filled(raw):
     raw["diaphragm_spring"]["parameters"] = {"sheet_thickness": "2.5 mm"}
     sec = config.resolve(raw)["diaphragm_spring"]
     assert sec["fixed"]["sheet_thickness"] == pytest.approx(2.5e-3)
-    assert sec["fixed"]["friction_coefficient"] == pytest.approx(0.4)  # default from the study table
+    assert sec["fixed"]["friction_coefficient"] == pytest.approx(
+        0.4
+    )  # default from the study table
     assert sec["chunks"] == config.DEFAULT_CHUNKS and sec["factors"] == {}
 
 
@@ -112,7 +117,11 @@ def test_poisson_above_half(raw):
 
 
 def test_min_not_below_max(raw):
-    raw["diaphragm_spring"]["parameters"]["sheet_thickness"] = {"min": "3 mm", "max": "2 mm", "num": 3}
+    raw["diaphragm_spring"]["parameters"]["sheet_thickness"] = {
+        "min": "3 mm",
+        "max": "2 mm",
+        "num": 3,
+    }
     _expect(raw, "diaphragm_spring.parameters.sheet_thickness", "below max")
 
 
@@ -130,7 +139,9 @@ def test_sampled_design_takes_a_values_list_as_a_discrete_factor(raw):
     raw["diaphragm_spring"]["design"] = "sobol"
     raw["diaphragm_spring"]["samples"] = 64
     raw["diaphragm_spring"]["parameters"] = {"radius_ratio": {"values": [1.2, 1.3]}}
-    assert config.resolve(raw)["diaphragm_spring"]["factors"]["radius_ratio"] == {"values": [1.2, 1.3]}
+    assert config.resolve(raw)["diaphragm_spring"]["factors"]["radius_ratio"] == {
+        "values": [1.2, 1.3]
+    }
     raw["diaphragm_spring"]["parameters"] = {"radius_ratio": {"values": [1.2, 1.2]}}
     _expect(raw, "diaphragm_spring.parameters.radius_ratio.values", "distinct")
 
@@ -225,8 +236,16 @@ def test_a_quantity_is_one_number_and_a_unit():
 
 
 def test_the_ceiling_can_be_raised_on_purpose(raw):
-    raw["diaphragm_spring"]["parameters"]["sheet_thickness"] = {"min": "2 mm", "max": "3 mm", "num": 100}
-    n = int(np.prod([len(f["values"]) for f in config.resolve(raw)["diaphragm_spring"]["factors"].values()]))
+    raw["diaphragm_spring"]["parameters"]["sheet_thickness"] = {
+        "min": "2 mm",
+        "max": "3 mm",
+        "num": 100,
+    }
+    n = int(
+        np.prod(
+            [len(f["values"]) for f in config.resolve(raw)["diaphragm_spring"]["factors"].values()]
+        )
+    )
     raw["max_scenarios"] = n - 1
     _expect(raw, "diaphragm_spring", f"the design has {n} scenarios", f"max_scenarios: {n}")
     raw["max_scenarios"] = n
@@ -234,8 +253,14 @@ def test_the_ceiling_can_be_raised_on_purpose(raw):
 
 
 def test_even_roller_counts_and_any_count_for_the_all_reading():
-    raw = {"studies": ["roller"], "roller": {"design": "factorial", "parameters": {"rollers": {"values": [9, 13]}},
-                                             "options": {"stress_reading": "all"}}}
+    raw = {
+        "studies": ["roller"],
+        "roller": {
+            "design": "factorial",
+            "parameters": {"rollers": {"values": [9, 13]}},
+            "options": {"stress_reading": "all"},
+        },
+    }
     assert config.resolve(raw)["roller"]["factors"]["rollers"]["values"] == [9.0, 13.0]
 
 
@@ -246,9 +271,13 @@ def test_workflow_profiles_check_config_files_first(profile, monkeypatch, tmp_pa
     import yte
 
     text = (ROOT / "workflows" / "profiles" / profile / "config.yaml").read_text()
-    monkeypatch.setattr("sys.argv", ["snakemake", "--configfile", str(ROOT / "config" / "small.yaml")])
+    monkeypatch.setattr(
+        "sys.argv", ["snakemake", "--configfile", str(ROOT / "config" / "small.yaml")]
+    )
     assert yte.process_yaml(text, require_use_yte=True)["rerun-incomplete"] is True
-    monkeypatch.setattr("sys.argv", ["snakemake", "--configfile", str(ROOT / "tests/malformed/use_yte.yaml")])
+    monkeypatch.setattr(
+        "sys.argv", ["snakemake", "--configfile", str(ROOT / "tests/malformed/use_yte.yaml")]
+    )
     with pytest.raises(SystemExit, match="^clutchlab: config key '__use_yte__'"):
         yte.process_yaml(text, require_use_yte=True)
 
@@ -256,8 +285,12 @@ def test_workflow_profiles_check_config_files_first(profile, monkeypatch, tmp_pa
 def test_precheck_reads_every_configfile_form(tmp_path):
     good, bad = str(ROOT / "config" / "small.yaml"), str(ROOT / "tests/malformed/not_utf8.yaml")
     config.precheck_argv(["--cores", "2", "--configfile", good, "--config", "chunks=2"])
-    for argv in (["--configfile", good, bad], ["--configfiles", bad], [f"--configfile={bad}"],
-                 ["-n", "--configfile", good, "--configfile", bad]):
+    for argv in (
+        ["--configfile", good, bad],
+        ["--configfiles", bad],
+        [f"--configfile={bad}"],
+        ["-n", "--configfile", good, "--configfile", bad],
+    ):
         with pytest.raises(SystemExit, match="not UTF-8"):
             config.precheck_argv(argv)
 
@@ -265,8 +298,12 @@ def test_precheck_reads_every_configfile_form(tmp_path):
 def test_chunk_jobs_from_a_target_chunk_size(raw):
     """Issue 16 item 1: chunk_size (scenarios per job) gives ceil(N / chunk_size) jobs, at most 32 a
     study; a study's own chunks/chunk_size wins over the top-level one; both at one level refused."""
-    sobol = {"design": "sobol", "samples": 1_000_000, "seed": 1,
-             "parameters": {"ramp_time": {"min": "0.05 s", "max": "0.3 s"}}}
+    sobol = {
+        "design": "sobol",
+        "samples": 1_000_000,
+        "seed": 1,
+        "parameters": {"ramp_time": {"min": "0.05 s", "max": "0.3 s"}},
+    }
     cfg = {"studies": ["engagement"], "chunk_size": 50_000, "engagement": dict(sobol)}
     assert config.resolve(cfg)["engagement"]["chunks"] == 20
     cfg["chunk_size"] = 1000

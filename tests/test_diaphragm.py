@@ -1,4 +1,5 @@
 """Almen-Laszlo curve (seed 000 eq. 10) and its characteristic points."""
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -20,7 +21,9 @@ def test_seed_operating_point_2500N():
     assert int(pts["status"]) == st.CODE["ok"]
     assert np.isfinite(pts["load_A"]) and np.isfinite(pts["load_D"])
     assert pts["load_A"] > pts["load_C"] > pts["load_D"] > 0
-    assert pts["deflection_C"] == pytest.approx(0.5 * (pts["deflection_A"] + pts["deflection_D"]), rel=1e-12)
+    assert pts["deflection_C"] == pytest.approx(
+        0.5 * (pts["deflection_A"] + pts["deflection_D"]), rel=1e-12
+    )
 
 
 def test_points_against_numerical_optimisation():
@@ -28,7 +31,9 @@ def test_points_against_numerical_optimisation():
     pts = diaphragm.characteristic_points(**SEED)
     f = lambda lam: diaphragm.almen_laszlo_load(lam, **SEED)  # noqa: E731
     lam_c = float(pts["deflection_C"])
-    a = minimize_scalar(lambda x: -f(x), bounds=(0, lam_c), method="bounded", options={"xatol": 1e-12})
+    a = minimize_scalar(
+        lambda x: -f(x), bounds=(0, lam_c), method="bounded", options={"xatol": 1e-12}
+    )
     d = minimize_scalar(f, bounds=(lam_c, 2 * lam_c), method="bounded", options={"xatol": 1e-12})
     assert a.x == pytest.approx(float(pts["deflection_A"]), rel=1e-5)
     assert d.x == pytest.approx(float(pts["deflection_D"]), rel=1e-5)
@@ -39,9 +44,15 @@ def test_points_against_numerical_optimisation():
 def test_flat_point_load_closed_form():
     pts = diaphragm.characteristic_points(**SEED)
     c = diaphragm.spring_constant(**{k: v for k, v in SEED.items() if k != "cone_height"})
-    k = diaphragm.radius_ratio_k(SEED["outer_radius"], SEED["inner_radius"], SEED["load_radius_outer"],
-                                 SEED["load_radius_inner"])
-    assert pts["load_C"] == pytest.approx(c * SEED["cone_height"] * SEED["sheet_thickness"] ** 2 / k, rel=1e-12)
+    k = diaphragm.radius_ratio_k(
+        SEED["outer_radius"],
+        SEED["inner_radius"],
+        SEED["load_radius_outer"],
+        SEED["load_radius_inner"],
+    )
+    assert pts["load_C"] == pytest.approx(
+        c * SEED["cone_height"] * SEED["sheet_thickness"] ** 2 / k, rel=1e-12
+    )
 
 
 @pytest.mark.parametrize("ratio", [1.0, 1.3, np.sqrt(2.0)])
@@ -73,14 +84,17 @@ def test_invalid_geometry_is_nan_with_status():
 def test_broadcasting():
     h = np.array([2.0e-3, 2.334e-3, 2.6e-3])[:, None]
     factor = np.array([0.8, 0.9, 1.0])[None, :]
-    pts = diaphragm.characteristic_points(**dict(SEED, sheet_thickness=h, cone_height=1.6 * h),
-                                          operating_point_factor=factor)
+    pts = diaphragm.characteristic_points(
+        **dict(SEED, sheet_thickness=h, cone_height=1.6 * h), operating_point_factor=factor
+    )
     assert pts["load_B"].shape == (3, 3) and pts["status"].shape == (3, 3)
     for i in range(3):
         for j in range(3):
             hi = float(h[i, 0])
-            one = diaphragm.characteristic_points(**dict(SEED, sheet_thickness=hi, cone_height=1.6 * hi),
-                                                  operating_point_factor=float(factor[0, j]))
+            one = diaphragm.characteristic_points(
+                **dict(SEED, sheet_thickness=hi, cone_height=1.6 * hi),
+                operating_point_factor=float(factor[0, j]),
+            )
             assert pts["load_B"][i, j] == pytest.approx(float(one["load_B"]), rel=1e-14)
 
 
@@ -88,11 +102,18 @@ def test_broadcasting():
 @given(ratio=hs.floats(1.45, 2.8), h=hs.floats(1e-3, 4e-3), rr=hs.floats(1.1, 1.6))
 def test_stationary_points_property(ratio, h, rr):
     """dF/dlambda vanishes at A and D, F is a local max at A and a local min at D."""
-    spring = dict(SEED, sheet_thickness=h, cone_height=ratio * h, inner_radius=0.110 / rr,
-                  load_radius_inner=0.110 / rr + 0.001)
+    spring = dict(
+        SEED,
+        sheet_thickness=h,
+        cone_height=ratio * h,
+        inner_radius=0.110 / rr,
+        load_radius_inner=0.110 / rr + 0.001,
+    )
     pts = diaphragm.characteristic_points(**spring)
     for p, sign in (("A", -1), ("D", 1)):
         lam = float(pts[f"deflection_{p}"])
         eps = 1e-4 * lam
-        left, mid, right = diaphragm.almen_laszlo_load(np.array([lam - eps, lam, lam + eps]), **spring)
+        left, mid, right = diaphragm.almen_laszlo_load(
+            np.array([lam - eps, lam, lam + eps]), **spring
+        )
         assert sign * (left - mid) >= 0 and sign * (right - mid) >= 0

@@ -1,4 +1,5 @@
 """Designs of experiments, chunking and merging."""
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -15,7 +16,10 @@ def _study(design="factorial", **params):
 
 
 def test_factorial_dimensions():
-    sec = _study(sheet_thickness={"values": ["2 mm", "2.5 mm"]}, cone_height_ratio={"min": 1.2, "max": 2.0, "num": 5})
+    sec = _study(
+        sheet_thickness={"values": ["2 mm", "2.5 mm"]},
+        cone_height_ratio={"min": 1.2, "max": 2.0, "num": 5},
+    )
     ds = pipeline.run_study(sec)
     assert ds["clamp_load"].dims == ("sheet_thickness", "cone_height_ratio")
     assert ds["curve_load"].dims == ("sheet_thickness", "cone_height_ratio", "deflection_ratio")
@@ -30,7 +34,9 @@ def test_fixed_only_design_is_one_scenario():
 
 @pytest.mark.parametrize("kind", ["lhs", "sobol"])
 def test_sampled_design_reproducible_and_bounded(kind):
-    params = dict(sheet_thickness={"min": "2 mm", "max": "3 mm"}, radius_ratio={"min": 1.2, "max": 1.4})
+    params = dict(
+        sheet_thickness={"min": "2 mm", "max": "3 mm"}, radius_ratio={"min": 1.2, "max": 1.4}
+    )
     a = doe.build_design(_study(kind, **params))
     b = doe.build_design(_study(kind, **params))
     xr.testing.assert_identical(a, b)
@@ -47,10 +53,15 @@ def test_lhs_is_stratified():
 
 @pytest.mark.parametrize("chunks", [1, 3, 7, 40])
 def test_chunked_equals_unchunked(chunks):
-    sec = _study(sheet_thickness={"values": ["2 mm", "2.3 mm", "2.6 mm"]}, radius_ratio={"values": [1.2, 1.3]},
-                 operating_point_factor={"values": [0.8, 0.9]})
+    sec = _study(
+        sheet_thickness={"values": ["2 mm", "2.3 mm", "2.6 mm"]},
+        radius_ratio={"values": [1.2, 1.3]},
+        operating_point_factor={"values": [0.8, 0.9]},
+    )
     design = doe.build_design(sec)
-    merged = pipeline.merge(design, [pipeline.run_chunk(design, {}, chunks, i) for i in range(chunks)])
+    merged = pipeline.merge(
+        design, [pipeline.run_chunk(design, {}, chunks, i) for i in range(chunks)]
+    )
     # the design answers (feasibility, Pareto rank) too do not depend on the chunk count
     merged = explore.annotate(merged, sec["objectives"], sec["constraints"])
     xr.testing.assert_identical(merged, pipeline.run_study(sec))
@@ -76,7 +87,9 @@ def test_sampled_merge_keeps_run_dimension():
     design = doe.build_design(sec)
     merged = pipeline.merge(design, [pipeline.run_chunk(design, {}, 4, i) for i in range(4)])
     assert merged["clamp_load"].dims == ("run",)
-    np.testing.assert_array_equal(merged["sheet_thickness"].values, design["sheet_thickness"].values)
+    np.testing.assert_array_equal(
+        merged["sheet_thickness"].values, design["sheet_thickness"].values
+    )
 
 
 def test_flat_ranges_as_grid_blocks():
@@ -96,15 +109,48 @@ def test_flat_ranges_as_grid_blocks():
         assert (hit.reshape(-1) == ((np.arange(n) >= a) & (np.arange(n) < b))).all()
 
 
-@pytest.mark.parametrize("name, section, chunks", [
-    ("diaphragm_spring", {"design": "factorial", "parameters": {  # chunk edges inside grid rows
-        "sheet_thickness": {"values": ["1.8 mm", "2.3 mm", "2.8 mm"]},
-        "cone_height_ratio": {"values": [1.3, 1.6, 1.9, 2.2]}, "radius_ratio": {"values": [1.2, 1.3]}}}, 5),
-    ("sprag", {"design": "sobol", "samples": 8, "seed": 3, "parameters": {
-        "torque": {"min": "200 N*m", "max": "900 N*m"}, "sprag_length": {"min": "12 mm", "max": "20 mm"}}}, 10),
-    ("engagement", {"design": "factorial", "options": {"driveline": "rigid"}, "parameters": {
-        "ramp_time": {"values": ["0.05 s", "0.1 s", "0.2 s"]}, "load_torque": {"values": ["44 N*m", "80 N*m"]}}}, 4),
-])
+@pytest.mark.parametrize(
+    "name, section, chunks",
+    [
+        (
+            "diaphragm_spring",
+            {
+                "design": "factorial",
+                "parameters": {  # chunk edges inside grid rows
+                    "sheet_thickness": {"values": ["1.8 mm", "2.3 mm", "2.8 mm"]},
+                    "cone_height_ratio": {"values": [1.3, 1.6, 1.9, 2.2]},
+                    "radius_ratio": {"values": [1.2, 1.3]},
+                },
+            },
+            5,
+        ),
+        (
+            "sprag",
+            {
+                "design": "sobol",
+                "samples": 8,
+                "seed": 3,
+                "parameters": {
+                    "torque": {"min": "200 N*m", "max": "900 N*m"},
+                    "sprag_length": {"min": "12 mm", "max": "20 mm"},
+                },
+            },
+            10,
+        ),
+        (
+            "engagement",
+            {
+                "design": "factorial",
+                "options": {"driveline": "rigid"},
+                "parameters": {
+                    "ramp_time": {"values": ["0.05 s", "0.1 s", "0.2 s"]},
+                    "load_torque": {"values": ["44 N*m", "80 N*m"]},
+                },
+            },
+            4,
+        ),
+    ],
+)
 def test_streamed_merge_equals_the_in_memory_merge(tmp_path, name, section, chunks):
     """Issue 16 item 1: the merge that writes chunk by chunk into a pre-sized file gives the same
     Dataset (values, dims, coordinates, attributes) as concatenating every chunk in memory and
@@ -115,19 +161,31 @@ def test_streamed_merge_equals_the_in_memory_merge(tmp_path, name, section, chun
     paths = []
     for i in range(chunks):
         paths.append(tmp_path / f"chunk_{i}.h5")
-        store.write(pipeline.run_chunk(design, sec["options"], chunks, i), paths[-1], with_checksum=True)
-    want = explore.annotate(pipeline.merge(design, [store.load(p) for p in paths]), sec["objectives"],
-                            sec["constraints"])
+        store.write(
+            pipeline.run_chunk(design, sec["options"], chunks, i), paths[-1], with_checksum=True
+        )
+    want = explore.annotate(
+        pipeline.merge(design, [store.load(p) for p in paths]),
+        sec["objectives"],
+        sec["constraints"],
+    )
     sens = tmp_path / "sensitivity.h5" if sec["design"] == "factorial" else None
-    pipeline.merge_to_file(design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"], sens)
+    pipeline.merge_to_file(
+        design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"], sens
+    )
     xr.testing.assert_identical(store.load(tmp_path / "out.h5"), want)
     if sens:
         outputs = [o.split(":")[0] for o in sec["objectives"]] + list(sec["constraints"])
         xr.testing.assert_identical(store.load(sens), explore.sensitivity(want, outputs))
     full = [p for p in paths if store.load(p).sizes["run"]]
     with pytest.raises(ValueError, match="missing or duplicated"):
-        pipeline.merge_to_file(design, [p for p in paths if p != full[1]], tmp_path / "bad.h5", sec["objectives"],
-                          sec["constraints"])
+        pipeline.merge_to_file(
+            design,
+            [p for p in paths if p != full[1]],
+            tmp_path / "bad.h5",
+            sec["objectives"],
+            sec["constraints"],
+        )
     assert not (tmp_path / "bad.h5").exists()
 
 
@@ -138,24 +196,43 @@ def test_streamed_merge_memory_follows_the_chunk_not_the_study(tmp_path):
     in 16 chunks of 2.9 MB; measured 7.5 MB peak (the in-memory merge: 188 MB)."""
     import tracemalloc
 
-    sec = resolve({"studies": ["diaphragm_spring"], "diaphragm_spring": {
-        "design": "sobol", "samples": 2**15, "seed": 7, "curves": "all", "parameters": {
-            "sheet_thickness": {"min": "1.8 mm", "max": "2.8 mm"}, "cone_height_ratio": {"min": 1.3, "max": 2.2}}}})[
-        "diaphragm_spring"]
+    sec = resolve(
+        {
+            "studies": ["diaphragm_spring"],
+            "diaphragm_spring": {
+                "design": "sobol",
+                "samples": 2**15,
+                "seed": 7,
+                "curves": "all",
+                "parameters": {
+                    "sheet_thickness": {"min": "1.8 mm", "max": "2.8 mm"},
+                    "cone_height_ratio": {"min": 1.3, "max": 2.2},
+                },
+            },
+        }
+    )["diaphragm_spring"]
     design = doe.build_design(sec)
     paths = []
     for i in range(16):
         paths.append(tmp_path / f"chunk_{i}.h5")
-        store.write(pipeline.run_chunk(design, sec["options"], 16, i), paths[-1], with_checksum=True)
+        store.write(
+            pipeline.run_chunk(design, sec["options"], 16, i), paths[-1], with_checksum=True
+        )
     chunk_bytes = store.load(paths[0]).nbytes
-    explore.pareto_rank(np.random.default_rng(0).random((50, 2)))  # numba loads its compiled code once
+    explore.pareto_rank(
+        np.random.default_rng(0).random((50, 2))
+    )  # numba loads its compiled code once
     tracemalloc.start()
-    pipeline.merge_to_file(design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"])
+    pipeline.merge_to_file(
+        design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"]
+    )
     streamed = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     study_bytes = store.load(tmp_path / "out.h5").nbytes
     assert study_bytes > 14 * chunk_bytes
-    print(f"chunk {chunk_bytes / 1e6:.1f} MB, study {study_bytes / 1e6:.1f} MB, streamed merge peak {streamed / 1e6:.1f} MB")
+    print(
+        f"chunk {chunk_bytes / 1e6:.1f} MB, study {study_bytes / 1e6:.1f} MB, streamed merge peak {streamed / 1e6:.1f} MB"
+    )
     assert streamed < 4 * chunk_bytes, (streamed, chunk_bytes, study_bytes)
 
 
@@ -165,19 +242,51 @@ def test_sampled_designs_with_discrete_factors():
     a count range that includes odd roller counts is refused for the one-flank reading."""
     from clutchlab.config import ConfigError
 
-    sec = resolve({"studies": ["sprag"], "sprag": {"design": "sobol", "samples": 1024, "seed": 2, "parameters": {
-        "torque": {"min": "200 N*m", "max": "900 N*m"}, "sprags": {"min": 14, "max": 22}}}})["sprag"]
+    sec = resolve(
+        {
+            "studies": ["sprag"],
+            "sprag": {
+                "design": "sobol",
+                "samples": 1024,
+                "seed": 2,
+                "parameters": {
+                    "torque": {"min": "200 N*m", "max": "900 N*m"},
+                    "sprags": {"min": 14, "max": 22},
+                },
+            },
+        }
+    )["sprag"]
     ds = pipeline.run_study(sec)
     values, counts = np.unique(ds["sprags"].values, return_counts=True)
     assert values.tolist() == list(range(14, 23)) and counts.min() >= 1024 // 9 - 2
     assert np.isfinite(ds["margin_contact_inner"].values).any()
-    sec = resolve({"studies": ["roller"], "roller": {"design": "lhs", "samples": 60, "seed": 1, "parameters": {
-        "rollers": {"values": [6, 10, 14]}, "wedge_angle": {"min": "7 deg", "max": "15 deg"}}}})["roller"]
+    sec = resolve(
+        {
+            "studies": ["roller"],
+            "roller": {
+                "design": "lhs",
+                "samples": 60,
+                "seed": 1,
+                "parameters": {
+                    "rollers": {"values": [6, 10, 14]},
+                    "wedge_angle": {"min": "7 deg", "max": "15 deg"},
+                },
+            },
+        }
+    )["roller"]
     design = doe.build_design(sec)
     assert set(np.unique(design["rollers"].values)) == {6.0, 10.0, 14.0}
     with pytest.raises(ConfigError, match="roller.parameters.rollers"):
-        resolve({"studies": ["roller"], "roller": {"design": "sobol", "samples": 8, "parameters": {
-            "rollers": {"min": 6, "max": 12}}}})
+        resolve(
+            {
+                "studies": ["roller"],
+                "roller": {
+                    "design": "sobol",
+                    "samples": 8,
+                    "parameters": {"rollers": {"min": 6, "max": 12}},
+                },
+            }
+        )
 
 
 @pytest.mark.parametrize("name", ["diaphragm_spring", "centrifugal"])
@@ -192,8 +301,12 @@ def test_curves_of_a_subset_of_a_large_sampled_design(tmp_path, name):
     from clutchlab import config
     from clutchlab.report import study_pages
 
-    base = {"design": "sobol", "samples": 64, "seed": 4,
-            "parameters": {"friction_coefficient": {"min": 0.3, "max": 0.5}}}
+    base = {
+        "design": "sobol",
+        "samples": 64,
+        "seed": 4,
+        "parameters": {"friction_coefficient": {"min": 0.3, "max": 0.5}},
+    }
     full = pipeline.run_study(resolve({"studies": [name], name: base})[name])
     sec = resolve({"studies": [name], name: {**base, "curves": 7}})[name]
     design = doe.build_design(sec)
@@ -201,15 +314,27 @@ def test_curves_of_a_subset_of_a_large_sampled_design(tmp_path, name):
     for i in range(3):
         paths.append(tmp_path / f"chunk_{i}.h5")
         store.write(pipeline.run_chunk(design, sec["options"], 3, i), paths[-1], with_checksum=True)
-    want = explore.annotate(pipeline.merge(design, [store.load(p) for p in paths]), sec["objectives"], sec["constraints"])
-    pipeline.merge_to_file(design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"])
+    want = explore.annotate(
+        pipeline.merge(design, [store.load(p) for p in paths]),
+        sec["objectives"],
+        sec["constraints"],
+    )
+    pipeline.merge_to_file(
+        design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"]
+    )
     got = store.load(tmp_path / "out.h5")
     xr.testing.assert_identical(got, want)
     assert got["curve_run"].values.tolist() == list(range(0, 64, 7))
-    curves = [n for n, v in full.data_vars.items() if "run" in v.dims and v.ndim > 1 and "constraint" not in v.dims]
+    curves = [
+        n
+        for n, v in full.data_vars.items()
+        if "run" in v.dims and v.ndim > 1 and "constraint" not in v.dims
+    ]
     assert curves and all(got[n].dims[0] == "curve_run" for n in curves)
     for n in curves:
-        np.testing.assert_array_equal(got[n].values, full[n].isel(run=got["curve_run"].values).values)
+        np.testing.assert_array_equal(
+            got[n].values, full[n].isel(run=got["curve_run"].values).values
+        )
     for n, v in full.data_vars.items():
         if n not in curves and "run" in v.dims:
             np.testing.assert_array_equal(got[n].values, v.values)
@@ -226,24 +351,40 @@ def test_curves_of_a_subset_of_a_large_sampled_design(tmp_path, name):
 
 def test_curve_subset_of_a_study_without_curves():
     """A study with no per-scenario curves (engagement) runs unchanged with a curve subset asked."""
-    sec = resolve({"studies": ["engagement"], "engagement": {
-        "design": "sobol", "samples": 16, "seed": 1, "curves": 5, "options": {"driveline": "rigid"},
-        "parameters": {"ramp_time": {"min": "0.05 s", "max": "0.3 s"}}}})["engagement"]
+    sec = resolve(
+        {
+            "studies": ["engagement"],
+            "engagement": {
+                "design": "sobol",
+                "samples": 16,
+                "seed": 1,
+                "curves": 5,
+                "options": {"driveline": "rigid"},
+                "parameters": {"ramp_time": {"min": "0.05 s", "max": "0.3 s"}},
+            },
+        }
+    )["engagement"]
     ds = pipeline.run_study(sec)
     assert "curve_run" not in ds.dims and ds.sizes["run"] == 16
 
 
-@pytest.mark.parametrize("name, factor", [
-    ("engagement", {"ramp_time": {"min": "0.05 s", "max": "0.3 s"}}),
-    ("centrifugal", {"spring_force": {"min": "380 N", "max": "480 N"}}),
-    ("sprag", {"torque": {"min": "100 N*m", "max": "1000 N*m"}}),
-    ("roller", {"wedge_angle": {"min": "7 deg", "max": "15 deg"}})])
+@pytest.mark.parametrize(
+    "name, factor",
+    [
+        ("engagement", {"ramp_time": {"min": "0.05 s", "max": "0.3 s"}}),
+        ("centrifugal", {"spring_force": {"min": "380 N", "max": "480 N"}}),
+        ("sprag", {"torque": {"min": "100 N*m", "max": "1000 N*m"}}),
+        ("roller", {"wedge_angle": {"min": "7 deg", "max": "15 deg"}}),
+    ],
+)
 def test_seed_traces_once_per_study(name, factor):
     """Issue 16 item 2: the seed design's traces are computed by the first chunk only, and the
     merged result holds them as a single-chunk run would."""
     from clutchlab import studies
 
-    sec = resolve({"studies": [name], name: {"design": "lhs", "samples": 6, "seed": 2, "parameters": factor}})[name]
+    sec = resolve(
+        {"studies": [name], name: {"design": "lhs", "samples": 6, "seed": 2, "parameters": factor}}
+    )[name]
     design = doe.build_design(sec)
     study = studies.get(name)
     parts = [pipeline.run_chunk(design, sec["options"], 3, i) for i in range(3)]
@@ -255,28 +396,61 @@ def test_seed_traces_once_per_study(name, factor):
     xr.testing.assert_equal(merged[sorted(names)], parts[0][sorted(names)])
 
 
-@pytest.mark.parametrize("name, options, factor", [
-    ("roller", {"mode": ["bidirectional_lock", "overrun_forward", "overrun_reverse"]},
-     {"wedge_angle": {"min": "7 deg", "max": "15 deg"}, "drive_direction": {"values": [1, -1]}}),
-    ("engagement", {"profile": ["ramp", "cubic", "quintic"]}, {"ramp_time": {"min": "0.05 s", "max": "0.3 s"}}),
-    ("diaphragm_spring", {"friction_radius": ["uniform_pressure", "uniform_wear"]},
-     {"sheet_thickness": {"min": "1.8 mm", "max": "2.8 mm"}}),
-])
+@pytest.mark.parametrize(
+    "name, options, factor",
+    [
+        (
+            "roller",
+            {"mode": ["bidirectional_lock", "overrun_forward", "overrun_reverse"]},
+            {
+                "wedge_angle": {"min": "7 deg", "max": "15 deg"},
+                "drive_direction": {"values": [1, -1]},
+            },
+        ),
+        (
+            "engagement",
+            {"profile": ["ramp", "cubic", "quintic"]},
+            {"ramp_time": {"min": "0.05 s", "max": "0.3 s"}},
+        ),
+        (
+            "diaphragm_spring",
+            {"friction_radius": ["uniform_pressure", "uniform_wear"]},
+            {"sheet_thickness": {"min": "1.8 mm", "max": "2.8 mm"}},
+        ),
+    ],
+)
 def test_options_drawn_per_scenario(tmp_path, name, options, factor):
     """Issue 16 item 3: categorical options in a sampled design. Each scenario's outputs equal
     those of a run with that choice fixed (its own batch); the choice is stored per scenario as a
     flagged code; the chunk count does not change the result; a refinement keeps the choices."""
     from clutchlab import studies
 
-    sec = resolve({"studies": [name], name: {"design": "sobol", "samples": 16, "seed": 4, "parameters": factor,
-                                             "options": {o: {"values": v} for o, v in options.items()}}})[name]
+    sec = resolve(
+        {
+            "studies": [name],
+            name: {
+                "design": "sobol",
+                "samples": 16,
+                "seed": 4,
+                "parameters": factor,
+                "options": {o: {"values": v} for o, v in options.items()},
+            },
+        }
+    )[name]
     one = pipeline.run_study(sec)
     design = doe.build_design(sec)
     paths = []
     for i in range(3):
         paths.append(tmp_path / f"c{i}.h5")
-        store.write(pipeline.run_chunk(design, sec["options"], 3, i), paths[-1], with_checksum=True, complevel=0)
-    pipeline.merge_to_file(design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"])
+        store.write(
+            pipeline.run_chunk(design, sec["options"], 3, i),
+            paths[-1],
+            with_checksum=True,
+            complevel=0,
+        )
+    pipeline.merge_to_file(
+        design, paths, tmp_path / "out.h5", sec["objectives"], sec["constraints"]
+    )
     xr.testing.assert_identical(store.load(tmp_path / "out.h5"), one)
     study = studies.get(name)
     _, inputs = pipeline.chunk_inputs(design, 1, 0)
@@ -284,13 +458,17 @@ def test_options_drawn_per_scenario(tmp_path, name, options, factor):
     within = one["pareto_rank"].attrs.get("ranked_within", "").split()
     for o, labels in options.items():
         assert one[o].attrs["flag_meanings"].split() == labels and one[o].dtype == np.int8
-        assert (o in within) == (o in study.conditions)  # a condition's choices each get their own front
+        assert (o in within) == (
+            o in study.conditions
+        )  # a condition's choices each get their own front
         assert set(np.unique(one[o].values)) == set(range(len(labels)))  # every choice drawn
     seen = 0
     for combo in {tuple(int(codes[o][k]) for o in options) for k in range(16)}:
         sel = np.flatnonzero(np.all([codes[o] == c for o, c in zip(options, combo)], axis=0))
-        alone = study.compute({k: (v[sel] if np.ndim(v) else v) for k, v in inputs.items()},
-                              {**sec["options"], **{o: options[o][c] for o, c in zip(options, combo)}})
+        alone = study.compute(
+            {k: (v[sel] if np.ndim(v) else v) for k, v in inputs.items()},
+            {**sec["options"], **{o: options[o][c] for o, c in zip(options, combo)}},
+        )
         for var in study.outputs:
             np.testing.assert_array_equal(one[var].values[sel], alone[var].values)
         np.testing.assert_array_equal(one["status"].values[sel], alone["status"].values)
@@ -298,8 +476,18 @@ def test_options_drawn_per_scenario(tmp_path, name, options, factor):
     assert seen == 16
     (tmp_path / "r").mkdir()
     store.write(one, tmp_path / "r" / "first.h5")
-    ref = resolve({"studies": [name], "results": str(tmp_path / "new"),
-                   name: {"design": "refine", "samples": 6, "seed": 1, "refine": {"from": str(tmp_path / "r" / "first.h5")}}})[name]
+    ref = resolve(
+        {
+            "studies": [name],
+            "results": str(tmp_path / "new"),
+            name: {
+                "design": "refine",
+                "samples": 6,
+                "seed": 1,
+                "refine": {"from": str(tmp_path / "r" / "first.h5")},
+            },
+        }
+    )[name]
     second = pipeline.run_study(ref)
     front = explore.front_order(one)
     for o in options:
@@ -309,15 +497,24 @@ def test_options_drawn_per_scenario(tmp_path, name, options, factor):
 def test_a_large_chunk_runs_in_batches_with_progress(monkeypatch):
     """Issue 18 item 5: a chunk above pipeline.PROGRESS_MIN scenarios runs in batches, a progress line
     (scenarios done, rate, time left) after each, and gives the numbers of one batch."""
-    sec = _study("sobol", sheet_thickness={"min": "1.8 mm", "max": "2.8 mm"}, cone_height_ratio={"min": 1.2, "max": 2.2},
-                 _samples=64)
+    sec = _study(
+        "sobol",
+        sheet_thickness={"min": "1.8 mm", "max": "2.8 mm"},
+        cone_height_ratio={"min": 1.2, "max": 2.2},
+        _samples=64,
+    )
     design = doe.build_design(sec)
     whole = pipeline.run_chunk(design, {}, 1, 0)
     monkeypatch.setattr(pipeline, "PROGRESS_MIN", 10)
     lines = []
     batched = pipeline.run_chunk(design, {}, 1, 0, progress=lines.append)
     xr.testing.assert_identical(batched.drop_attrs(), whole.drop_attrs())
-    assert {k: v for k, v in batched.attrs.items() if k != "compute_seconds"} == \
-        {k: v for k, v in whole.attrs.items() if k != "compute_seconds"}
-    assert len(lines) == pipeline.PROGRESS_BATCHES and "6 of 64 scenarios" in lines[0] and "s left" in lines[0]
+    assert {k: v for k, v in batched.attrs.items() if k != "compute_seconds"} == {
+        k: v for k, v in whole.attrs.items() if k != "compute_seconds"
+    }
+    assert (
+        len(lines) == pipeline.PROGRESS_BATCHES
+        and "6 of 64 scenarios" in lines[0]
+        and "s left" in lines[0]
+    )
     assert "64 scenarios computed" in lines[-1]

@@ -1,4 +1,5 @@
 """Damper springs (seed 000 eqs. 4-9, with errata) and the hub spline check (section 3.2.2)."""
+
 import pytest
 
 from clutchlab import driven_plate as dp
@@ -37,7 +38,9 @@ def test_coil_count_six():
 def test_spline_stresses():
     """Section 3.2.2: 10 teeth, D 35, d 28, t 4, l 35 mm. Bearing 8.9 MPa at T_emax (tol 1 %);
     shear 15 MPa only at 2 T_emax (tol 5 %, load not stated in the paper)."""
-    geo = dict(teeth=10, outer_diameter=0.035, inner_diameter=0.028, tooth_width=0.004, length=0.035)
+    geo = dict(
+        teeth=10, outer_diameter=0.035, inner_diameter=0.028, tooth_width=0.004, length=0.035
+    )
     bearing, shear = dp.spline_stresses(T_EMAX, **geo)
     assert bearing == pytest.approx(8.9e6, rel=0.01)
     assert shear == pytest.approx(7.85e6, rel=1e-3)

@@ -1,4 +1,5 @@
 """Engagement dynamics (seed 000 eqs. 1-2, 11, 12): closed form, batched solver, hard cases."""
+
 import numpy as np
 import pytest
 from scipy.integrate import quad
@@ -10,18 +11,28 @@ from clutchlab import status as st
 
 # Seed 000 reproduction (PHYSICS.md): engine held at 570 rad/s, capacity ramped 0 -> 239.3 N m
 # (eq. 14 as printed) over 0.15 s, load 44 N m, driven inertia 0.021 kg m² (inferred, not printed).
-SEED = dict(engine_speed=570.0, engine_inertia=np.inf, engine_torque=156.0, driven_inertia=0.021,
-            load_torque=44.0, peak_capacity=239.3)
+SEED = dict(
+    engine_speed=570.0,
+    engine_inertia=np.inf,
+    engine_torque=156.0,
+    driven_inertia=0.021,
+    load_torque=44.0,
+    peak_capacity=239.3,
+)
 
 
 def _random_design(n, seed):
     rng = np.random.default_rng(seed)
-    return dict(engine_speed=rng.uniform(300, 600, n),
-                engine_inertia=np.where(rng.random(n) < 0.5, np.inf, rng.uniform(0.2, 2.0, n)),
-                engine_torque=rng.uniform(100, 200, n), driven_inertia=rng.uniform(0.01, 0.1, n),
-                load_torque=rng.uniform(0, 80, n), peak_capacity=rng.uniform(200, 400, n),
-                ramp_time=rng.uniform(0.0, 0.3, n),
-                driven_speed=np.where(rng.random(n) < 0.2, rng.uniform(0, 100, n), 0.0))
+    return dict(
+        engine_speed=rng.uniform(300, 600, n),
+        engine_inertia=np.where(rng.random(n) < 0.5, np.inf, rng.uniform(0.2, 2.0, n)),
+        engine_torque=rng.uniform(100, 200, n),
+        driven_inertia=rng.uniform(0.01, 0.1, n),
+        load_torque=rng.uniform(0, 80, n),
+        peak_capacity=rng.uniform(200, 400, n),
+        ramp_time=rng.uniform(0.0, 0.3, n),
+        driven_speed=np.where(rng.random(n) < 0.2, rng.uniform(0, 100, n), 0.0),
+    )
 
 
 @pytest.mark.parametrize("solver", ["closed_form", "simulate"])
@@ -84,8 +95,13 @@ def test_numerical_solver_against_closed_form(profile, n):
     assert np.any(lock < d["ramp_time"][ok]) and np.any(lock > d["ramp_time"][ok])
     assert np.max(np.abs(lock - s["lockup_time"][ok])) <= 1e-9
     assert np.max(np.abs(r["slip_work"] - s["slip_work"]) / r["slip_work"]) <= 1e-8
-    assert np.max(np.abs(r["peak_slip_power"] - s["peak_slip_power"]) / r["peak_slip_power"]) <= 1e-8
-    assert np.max(np.abs(r["energy_residual"])) <= 1e-9 and np.max(np.abs(s["energy_residual"])) <= 1e-9
+    assert (
+        np.max(np.abs(r["peak_slip_power"] - s["peak_slip_power"]) / r["peak_slip_power"]) <= 1e-8
+    )
+    assert (
+        np.max(np.abs(r["energy_residual"])) <= 1e-9
+        and np.max(np.abs(s["energy_residual"])) <= 1e-9
+    )
 
 
 def test_stribeck_against_dop853():
@@ -94,10 +110,17 @@ def test_stribeck_against_dop853():
     max_step 1 ms) so that no discontinuity is stepped over and no event interpolated over a long step."""
     rng = np.random.default_rng(3)
     n = 40
-    d = dict(engine_speed=rng.uniform(300, 600, n), driven_inertia=rng.uniform(0.01, 0.1, n),
-             load_torque=rng.uniform(0, 80, n), peak_capacity=rng.uniform(200, 400, n),
-             ramp_time=rng.uniform(0.05, 0.3, n), stribeck_speed=rng.uniform(5, 50, n))
-    s = eng.simulate(**d, engine_inertia=np.inf, engine_torque=0.0, static_ratio=benchmark.RS, t_end=1.0)
+    d = dict(
+        engine_speed=rng.uniform(300, 600, n),
+        driven_inertia=rng.uniform(0.01, 0.1, n),
+        load_torque=rng.uniform(0, 80, n),
+        peak_capacity=rng.uniform(200, 400, n),
+        ramp_time=rng.uniform(0.05, 0.3, n),
+        stribeck_speed=rng.uniform(5, 50, n),
+    )
+    s = eng.simulate(
+        **d, engine_inertia=np.inf, engine_torque=0.0, static_ratio=benchmark.RS, t_end=1.0
+    )
     ref = np.array([benchmark.reference(d, i) for i in range(n)])
     assert np.all(np.isfinite(ref))
     assert np.max(np.abs(s["lockup_time"] - ref)) <= 1e-7
@@ -108,12 +131,32 @@ def _long_step_setup():
     """A Stribeck engagement (held engine) and its lock-up time from simulate at rtol 1e-12."""
     from clutchlab import _engagement_kernel as k
 
-    args = dict(engine_speed=500.0, engine_inertia=np.inf, engine_torque=0.0, driven_inertia=0.05, load_torque=40.0,
-                peak_capacity=300.0, ramp_time=0.2, static_ratio=1.3, stribeck_speed=10.0)
+    args = dict(
+        engine_speed=500.0,
+        engine_inertia=np.inf,
+        engine_torque=0.0,
+        driven_inertia=0.05,
+        load_torque=40.0,
+        peak_capacity=300.0,
+        ramp_time=0.2,
+        static_ratio=1.3,
+        stribeck_speed=10.0,
+    )
     tight = dict(rtol=1e-12, atol=1e-12, t_end=1.0)
-    q, _ = eng._parameter_table(**args, profile="ramp", driven_speed=0.0, aero_coefficient=0.0, load_step=0.0,
-                                load_step_time=np.inf, engine_torque_table=None, hub_fraction=0.5,
-                                damper_stiffness=np.inf, damping_ratio=0.0, release_ratio=1.0, t_end=1.0)
+    q, _ = eng._parameter_table(
+        **args,
+        profile="ramp",
+        driven_speed=0.0,
+        aero_coefficient=0.0,
+        load_step=0.0,
+        load_step_time=np.inf,
+        engine_torque_table=None,
+        hub_fraction=0.5,
+        damper_stiffness=np.inf,
+        damping_ratio=0.0,
+        release_ratio=1.0,
+        t_end=1.0,
+    )
     return k, q[0], args, tight, float(eng.simulate(**args, **tight)["lockup_time"])
 
 
@@ -134,8 +177,13 @@ def test_event_location_over_long_steps():
         return d, kk, y1
 
     n_iterated = n_failed = 0
-    for t, frac, rtol in ((0.05, 0.5, 1e-2), (0.10, 0.5, 1e-2), (0.10, 0.9, 1e-2), (0.12, 0.7, 1e-2),
-                          (0.10, 0.5, 1e-4)):
+    for t, frac, rtol in (
+        (0.05, 0.5, 1e-2),
+        (0.10, 0.5, 1e-2),
+        (0.10, 0.9, 1e-2),
+        (0.12, 0.7, 1e-2),
+        (0.10, 0.5, 1e-4),
+    ):
         y = np.zeros(8)
         y[k.E] = 500.0
         y[k.H] = eng.simulate(**args, **tight, trace_times=[t])["trace"]["hub_speed"][0]
@@ -144,8 +192,32 @@ def test_event_location_over_long_steps():
         rc = np.zeros((5, 8))
         k._dense_coefficients(y, y1, kk, h, rc)
         w = [np.zeros(8) for _ in range(6)]
-        tau, nv, n_re = k._locate(k.LOCK, t, y, d, rc, h, h, 500.0 - y[k.H], q, False, False, 1.0, False, 0, rtol,
-                                  rtol, kk, w[0], w[1], np.zeros(5), w[2], w[3], w[4], w[5])
+        tau, nv, n_re = k._locate(
+            k.LOCK,
+            t,
+            y,
+            d,
+            rc,
+            h,
+            h,
+            500.0 - y[k.H],
+            q,
+            False,
+            False,
+            1.0,
+            False,
+            0,
+            rtol,
+            rtol,
+            kk,
+            w[0],
+            w[1],
+            np.zeros(5),
+            w[2],
+            w[3],
+            w[4],
+            w[5],
+        )
         assert 0.0 < tau <= h
         if nv > 1.0:
             n_failed += 1
@@ -158,6 +230,7 @@ def test_event_location_over_long_steps():
 
 
 # ---- hard cases of PHYSICS.md -------------------------------------------------------------------
+
 
 @pytest.mark.parametrize("solver", ["closed_form", "simulate"])
 def test_step_clamp(solver):
@@ -183,6 +256,7 @@ def test_breakaway_after_lock_and_relock():
     assert r["breakaway_time"] == pytest.approx(0.35, abs=1e-15)
     assert 0.35 < r["lockup_time"] < 1.5 and int(r["status"]) == st.CODE["ok"]
     assert abs(r["energy_residual"]) <= 1e-9
+
     # held engine: the second lock-up follows from the driven's equation (speed back to 570 rad/s)
     def icap(t):  # ∫0^t C, C = 239.3·min(t/0.5, 1) (exact)
         return 239.3 * (t * t if t <= 0.5 else 0.25 + (t - 0.5))
@@ -228,8 +302,15 @@ def test_compliant_converges_to_rigid():
     rigid = eng.closed_form(**SEED, ramp_time=0.15)
     errs = []
     for k in (1e4, 1e5, 1e7):
-        s = eng.simulate(**SEED, ramp_time=0.15, compliant=True, damper_stiffness=k, damping_ratio=0.05,
-                         t_end=0.3, max_step=1e-3)
+        s = eng.simulate(
+            **SEED,
+            ramp_time=0.15,
+            compliant=True,
+            damper_stiffness=k,
+            damping_ratio=0.05,
+            t_end=0.3,
+            max_step=1e-3,
+        )
         errs.append(abs(s["lockup_time"] - rigid["lockup_time"]))
         assert abs(s["energy_residual"]) <= 1e-9
     assert errs[0] > errs[1] > errs[2] and errs[2] < 1e-8
@@ -240,10 +321,25 @@ def test_compliant_undamped_frequency():
     """Locked driveline, undamped: oscillation at sqrt(k (1/J1 + 1/J2))."""
     k, je, jv = 4498.0, 0.5, 0.021
     tt = np.linspace(0, 0.05, 1001)
-    s = eng.simulate(engine_speed=100.0, engine_inertia=je, engine_torque=0.0, driven_inertia=jv,
-                     load_torque=0.0, peak_capacity=1e6, ramp_time=0.0, driven_speed=100.0, compliant=True,
-                     damper_stiffness=k, damping_ratio=0.0, load_step=10.0, load_step_time=0.0, t_end=0.05,
-                     trace_times=tt, rtol=1e-11, atol=1e-11)
+    s = eng.simulate(
+        engine_speed=100.0,
+        engine_inertia=je,
+        engine_torque=0.0,
+        driven_inertia=jv,
+        load_torque=0.0,
+        peak_capacity=1e6,
+        ramp_time=0.0,
+        driven_speed=100.0,
+        compliant=True,
+        damper_stiffness=k,
+        damping_ratio=0.0,
+        load_step=10.0,
+        load_step_time=0.0,
+        t_end=0.05,
+        trace_times=tt,
+        rtol=1e-11,
+        atol=1e-11,
+    )
     x = s["trace"]["hub_speed"] - s["trace"]["output_speed"]
     up = np.flatnonzero((x[:-1] < 0) & (x[1:] >= 0))
     t_up = tt[up] - x[up] * (tt[up + 1] - tt[up]) / (x[up + 1] - x[up])  # linear zero crossing
@@ -264,8 +360,10 @@ def test_judder_growth_matches_linearised_eigenvalues():
     cap, rs, vs, s0, we = 100.0, 1.5, 10.0, 10.0, 300.0
     k, jv, zeta = 1e6, 0.1, 0.001
     jh = jr = 0.5 * jv
-    f = 1 + (rs - 1) * np.exp(-(s0 / vs) ** 2)
-    df = -(rs - 1) * 2 * s0 / vs ** 2 * np.exp(-(s0 / vs) ** 2)  # f'(s0) < 0: friction falls with slip
+    f = 1 + (rs - 1) * np.exp(-((s0 / vs) ** 2))
+    df = (
+        -(rs - 1) * 2 * s0 / vs**2 * np.exp(-((s0 / vs) ** 2))
+    )  # f'(s0) < 0: friction falls with slip
     tm = cap * f
     c = 2 * zeta * np.sqrt(k * jh * jr / jv)
     g = -cap * df  # d(friction torque)/d(hub speed) > 0: negative damping
@@ -274,13 +372,33 @@ def test_judder_growth_matches_linearised_eigenvalues():
     osc = lam[np.abs(lam.imag) > 0]
     assert g > c and np.all(osc.real > 0)  # judder predicted
     tt = np.linspace(0.0, 0.03, 1501)
-    s = eng.simulate(engine_speed=we, engine_inertia=np.inf, engine_torque=0.0, driven_inertia=jv, load_torque=tm,
-                     peak_capacity=cap, ramp_time=0.0, driven_speed=we - s0, static_ratio=rs, stribeck_speed=vs,
-                     compliant=True, hub_fraction=0.5, damper_stiffness=k, damping_ratio=zeta, t_end=0.03,
-                     trace_times=tt, rtol=1e-11, atol=1e-11)
-    x0 = np.array([0.0, -tm / k, 0.0])  # deviation from equilibrium [hub speed, twist, output speed]
+    s = eng.simulate(
+        engine_speed=we,
+        engine_inertia=np.inf,
+        engine_torque=0.0,
+        driven_inertia=jv,
+        load_torque=tm,
+        peak_capacity=cap,
+        ramp_time=0.0,
+        driven_speed=we - s0,
+        static_ratio=rs,
+        stribeck_speed=vs,
+        compliant=True,
+        hub_fraction=0.5,
+        damper_stiffness=k,
+        damping_ratio=zeta,
+        t_end=0.03,
+        trace_times=tt,
+        rtol=1e-11,
+        atol=1e-11,
+    )
+    x0 = np.array(
+        [0.0, -tm / k, 0.0]
+    )  # deviation from equilibrium [hub speed, twist, output speed]
     lin = np.array([expm(a * t) @ x0 for t in tt])
-    sim = np.stack([s["trace"]["hub_speed"] - (we - s0), s["trace"]["output_speed"] - (we - s0)], axis=-1)
+    sim = np.stack(
+        [s["trace"]["hub_speed"] - (we - s0), s["trace"]["output_speed"] - (we - s0)], axis=-1
+    )
     scale = np.abs(lin[:, [0, 2]]).max()
     assert np.abs(sim - lin[:, [0, 2]]).max() < 0.03 * scale
     # the oscillation's envelope grows at the eigenvalue's rate (first vs last 5 ms, twist-rate proxy)
@@ -303,12 +421,28 @@ def test_engine_torque_table_against_dop853():
 
     def lock(t, y):
         return y[0] - y[1]
+
     lock.terminal, lock.direction = True, -1
-    ref = solve_ivp(rhs, (0.0, tr), [we0, 0.0], method="DOP853", rtol=1e-12, atol=1e-12, events=lock)
+    ref = solve_ivp(
+        rhs, (0.0, tr), [we0, 0.0], method="DOP853", rtol=1e-12, atol=1e-12, events=lock
+    )
     if not ref.t_events[0].size:  # the ramp's end is a kink: restart there
-        ref = solve_ivp(rhs, (tr, 2.0), ref.y[:, -1], method="DOP853", rtol=1e-12, atol=1e-12, events=lock)
-    s = eng.simulate(engine_speed=we0, engine_inertia=je, engine_torque=0.0, driven_inertia=jv, load_torque=0.0,
-                     peak_capacity=cmax, ramp_time=tr, engine_torque_table=table, t_end=2.0, rtol=1e-11, atol=1e-11)
+        ref = solve_ivp(
+            rhs, (tr, 2.0), ref.y[:, -1], method="DOP853", rtol=1e-12, atol=1e-12, events=lock
+        )
+    s = eng.simulate(
+        engine_speed=we0,
+        engine_inertia=je,
+        engine_torque=0.0,
+        driven_inertia=jv,
+        load_torque=0.0,
+        peak_capacity=cmax,
+        ramp_time=tr,
+        engine_torque_table=table,
+        t_end=2.0,
+        rtol=1e-11,
+        atol=1e-11,
+    )
     assert s["status"] == st.CODE["ok"]
     assert s["lockup_time"] == pytest.approx(ref.t_events[0][0], abs=1e-8)
 
@@ -318,8 +452,15 @@ def test_release_bearing_travel_clamp():
     F_B max(0, 1 - k(1 - p)), k = (g + c)/c. For a ramp and a held engine this is a ramp of t_r/k
     starting at t_r(1 - 1/k): the solver equals the shifted closed form (1e-9 s, slip work 1e-8)."""
     tr, kappa = 0.2, 2.5
-    kw = dict(engine_speed=570.0, engine_inertia=np.inf, engine_torque=0.0, driven_inertia=0.021, load_torque=44.0,
-              peak_capacity=239.3, static_ratio=1.0)
+    kw = dict(
+        engine_speed=570.0,
+        engine_inertia=np.inf,
+        engine_torque=0.0,
+        driven_inertia=0.021,
+        load_torque=44.0,
+        peak_capacity=239.3,
+        static_ratio=1.0,
+    )
     s = eng.simulate(**kw, ramp_time=tr, release_ratio=kappa, t_end=0.6, rtol=1e-11, atol=1e-11)
     c = eng.closed_form(**kw, ramp_time=tr / kappa, t_end=0.6)
     assert s["lockup_time"] == pytest.approx(tr * (1 - 1 / kappa) + c["lockup_time"], abs=1e-9)
@@ -327,7 +468,9 @@ def test_release_bearing_travel_clamp():
     # the kernel's capacity is the documented profile, for every profile shape
     tt = np.linspace(0.0, tr, 41)
     for kind in eng.PROFILES:
-        r = eng.simulate(**kw, ramp_time=tr, profile=kind, release_ratio=kappa, t_end=0.3, trace_times=tt)
+        r = eng.simulate(
+            **kw, ramp_time=tr, profile=kind, release_ratio=kappa, t_end=0.3, trace_times=tt
+        )
         frac = eng.bearing_travel_clamp(tt / tr, air_gap=1.5e-3, cushion_travel=1e-3, kind=kind)
         np.testing.assert_allclose(r["trace"]["capacity"], 239.3 * frac, rtol=1e-12, atol=1e-9)
 
@@ -343,7 +486,9 @@ def test_bearing_force_from_the_spring_curve():
     force, cap, bad, pts = study.capacity(p, {"capacity_formula": "corrected"}, with_points=True)
     fb = study.bearing_force(p, pts)
     assert fb[0, 0] == pytest.approx(0.0, abs=1e-9 * force[0])
-    full = diaphragm.almen_laszlo_load(pts["deflection_B"] + 1.1e-3, **study.spring_geometry(p)) / 4.0
+    full = (
+        diaphragm.almen_laszlo_load(pts["deflection_B"] + 1.1e-3, **study.spring_geometry(p)) / 4.0
+    )
     assert fb[0, -1] == pytest.approx(float(full[0]), rel=1e-12)
 
 
@@ -354,9 +499,18 @@ def test_event_solver_peaks_include_the_lockup_instant():
     a 0.3 s ramp). Peaks of the rigid event solver now equal the closed form's."""
     from clutchlab import engagement
 
-    kw = dict(engine_speed=np.full(3, 570.0), engine_inertia=np.full(3, np.inf), engine_torque=np.zeros(3),
-              driven_inertia=np.full(3, 0.021), load_torque=np.full(3, 44.0), peak_capacity=np.full(3, 190.047778),
-              ramp_time=np.array([0.05, 0.15, 0.3]), profile="ramp", static_ratio=np.ones(3), t_end=np.full(3, 0.6))
+    kw = dict(
+        engine_speed=np.full(3, 570.0),
+        engine_inertia=np.full(3, np.inf),
+        engine_torque=np.zeros(3),
+        driven_inertia=np.full(3, 0.021),
+        load_torque=np.full(3, 44.0),
+        peak_capacity=np.full(3, 190.047778),
+        ramp_time=np.array([0.05, 0.15, 0.3]),
+        profile="ramp",
+        static_ratio=np.ones(3),
+        t_end=np.full(3, 0.6),
+    )
     sim = engagement.simulate(**kw, rtol=1e-9, atol=1e-11)
     ref = engagement.closed_form(**kw)
     np.testing.assert_allclose(sim["peak_friction_torque"], ref["peak_friction_torque"], rtol=1e-9)

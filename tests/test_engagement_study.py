@@ -1,4 +1,5 @@
 """The engagement study: spring design -> clamp force -> capacity -> engagement."""
+
 from pathlib import Path
 
 import numpy as np
@@ -11,15 +12,23 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def _study(options, **params):
-    return config.resolve({"studies": ["engagement"], "engagement": {
-        "design": "factorial", "options": options, "parameters": params}})["engagement"]
+    return config.resolve(
+        {
+            "studies": ["engagement"],
+            "engagement": {"design": "factorial", "options": options, "parameters": params},
+        }
+    )["engagement"]
 
 
 def test_seed000_through_the_whole_chain():
     """Seed spring (F_B = 2500 N) -> eq. (14) as printed (239.3 N m) -> rigid closed form, held engine:
     lock-up 0.150 s (tol 1 %) and slip work 5800 J (tol 2 %), seed 000 sections 5.2-5.3."""
-    sec = _study({"driveline": "rigid", "capacity_formula": "eq14_as_printed"}, cone_height_ratio=3.5 / 2.334,
-                 stack_mass="4.757 kg", engine_inertia="inf")
+    sec = _study(
+        {"driveline": "rigid", "capacity_formula": "eq14_as_printed"},
+        cone_height_ratio=3.5 / 2.334,
+        stack_mass="4.757 kg",
+        engine_inertia="inf",
+    )
     ds = pipeline.run_study(sec)
     assert ds.attrs["model_used"] == "rigid two-inertia, closed form"
     assert float(ds["peak_capacity"]) == pytest.approx(239.3, rel=2e-3)
@@ -41,24 +50,55 @@ def test_default_study_energy_and_metadata(tmp_path):
     assert bool((ds["peak_jerk"].values[ok.values] > 0).all())
     path = store.write(ds, tmp_path / "engagement.h5")  # checks units and long_name everywhere
     written = report.build({"engagement": path}, [], tmp_path / "report")
-    assert {p.stem for p in written} >= {"engagement_tradeoff", "engagement_maps", "engagement_traces"}
+    assert {p.stem for p in written} >= {
+        "engagement_tradeoff",
+        "engagement_maps",
+        "engagement_traces",
+    }
 
 
 def test_work_precision_page_from_stored_benchmark(tmp_path):
     """The report's work-precision page is drawn from the benchmark's CSV (no solver re-run)."""
     from clutchlab.bench import engagement as benchmark
 
-    rows = [dict(method=benchmark.CLUTCHLAB, rtol=r, seconds_per_scenario=5e-5 * (1 + i), max_lockup_error_s=r,
-                 scenarios=10_000) for i, r in enumerate((1e-4, 1e-8))]
-    rows += [dict(method=benchmark.RK45, rtol=1e-6, seconds_per_scenario=2e-3, max_lockup_error_s=5e-3, scenarios=200)]
+    rows = [
+        dict(
+            method=benchmark.CLUTCHLAB,
+            rtol=r,
+            seconds_per_scenario=5e-5 * (1 + i),
+            max_lockup_error_s=r,
+            scenarios=10_000,
+        )
+        for i, r in enumerate((1e-4, 1e-8))
+    ]
+    rows += [
+        dict(
+            method=benchmark.RK45,
+            rtol=1e-6,
+            seconds_per_scenario=2e-3,
+            max_lockup_error_s=5e-3,
+            scenarios=200,
+        )
+    ]
     benchmark.write_rows(rows, tmp_path / "engagement_benchmark.csv")
     assert benchmark.read_rows(tmp_path / "engagement_benchmark.csv") == rows
-    written = report.build({}, [], tmp_path / "report", benchmark_csv=tmp_path / "engagement_benchmark.csv")
+    written = report.build(
+        {}, [], tmp_path / "report", benchmark_csv=tmp_path / "engagement_benchmark.csv"
+    )
     assert {p.stem for p in written} == {"title", "engagement_work_precision", "report"}
     assert report.figure_stems([], benchmark=True) == ["title", "engagement_work_precision"]
-    assert report.figure_stems(["engagement"]) == ["title", "engagement_tradeoff", "engagement_maps", "engagement_traces",
-                                                  "engagement_heat", "engagement_answers"]
-    assert report.figure_stems(["engagement"], sensitivity=["engagement"])[-1] == "engagement_sensitivity"
+    assert report.figure_stems(["engagement"]) == [
+        "title",
+        "engagement_tradeoff",
+        "engagement_maps",
+        "engagement_traces",
+        "engagement_heat",
+        "engagement_answers",
+    ]
+    assert (
+        report.figure_stems(["engagement"], sensitivity=["engagement"])[-1]
+        == "engagement_sensitivity"
+    )
 
 
 def test_infinite_only_where_allowed():
@@ -74,16 +114,24 @@ def test_model_chosen_per_scenario():
     scenarios: within the accuracy), and the solver statistics are 0 for the closed form."""
     from clutchlab.studies.engagement import MODEL
 
-    params = dict(ramp_time={"values": ["0.05 s", "0.15 s", "0.3 s"]}, engine_inertia={"values": ["inf", "0.5 kg*m^2"]},
-                  stribeck_speed={"values": ["inf", "20 rad/s"]}, load_torque={"values": ["44 N*m", "80 N*m"]})
+    params = dict(
+        ramp_time={"values": ["0.05 s", "0.15 s", "0.3 s"]},
+        engine_inertia={"values": ["inf", "0.5 kg*m^2"]},
+        stribeck_speed={"values": ["inf", "20 rad/s"]},
+        load_torque={"values": ["44 N*m", "80 N*m"]},
+    )
     sec = _study({"driveline": "rigid"}, **params)
     sec["options"]["accuracy"] = 1e-8
     ds = pipeline.run_study(sec)
-    closed = (~np.isfinite(ds["engine_inertia"]) & ~np.isfinite(ds["stribeck_speed"])).broadcast_like(ds["status"])
+    closed = (
+        ~np.isfinite(ds["engine_inertia"]) & ~np.isfinite(ds["stribeck_speed"])
+    ).broadcast_like(ds["status"])
     assert ((ds["model"] == MODEL["closed_form"]) == closed).all()
     assert ((ds["model"] == MODEL["rigid_events"]) == ~closed).all()
     assert ds["model"].attrs["flag_meanings"] == "closed_form rigid_events compliant_events"
-    assert (ds["n_steps"].where(closed, 0) == 0).all() and (ds["n_steps"].where(~closed, 1) > 0).all()
+    assert (ds["n_steps"].where(closed, 0) == 0).all() and (
+        ds["n_steps"].where(~closed, 1) > 0
+    ).all()
     # each model alone: the closed-form scenarios by the event solver (forced by a vanishing drag)
     forced = _study({"driveline": "rigid"}, **params, aero_coefficient=1e-300)
     forced["options"]["accuracy"] = 1e-8

@@ -1,5 +1,6 @@
 """Design answers (issue 15): Pareto ranks against brute force, feasibility, the grid's exact
 variance decomposition against analytic examples."""
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -50,12 +51,20 @@ def test_pareto_front_of_a_known_set():
 
 
 def test_feasible_and_margins():
-    ds = xr.Dataset({"status": ("run", np.array([0, 0, 4, 0], np.int8)),
-                     "slip_work": ("run", np.array([5000.0, 7000.0, np.nan, 6000.0])),
-                     "reserve_factor": ("run", np.array([1.3, 1.5, 1.4, 1.1]))})
-    ok, margins = explore.feasible(ds, {"slip_work": ("max", 6500.0), "reserve_factor": ("min", 1.2)})
+    ds = xr.Dataset(
+        {
+            "status": ("run", np.array([0, 0, 4, 0], np.int8)),
+            "slip_work": ("run", np.array([5000.0, 7000.0, np.nan, 6000.0])),
+            "reserve_factor": ("run", np.array([1.3, 1.5, 1.4, 1.1])),
+        }
+    )
+    ok, margins = explore.feasible(
+        ds, {"slip_work": ("max", 6500.0), "reserve_factor": ("min", 1.2)}
+    )
     assert ok.tolist() == [True, False, False, False]
-    assert margins["slip_work"][0] == pytest.approx(1500 / 6500) and np.isnan(margins["slip_work"][2])
+    assert margins["slip_work"][0] == pytest.approx(1500 / 6500) and np.isnan(
+        margins["slip_work"][2]
+    )
     assert margins["reserve_factor"][3] == pytest.approx(-0.1 / 1.2)
     assert ds["status"].values[2] == st.CODE["never_locked"]
 
@@ -73,23 +82,54 @@ def test_grid_decomposition_additive_and_interaction():
     d = explore.grid_variance_decomposition(y, ["x1", "x2", "x3"])
     var = a**2 + b**2 + c**2
     assert d["variance"] == pytest.approx(var)
-    assert d["first_order"]["x1"] == pytest.approx(a**2 / var) and d["total"]["x1"] == pytest.approx((a**2 + c**2) / var)
-    assert d["first_order"]["x2"] == pytest.approx(b**2 / var) and d["total"]["x2"] == pytest.approx((b**2 + c**2) / var)
+    assert d["first_order"]["x1"] == pytest.approx(a**2 / var) and d["total"][
+        "x1"
+    ] == pytest.approx((a**2 + c**2) / var)
+    assert d["first_order"]["x2"] == pytest.approx(b**2 / var) and d["total"][
+        "x2"
+    ] == pytest.approx((b**2 + c**2) / var)
     assert d["first_order"]["x3"] == 0.0 and d["total"]["x3"] == 0.0
-    add = explore.grid_variance_decomposition(np.broadcast_to(a * x1 + b * x2, (2, 2, 3)), ["x1", "x2", "x3"])
+    add = explore.grid_variance_decomposition(
+        np.broadcast_to(a * x1 + b * x2, (2, 2, 3)), ["x1", "x2", "x3"]
+    )
     for k in ("x1", "x2"):
         assert add["first_order"][k] == pytest.approx(add["total"][k], abs=1e-15)
 
 
-@pytest.mark.parametrize("name, section", [
-    ("centrifugal", {"design": "factorial", "parameters": {
-        "pressure_angle": {"values": ["25 deg", "38.84 deg", "53 deg", "65 deg"]},
-        "friction_coefficient": {"values": [0.3, 0.35, 0.4046, 0.5, 0.6]}}}),
-    ("sprag", {"design": "factorial", "parameters": {"torque": {"values": ["267.5 N*m", "500 N*m", "750 N*m"]},
-                                                     "sprags": {"values": [14, 16, 18, 20]}}}),
-    ("engagement", {"design": "sobol", "samples": 16, "options": {"driveline": "compliant"},
-                    "parameters": {"ramp_time": {"min": "0.05 s", "max": "1.5 s"}}}),
-])
+@pytest.mark.parametrize(
+    "name, section",
+    [
+        (
+            "centrifugal",
+            {
+                "design": "factorial",
+                "parameters": {
+                    "pressure_angle": {"values": ["25 deg", "38.84 deg", "53 deg", "65 deg"]},
+                    "friction_coefficient": {"values": [0.3, 0.35, 0.4046, 0.5, 0.6]},
+                },
+            },
+        ),
+        (
+            "sprag",
+            {
+                "design": "factorial",
+                "parameters": {
+                    "torque": {"values": ["267.5 N*m", "500 N*m", "750 N*m"]},
+                    "sprags": {"values": [14, 16, 18, 20]},
+                },
+            },
+        ),
+        (
+            "engagement",
+            {
+                "design": "sobol",
+                "samples": 16,
+                "options": {"driveline": "compliant"},
+                "parameters": {"ramp_time": {"min": "0.05 s", "max": "1.5 s"}},
+            },
+        ),
+    ],
+)
 def test_every_study_result_answers(name, section):
     """A study result carries feasible, constraint_margin and pareto_rank (with the objectives it
     ranks), consistent with each other: feasible = status ok and every margin >= 0; ranked =
@@ -106,16 +146,28 @@ def test_every_study_result_answers(name, section):
     assert ds["pareto_rank"].attrs["objectives"] == " ".join(sec["objectives"])
     ok = (ds["status"] == st.CODE["ok"]) & (ds["constraint_margin"] >= 0).all("constraint")
     assert (ds["feasible"] == ok).all()
-    f = np.stack([(ds[o.split(":")[0]] * (1 if o.endswith(":min") else -1)).values.reshape(-1)
-                  for o in sec["objectives"]], axis=1)
+    f = np.stack(
+        [
+            (ds[o.split(":")[0]] * (1 if o.endswith(":min") else -1)).values.reshape(-1)
+            for o in sec["objectives"]
+        ],
+        axis=1,
+    )
     feas = ds["feasible"].values.reshape(-1).astype(bool)
     assert feas.any() and not feas.all()  # a question with an answer
-    assert ((ds["pareto_rank"].values.reshape(-1) >= 0) == (feas & np.isfinite(f).all(axis=1))).all()
+    assert (
+        (ds["pareto_rank"].values.reshape(-1) >= 0) == (feas & np.isfinite(f).all(axis=1))
+    ).all()
     # rank 0 = the brute-force front of the feasible designs sharing the operating conditions
     within = ds["pareto_rank"].attrs["ranked_within"].split()
-    assert within == (["torque"] if name == "sprag" else [])  # the sprag torque is a load, not a choice
-    key = (np.stack([ds[w].broadcast_like(ds["status"]).values.reshape(-1) for w in within], axis=1) if within
-           else np.zeros((f.shape[0], 1)))
+    assert within == (
+        ["torque"] if name == "sprag" else []
+    )  # the sprag torque is a load, not a choice
+    key = (
+        np.stack([ds[w].broadcast_like(ds["status"]).values.reshape(-1) for w in within], axis=1)
+        if within
+        else np.zeros((f.shape[0], 1))
+    )
     front = np.zeros(f.shape[0], bool)
     for k in np.unique(key, axis=0):
         g = (key == k).all(axis=1)
@@ -144,10 +196,15 @@ def _engagement_over_two_loads():
     from clutchlab import pipeline
     from clutchlab.config import resolve
 
-    section = {"design": "factorial", "options": {"driveline": "rigid"},
-               "parameters": {"ramp_time": {"values": ["0.05 s", "0.1 s", "0.2 s", "0.3 s"]},
-                              "friction_coefficient": {"values": [0.3, 0.35, 0.4]},
-                              "load_torque": {"values": ["44 N*m", "80 N*m"]}}}
+    section = {
+        "design": "factorial",
+        "options": {"driveline": "rigid"},
+        "parameters": {
+            "ramp_time": {"values": ["0.05 s", "0.1 s", "0.2 s", "0.3 s"]},
+            "friction_coefficient": {"values": [0.3, 0.35, 0.4]},
+            "load_torque": {"values": ["44 N*m", "80 N*m"]},
+        },
+    }
     sec = resolve({"studies": ["engagement"], "engagement": section})["engagement"]
     return sec, pipeline.run_study(sec)
 
@@ -165,9 +222,15 @@ def test_operating_conditions_are_not_design_choices():
     assert front.sel(load_torque=80.0).any() and front.sel(load_torque=44.0).any()
     flat = explore.annotate(ds, sec["objectives"], sec["constraints"], within=[])
     assert not (flat["pareto_rank"] == 0).sel(load_torque=80.0).any()  # what grouping prevents
-    sampled = {"design": "sobol", "samples": 8, "options": {"driveline": "rigid"},
-               "parameters": {"ramp_time": {"min": "0.05 s", "max": "0.3 s"},
-                              "load_torque": {"min": "40 N*m", "max": "80 N*m"}}}
+    sampled = {
+        "design": "sobol",
+        "samples": 8,
+        "options": {"driveline": "rigid"},
+        "parameters": {
+            "ramp_time": {"min": "0.05 s", "max": "0.3 s"},
+            "load_torque": {"min": "40 N*m", "max": "80 N*m"},
+        },
+    }
     sec = resolve({"studies": ["engagement"], "engagement": sampled})["engagement"]
     ds = pipeline.run_study(sec)
     assert ds["pareto_rank"].attrs["conditions_mixed"] == "load_torque"
@@ -179,7 +242,9 @@ def test_benchmark_runs_small(tmp_path):
     from clutchlab.bench import pareto as benchmark_pareto
 
     rows = benchmark_pareto.run(tmp_path, 3000, reference=300)
-    assert all(r["equal_to_reference"] for r in rows) and (tmp_path / "pareto_benchmark.csv").exists()
+    assert (
+        all(r["equal_to_reference"] for r in rows) and (tmp_path / "pareto_benchmark.csv").exists()
+    )
 
 
 def test_grid_decomposition_leaves_failed_cells_out():
@@ -199,7 +264,7 @@ def test_grid_decomposition_leaves_failed_cells_out():
         groups = {}
         for idx, v in cells:
             levels.setdefault(idx[axis], []).append(v)
-            groups.setdefault(idx[:axis] + idx[axis + 1:], []).append(v)
+            groups.setdefault(idx[:axis] + idx[axis + 1 :], []).append(v)
         main = sum(len(g) * (np.mean(g) - mean) ** 2 for g in levels.values()) / len(vals)
         within = sum(len(g) * np.var(g) for g in groups.values()) / len(vals)
         assert d["first_order"][name] == pytest.approx(main / var, rel=1e-12)
@@ -210,17 +275,31 @@ def test_sensitivity_of_a_factorial_study():
     from clutchlab import pipeline
     from clutchlab.config import resolve
 
-    sec = resolve({"studies": ["centrifugal"], "centrifugal": {"design": "factorial", "parameters": {
-        "pressure_angle": {"values": ["25 deg", "38.84 deg", "53 deg", "65 deg"]},
-        "friction_coefficient": {"values": [0.3, 0.4046, 0.5, 0.6]}}}})["centrifugal"]
+    sec = resolve(
+        {
+            "studies": ["centrifugal"],
+            "centrifugal": {
+                "design": "factorial",
+                "parameters": {
+                    "pressure_angle": {"values": ["25 deg", "38.84 deg", "53 deg", "65 deg"]},
+                    "friction_coefficient": {"values": [0.3, 0.4046, 0.5, 0.6]},
+                },
+            },
+        }
+    )["centrifugal"]
     ds = pipeline.run_study(sec)
     se = explore.sensitivity(ds, ["reserve_factor", "release_time"])
     assert list(se["output"].values) == ["reserve_factor", "release_time", "failure"]
     assert set(se["factor"].values) == {"pressure_angle", "friction_coefficient"}
     fails = int((ds["status"] != 0).sum())
-    assert 0 < fails and int(se["failed"].sel(output="failure")) == 0  # the indicator itself never fails
+    assert (
+        0 < fails and int(se["failed"].sel(output="failure")) == 0
+    )  # the indicator itself never fails
     complete = se.where(se["failed"] == 0, drop=True)  # an exact decomposition: main <= total
-    assert "failure" in complete["output"] and (complete["first_order"] <= complete["total"] + 1e-12).all()
+    assert (
+        "failure" in complete["output"]
+        and (complete["first_order"] <= complete["total"] + 1e-12).all()
+    )
     for name, var in {**se.coords, **se.data_vars}.items():
         assert "units" in var.attrs and "long_name" in var.attrs, name
 
@@ -235,6 +314,7 @@ def test_sobol_indices_of_the_ishigami_function():
     """Ishigami (a = 7, b = 0.1) on [−π, π]³: S1 = (0.3139, 0.4424, 0), ST = (0.5576, 0.4424,
     0.2437) analytically (Ishigami & Homma 1990; Saltelli et al. 2008 §4.9); each estimate within
     its confidence interval (widened by 10 % for the interval's own sampling error)."""
+
     def ishigami(u):
         x = -np.pi + 2 * np.pi * u
         return np.sin(x[:, 0]) + 7 * np.sin(x[:, 1]) ** 2 + 0.1 * x[:, 2] ** 4 * np.sin(x[:, 0])
@@ -271,9 +351,20 @@ def test_saltelli_study_sensitivity():
     from clutchlab import pipeline
     from clutchlab.config import resolve
 
-    sec = resolve({"studies": ["centrifugal"], "centrifugal": {"design": "saltelli", "samples": 256, "parameters": {
-        "pressure_angle": {"min": "25 deg", "max": "55 deg"}, "friction_coefficient": {"min": 0.3, "max": 0.5},
-        "spring_force": {"min": "380 N", "max": "480 N"}}}})["centrifugal"]
+    sec = resolve(
+        {
+            "studies": ["centrifugal"],
+            "centrifugal": {
+                "design": "saltelli",
+                "samples": 256,
+                "parameters": {
+                    "pressure_angle": {"min": "25 deg", "max": "55 deg"},
+                    "friction_coefficient": {"min": 0.3, "max": 0.5},
+                    "spring_force": {"min": "380 N", "max": "480 N"},
+                },
+            },
+        }
+    )["centrifugal"]
     ds = pipeline.run_study(sec)
     assert ds.sizes["run"] == 256 * 5
     se = explore.sensitivity(ds, ["reserve_factor", "release_time"])
@@ -281,9 +372,21 @@ def test_saltelli_study_sensitivity():
     assert outs["first_order_conf"].notnull().all() and (outs["total"] > 0).all()
     assert se["total"].sel(output="failure").isnull().all() == (int((ds["status"] != 0).sum()) == 0)
     with pytest.raises(ValueError, match="no sensitivity"):
-        explore.sensitivity(pipeline.run_study(resolve({"studies": ["centrifugal"], "centrifugal": {
-            "design": "lhs", "samples": 8, "parameters": {"spring_force": {"min": "380 N", "max": "480 N"}}}})
-            ["centrifugal"]), ["reserve_factor"])
+        explore.sensitivity(
+            pipeline.run_study(
+                resolve(
+                    {
+                        "studies": ["centrifugal"],
+                        "centrifugal": {
+                            "design": "lhs",
+                            "samples": 8,
+                            "parameters": {"spring_force": {"min": "380 N", "max": "480 N"}},
+                        },
+                    }
+                )["centrifugal"]
+            ),
+            ["reserve_factor"],
+        )
 
 
 def test_pareto_rank_of_a_stored_result_asks_a_new_question():
@@ -295,8 +398,9 @@ def test_pareto_rank_of_a_stored_result_asks_a_new_question():
     assert again.dims == ds["status"].dims and (again == ds["pareto_rank"]).all()
     new = explore.pareto_rank(ds, ["slip_work:min", "lockup_time:min"])
     f = np.stack([explore.flat(ds, "slip_work"), explore.flat(ds, "lockup_time")], axis=1)
-    want = explore.pareto_rank(f, explore.flat(ds, "feasible").astype(bool),
-                               explore.group_ids(ds, ["load_torque"]))
+    want = explore.pareto_rank(
+        f, explore.flat(ds, "feasible").astype(bool), explore.group_ids(ds, ["load_torque"])
+    )
     assert (new.values.reshape(-1) == want).all() and new.attrs["ranked_within"] == "load_torque"
 
 
@@ -307,12 +411,19 @@ def test_best_compromise_is_the_front_design_nearest_the_ideal_point():
 
     f1 = np.array([0.0, 1.0, 2.0, 4.0, 3.0])
     f2 = np.array([4.0, 1.5, 1.0, 0.0, 3.0])  # front: 0, 1, 2, 3; design 4 dominated
-    ds = xr.Dataset({"a": ("run", f1, {"units": "1", "long_name": "a"}), "b": ("run", f2, {"units": "1", "long_name": "b"}),
-                     "status": ("run", np.zeros(5, np.int8), {"units": "1", "long_name": "status"})})
+    ds = xr.Dataset(
+        {
+            "a": ("run", f1, {"units": "1", "long_name": "a"}),
+            "b": ("run", f2, {"units": "1", "long_name": "b"}),
+            "status": ("run", np.zeros(5, np.int8), {"units": "1", "long_name": "status"}),
+        }
+    )
     ds = explore.annotate(ds, ["a:min", "b:min"], {})
     # normalised: (0, 1), (.25, .375), (.5, .25), (1, 0): nearest the origin is design 1 (0.45)
     assert explore.best_compromise(ds) == 1
-    ds2 = explore.annotate(ds.assign(status=ds.status.where(ds.run != 1, 4).astype(np.int8)), ["a:min", "b:min"], {})
+    ds2 = explore.annotate(
+        ds.assign(status=ds.status.where(ds.run != 1, 4).astype(np.int8)), ["a:min", "b:min"], {}
+    )
     assert explore.best_compromise(ds2) == 2
     none = explore.annotate(ds.assign(status=ds.status * 0 + 4), ["a:min", "b:min"], {})
     assert explore.best_compromise(none) is None

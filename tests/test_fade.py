@@ -6,6 +6,7 @@ with the kernel 1/√s split into a smooth part (15 exponential modes, states) a
 taken quasi-statically. References: the semi-infinite body's constant- and ramp-flux solutions,
 and clutchlab.reference.rigid_fade (Picard iteration on the face temperature with the exact
 kernel, solve_ivp DOP853 at rtol 1e-12)."""
+
 import math
 
 import numpy as np
@@ -18,8 +19,16 @@ from clutchlab import engagement, heat, reference
 from clutchlab import status as st
 
 K_FACE = float(heat.face_temperature_rise(1.0, 0.1125, 0.075, 2))  # K per W s^0.5, seed 000 lining
-SEED = dict(engine_speed=570.0, engine_inertia=np.inf, engine_torque=0.0, driven_inertia=0.021, load_torque=44.0,
-            peak_capacity=200.0, ramp_time=0.15, t_end=0.5)
+SEED = dict(
+    engine_speed=570.0,
+    engine_inertia=np.inf,
+    engine_torque=0.0,
+    driven_inertia=0.021,
+    load_torque=44.0,
+    peak_capacity=200.0,
+    ramp_time=0.15,
+    t_end=0.5,
+)
 COMPLIANT = dict(compliant=True, damper_stiffness=4498.0, damping_ratio=0.05)
 
 
@@ -45,9 +54,14 @@ def _flux_run(ramp_time):
     """A held engine slipping on a driven side too heavy to move: the slip power is C(t)·ω_e,
     constant (step clamp) or rising linearly (a ramp far longer than the window)."""
     times = np.linspace(0.0, 0.5, 501)
-    r = engagement.simulate(**{**SEED, "load_torque": 0.0, "driven_inertia": 1e9, "ramp_time": ramp_time},
-                            fade_coefficient=1e-12, face_temperature_factor=K_FACE, trace_times=times,
-                            rtol=1e-10, atol=1e-10)
+    r = engagement.simulate(
+        **{**SEED, "load_torque": 0.0, "driven_inertia": 1e9, "ramp_time": ramp_time},
+        fade_coefficient=1e-12,
+        face_temperature_factor=K_FACE,
+        trace_times=times,
+        rtol=1e-10,
+        atol=1e-10,
+    )
     return times, r["trace"]["face_temperature_rise"]
 
 
@@ -88,7 +102,9 @@ def test_fade_against_the_exact_kernel_reference(beta, onset):
     assert r["slip_work"] == pytest.approx(ref["slip_work"], rel=1e-5)
     assert K_FACE * r["flash_peak"] == pytest.approx(ref["peak_face_rise"], rel=1e-5)
     slipping = times <= ref["lockup_time"]
-    err = np.abs(r["trace"]["face_temperature_rise"] - np.interp(times, ref["times"], ref["face_rise"]))
+    err = np.abs(
+        r["trace"]["face_temperature_rise"] - np.interp(times, ref["times"], ref["face_rise"])
+    )
     assert err[slipping].max() < 1e-4 * ref["peak_face_rise"]
     # fade slows the engagement: later lock-up, more slip work than without
     r0 = engagement.simulate(**SEED, rtol=1e-10, atol=1e-10)
@@ -104,8 +120,16 @@ def test_negligible_fade_leaves_the_engagement_unchanged(compliant):
     ex = COMPLIANT if compliant else {}
     times = np.linspace(0.0, 0.5, 1001)  # (every trace time is a sample of the power history too)
     base = engagement.simulate(**SEED, **ex, rtol=1e-9, atol=1e-9, power_history=True)
-    fade = engagement.simulate(**SEED, **ex, rtol=1e-9, atol=1e-9, power_history=True, fade_coefficient=1e-12,
-                               face_temperature_factor=K_FACE, trace_times=times)
+    fade = engagement.simulate(
+        **SEED,
+        **ex,
+        rtol=1e-9,
+        atol=1e-9,
+        power_history=True,
+        fade_coefficient=1e-12,
+        face_temperature_factor=K_FACE,
+        trace_times=times,
+    )
     for name in ("lockup_time", "slip_work", "peak_friction_torque"):
         assert fade[name] == pytest.approx(base[name], rel=1e-7), name
     assert fade["peak_jerk"] == pytest.approx(base["peak_jerk"], rel=1e-5)
@@ -119,8 +143,16 @@ def test_fade_off_is_the_default_and_costs_nothing():
     """β = 0 gives exactly the results of a call without the fade arguments (the face temperature
     trace is NaN then)."""
     a = engagement.simulate(**SEED, **COMPLIANT, rtol=1e-7, atol=1e-9, trace_times=[0.1])
-    b = engagement.simulate(**SEED, **COMPLIANT, rtol=1e-7, atol=1e-9, trace_times=[0.1], fade_coefficient=0.0,
-                            fade_onset=5.0, face_temperature_factor=K_FACE)
+    b = engagement.simulate(
+        **SEED,
+        **COMPLIANT,
+        rtol=1e-7,
+        atol=1e-9,
+        trace_times=[0.1],
+        fade_coefficient=0.0,
+        fade_onset=5.0,
+        face_temperature_factor=K_FACE,
+    )
     for name in ("lockup_time", "slip_work", "peak_jerk", "n_steps", "n_linear"):
         assert a[name] == b[name]
     assert np.isnan(a["trace"]["face_temperature_rise"]).all()
@@ -132,12 +164,21 @@ def test_fade_jerk_is_the_derivative_of_the_clutch_torque():
     t0 = np.array([0.03, 0.06, 0.1, 0.14])
     h = 1e-6
     times = np.sort(np.concatenate([t0 - h, t0, t0 + h]))
-    r = engagement.simulate(**{**SEED, "load_torque": 0.0}, fade_coefficient=0.05, fade_onset=2.0,
-                            face_temperature_factor=K_FACE, trace_times=times, rtol=1e-12, atol=1e-12)
+    r = engagement.simulate(
+        **{**SEED, "load_torque": 0.0},
+        fade_coefficient=0.05,
+        fade_onset=2.0,
+        face_temperature_factor=K_FACE,
+        trace_times=times,
+        rtol=1e-12,
+        atol=1e-12,
+    )
     tq, jerk = r["trace"]["friction_torque"].reshape(-1, 3), r["trace"]["jerk"].reshape(-1, 3)[:, 1]
     fd = (tq[:, 2] - tq[:, 0]) / (2 * h) / SEED["driven_inertia"]
     np.testing.assert_allclose(jerk, fd, rtol=1e-6)
-    assert np.all(r["trace"]["face_temperature_rise"].reshape(-1, 3)[:, 1] > 2.0)  # (fading at those times)
+    assert np.all(
+        r["trace"]["face_temperature_rise"].reshape(-1, 3)[:, 1] > 2.0
+    )  # (fading at those times)
 
 
 def test_fade_result_does_not_depend_on_the_tolerance():
@@ -157,11 +198,18 @@ def test_fade_inputs_are_screened_per_scenario():
     beta = np.array([0.02, -0.01, 0.02, 0.02])
     factor = np.array([K_FACE, K_FACE, 0.0, K_FACE])
     t_end = np.array([0.5, 0.5, 0.5, 12.0])
-    r = engagement.simulate(**{**SEED, "t_end": t_end}, fade_coefficient=beta, face_temperature_factor=factor,
-                            rtol=1e-7, atol=1e-9)
+    r = engagement.simulate(
+        **{**SEED, "t_end": t_end},
+        fade_coefficient=beta,
+        face_temperature_factor=factor,
+        rtol=1e-7,
+        atol=1e-9,
+    )
     assert list(r["status"]) == [0] + [st.CODE["invalid_input"]] * 3
     assert np.isfinite(r["lockup_time"][0]) and np.isnan(r["lockup_time"][1:]).all()
-    alone = engagement.simulate(**SEED, fade_coefficient=0.02, face_temperature_factor=K_FACE, rtol=1e-7, atol=1e-9)
+    alone = engagement.simulate(
+        **SEED, fade_coefficient=0.02, face_temperature_factor=K_FACE, rtol=1e-7, atol=1e-9
+    )
     assert r["lockup_time"][0] == alone["lockup_time"]
 
 
@@ -177,7 +225,9 @@ def test_friction_table_against_the_scipy_reference_compliant():
     per-mode solve_ivp (DOP853, rtol 1e-12) with np.interp of the same table."""
     p = dict(SEED, **{k_: v for k_, v in COMPLIANT.items() if k_ != "compliant"}, static_ratio=1.35)
     ref = reference.compliant(p | {"friction_table": TABLE})
-    r = engagement.simulate(**SEED, **COMPLIANT, static_ratio=1.35, friction_table=TABLE, rtol=1e-9, atol=1e-11)
+    r = engagement.simulate(
+        **SEED, **COMPLIANT, static_ratio=1.35, friction_table=TABLE, rtol=1e-9, atol=1e-11
+    )
     assert r["status"] == 0 and ref["status"] == "ok"
     assert r["lockup_time"] == pytest.approx(ref["lockup_time"], rel=1e-7)
     assert r["slip_work"] == pytest.approx(ref["slip_work"], rel=1e-7)
@@ -192,7 +242,7 @@ def test_finely_tabulated_stribeck_law_gives_the_stribeck_result():
     gives the Stribeck law's lock-up time and slip work within 1e-6."""
     vs, rs = 80.0, 1.3
     v = np.linspace(0.0, 800.0, 4001)
-    table = (v, 1 + (rs - 1) * np.exp(-(v / vs) ** 2))
+    table = (v, 1 + (rs - 1) * np.exp(-((v / vs) ** 2)))
     kw = dict(**SEED, static_ratio=rs, rtol=1e-10, atol=1e-10)
     a = engagement.simulate(**kw, stribeck_speed=vs)
     b = engagement.simulate(**kw, friction_table=table)
@@ -204,21 +254,26 @@ def test_a_flat_table_is_constant_mu():
     """A one-point table (μ/μ_k = 1) equals constant μ_k: the DOPRI5 path against the compliant
     model's closed-form linear phases."""
     a = engagement.simulate(**SEED, **COMPLIANT, rtol=1e-10, atol=1e-12)
-    b = engagement.simulate(**SEED, **COMPLIANT, rtol=1e-10, atol=1e-12, friction_table=([0.0], [1.0]))
+    b = engagement.simulate(
+        **SEED, **COMPLIANT, rtol=1e-10, atol=1e-12, friction_table=([0.0], [1.0])
+    )
     assert a["n_linear"] > 0 and b["n_linear"] < a["n_linear"]
     for name in ("lockup_time", "slip_work"):
         assert b[name] == pytest.approx(a[name], rel=1e-8), name
     assert b["peak_jerk"] == pytest.approx(a["peak_jerk"], rel=1e-6)
 
 
-@pytest.mark.parametrize("table, match", [
-    (([0.0, 10.0], [1.0]), "equal"),
-    (([0.0, 10.0, 5.0], [1.0, 1.1, 1.2]), "increase"),
-    (([-1.0, 10.0], [1.0, 1.1]), ">= 0"),
-    (([0.0, 10.0], [1.0, 0.0]), "> 0"),
-    (([0.0, np.nan], [1.0, 1.0]), "finite"),
-    (([], []), "non-zero"),
-])
+@pytest.mark.parametrize(
+    "table, match",
+    [
+        (([0.0, 10.0], [1.0]), "equal"),
+        (([0.0, 10.0, 5.0], [1.0, 1.1, 1.2]), "increase"),
+        (([-1.0, 10.0], [1.0, 1.1]), ">= 0"),
+        (([0.0, 10.0], [1.0, 0.0]), "> 0"),
+        (([0.0, np.nan], [1.0, 1.0]), "finite"),
+        (([], []), "non-zero"),
+    ],
+)
 def test_a_malformed_friction_table_is_refused(table, match):
     with pytest.raises(ValueError, match=match):
         engagement.simulate(**SEED, friction_table=table)
@@ -227,6 +282,7 @@ def test_a_malformed_friction_table_is_refused(table, match):
 # ------------------------------------------------------------------------------------------------
 # the engagement study with fade and a friction table
 # ------------------------------------------------------------------------------------------------
+
 
 def _study_tolerances():
     from clutchlab.studies.engagement import ACCURACY, tolerances
@@ -238,7 +294,9 @@ def _study_tolerances():
 def _study(extra=None, **params):
     from clutchlab import config
 
-    section = {"design": "factorial", "options": {"driveline": "rigid"}, "parameters": params} | (extra or {})
+    section = {"design": "factorial", "options": {"driveline": "rigid"}, "parameters": params} | (
+        extra or {}
+    )
     return config.resolve({"studies": ["engagement"], "engagement": section})["engagement"]
 
 
@@ -248,7 +306,9 @@ def test_study_with_fade_runs_the_event_solver_and_fades():
     into the parts still equals the slip work."""
     from clutchlab import pipeline
 
-    ds = pipeline.run_study(_study(fade_coefficient={"values": [0.0, 0.05]}, fade_onset_temperature="313.15 K"))
+    ds = pipeline.run_study(
+        _study(fade_coefficient={"values": [0.0, 0.05]}, fade_onset_temperature="313.15 K")
+    )
     off, on = ds.sel(fade_coefficient=0.0), ds.sel(fade_coefficient=0.05)
     assert int(off["model"]) == 0 and int(on["model"]) == 1  # closed form, rigid event solver
     assert int(on["status"]) == 0
@@ -258,8 +318,12 @@ def test_study_with_fade_runs_the_event_solver_and_fades():
     assert heat_sum == pytest.approx(float(on["slip_work"]), rel=1e-12)
     assert np.isfinite(float(on["peak_surface_temperature"]))
     # the study's number is simulate's with the study's face temperature factor
-    ref = engagement.simulate(**{**SEED, "peak_capacity": float(on["peak_capacity"])}, fade_coefficient=0.05,
-                              face_temperature_factor=K_FACE, **_study_tolerances())
+    ref = engagement.simulate(
+        **{**SEED, "peak_capacity": float(on["peak_capacity"])},
+        fade_coefficient=0.05,
+        face_temperature_factor=K_FACE,
+        **_study_tolerances(),
+    )
     assert float(on["lockup_time"]) == pytest.approx(float(ref["lockup_time"]), rel=1e-12)
 
 
@@ -268,23 +332,32 @@ def test_study_reads_a_measured_friction_table():
     simulate's with the table divided by the fixed friction coefficient."""
     from clutchlab import pipeline
 
-    table = {"slip_speed": ["0 rpm", "500 rpm", "3000 rpm", "6000 rpm"], "friction_coefficient": [0.5, 0.45, 0.4, 0.39]}
+    table = {
+        "slip_speed": ["0 rpm", "500 rpm", "3000 rpm", "6000 rpm"],
+        "friction_coefficient": [0.5, 0.45, 0.4, 0.39],
+    }
     sec = _study({"friction_table": table}, ramp_time={"values": [0.1, 0.2]})
-    assert sec["options"]["friction_table"]["slip_speed"][1] == pytest.approx(500 * 2 * math.pi / 60)
+    assert sec["options"]["friction_table"]["slip_speed"][1] == pytest.approx(
+        500 * 2 * math.pi / 60
+    )
     ds = pipeline.run_study(sec)
     assert (ds["model"] == 1).all() and (ds["status"] == 0).all()
     mu = 0.4  # the default friction coefficient
     x = np.array(sec["options"]["friction_table"]["slip_speed"])
     for tr in (0.1, 0.2):
         one = ds.sel(ramp_time=tr)
-        ref = engagement.simulate(**{**SEED, "peak_capacity": float(one["peak_capacity"]), "ramp_time": tr},
-                                  friction_table=(x, np.array(table["friction_coefficient"]) / mu), **_study_tolerances())
+        ref = engagement.simulate(
+            **{**SEED, "peak_capacity": float(one["peak_capacity"]), "ramp_time": tr},
+            friction_table=(x, np.array(table["friction_coefficient"]) / mu),
+            **_study_tolerances(),
+        )
         assert float(one["lockup_time"]) == pytest.approx(float(ref["lockup_time"]), rel=1e-12)
 
 
 # ------------------------------------------------------------------------------------------------
 # the closed form's face temperature (its exact slip power, sampled on its pieces)
 # ------------------------------------------------------------------------------------------------
+
 
 @pytest.mark.parametrize("profile", ["ramp", "cubic"])
 def test_closed_form_flash_peak_converges_at_second_order(profile, monkeypatch):
@@ -294,11 +367,17 @@ def test_closed_form_flash_peak_converges_at_second_order(profile, monkeypatch):
     1.3e-3 when it sampled every ramp time / 48 only: 21 samples before an early lock-up)."""
     rng = np.random.default_rng(2)
     n = 40
-    kw = dict(engine_speed=rng.uniform(300, 600, n),
-              engine_inertia=np.where(rng.random(n) < 0.5, np.inf, rng.uniform(0.05, 0.5, n)),
-              engine_torque=rng.uniform(0, 150, n), driven_inertia=rng.uniform(0.01, 0.05, n),
-              load_torque=rng.uniform(0, 80, n), peak_capacity=rng.uniform(150, 300, n),
-              ramp_time=np.concatenate([[0.0], rng.uniform(0.0, 0.3, n - 1)]), t_end=0.5, profile=profile)
+    kw = dict(
+        engine_speed=rng.uniform(300, 600, n),
+        engine_inertia=np.where(rng.random(n) < 0.5, np.inf, rng.uniform(0.05, 0.5, n)),
+        engine_torque=rng.uniform(0, 150, n),
+        driven_inertia=rng.uniform(0.01, 0.05, n),
+        load_torque=rng.uniform(0, 80, n),
+        peak_capacity=rng.uniform(150, 300, n),
+        ramp_time=np.concatenate([[0.0], rng.uniform(0.0, 0.3, n - 1)]),
+        t_end=0.5,
+        profile=profile,
+    )
     peaks = {}
     for m in (24, 48, 96, 1300):
         monkeypatch.setattr(engagement, "CLOSED_FORM_POWER_SAMPLES", m)

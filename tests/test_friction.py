@@ -1,4 +1,5 @@
 """Lining size (eq. 3), torque capacity (eqs. 13-14 corrected and as printed), reserve factor."""
+
 import numpy as np
 import pytest
 from scipy.integrate import quad
@@ -21,12 +22,16 @@ def test_capacity_two_faces_uniform_pressure():
 
 def test_capacity_with_stack_weight():
     """Same with the 4.757 kg stack weight (Table 3: 0.357 + 1.9 + 2.5 kg) -> 193.5 N m (tol 1e-3)."""
-    assert friction.torque_capacity(2500.0, 0.4, RO, RI, stack_mass=4.757) == pytest.approx(193.5, rel=1e-3)
+    assert friction.torque_capacity(2500.0, 0.4, RO, RI, stack_mass=4.757) == pytest.approx(
+        193.5, rel=1e-3
+    )
 
 
 def test_eq14_as_printed_reproduces_paper():
     """Eq. (14) as printed (one face, mu on the weight only) -> 239.3 N m, the paper's value (tol 1e-3)."""
-    assert friction.torque_capacity_eq14_as_printed(2500.0, 0.4, 4.757, RO, RI) == pytest.approx(239.3, rel=1e-3)
+    assert friction.torque_capacity_eq14_as_printed(2500.0, 0.4, 4.757, RO, RI) == pytest.approx(
+        239.3, rel=1e-3
+    )
 
 
 def test_effective_radius_against_quadrature():

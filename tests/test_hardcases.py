@@ -1,4 +1,5 @@
 """Hard cases (issue 17 item 2): every case has its right answer and source, and passes."""
+
 import numpy as np
 import pytest
 
@@ -11,16 +12,30 @@ def cases():
 
 
 def test_every_hard_case_passes(cases):
-    failed = [(c.case, c.right_answer, c.computed, c.error, c.tolerance) for c in cases if not c.passed]
+    failed = [
+        (c.case, c.right_answer, c.computed, c.error, c.tolerance) for c in cases if not c.passed
+    ]
     assert not failed, failed
 
 
 def test_every_case_of_the_physics_notes_is_there(cases):
     """PHYSICS.md's hard-case table and those found since (issue 17's list)."""
     names = " ".join(c.case for c in cases)
-    for words in ("start of motion", "step clamp", "never locking", "break-away", "tiny driven inertia",
-                  "zero initial slip", "restart at an event", "judder", "Hertz", "f tan α = 1", "monotone spring",
-                  "roll-over", "held engine at rest"):
+    for words in (
+        "start of motion",
+        "step clamp",
+        "never locking",
+        "break-away",
+        "tiny driven inertia",
+        "zero initial slip",
+        "restart at an event",
+        "judder",
+        "Hertz",
+        "f tan α = 1",
+        "monotone spring",
+        "roll-over",
+        "held engine at rest",
+    ):
         assert words in names, words
     for c in cases:
         assert c.right_answer and c.source and c.computed
@@ -35,7 +50,9 @@ def test_a_wrong_value_fails():
 
 def test_only_the_studies_run(cases):
     assert {c.study for c in hardcases.run(["sprag", "centrifugal"])} == {"sprag", "centrifugal"}
-    assert [c.study for c in hardcases.run(["sprag", "engagement"])][0] == "sprag"  # in the run's order
+    assert [c.study for c in hardcases.run(["sprag", "engagement"])][
+        0
+    ] == "sprag"  # in the run's order
 
 
 def test_dataset_and_csv(tmp_path, cases):

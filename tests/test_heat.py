@@ -1,6 +1,7 @@
 """Issue 20: clutchlab.heat — the flash temperature against the semi-infinite body's analytic
 solutions, the Duhamel integral's order, the heat partition, lumped cooling and the sequence of
 engagements against their closed forms."""
+
 import math
 
 import numpy as np
@@ -63,18 +64,25 @@ def test_heat_shares_sum_to_one_and_follow_the_effusivities():
     np.testing.assert_allclose(sum(shares), 1.0, rtol=1e-15)
     assert heat.face_shares(1.0, 1.0, 1.0) == (0.25, 0.25, 0.5)
     # cast iron against an organic lining: the metal takes about 93 % at each face
-    fw, pp, dp = heat.face_shares(E_IRON, E_IRON, heat.effusivity(**heat.MATERIALS["organic_lining"]))
+    fw, pp, dp = heat.face_shares(
+        E_IRON, E_IRON, heat.effusivity(**heat.MATERIALS["organic_lining"])
+    )
     assert fw == pp and 0.46 < fw < 0.47 and abs(dp - 0.0694) < 1e-3
 
 
 def test_specific_loading_of_the_seed_lining_and_bad_scenarios():
     """Seed 000: W ≈ 5.8 kJ on two faces of a 225/150 mm lining (A = 2·π(0.1125² − 0.075²) =
     0.04418 m²): q_A = 131.3 kJ/m². A bad scenario gets invalid_input and NaN, the others not."""
-    out = heat.specific_loading(np.array([5800.0, np.nan, 5800.0, 5800.0]), 1.0e5, np.array([0.1125] * 3 + [0.07]),
-                                0.075, 2)
-    np.testing.assert_allclose(out["friction_area"][0], 2 * math.pi * (0.1125**2 - 0.075**2), rtol=1e-14)
+    out = heat.specific_loading(
+        np.array([5800.0, np.nan, 5800.0, 5800.0]), 1.0e5, np.array([0.1125] * 3 + [0.07]), 0.075, 2
+    )
+    np.testing.assert_allclose(
+        out["friction_area"][0], 2 * math.pi * (0.1125**2 - 0.075**2), rtol=1e-14
+    )
     np.testing.assert_allclose(out["specific_friction_work"][[0, 2]], 131285.144, rtol=1e-8)
-    np.testing.assert_allclose(out["peak_specific_friction_power"][0], 1e5 / out["friction_area"][0], rtol=1e-14)
+    np.testing.assert_allclose(
+        out["peak_specific_friction_power"][0], 1e5 / out["friction_area"][0], rtol=1e-14
+    )
     assert list(out["status"]) == [0, 14, 0, 14]
     assert np.isnan(out["specific_friction_work"][[1, 3]]).all()
 
@@ -95,8 +103,12 @@ def test_sequence_reaches_the_periodic_state_of_the_geometric_sum():
     seq = heat.sequence_temperatures(rise[:, None], interval[:, None], tau[:, None], 400)[:, 0]
     n = np.arange(1, 401)
     r = np.exp(-interval / tau)
-    np.testing.assert_allclose(seq, rise[:, None] * (1 - r[:, None] ** n) / (1 - r[:, None]), rtol=1e-12)
-    np.testing.assert_allclose(seq[:, -1], heat.periodic_temperature(rise, interval, tau), rtol=1e-9)
+    np.testing.assert_allclose(
+        seq, rise[:, None] * (1 - r[:, None] ** n) / (1 - r[:, None]), rtol=1e-12
+    )
+    np.testing.assert_allclose(
+        seq[:, -1], heat.periodic_temperature(rise, interval, tau), rtol=1e-9
+    )
 
 
 def test_engagements_to_limit_agrees_with_the_sequence():
@@ -105,7 +117,9 @@ def test_engagements_to_limit_agrees_with_the_sequence():
     for margin in (5.0, 10.0, 10.01, 50.0, 100.0, 104.9):
         n = int(heat.engagements_to_limit(rise, interval, tau, margin))
         assert seq[n - 1] >= margin and (n == 1 or seq[n - 2] < margin), (margin, n)
-    assert heat.engagements_to_limit(rise, interval, tau, 106.0) == np.inf  # periodic state 105.08 K
+    assert (
+        heat.engagements_to_limit(rise, interval, tau, 106.0) == np.inf
+    )  # periodic state 105.08 K
     assert np.isnan(heat.engagements_to_limit(np.nan, interval, tau, 50.0))
 
 
@@ -117,7 +131,9 @@ def _default_engagement():
     from conftest import ROOT
 
     cfg = yaml.safe_load((ROOT / "config/config.yaml").read_text())
-    return pipeline.run_study(config.resolve({"studies": ["engagement"], "engagement": cfg["engagement"]})["engagement"])
+    return pipeline.run_study(
+        config.resolve({"studies": ["engagement"], "engagement": cfg["engagement"]})["engagement"]
+    )
 
 
 def test_heat_into_the_parts_equals_the_slip_work_in_the_default_study():
@@ -130,19 +146,36 @@ def test_heat_into_the_parts_equals_the_slip_work_in_the_default_study():
     total = ds["heat_flywheel"] + ds["heat_pressure_plate"] + ds["heat_driven_plate"]
     assert float(abs(total / ds["slip_work"] - 1).where(ok).max()) < 1e-9
     area = 2 * math.pi * (0.1125**2 - 0.075**2)
-    np.testing.assert_allclose(ds["specific_friction_work"].where(ok), ds["slip_work"].where(ok) / area, rtol=1e-12)
-    np.testing.assert_allclose(ds["peak_specific_friction_power"].where(ok), ds["peak_slip_power"].where(ok) / area,
-                               rtol=1e-12)
+    np.testing.assert_allclose(
+        ds["specific_friction_work"].where(ok), ds["slip_work"].where(ok) / area, rtol=1e-12
+    )
+    np.testing.assert_allclose(
+        ds["peak_specific_friction_power"].where(ok),
+        ds["peak_slip_power"].where(ok) / area,
+        rtol=1e-12,
+    )
     # the pressure plate (2.5 kg against the flywheel's 10.3 kg, the same share) is the hottest part
     assert set(np.unique(ds["hottest_part"].values[ok.values])) == {1}
     rise = ds["heat_pressure_plate"] / (2.5 * heat.MATERIALS["cast_iron"]["specific_heat"])
     np.testing.assert_allclose(ds["bulk_temperature_rise"].where(ok), rise.where(ok), rtol=1e-12)
-    seed = ds.sel(sheet_thickness=2.334e-3, friction_coefficient=0.4, ramp_time=0.15, driven_inertia=0.021,
-                  load_torque=44.0)
-    assert float(seed["peak_surface_temperature"]) - 273.15 == pytest.approx(68.45, abs=0.01)  # docs/engagement.md
+    seed = ds.sel(
+        sheet_thickness=2.334e-3,
+        friction_coefficient=0.4,
+        ramp_time=0.15,
+        driven_inertia=0.021,
+        load_torque=44.0,
+    )
+    assert float(seed["peak_surface_temperature"]) - 273.15 == pytest.approx(
+        68.45, abs=0.01
+    )  # docs/engagement.md
     temp = ds["peak_surface_temperature"].where(ok)
     assert float(temp.min()) > 313.15 and float(temp.max()) < 313.15 + 100
-    for name in ("specific_friction_work", "bulk_temperature_rise", "heat_flywheel", "peak_surface_temperature"):
+    for name in (
+        "specific_friction_work",
+        "bulk_temperature_rise",
+        "heat_flywheel",
+        "peak_surface_temperature",
+    ):
         assert ds[name].attrs["units"] and ds[name].attrs["long_name"]
 
 
@@ -185,7 +218,11 @@ def test_duhamel_peak_of_the_kernel_coarse_to_fine_equals_every_sample():
         n = int(rng.integers(20, 700))
         t = np.cumsum(rng.uniform(0.2e-3, 2e-3, n))
         t -= t[0]
-        burst = np.sin(np.pi * t / t[-1]) ** 2 if case % 2 else np.sin(2 * np.pi * t / t[-1]) ** 2 * (1 + 0.3 * (t > t[-1] / 2))
+        burst = (
+            np.sin(np.pi * t / t[-1]) ** 2
+            if case % 2
+            else np.sin(2 * np.pi * t / t[-1]) ** 2 * (1 + 0.3 * (t > t[-1] / 2))
+        )
         p = 5e4 * burst * rng.uniform(0.9, 1.1)
         hist = np.stack([t, p])
         full = k.duhamel_peak(hist, n, 1)
@@ -194,11 +231,14 @@ def test_duhamel_peak_of_the_kernel_coarse_to_fine_equals_every_sample():
         ref = heat.duhamel_surface_temperature(t, p, 1.0) * math.sqrt(math.pi)
         np.testing.assert_allclose([k.duhamel_at(hist, j) for j in range(n)], ref, rtol=1e-10)
         # the peak between samples (vertex of the parabola through the best sample and its neighbours)
-        assert ref.max() <= full <= ref.max() * (1 + 1e-2)  # (20 samples of a burst: a coarse history)
+        assert (
+            ref.max() <= full <= ref.max() * (1 + 1e-2)
+        )  # (20 samples of a burst: a coarse history)
 
 
-@pytest.mark.parametrize("case", ["ramp", "cubic", "quintic", "stribeck", "free_engine", "rigid_stribeck",
-                                  "closed_form"])
+@pytest.mark.parametrize(
+    "case", ["ramp", "cubic", "quintic", "stribeck", "free_engine", "rigid_stribeck", "closed_form"]
+)
 def test_study_peak_surface_temperature_against_a_dense_trace(case):
     """peak_surface_temperature comes from the solver's own slip power history (sampled every ramp
     time / 48 and at least 64 times a slip while slipping, exact Duhamel segments; the closed form: its exact slip power at 96
@@ -218,7 +258,9 @@ def test_study_peak_surface_temperature_against_a_dense_trace(case):
         inputs.update(engine_inertia=0.3, engine_torque=150.0)
     from clutchlab.studies import seed_design
 
-    ds = es.compute({k_: np.atleast_1d(v) for k_, v in seed_design(es.PARAMETERS, inputs).items()}, opts)
+    ds = es.compute(
+        {k_: np.atleast_1d(v) for k_, v in seed_design(es.PARAMETERS, inputs).items()}, opts
+    )
     assert int(ds["status"][0]) == 0
     assert (int(ds["model"][0]) == es.MODEL["closed_form"]) == (case == "closed_form")
     old = es.TRACE_POINTS
@@ -245,15 +287,36 @@ def test_flash_peak_of_random_compliant_designs_against_dense_breakpoints(profil
 
     rng = np.random.default_rng(5)
     n = 60
-    kw = dict(engine_speed=rng.uniform(300, 600, n), engine_inertia=np.inf, engine_torque=0.0,
-              driven_inertia=rng.uniform(0.01, 0.05, n), load_torque=rng.uniform(0, 80, n),
-              peak_capacity=rng.uniform(150, 600, n), ramp_time=rng.uniform(0.02, 0.6, n), t_end=1.0,
-              compliant=True, hub_fraction=0.5, damper_stiffness=rng.uniform(2e3, 2e4, n),
-              damping_ratio=rng.uniform(0.02, 0.2, n), rtol=1e-7, atol=1e-9, profile=profile)
+    kw = dict(
+        engine_speed=rng.uniform(300, 600, n),
+        engine_inertia=np.inf,
+        engine_torque=0.0,
+        driven_inertia=rng.uniform(0.01, 0.05, n),
+        load_torque=rng.uniform(0, 80, n),
+        peak_capacity=rng.uniform(150, 600, n),
+        ramp_time=rng.uniform(0.02, 0.6, n),
+        t_end=1.0,
+        compliant=True,
+        hub_fraction=0.5,
+        damper_stiffness=rng.uniform(2e3, 2e4, n),
+        damping_ratio=rng.uniform(0.02, 0.2, n),
+        rtol=1e-7,
+        atol=1e-9,
+        profile=profile,
+    )
     got = engagement.simulate(**kw, power_history=True)
     lock = got["lockup_time"]
-    assert np.isfinite(lock).all() and (lock / kw["ramp_time"] < 0.5).sum() >= 3  # early lock-ups among them
-    ref = np.array([engagement.simulate(**{k: (v[i] if np.ndim(v) else v) for k, v in kw.items()}, power_history=True,
-                                        trace_times=np.linspace(0.0, 1.02 * lock[i], 2000)[1:])["flash_peak"]
-                    for i in range(n)])
+    assert (
+        np.isfinite(lock).all() and (lock / kw["ramp_time"] < 0.5).sum() >= 3
+    )  # early lock-ups among them
+    ref = np.array(
+        [
+            engagement.simulate(
+                **{k: (v[i] if np.ndim(v) else v) for k, v in kw.items()},
+                power_history=True,
+                trace_times=np.linspace(0.0, 1.02 * lock[i], 2000)[1:],
+            )["flash_peak"]
+            for i in range(n)
+        ]
+    )
     assert np.abs(got["flash_peak"] / ref - 1).max() < 6e-4

@@ -1,4 +1,5 @@
 """The example notebook (issue 18 item 1) runs top to bottom against the small config's results."""
+
 from pathlib import Path
 
 import pytest
@@ -13,9 +14,19 @@ def test_explore_notebook_runs(small_run, monkeypatch):
 
     monkeypatch.setenv("CLUTCHLAB_RESULTS", str(small_run / "results"))
     nb = nbformat.read(ROOT / "notebooks/explore.ipynb", as_version=4)
-    assert not any(c.get("outputs") for c in nb.cells if c.cell_type == "code")  # stored without outputs
-    nbclient.NotebookClient(nb, timeout=300, kernel_name="python3",
-                            resources={"metadata": {"path": str(ROOT / "notebooks")}}).execute()
-    text = "\n".join(str(o.get("text", "")) for c in nb.cells if c.cell_type == "code" for o in c.outputs)
+    assert not any(
+        c.get("outputs") for c in nb.cells if c.cell_type == "code"
+    )  # stored without outputs
+    nbclient.NotebookClient(
+        nb,
+        timeout=300,
+        kernel_name="python3",
+        resources={"metadata": {"path": str(ROOT / "notebooks")}},
+    ).execute()
+    text = "\n".join(
+        str(o.get("text", "")) for c in nb.cells if c.cell_type == "code" for o in c.outputs
+    )
     assert "spring designs meet both" in text and "MPa" in text
-    assert not [o for c in nb.cells if c.cell_type == "code" for o in c.outputs if o.output_type == "error"]
+    assert not [
+        o for c in nb.cells if c.cell_type == "code" for o in c.outputs if o.output_type == "error"
+    ]

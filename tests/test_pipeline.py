@@ -1,4 +1,5 @@
 """End to end through Snakemake, as a user would run it (slow: each run starts Snakemake)."""
+
 import os
 import shutil
 import signal
@@ -20,15 +21,26 @@ from conftest import snakemake_workdir as _workdir  # noqa: E402
 
 
 def test_outputs_exist_and_open(small_run):
-    for f in ("results/diaphragm/spring.h5", "results/report/report.pdf", "results/report/validation.csv",
-              "results/report/diaphragm_spring_load_curves.png", "results/report/diaphragm_spring_reserve_map.png",
-              "results/centrifugal/centrifugal.h5", "results/report/centrifugal_capacity_curves.png",
-              "results/report/centrifugal_release_map.png", "results/report/centrifugal_traces.png",
-              "results/sprag/sprag.h5", "results/report/sprag_stress_vs_torque.png",
-              "results/report/sprag_pass_map.png", "results/report/sprag_impact_torque.png",
-              "results/roller/roller.h5", "results/report/roller_stress_engagement.png",
-              "results/report/roller_feasible_region.png", "results/report/roller_engagement_trace.png",
-              "results/report/hard_cases.png"):
+    for f in (
+        "results/diaphragm/spring.h5",
+        "results/report/report.pdf",
+        "results/report/validation.csv",
+        "results/report/diaphragm_spring_load_curves.png",
+        "results/report/diaphragm_spring_reserve_map.png",
+        "results/centrifugal/centrifugal.h5",
+        "results/report/centrifugal_capacity_curves.png",
+        "results/report/centrifugal_release_map.png",
+        "results/report/centrifugal_traces.png",
+        "results/sprag/sprag.h5",
+        "results/report/sprag_stress_vs_torque.png",
+        "results/report/sprag_pass_map.png",
+        "results/report/sprag_impact_torque.png",
+        "results/roller/roller.h5",
+        "results/report/roller_stress_engagement.png",
+        "results/report/roller_feasible_region.png",
+        "results/report/roller_engagement_trace.png",
+        "results/report/hard_cases.png",
+    ):
         assert (small_run / f).stat().st_size > 0, f
     # issue 17: the hard cases of the studies run, computed in this run, every one passing
     import csv
@@ -40,37 +52,69 @@ def test_outputs_exist_and_open(small_run):
     with xr.open_dataset(small_run / "results/diaphragm/spring.h5", engine="h5netcdf") as ds:
         for name, var in {**ds.coords, **ds.data_vars}.items():
             assert var.attrs.get("units") is not None and var.attrs.get("long_name"), name
-        assert ds["clamp_load"].dims == ("sheet_thickness", "cone_height_ratio", "radius_ratio",
-                                         "operating_point_factor")
-        seed = ds.sel(sheet_thickness=2.334e-3, cone_height_ratio=1.5, radius_ratio=1.294,
-                      operating_point_factor=0.9, method="nearest")
+        assert ds["clamp_load"].dims == (
+            "sheet_thickness",
+            "cone_height_ratio",
+            "radius_ratio",
+            "operating_point_factor",
+        )
+        seed = ds.sel(
+            sheet_thickness=2.334e-3,
+            cone_height_ratio=1.5,
+            radius_ratio=1.294,
+            operating_point_factor=0.9,
+            method="nearest",
+        )
         assert 2300 < float(seed["clamp_load"]) < 2700
     with xr.open_dataset(small_run / "results/centrifugal/centrifugal.h5", engine="h5netcdf") as ds:
         for name, var in {**ds.coords, **ds.data_vars}.items():
             assert var.attrs.get("units") is not None and var.attrs.get("long_name"), name
-        seed = ds.sel(pressure_angle=np.deg2rad(38.84), friction_coefficient=0.4046, method="nearest")
+        seed = ds.sel(
+            pressure_angle=np.deg2rad(38.84), friction_coefficient=0.4046, method="nearest"
+        )
         assert abs(float(seed["capacity_forward"]) - 127.84) < 0.2  # seed 001 section 2.3
-        assert (ds["status"].sel(pressure_angle=np.deg2rad(65)).values[-2:] == 5).all()  # f tan(alpha) >= 1: jammed
+        assert (
+            ds["status"].sel(pressure_angle=np.deg2rad(65)).values[-2:] == 5
+        ).all()  # f tan(alpha) >= 1: jammed
     with xr.open_dataset(small_run / "results/sprag/sprag.h5", engine="h5netcdf") as ds:
         for name, var in {**ds.coords, **ds.data_vars}.items():
             assert var.attrs.get("units") is not None and var.attrs.get("long_name"), name
         seed = ds.sel(torque=750.0, sprags=18, sprag_length=16.891e-3)
-        assert abs(np.rad2deg(float(seed["gripping_angle"])) - 5.097) < 1e-6  # seed 002 Table 2, the fit target
+        assert (
+            abs(np.rad2deg(float(seed["gripping_angle"])) - 5.097) < 1e-6
+        )  # seed 002 Table 2, the fit target
         assert int(seed["status"]) == 10  # pop_out_risk: V above 5 deg (seed 002 section 2.2)
     with xr.open_dataset(small_run / "results/roller/roller.h5", engine="h5netcdf") as ds:
         for name, var in {**ds.coords, **ds.data_vars}.items():
             assert var.attrs.get("units") is not None and var.attrs.get("long_name"), name
         assert ds["status"].dims == ("rollers", "wedge_angle")
-        assert (ds["status"].sel(wedge_angle=np.deg2rad(15)).values == 11).all()  # tan 7.5 deg > 0.12: not self-locking
+        assert (
+            ds["status"].sel(wedge_angle=np.deg2rad(15)).values == 11
+        ).all()  # tan 7.5 deg > 0.12: not self-locking
         seed = ds.sel(rollers=12, wedge_angle=np.deg2rad(11))
         assert abs(float(seed["contact_stress"]) / 1e6 - 2865.5) < 3  # seed 003 section 2.2
         assert 0.1e-3 < float(seed["engagement_time"]) < 0.3e-3
     assert "yes" in (small_run / "results/report/validation.csv").read_text()
-    for f in ("diaphragm/spring.h5", "centrifugal/centrifugal.h5", "sprag/sprag.h5", "roller/roller.h5"):
-        with xr.open_dataset(small_run / "results" / f, engine="h5netcdf") as ds:  # design answers (issue 15)
+    for f in (
+        "diaphragm/spring.h5",
+        "centrifugal/centrifugal.h5",
+        "sprag/sprag.h5",
+        "roller/roller.h5",
+    ):
+        with xr.open_dataset(
+            small_run / "results" / f, engine="h5netcdf"
+        ) as ds:  # design answers (issue 15)
             assert ds["feasible"].dims == ds["status"].dims == ds["pareto_rank"].dims, f
-            assert ":" in ds["pareto_rank"].attrs["objectives"] and "constraint" in ds["constraint_margin"].dims
-    for name in ("diaphragm_spring", "centrifugal", "sprag", "roller"):  # the answers page and front table
+            assert (
+                ":" in ds["pareto_rank"].attrs["objectives"]
+                and "constraint" in ds["constraint_margin"].dims
+            )
+    for name in (
+        "diaphragm_spring",
+        "centrifugal",
+        "sprag",
+        "roller",
+    ):  # the answers page and front table
         assert (small_run / f"results/report/{name}_answers.png").stat().st_size > 0
         rows = (small_run / f"results/report/{name}_pareto.csv").read_text().splitlines()
         assert rows[0].count("[") >= 3 and 1 <= len(rows) - 1 <= 15, (name, rows)
@@ -83,7 +127,9 @@ def test_bad_config_fails_before_any_job(small_run):
     target = small_run / "results/diaphragm/spring.h5"
     before = (target.read_bytes(), target.stat().st_mtime_ns)
     bad = small_run / "bad.yaml"
-    bad.write_text((small_run / "config/small.yaml").read_text().replace("radius_ratio:", "radius_ration:"))
+    bad.write_text(
+        (small_run / "config/small.yaml").read_text().replace("radius_ratio:", "radius_ration:")
+    )
     proc = _snakemake(small_run, "--configfile", "bad.yaml", "--forceall", check=False)
     assert proc.returncode != 0
     assert "diaphragm_spring.parameters.radius_ration" in proc.stdout + proc.stderr
@@ -92,7 +138,9 @@ def test_bad_config_fails_before_any_job(small_run):
 
 
 def _tree(root):
-    return {p: (p.read_bytes(), p.stat().st_mtime_ns) for p in sorted(root.rglob("*")) if p.is_file()}
+    return {
+        p: (p.read_bytes(), p.stat().st_mtime_ns) for p in sorted(root.rglob("*")) if p.is_file()
+    }
 
 
 def test_malformed_configs_are_refused_before_any_job(small_run):
@@ -112,11 +160,17 @@ def test_malformed_configs_are_refused_before_any_job(small_run):
         outcomes = list(pool.map(run, files))
     wrong = []
     for path, proc in outcomes:
-        out = "\n".join(line for line in (proc.stdout + proc.stderr).strip().splitlines()
-                        if not line.startswith("Using workflow specific profile"))
+        out = "\n".join(
+            line
+            for line in (proc.stdout + proc.stderr).strip().splitlines()
+            if not line.startswith("Using workflow specific profile")
+        )
         key = path.read_text(errors="replace").split("\n", 1)[0].removeprefix("# expect:").strip()
-        ok = (len(out.splitlines()) == 1 and out.startswith("clutchlab: config ")
-              and (f"'{key}'" in out or f"{key}'" in out))
+        ok = (
+            len(out.splitlines()) == 1
+            and out.startswith("clutchlab: config ")
+            and (f"'{key}'" in out or f"{key}'" in out)
+        )
         if proc.returncode == 0 or "Execute" in out or not ok:
             wrong.append((path.name, out))
     assert not wrong, wrong
@@ -127,25 +181,42 @@ def test_a_template_config_is_never_evaluated(small_run):
     """A config file starting with `__use_yte__: true` used to run its Python expressions inside
     Snakemake's loader, even in a dry run; the default profile refuses it before that."""
     bad = small_run / "template.yaml"
-    bad.write_text('__use_yte__: true\nstudies: ?open("evaluated", "w").write("x") and ["sprag"]\n'
-                   "sprag: {design: factorial}\n")
+    bad.write_text(
+        '__use_yte__: true\nstudies: ?open("evaluated", "w").write("x") and ["sprag"]\n'
+        "sprag: {design: factorial}\n"
+    )
     proc = _snakemake(small_run, "--configfile", str(bad), "--dry-run", check=False)
-    assert proc.returncode != 0 and "clutchlab: config key '__use_yte__'" in proc.stderr + proc.stdout
+    assert (
+        proc.returncode != 0 and "clutchlab: config key '__use_yte__'" in proc.stderr + proc.stdout
+    )
     assert not (small_run / "evaluated").exists()
 
 
 def test_same_config_twice_gives_identical_files(small_run, tmp_path):
     wd = _workdir(tmp_path)
     _snakemake(wd, "--configfile", "config/small.yaml")
-    for f in ("results/diaphragm/spring.h5", "results/validation/diaphragm_spring.h5",
-              "results/report/validation.csv", "results/report/diaphragm_spring_reserve_map.png"):
+    for f in (
+        "results/diaphragm/spring.h5",
+        "results/validation/diaphragm_spring.h5",
+        "results/report/validation.csv",
+        "results/report/diaphragm_spring_reserve_map.png",
+    ):
         assert (wd / f).read_bytes() == (small_run / f).read_bytes(), f
 
 
 def test_interrupt_and_resume(tmp_path):
     wd = _workdir(tmp_path)
-    cmd = [sys.executable, "-m", "snakemake", "--cores", "1", "--configfile", "config/small.yaml",
-           "--config", "chunks=8"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "snakemake",
+        "--cores",
+        "1",
+        "--configfile",
+        "config/small.yaml",
+        "--config",
+        "chunks=8",
+    ]
     proc = subprocess.Popen(cmd, cwd=wd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     work = wd / "results/work/diaphragm_spring"
     deadline = time.time() + 120
@@ -153,7 +224,9 @@ def test_interrupt_and_resume(tmp_path):
         time.sleep(0.05)
     proc.send_signal(signal.SIGINT)  # Ctrl-C mid-run
     proc.wait(timeout=120)
-    assert not (wd / "results/report/report.pdf").exists(), "run finished before it could be interrupted"
+    assert not (wd / "results/report/report.pdf").exists(), (
+        "run finished before it could be interrupted"
+    )
     for f in wd.rglob("*.h5"):  # whatever exists is complete and readable
         xr.open_dataset(f, engine="h5netcdf").close()
     _snakemake(wd, "--configfile", "config/small.yaml", "--config", "chunks=8")
@@ -165,10 +238,20 @@ def test_killed_run_unlock_and_resume(tmp_path):
     """The README's recovery after a hard kill: the lock left behind, `snakemake --unlock`, rerun;
     no temporary file of the killed jobs survives the rerun."""
     wd = _workdir(tmp_path)
-    cmd = [sys.executable, "-m", "snakemake", "--cores", "2", "--configfile", "config/small.yaml",
-           "--config", "chunks=8"]
-    proc = subprocess.Popen(cmd, cwd=wd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                            start_new_session=True)
+    cmd = [
+        sys.executable,
+        "-m",
+        "snakemake",
+        "--cores",
+        "2",
+        "--configfile",
+        "config/small.yaml",
+        "--config",
+        "chunks=8",
+    ]
+    proc = subprocess.Popen(
+        cmd, cwd=wd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True
+    )
     work = wd / "results/work/centrifugal"
     deadline = time.time() + 120
     while time.time() < deadline and not list(work.glob("chunk_*.h5")):
@@ -176,7 +259,9 @@ def test_killed_run_unlock_and_resume(tmp_path):
     os.killpg(proc.pid, signal.SIGKILL)  # kill -9 of Snakemake and its jobs
     proc.wait(timeout=60)
     assert not (wd / "results/report/report.pdf").exists(), "run finished before it could be killed"
-    locked = _snakemake(wd, "--configfile", "config/small.yaml", "--config", "chunks=8", check=False)
+    locked = _snakemake(
+        wd, "--configfile", "config/small.yaml", "--config", "chunks=8", check=False
+    )
     assert locked.returncode != 0 and "cannot be locked" in locked.stdout + locked.stderr
     _snakemake(wd, "--unlock", "--configfile", "config/small.yaml")
     _snakemake(wd, "--configfile", "config/small.yaml", "--config", "chunks=8")
@@ -228,16 +313,23 @@ def test_every_config_runs_with_any_chunk_count(name, tmp_path, monkeypatch):
 
     wd = _workdir(tmp_path)
     cfg = _tiny_variant(ROOT / "config" / name)
-    own = int(yaml.safe_load((ROOT / "config" / name).read_text()).get("chunks", config.DEFAULT_CHUNKS))
+    own = int(
+        yaml.safe_load((ROOT / "config" / name).read_text()).get("chunks", config.DEFAULT_CHUNKS)
+    )
     (wd / "tiny.yaml").write_text(yaml.safe_dump(cfg))
     if refine_sources(cfg):  # a second stage: the first stage (the default config, tiny) runs first
-        (wd / "first.yaml").write_text(yaml.safe_dump(_tiny_variant(ROOT / "config" / "config.yaml")))
+        (wd / "first.yaml").write_text(
+            yaml.safe_dump(_tiny_variant(ROOT / "config" / "config.yaml"))
+        )
         _snakemake(wd, "--configfile", "first.yaml")
         assert all((wd / s).exists() for s in refine_sources(cfg))
     monkeypatch.chdir(wd)  # relative paths of the config (refine.from) as Snakemake reads them
     resolved = config.resolve(cfg)
     sizes = {s: pipeline.n_scenarios(doe.build_design(resolved[s])) for s in resolved["studies"]}
-    for chunks in (1, max(own, max(sizes.values()) + 1)):  # (own counts also run in small_run and CI)
+    for chunks in (
+        1,
+        max(own, max(sizes.values()) + 1),
+    ):  # (own counts also run in small_run and CI)
         _snakemake(wd, "--configfile", "tiny.yaml", "--config", f"chunks={chunks}", "--forceall")
         out = wd / resolved["results"]
         assert (out / "report/report.pdf").stat().st_size > 0
@@ -260,7 +352,9 @@ def test_editing_the_physics_reruns_the_studies(small_run, tmp_path):
     same = _snakemake(small_run, "--configfile", "config/small.yaml", "--dry-run")
     assert "Nothing to be done" in same.stdout + same.stderr
     src = tmp_path / "src"
-    shutil.copytree(ROOT / "src" / "clutchlab", src / "clutchlab", ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copytree(
+        ROOT / "src" / "clutchlab", src / "clutchlab", ignore=shutil.ignore_patterns("__pycache__")
+    )
     mod = src / "clutchlab" / "diaphragm.py"
     mod.write_text(mod.read_text() + "\n_EDITED_CONSTANT = 1.0  # an edit to the physics\n")
     assert clutchlab.source_hash(src / "clutchlab") != clutchlab.source_hash()
@@ -282,7 +376,9 @@ def test_a_changed_chunk_is_found_by_the_merge_and_recomputed(small_run):
         f["gripping_angle"][0] = 0.0
     proc = _snakemake(small_run, "--configfile", "config/small.yaml", check=False)
     assert proc.returncode != 0
-    assert "results/work/sprag/chunk_0001.h5 does not match its checksum" in proc.stdout + proc.stderr
+    assert (
+        "results/work/sprag/chunk_0001.h5 does not match its checksum" in proc.stdout + proc.stderr
+    )
     assert not chunk.exists()
     _snakemake(small_run, "--configfile", "config/small.yaml")
     xr.testing.assert_identical(xr.load_dataset(result, engine="h5netcdf"), before)
@@ -300,8 +396,13 @@ def test_every_report_page_keeps_its_text_on_the_page(small_run, tmp_path, monke
     names = ["diaphragm_spring", "centrifugal", "sprag", "roller"]
     figures = []
     monkeypatch.setattr(report.plt, "close", figures.append)
-    report.build({n: res / studies.get(n).output for n in names}, sorted(glob.glob(str(res / "validation/*.h5"))),
-                 tmp_path, hard_cases_file=res / "numerics/hard_cases.h5", numerics_dir=res / "numerics")
+    report.build(
+        {n: res / studies.get(n).output for n in names},
+        sorted(glob.glob(str(res / "validation/*.h5"))),
+        tmp_path,
+        hard_cases_file=res / "numerics/hard_cases.h5",
+        numerics_dir=res / "numerics",
+    )
     assert len(figures) >= 20
     for fig in figures:
         assert not texts_outside(fig), texts_outside(fig)
@@ -309,7 +410,9 @@ def test_every_report_page_keeps_its_text_on_the_page(small_run, tmp_path, monke
     assert summary.count("best compromise: ") == len(names) and "roller_answers" in summary
     from clutchlab.report.common import title_page
 
-    page = title_page("t", "v", {"sprag": store.load(res / "sprag/sprag.h5")}, [], None, {"sprag": (3, 12.5)})
+    page = title_page(
+        "t", "v", {"sprag": store.load(res / "sprag/sprag.h5")}, [], None, {"sprag": (3, 12.5)}
+    )
     assert "computed by 3 jobs in 12.5 s of job time" in " ".join(t.get_text() for t in page.texts)
 
 
@@ -319,22 +422,33 @@ def test_snakemakes_own_report_holds_every_page_with_its_caption(small_run):
     import clutchlab
     from clutchlab.report import captions
 
-    _snakemake(small_run, "--configfile", "config/small.yaml", "--report", "results/report.html")  # as the README
+    _snakemake(
+        small_run, "--configfile", "config/small.yaml", "--report", "results/report.html"
+    )  # as the README
     html = (small_run / "results/report.html").read_text()
     names = ["diaphragm_spring", "centrifugal", "sprag", "roller"]
     files = sorted(p.name for p in (small_run / "results/report").iterdir())
     assert len(files) >= 25
     for name in files:
         assert name in html, name
-        words = [w for w in captions.caption(name, names).split() if w.isascii() and w.isalpha() and len(w) > 4]
-        assert all(w in html for w in words[:6]), (name, words[:6])  # its caption (non-ASCII is escaped)
+        words = [
+            w
+            for w in captions.caption(name, names).split()
+            if w.isascii() and w.isalpha() and len(w) > 4
+        ]
+        assert all(w in html for w in words[:6]), (
+            name,
+            words[:6],
+        )  # its caption (non-ASCII is escaped)
     assert clutchlab.__version__ in html and clutchlab.source_hash() in html
     assert "Studies run: diaphragm_spring, centrifugal, sprag, roller" in html
     import zipfile
 
     _snakemake(small_run, "--configfile", "config/small.yaml", "--report", "results/report.zip")
     with zipfile.ZipFile(small_run / "results/report.zip") as z:
-        assert any(n.endswith("report.html") for n in z.namelist()) and len(z.namelist()) > len(files)
+        assert any(n.endswith("report.html") for n in z.namelist()) and len(z.namelist()) > len(
+            files
+        )
 
 
 def test_every_report_file_has_a_caption():
@@ -344,7 +458,13 @@ def test_every_report_file_has_a_caption():
     stems = figure_stems(names, True, names, names, True, True)
     for stem in stems:
         assert captions.caption(f"{stem}.png", names)
-    for f in ("report.pdf", "validation.csv", "hard_cases.csv", "roller_pareto.csv", "sprag_refinement.csv"):
+    for f in (
+        "report.pdf",
+        "validation.csv",
+        "hard_cases.csv",
+        "roller_pareto.csv",
+        "sprag_refinement.csv",
+    ):
         assert captions.caption(f, names)
     with pytest.raises(KeyError):
         captions.caption("nothing.png", names)

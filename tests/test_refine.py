@@ -1,5 +1,6 @@
 """Issue 15 item 4: refinement towards the Pareto front (design kind 'refine') and the hypervolume
 that shows how far a front moved."""
+
 import itertools
 from pathlib import Path
 
@@ -45,10 +46,15 @@ def test_hypervolume_of_known_fronts():
 def _first_stage(folder: Path, section: dict | None = None) -> Path:
     """A stored engagement result (a small factorial grid over a design factor and a load) at the
     path config/refine.yaml refines: <folder>/results/diaphragm/engagement.h5."""
-    section = section or {"design": "factorial", "options": {"driveline": "rigid"},
-                          "parameters": {"ramp_time": {"values": ["0.05 s", "0.15 s", "0.3 s"]},
-                                         "sheet_thickness": {"values": ["2.1 mm", "2.6 mm"]},
-                                         "load_torque": {"values": ["44 N*m", "80 N*m"]}}}
+    section = section or {
+        "design": "factorial",
+        "options": {"driveline": "rigid"},
+        "parameters": {
+            "ramp_time": {"values": ["0.05 s", "0.15 s", "0.3 s"]},
+            "sheet_thickness": {"values": ["2.1 mm", "2.6 mm"]},
+            "load_torque": {"values": ["44 N*m", "80 N*m"]},
+        },
+    }
     sec = config.resolve({"studies": ["engagement"], "engagement": section})["engagement"]
     path = folder / "results" / studies.get("engagement").output
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -58,7 +64,11 @@ def _first_stage(folder: Path, section: dict | None = None) -> Path:
 
 def _refine(path, results="refined", **extra):
     section = {"design": "refine", "refine": {"from": str(path)}, "samples": 12, "seed": 3, **extra}
-    return {"studies": ["engagement"], "results": str(Path(path).parents[2] / results), "engagement": section}
+    return {
+        "studies": ["engagement"],
+        "results": str(Path(path).parents[2] / results),
+        "engagement": section,
+    }
 
 
 def test_refine_takes_everything_but_the_samples_from_the_stored_result(tmp_path):
@@ -70,16 +80,37 @@ def test_refine_takes_everything_but_the_samples_from_the_stored_result(tmp_path
     assert sec["design"] == "refine" and sec["samples"] == 12 and sec["refine"]["shrink"] == 0.5
 
 
-@pytest.mark.parametrize("change, key", [
-    (lambda cfg, p: cfg["engagement"]["refine"].update({"from": str(p.parent / "none.h5")}), "engagement.refine.from"),
-    (lambda cfg, p: cfg.update({"results": str(p.parents[1])}), "engagement.refine.from"),  # its own output
-    (lambda cfg, p: cfg["engagement"].update({"parameters": {"ramp_time": "0.1 s"}}), "engagement.parameters"),
-    (lambda cfg, p: cfg["engagement"].update({"objectives": ["slip_work:min"]}), "engagement.objectives"),
-    (lambda cfg, p: cfg["engagement"].pop("samples"), "engagement.samples"),
-    (lambda cfg, p: cfg["engagement"]["refine"].update({"shrink": 0}), "engagement.refine.shrink"),
-    (lambda cfg, p: cfg["engagement"]["refine"].update({"shrink": 1.5}), "engagement.refine.shrink"),
-    (lambda cfg, p: cfg.update({"results": "my results"}), "results"),
-])
+@pytest.mark.parametrize(
+    "change, key",
+    [
+        (
+            lambda cfg, p: cfg["engagement"]["refine"].update({"from": str(p.parent / "none.h5")}),
+            "engagement.refine.from",
+        ),
+        (
+            lambda cfg, p: cfg.update({"results": str(p.parents[1])}),
+            "engagement.refine.from",
+        ),  # its own output
+        (
+            lambda cfg, p: cfg["engagement"].update({"parameters": {"ramp_time": "0.1 s"}}),
+            "engagement.parameters",
+        ),
+        (
+            lambda cfg, p: cfg["engagement"].update({"objectives": ["slip_work:min"]}),
+            "engagement.objectives",
+        ),
+        (lambda cfg, p: cfg["engagement"].pop("samples"), "engagement.samples"),
+        (
+            lambda cfg, p: cfg["engagement"]["refine"].update({"shrink": 0}),
+            "engagement.refine.shrink",
+        ),
+        (
+            lambda cfg, p: cfg["engagement"]["refine"].update({"shrink": 1.5}),
+            "engagement.refine.shrink",
+        ),
+        (lambda cfg, p: cfg.update({"results": "my results"}), "results"),
+    ],
+)
 def test_refine_config_refusals(tmp_path, change, key):
     path = _first_stage(tmp_path)
     cfg = _refine(path)
@@ -90,15 +121,26 @@ def test_refine_config_refusals(tmp_path, change, key):
 
 
 def test_refine_refuses_another_studys_result_and_a_factorial_refine_key(tmp_path):
-    sec = config.resolve({"studies": ["centrifugal"], "centrifugal": {"design": "factorial", "parameters": {
-        "pressure_angle": {"values": ["30 deg", "40 deg"]}}}})["centrifugal"]
+    sec = config.resolve(
+        {
+            "studies": ["centrifugal"],
+            "centrifugal": {
+                "design": "factorial",
+                "parameters": {"pressure_angle": {"values": ["30 deg", "40 deg"]}},
+            },
+        }
+    )["centrifugal"]
     other = tmp_path / "centrifugal.h5"
     store.write(pipeline.run_study(sec), other)
     with pytest.raises(ConfigError, match="result of study 'centrifugal'"):
         config.resolve(_refine(other))
     with pytest.raises(ConfigError) as exc:
-        config.resolve({"studies": ["engagement"], "engagement": {"design": "factorial",
-                                                                   "refine": {"from": str(other)}}})
+        config.resolve(
+            {
+                "studies": ["engagement"],
+                "engagement": {"design": "factorial", "refine": {"from": str(other)}},
+            }
+        )
     assert str(exc.value).startswith("config key 'engagement.refine'")
 
 
@@ -111,25 +153,35 @@ def test_refined_samples_stay_in_the_boxes_of_the_front(tmp_path):
     sec = config.resolve(_refine(path, samples=40))["engagement"]
     ds = doe.build_design(sec)
     assert ds.attrs["refine_within"] == "load_torque"
-    assert ds["ramp_time"].attrs["refine_halfwidth"] == pytest.approx(0.5 * 0.5)  # 3 levels: step 1/2
+    assert ds["ramp_time"].attrs["refine_halfwidth"] == pytest.approx(
+        0.5 * 0.5
+    )  # 3 levels: step 1/2
     assert ds["sheet_thickness"].attrs["refine_halfwidth"] == pytest.approx(0.5 * 1.0)  # 2 levels
     assert ds["load_torque"].attrs["refine_halfwidth"] == 0.0
     assert set(np.unique(ds["load_torque"].values)) <= {44.0, 80.0}
     import pandas as pd
 
     on = explore.flat(first, "pareto_rank") == 0
-    front = pd.DataFrame({k: explore.flat(first, k)[on] for k in ("ramp_time", "sheet_thickness", "load_torque")})
+    front = pd.DataFrame(
+        {k: explore.flat(first, k)[on] for k in ("ramp_time", "sheet_thickness", "load_torque")}
+    )
     span = {"ramp_time": 0.25, "sheet_thickness": 0.5e-3}
     for i in range(ds.sizes["run"]):
         x = {k: float(ds[k].values[i]) for k in ("ramp_time", "sheet_thickness", "load_torque")}
         assert 0.05 <= x["ramp_time"] <= 0.3 and 2.1e-3 <= x["sheet_thickness"] <= 2.6e-3
-        near = front[(front.load_torque == x["load_torque"])
-                     & ((front.ramp_time - x["ramp_time"]).abs() <= 0.5 * span["ramp_time"] + 1e-12)
-                     & ((front.sheet_thickness - x["sheet_thickness"]).abs()
-                        <= 1.0 * span["sheet_thickness"] + 1e-12)]
+        near = front[
+            (front.load_torque == x["load_torque"])
+            & ((front.ramp_time - x["ramp_time"]).abs() <= 0.5 * span["ramp_time"] + 1e-12)
+            & (
+                (front.sheet_thickness - x["sheet_thickness"]).abs()
+                <= 1.0 * span["sheet_thickness"] + 1e-12
+            )
+        ]
         assert len(near), x
     again = doe.build_design(sec)
-    assert all(np.array_equal(again[k].values, ds[k].values) for k in ("ramp_time", "sheet_thickness"))
+    assert all(
+        np.array_equal(again[k].values, ds[k].values) for k in ("ramp_time", "sheet_thickness")
+    )
 
 
 def test_refinement_moves_the_engagement_front_with_fewer_scenarios(tmp_path):
@@ -140,8 +192,9 @@ def test_refinement_moves_the_engagement_front_with_fewer_scenarios(tmp_path):
     path = _first_stage(tmp_path, raw)
     refine = yaml.safe_load((ROOT / "config" / "refine.yaml").read_text())["engagement"]
     refine["refine"]["from"] = str(path)
-    sec = config.resolve({"studies": ["engagement"], "results": str(tmp_path / "refined"),
-                          "engagement": refine})["engagement"]
+    sec = config.resolve(
+        {"studies": ["engagement"], "results": str(tmp_path / "refined"), "engagement": refine}
+    )["engagement"]
     first, second = store.load(path), pipeline.run_study(sec)
     assert second.sizes["run"] < first["status"].size
     gain = explore.refinement_gain(first, second)
@@ -154,4 +207,6 @@ def test_refinement_moves_the_engagement_front_with_fewer_scenarios(tmp_path):
     store.write(second, second_path)
     third = config.resolve(_refine(second_path, results="third"))["engagement"]
     ds = doe.build_design(third)
-    assert ds["ramp_time"].attrs["refine_halfwidth"] == pytest.approx(0.5 * second["ramp_time"].attrs["refine_halfwidth"])
+    assert ds["ramp_time"].attrs["refine_halfwidth"] == pytest.approx(
+        0.5 * second["ramp_time"].attrs["refine_halfwidth"]
+    )

@@ -1,4 +1,5 @@
 """Report built from stored Datasets; validation rows of seed 000."""
+
 import csv
 from pathlib import Path
 
@@ -21,9 +22,18 @@ def test_seed000_validation_rows_all_pass():
 
 @pytest.mark.parametrize("design", ["factorial", "lhs"])
 def test_report_pages(tmp_path, design):
-    params = ({"sheet_thickness": {"values": ["2 mm", "2.4 mm"]}, "cone_height_ratio": {"values": [1.3, 1.7]},
-               "radius_ratio": {"values": [1.25, 1.3]}} if design == "factorial" else
-              {"sheet_thickness": {"min": "2 mm", "max": "2.6 mm"}, "cone_height_ratio": {"min": 1.2, "max": 2.0}})
+    params = (
+        {
+            "sheet_thickness": {"values": ["2 mm", "2.4 mm"]},
+            "cone_height_ratio": {"values": [1.3, 1.7]},
+            "radius_ratio": {"values": [1.25, 1.3]},
+        }
+        if design == "factorial"
+        else {
+            "sheet_thickness": {"min": "2 mm", "max": "2.6 mm"},
+            "cone_height_ratio": {"min": 1.2, "max": 2.0},
+        }
+    )
     sec = {"design": design, "parameters": params}
     if design == "lhs":
         sec["samples"] = 50
@@ -34,7 +44,10 @@ def test_report_pages(tmp_path, design):
     stems = sorted(p.stem for p in written if p.suffix == ".png")
     assert stems == sorted(report.figure_stems(["diaphragm_spring"]))
     pdf = (tmp_path / "report" / "report.pdf").read_bytes()
-    assert pdf.startswith(b"%PDF") and pdf.count(b"/Type /Page\n") + pdf.count(b"/Type /Page ") >= len(stems) - 1
+    assert (
+        pdf.startswith(b"%PDF")
+        and pdf.count(b"/Type /Page\n") + pdf.count(b"/Type /Page ") >= len(stems) - 1
+    )
     rows = list(csv.DictReader(open(tmp_path / "report" / "validation.csv")))
     assert len(rows) == 14 and all(r["passed"] == "yes" for r in rows)
 
@@ -45,7 +58,9 @@ def _variants():
     import yaml
     from pathlib import Path
 
-    full = yaml.safe_load((Path(__file__).resolve().parents[1] / "config" / "config.yaml").read_text())
+    full = yaml.safe_load(
+        (Path(__file__).resolve().parents[1] / "config" / "config.yaml").read_text()
+    )
     for name in full["studies"]:
         sec = full[name]
         params = sec.get("parameters") or {}
@@ -55,12 +70,19 @@ def _variants():
             new = {k: v for k, v in params.items() if not isinstance(v, dict)}
             for k in keep:
                 v = params[k]
-                new[k] = ({"values": v["values"][:3]} if "values" in v
-                          else {**v, "num": 3} if sec["design"] == "factorial" else v)
+                new[k] = (
+                    {"values": v["values"][:3]}
+                    if "values" in v
+                    else {**v, "num": 3}
+                    if sec["design"] == "factorial"
+                    else v
+                )
             body = {k: v for k, v in sec.items() if k not in ("parameters", "chunks")}
             if sec["design"] != "factorial":
                 body["samples"] = 4
-            yield pytest.param(name, {**body, "parameters": new}, id=f"{name}-{'-'.join(keep) or 'none'}")
+            yield pytest.param(
+                name, {**body, "parameters": new}, id=f"{name}-{'-'.join(keep) or 'none'}"
+            )
 
 
 @pytest.mark.parametrize("name, section", list(_variants()))
@@ -84,12 +106,24 @@ def test_front_table_lists_front_designs_spread_along_it():
 
     from clutchlab.report import answers
 
-    sec = resolve({"studies": ["centrifugal"], "centrifugal": {"design": "factorial", "parameters": {
-        "pressure_angle": {"min": "20 deg", "max": "60 deg", "num": 25},
-        "friction_coefficient": {"min": 0.25, "max": 0.6, "num": 25}}}})["centrifugal"]
+    sec = resolve(
+        {
+            "studies": ["centrifugal"],
+            "centrifugal": {
+                "design": "factorial",
+                "parameters": {
+                    "pressure_angle": {"min": "20 deg", "max": "60 deg", "num": 25},
+                    "friction_coefficient": {"min": 0.25, "max": 0.6, "num": 25},
+                },
+            },
+        }
+    )["centrifugal"]
     ds = pipeline.run_study(sec)
     header, rows = answers.front_rows(ds)
-    assert header[:2] == ["friction_coefficient [1]", "pressure_angle [rad]"] and len(rows) <= answers.MAX_ROWS
+    assert (
+        header[:2] == ["friction_coefficient [1]", "pressure_angle [rad]"]
+        and len(rows) <= answers.MAX_ROWS
+    )
     front = ds.where(ds["pareto_rank"] == 0)
     obj = [o.split(":")[0] for o in sec["objectives"]]
     first = np.sort(front[obj[0]].values[np.isfinite(front[obj[0]].values)])
@@ -100,20 +134,40 @@ def test_front_table_lists_front_designs_spread_along_it():
         assert int(pick["pareto_rank"]) == 0 and float(pick[obj[1]]) == r[3]
 
 
-@pytest.mark.parametrize("objectives, panels", [
-    (["reserve_factor:max", "release_time:min"], 1),
-    (["reserve_factor:max", "release_time:min", "engagement_speed:min"], 3),
-    (["reserve_factor:max", "release_time:min", "engagement_speed:min", "release_margin:max"], 6),
-])
+@pytest.mark.parametrize(
+    "objectives, panels",
+    [
+        (["reserve_factor:max", "release_time:min"], 1),
+        (["reserve_factor:max", "release_time:min", "engagement_speed:min"], 3),
+        (
+            [
+                "reserve_factor:max",
+                "release_time:min",
+                "engagement_speed:min",
+                "release_margin:max",
+            ],
+            6,
+        ),
+    ],
+)
 def test_answers_page_projects_three_or_more_objectives(objectives, panels):
     """Issue 15 item 5: for 3+ objectives the answers page draws every pair of objectives (front
     designs marked), each axis labelled with its objective and sense, and its table lists them all."""
     from clutchlab.report import answers
 
-    sec = resolve({"studies": ["centrifugal"], "centrifugal": {
-        "design": "factorial", "objectives": objectives, "parameters": {
-            "pressure_angle": {"min": "20 deg", "max": "60 deg", "num": 6},
-            "friction_coefficient": {"min": 0.25, "max": 0.6, "num": 5}}}})["centrifugal"]
+    sec = resolve(
+        {
+            "studies": ["centrifugal"],
+            "centrifugal": {
+                "design": "factorial",
+                "objectives": objectives,
+                "parameters": {
+                    "pressure_angle": {"min": "20 deg", "max": "60 deg", "num": 6},
+                    "friction_coefficient": {"min": 0.25, "max": 0.6, "num": 5},
+                },
+            },
+        }
+    )["centrifugal"]
     fig = answers.page("centrifugal", pipeline.run_study(sec))
     fig.canvas.draw()
     labelled = [ax for ax in fig.axes if ax.get_xlabel().endswith(("(min)", "(max)"))]
@@ -144,7 +198,9 @@ def _sampled_section(name):
     return {**raw, "design": "sobol", "samples": 128, "seed": 1, "parameters": params}
 
 
-@pytest.mark.parametrize("name", ["diaphragm_spring", "engagement", "centrifugal", "sprag", "roller"])
+@pytest.mark.parametrize(
+    "name", ["diaphragm_spring", "engagement", "centrifugal", "sprag", "roller"]
+)
 def test_every_page_draws_a_sampled_design(name):
     """Issue 16 item 4: every figure of every study works for a sampled design (the 2^20 run's sprag
     pass map and the roller pages printed 'needs a factorial design' instead)."""
@@ -155,7 +211,9 @@ def test_every_page_draws_a_sampled_design(name):
     ds = pipeline.run_study(resolve({"studies": [name], name: _sampled_section(name)})[name])
     for stem, fig in report.study_pages(name, ds) + [("answers", answers.page(name, ds))]:
         fig.canvas.draw()
-        texts = [t.get_text() for t in fig.texts] + [t.get_text() for ax in fig.axes for t in ax.texts]
+        texts = [t.get_text() for t in fig.texts] + [
+            t.get_text() for ax in fig.axes for t in ax.texts
+        ]
         assert not [t for t in texts if "needs a" in t or "not a dimension" in t], (stem, texts)
         assert any(ax.collections or ax.lines or ax.images for ax in fig.axes), stem
         plt.close(fig)
@@ -193,14 +251,23 @@ def test_studies_never_import_the_report():
 
     import clutchlab.studies
 
-    for path in Path(clutchlab.studies.__file__).parent.glob("*.py"):  # also imports inside functions
+    for path in Path(clutchlab.studies.__file__).parent.glob(
+        "*.py"
+    ):  # also imports inside functions
         for node in ast.walk(ast.parse(path.read_text())):
             if isinstance(node, (ast.Import, ast.ImportFrom)):
                 names = [getattr(node, "module", None) or ""] + [a.name for a in node.names]
-                assert not any("report" in n or "matplotlib" in n for n in names), (path.name, names)
-    code = ("import sys; from clutchlab import studies; studies._load_all(); "
-            "print(sorted(studies.REGISTRY), 'clutchlab.report' in sys.modules, 'matplotlib' in sys.modules)")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+                assert not any("report" in n or "matplotlib" in n for n in names), (
+                    path.name,
+                    names,
+                )
+    code = (
+        "import sys; from clutchlab import studies; studies._load_all(); "
+        "print(sorted(studies.REGISTRY), 'clutchlab.report' in sys.modules, 'matplotlib' in sys.modules)"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    ).stdout.split()
     assert out[-2:] == ["False", "False"], out
     from clutchlab import studies
 

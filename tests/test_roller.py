@@ -1,6 +1,7 @@
 """Roller-type controllable overrunning clutch (seed 003): statics (eqs. 1-4), self-locking, the
 contact law against the analytic Hertz impact, the wedging dynamics against a tight scipy Radau
 reference, working modes, the study."""
+
 import numpy as np
 import pytest
 
@@ -11,53 +12,86 @@ from clutchlab import status as st
 from clutchlab.studies import roller as study
 
 K = contact.hertz_stiffness(roller_diameter=0.010)
-SEED = dict(driving_speed=2000 * rl.RPM, load_torque=1848.0, wedge_inertia=1e-5, driven_inertia=1e-2,
-            contact_radius=0.15, rollers_loaded=6.0, wedge_angle=np.deg2rad(11.0), friction_coefficient=0.12,
-            spring_force=3.7, stiffness=K, damping=2.1e6, penetration_depth=1e-4, end_time=3e-3)
+SEED = dict(
+    driving_speed=2000 * rl.RPM,
+    load_torque=1848.0,
+    wedge_inertia=1e-5,
+    driven_inertia=1e-2,
+    contact_radius=0.15,
+    rollers_loaded=6.0,
+    wedge_angle=np.deg2rad(11.0),
+    friction_coefficient=0.12,
+    spring_force=3.7,
+    stiffness=K,
+    damping=2.1e6,
+    penetration_depth=1e-4,
+    end_time=3e-3,
+)
 
 
 # ------------------------------------------------------------------ statics, seed 003 section 2
+
 
 def test_seed003_statics():
     """Seed 003 section 2.2 / Table 1 (tolerance 0.1 %): T_c 1848 N m, N_A 8555.6 N (z = 12 as
     printed), sigma_H 2865.5 MPa with one flank loaded (z/2), contact stiffness 3.375e5 N/mm^1.5."""
     tc = rl.computed_torque(800.0)
     assert tc == pytest.approx(1848.0, rel=1e-3)
-    assert rl.normal_force(tc, contact_radius=0.15, friction_coefficient=0.12, rollers=12) == pytest.approx(8555.6, rel=1e-3)
-    n6 = rl.normal_force(tc, contact_radius=0.15, friction_coefficient=0.12, rollers=rl.loaded_rollers(12))
+    assert rl.normal_force(
+        tc, contact_radius=0.15, friction_coefficient=0.12, rollers=12
+    ) == pytest.approx(8555.6, rel=1e-3)
+    n6 = rl.normal_force(
+        tc, contact_radius=0.15, friction_coefficient=0.12, rollers=rl.loaded_rollers(12)
+    )
     sigma = rl.contact_stress(n6, roller_length=0.015, radius=rl.equivalent_radius(0.010))
     assert sigma / 1e6 == pytest.approx(2865.5, rel=1e-3)
     every = rl.contact_stress(0.5 * n6, roller_length=0.015, radius=rl.equivalent_radius(0.010))
-    assert sigma / every == pytest.approx(np.sqrt(2), rel=1e-9)  # the factor 2 under the root (PHYSICS.md)
-    assert K * 1e-3 ** 1.5 == pytest.approx(3.375e5, rel=1e-3)
+    assert sigma / every == pytest.approx(
+        np.sqrt(2), rel=1e-9
+    )  # the factor 2 under the root (PHYSICS.md)
+    assert K * 1e-3**1.5 == pytest.approx(3.375e5, rel=1e-3)
     assert rl.equivalent_radius(0.010, 0.050) == pytest.approx(0.5 * 0.05 * 0.01 / 0.04)
 
 
 def test_seed003_spring_and_self_locking():
     """F_T = 3.7 N <=> m = 4.6 g by eq. 4 as printed (800 m); a solid 10 x 15 mm roller is 9.25 g;
     self-locking margin 1.25 at 11 deg (published, rounded), limit 13.69 deg for mu 0.12."""
-    per_kg = rl.spring_preload(roller_mass=1.0, contact_radius=0.15, friction_coefficient=0.12,
-                               speed=2000 * rl.RPM, formula="eq4")
+    per_kg = rl.spring_preload(
+        roller_mass=1.0,
+        contact_radius=0.15,
+        friction_coefficient=0.12,
+        speed=2000 * rl.RPM,
+        formula="eq4",
+    )
     assert per_kg == pytest.approx(800.0, rel=1e-12)
     assert 3.7 / per_kg == pytest.approx(4.625e-3, rel=1e-9)
-    exact = rl.spring_preload(roller_mass=1.0, contact_radius=0.15, friction_coefficient=0.12, speed=2000 * rl.RPM)
-    assert exact / per_kg == pytest.approx(np.pi ** 2 / 10, rel=1e-12)
-    assert rl.roller_mass(roller_diameter=0.01, roller_length=0.015) == pytest.approx(9.25e-3, rel=2e-3)
-    assert rl.self_locking_margin(wedge_angle=np.deg2rad(11), friction_coefficient=0.12) == pytest.approx(1.25, rel=5e-3)
+    exact = rl.spring_preload(
+        roller_mass=1.0, contact_radius=0.15, friction_coefficient=0.12, speed=2000 * rl.RPM
+    )
+    assert exact / per_kg == pytest.approx(np.pi**2 / 10, rel=1e-12)
+    assert rl.roller_mass(roller_diameter=0.01, roller_length=0.015) == pytest.approx(
+        9.25e-3, rel=2e-3
+    )
+    assert rl.self_locking_margin(
+        wedge_angle=np.deg2rad(11), friction_coefficient=0.12
+    ) == pytest.approx(1.25, rel=5e-3)
     assert np.rad2deg(rl.limit_wedge_angle(0.12)) == pytest.approx(13.69, abs=5e-3)
 
 
 # ------------------------------------------------------------------ contact law
+
 
 @pytest.mark.parametrize("mass,speed", [(0.05, 1.5), (2.0, 0.1), (1e-3, 5.0)])
 def test_undamped_hertz_impact(mass, speed):
     """Johnson 11.4: delta_max = (5 m v^2 / (4 k))^(2/5), contact time 2.9432 delta_max / v, restitution
     1 (tolerance 0.1 %; measured ~1e-10)."""
     r = contact.hertz_impact(mass=mass, speed=speed, stiffness=K)
-    d_max = (5 * mass * speed ** 2 / (4 * K)) ** 0.4
+    d_max = (5 * mass * speed**2 / (4 * K)) ** 0.4
     assert contact.HERTZ_CONTACT_TIME_FACTOR == pytest.approx(2.9432, abs=1e-4)
     assert r["max_penetration"] == pytest.approx(d_max, rel=1e-3)
-    assert r["contact_time"] == pytest.approx(contact.HERTZ_CONTACT_TIME_FACTOR * d_max / speed, rel=1e-3)
+    assert r["contact_time"] == pytest.approx(
+        contact.HERTZ_CONTACT_TIME_FACTOR * d_max / speed, rel=1e-3
+    )
     assert r["time_of_max"] == pytest.approx(0.5 * r["contact_time"], rel=1e-6)
     assert r["restitution"] == pytest.approx(1.0, abs=1e-6)
 
@@ -74,6 +108,7 @@ def test_contact_force_never_pulls_and_is_continuous():
 
 
 # ------------------------------------------------------------------ wedging dynamics
+
 
 def test_engagement_against_tight_radau():
     """clutchlab's SDIRK4 at rtol 1e-9 against scipy Radau at rtol 1e-12 (same equations, events per
@@ -127,18 +162,36 @@ def test_modes():
 
 # ------------------------------------------------------------------ study
 
+
 def test_study_statuses_and_modes():
     inputs = {p.name: p.default for p in study.PARAMETERS}
     inputs["wedge_angle"] = np.deg2rad(np.array([11.0, 15.0, 11.0]))
     inputs["drive_direction"] = np.array([1.0, 1.0, -1.0])
     ds = study.compute(inputs, {"mode": "overrun_reverse"})
-    assert list(ds["status"].values) == [st.CODE["ok"], st.CODE["not_self_locking"], st.CODE["overrunning"]]
-    assert np.isfinite(ds["engagement_time"].values[0]) and np.isnan(ds["engagement_time"].values[1:]).all()
+    assert list(ds["status"].values) == [
+        st.CODE["ok"],
+        st.CODE["not_self_locking"],
+        st.CODE["overrunning"],
+    ]
+    assert (
+        np.isfinite(ds["engagement_time"].values[0])
+        and np.isnan(ds["engagement_time"].values[1:]).all()
+    )
     assert np.isfinite(ds["contact_stress"].values).all()  # statics for every scenario
-    assert ds["contact_stress"].values[0] / 1e6 == pytest.approx(2867.0, rel=1e-3)  # exact 0.4182 vs printed 0.418
-    for name in ("contact_stress", "self_locking_margin", "spring_preload", "engagement_time", "backlash_angle",
-                 "status"):
+    assert ds["contact_stress"].values[0] / 1e6 == pytest.approx(
+        2867.0, rel=1e-3
+    )  # exact 0.4182 vs printed 0.418
+    for name in (
+        "contact_stress",
+        "self_locking_margin",
+        "spring_preload",
+        "engagement_time",
+        "backlash_angle",
+        "status",
+    ):
         assert "units" in ds[name].attrs and "long_name" in ds[name].attrs
-    assert "trace_driven_speed" not in ds  # the seed trace is the study's, computed once (study.traces)
+    assert (
+        "trace_driven_speed" not in ds
+    )  # the seed trace is the study's, computed once (study.traces)
     tr = study.STUDY.traces(inputs, study.STUDY.full_options({"mode": "overrun_reverse"}))
     assert tr["trace_driven_speed"].values.max() > 0.98 * 2000 * rl.RPM

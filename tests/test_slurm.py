@@ -5,6 +5,7 @@ executor plugin (``pip install -e ".[slurm]"``). CI brings up a single-node clus
 machine with ``.ci/slurm-up`` and sets ``CLUTCHLAB_REQUIRE_SLURM=1``, so that there a missing
 cluster fails the tests instead of skipping them.
 """
+
 import os
 import re
 import shutil
@@ -46,8 +47,13 @@ def cluster():
 
 
 def _snakemake(cwd, *args, check=True, timeout=900):
-    proc = subprocess.run([sys.executable, "-m", "snakemake", *args], cwd=cwd, capture_output=True, text=True,
-                          timeout=timeout)
+    proc = subprocess.run(
+        [sys.executable, "-m", "snakemake", *args],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+    )
     if check and proc.returncode != 0:
         raise AssertionError(f"snakemake failed:\n{proc.stdout}\n{proc.stderr}")
     return proc
@@ -55,8 +61,12 @@ def _snakemake(cwd, *args, check=True, timeout=900):
 
 def _job_states(slurm_ids) -> dict:
     """SLURM's state of each job id (the CI cluster keeps finished jobs for an hour: MinJobAge)."""
-    out = subprocess.run(["squeue", "--states=all", "--noheader", "--format=%i|%T", "--jobs", ",".join(slurm_ids)],
-                         capture_output=True, text=True, check=True).stdout
+    out = subprocess.run(
+        ["squeue", "--states=all", "--noheader", "--format=%i|%T", "--jobs", ",".join(slurm_ids)],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
     return dict(line.split("|") for line in out.split())
 
 
@@ -84,12 +94,16 @@ def test_small_config_on_slurm_equals_the_local_run(cluster, small_run, tmp_path
         assert path.startswith(str(wd / "logs" / "slurm")) and os.path.exists(path), path
 
     local, cluster_results = small_run / "results", wd / "results"
-    files = sorted(p.relative_to(local) for p in local.rglob("*") if p.is_file() and "work" not in p.parts)
+    files = sorted(
+        p.relative_to(local) for p in local.rglob("*") if p.is_file() and "work" not in p.parts
+    )
     compared = 0
     for rel in files:
         if rel.suffix == ".h5":
-            with xr.open_dataset(local / rel, engine="h5netcdf") as a, \
-                    xr.open_dataset(cluster_results / rel, engine="h5netcdf") as b:
+            with (
+                xr.open_dataset(local / rel, engine="h5netcdf") as a,
+                xr.open_dataset(cluster_results / rel, engine="h5netcdf") as b,
+            ):
                 xr.testing.assert_identical(a.load(), b.load())
             compared += 1
         elif rel.suffix == ".csv" and rel.parts[0] != "numerics":  # numerics/*.csv hold timings
@@ -116,7 +130,9 @@ roller:
 """
 
 
-def test_a_chunk_job_cancelled_by_slurm_is_reported_and_the_rerun_keeps_finished_chunks(cluster, tmp_path):
+def test_a_chunk_job_cancelled_by_slurm_is_reported_and_the_rerun_keeps_finished_chunks(
+    cluster, tmp_path
+):
     wd = snakemake_workdir(tmp_path)
     (wd / "cancel.yaml").write_text(CANCEL_CONFIG)
     target = "results/roller/roller.h5"
@@ -129,7 +145,11 @@ def test_a_chunk_job_cancelled_by_slurm_is_reported_and_the_rerun_keeps_finished
             # once a chunk has finished, cancel every chunk job SLURM runs at that moment
             log = (tmp_path / "first.log").read_text()
             chunk_jobs = [s for _, s, p in SUBMITTED.findall(log) if "rule_chunk" in p]
-            running = [j for j, st in _job_states(chunk_jobs).items() if st == "RUNNING"] if chunk_jobs else []
+            running = (
+                [j for j, st in _job_states(chunk_jobs).items() if st == "RUNNING"]
+                if chunk_jobs
+                else []
+            )
             if list(work.glob("chunk_*.h5")) and running:
                 subprocess.run(["scancel", *running], check=True)
                 cancelled = running
@@ -149,7 +169,9 @@ def test_a_chunk_job_cancelled_by_slurm_is_reported_and_the_rerun_keeps_finished
     rerun = _snakemake(wd, target, *PROFILE, "--configfile", "cancel.yaml")
     log2 = rerun.stdout + rerun.stderr
     rerun_chunks = sorted(re.findall(r"rule_chunk/roller_(\d{4})/", log2))
-    assert rerun_chunks == sorted(f"{i:04d}" for i in range(4) if f"chunk_{i:04d}.h5" not in finished), log2
+    assert rerun_chunks == sorted(
+        f"{i:04d}" for i in range(4) if f"chunk_{i:04d}.h5" not in finished
+    ), log2
     for name, mtime in finished.items():  # not recomputed
         assert (work / name).stat().st_mtime_ns == mtime, name
     from clutchlab import store
@@ -162,11 +184,22 @@ def test_a_site_sets_the_partition_on_the_command_line(cluster, tmp_path):
     """The README's per-run partition command, as written (`main` is the CI cluster's partition):
     one study's result, each of its jobs submitted to that partition."""
     wd = snakemake_workdir(tmp_path)
-    proc = _snakemake(wd, "results/sprag/sprag.h5", *PROFILE, "--configfile", "config/small.yaml",
-                      "--default-resources", "slurm_partition=main")
+    proc = _snakemake(
+        wd,
+        "results/sprag/sprag.h5",
+        *PROFILE,
+        "--configfile",
+        "config/small.yaml",
+        "--default-resources",
+        "slurm_partition=main",
+    )
     ids = [s for _, s, _ in SUBMITTED.findall(proc.stdout + proc.stderr)]
     assert len(ids) == 4  # design, 2 chunks, merge
-    out = subprocess.run(["squeue", "--states=all", "--noheader", "--format=%P|%T", "--jobs", ",".join(ids)],
-                         capture_output=True, text=True, check=True).stdout.split()
+    out = subprocess.run(
+        ["squeue", "--states=all", "--noheader", "--format=%P|%T", "--jobs", ",".join(ids)],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout.split()
     assert out == ["main|COMPLETED"] * 4, out
     assert (wd / "results/sprag/sprag.h5").stat().st_size > 0

@@ -1,5 +1,6 @@
 """Sprag clutch (seed 002): impact torque (eqs. 1-5), gripping angle with deflection (eq. 6
 reconstructed), Hertz (eq. 7) and shaft (eq. 8) stresses, statuses, the study."""
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -18,18 +19,36 @@ IMPACT = dict(power=100e3, inertia=1.05, damping=0.7156)
 
 
 def _numbers(res):
-    return np.array([np.rad2deg(res["V"]), res["contact_stress_inner"] / 1e6, res["contact_stress_outer"] / 1e6,
-                     res["vm_stress_inner"] / 1e6, res["vm_stress_outer"] / 1e6], dtype=float)
+    return np.array(
+        [
+            np.rad2deg(res["V"]),
+            res["contact_stress_inner"] / 1e6,
+            res["contact_stress_outer"] / 1e6,
+            res["vm_stress_inner"] / 1e6,
+            res["vm_stress_outer"] / 1e6,
+        ],
+        dtype=float,
+    )
 
 
 # ------------------------------------------------------------------ impact torque
+
 
 @pytest.mark.parametrize("w0", [5.0, 50.0, 300.0, 500.0])
 def test_impact_closed_form_vs_tight_ode(w0):
     """T(t) = P0/w(t) of J w w' + C w^2 = P0 against DOP853 at rtol 1e-13: 1e-9 relative."""
     t = np.linspace(0.0, 4.0, 41)
-    sol = solve_ivp(lambda _, y: [(IMPACT["power"] - IMPACT["damping"] * y[0] ** 2) / (IMPACT["inertia"] * y[0])],
-                    (0.0, 4.0), [w0], method="DOP853", rtol=1e-13, atol=1e-12, t_eval=t)
+    sol = solve_ivp(
+        lambda _, y: [
+            (IMPACT["power"] - IMPACT["damping"] * y[0] ** 2) / (IMPACT["inertia"] * y[0])
+        ],
+        (0.0, 4.0),
+        [w0],
+        method="DOP853",
+        rtol=1e-13,
+        atol=1e-12,
+        t_eval=t,
+    )
     ref = IMPACT["power"] / sol.y[0]
     got = sp.impact_torque(t, initial_speed=w0, **IMPACT)
     np.testing.assert_allclose(got, ref, rtol=1e-9)
@@ -42,10 +61,16 @@ def test_impact_limits_and_inverse():
     assert np.isinf(sp.impact_torque(0.0, **IMPACT))
     for w0 in (0.0, 100.0):
         t0 = sp.rise_time_for_peak(peak=750.0, initial_speed=w0, **IMPACT)
-        assert sp.peak_torque(rise_time=t0, initial_speed=w0, **IMPACT) == pytest.approx(750.0, rel=1e-12)
-    assert np.isnan(sp.rise_time_for_peak(peak=0.9 * te, **IMPACT))  # below the steady torque: never reached
+        assert sp.peak_torque(rise_time=t0, initial_speed=w0, **IMPACT) == pytest.approx(
+            750.0, rel=1e-12
+        )
+    assert np.isnan(
+        sp.rise_time_for_peak(peak=0.9 * te, **IMPACT)
+    )  # below the steady torque: never reached
     j = sp.inertia_for_peak(peak=750.0, rise_time=0.1, power=100e3, damping=0.7156)
-    assert sp.peak_torque(rise_time=0.1, power=100e3, inertia=j, damping=0.7156) == pytest.approx(750.0, rel=1e-12)
+    assert sp.peak_torque(rise_time=0.1, power=100e3, inertia=j, damping=0.7156) == pytest.approx(
+        750.0, rel=1e-12
+    )
 
 
 def test_impact_peak_trends():
@@ -60,13 +85,16 @@ def test_impact_peak_trends():
 
 # ------------------------------------------------------------------ geometry, gripping angle
 
+
 def test_rest_geometry():
     """Unloaded V0 = 2.354 deg for the seed 002 Table 1 geometry (PHYSICS.md: about 2.35 deg), and
     the two-force relations V = W + psi, R_i sin V = R_o sin W."""
     r = sp.rest_geometry(**G)
     assert np.rad2deg(r["V"]) == pytest.approx(2.3544, abs=1e-4)
     assert r["V"] == pytest.approx(r["W"] + r["psi"], abs=1e-15)
-    assert G["inner_race_radius"] * np.sin(r["V"]) == pytest.approx(G["outer_race_radius"] * np.sin(r["W"]), rel=1e-12)
+    assert G["inner_race_radius"] * np.sin(r["V"]) == pytest.approx(
+        G["outer_race_radius"] * np.sin(r["W"]), rel=1e-12
+    )
     assert float(sp.gripping_angle(1e-9)["V"]) == pytest.approx(float(r["V"]), abs=1e-9)
 
 
@@ -105,6 +133,7 @@ def test_shaft_stress_pure_torsion():
 
 
 # ------------------------------------------------------------------ seed 002 Table 2
+
 
 @pytest.mark.parametrize("torque", list(TABLE2))
 def test_table2_fed_published_angle(torque):
@@ -154,10 +183,15 @@ def test_fitted_seed_at_peak_flags_pop_out():
 
 # ------------------------------------------------------------------ hard cases
 
+
 def test_sprag_that_cannot_span_is_flagged():
     """r_o so large that |OA| - |OB| >= Z: the sprag cannot touch both races -> invalid_geometry, no number."""
     r = sp.statics(500.0, sprag_outer_radius=G["sprag_outer_radius"] + 0.1e-3)
-    assert r["status"] == st.CODE["invalid_geometry"] and np.isnan(r["V"]) and np.isnan(r["contact_stress_inner"])
+    assert (
+        r["status"] == st.CODE["invalid_geometry"]
+        and np.isnan(r["V"])
+        and np.isnan(r["contact_stress_inner"])
+    )
 
 
 def test_roll_over_is_flagged():
@@ -174,13 +208,20 @@ def test_not_converged_is_a_status():
 
 # ------------------------------------------------------------------ study
 
+
 def test_study_compute_labels_and_statuses():
     n = 6
     inputs = {p.name: p.default for p in study.PARAMETERS}
     inputs["torque"] = np.linspace(100, 1100, n)
     ds = study.compute(inputs, {"compliance": "seed002_fit"})
-    for name in ("gripping_angle", "contact_stress_inner", "contact_stress_outer", "vm_stress_inner",
-                 "vm_stress_outer", "status"):
+    for name in (
+        "gripping_angle",
+        "contact_stress_inner",
+        "contact_stress_outer",
+        "vm_stress_inner",
+        "vm_stress_outer",
+        "status",
+    ):
         assert ds[name].dims == ("run",) and "units" in ds[name].attrs
     assert ds["compliance_factor_used"].values[0] == pytest.approx(sp.fit_compliance_factor())
     ok = ds["status"].values == st.CODE["ok"]
@@ -189,7 +230,9 @@ def test_study_compute_labels_and_statuses():
     assert np.array_equal(each, ok)
     assert ds["status"].values[-1] in (st.CODE["pop_out_risk"], st.CODE["above_allowable"])
     imp = study.compute({**inputs, "torque": np.ones(2)}, {"torque_source": "impact_peak"})
-    assert imp["torque_applied"].values[0] == pytest.approx(750.0, rel=1e-6)  # the assumed nominal impact
+    assert imp["torque_applied"].values[0] == pytest.approx(
+        750.0, rel=1e-6
+    )  # the assumed nominal impact
 
 
 @pytest.mark.parametrize("factor", [0.5, 1.0, 1.7196, 3.0])
@@ -200,7 +243,7 @@ def test_status_is_monotone_in_torque_past_roll_over(factor):
     torque = np.geomspace(100.0, 1e7, 400)
     code = sp.statics(torque, compliance_factor=factor)["status"]
     rolled = np.flatnonzero(code == st.CODE["roll_over"])
-    assert rolled.size and (code[rolled[0]:] == st.CODE["roll_over"]).all()
+    assert rolled.size and (code[rolled[0] :] == st.CODE["roll_over"]).all()
     assert 500.0 < torque[rolled[0]] < 1e4  # a few times the 750 N m of Table 2
 
 
@@ -209,7 +252,9 @@ def test_study_records_its_fixed_point_statistics():
     import inspect
 
     inputs = {p.name: p.default for p in study.PARAMETERS}
-    ds = study.compute({**inputs, "torque": np.array([0.0, 300.0, 750.0])}, {"compliance": "physical"})
+    ds = study.compute(
+        {**inputs, "torque": np.array([0.0, 300.0, 750.0])}, {"compliance": "physical"}
+    )
     assert study.GRIP_TOL == inspect.signature(sp.gripping_angle).parameters["tol"].default
     assert ds.attrs["fixed_point_tolerance"] == study.GRIP_TOL
     assert ds["n_iterations"].dtype == np.int32 and (ds["n_iterations"].values[1:] > 0).all()

@@ -1,4 +1,5 @@
 """HDF5 store: metadata contract, atomic writes, compression, round trip."""
+
 from pathlib import Path
 
 import numpy as np
@@ -11,9 +12,18 @@ from clutchlab.config import resolve
 
 @pytest.fixture(scope="module")
 def result():
-    sec = resolve({"studies": ["diaphragm_spring"], "diaphragm_spring": {
-        "design": "factorial", "parameters": {"sheet_thickness": {"values": ["2 mm", "2.5 mm"]},
-                                              "cone_height_ratio": {"values": [1.3, 1.6, 1.9]}}}})["diaphragm_spring"]
+    sec = resolve(
+        {
+            "studies": ["diaphragm_spring"],
+            "diaphragm_spring": {
+                "design": "factorial",
+                "parameters": {
+                    "sheet_thickness": {"values": ["2 mm", "2.5 mm"]},
+                    "cone_height_ratio": {"values": [1.3, 1.6, 1.9]},
+                },
+            },
+        }
+    )["diaphragm_spring"]
     return pipeline.run_study(sec)
 
 
@@ -40,7 +50,9 @@ def test_roundtrip(tmp_path, result):
     import h5py
 
     with h5py.File(path) as f:
-        assert f["curve_load"].compression is None and f["curve_load"].chunks is None  # floats: contiguous
+        assert (
+            f["curve_load"].compression is None and f["curve_load"].chunks is None
+        )  # floats: contiguous
 
 
 def test_filters_per_dtype_not_inherited(tmp_path):
@@ -48,9 +60,15 @@ def test_filters_per_dtype_not_inherited(tmp_path):
     loaded from a file does not bring that file's filters; complevel 0 compresses nothing."""
     import h5py
 
-    ds = xr.Dataset({"x": ("run", np.linspace(0, 1, 500), {"units": "m", "long_name": "x"}),
-                     "status": ("run", np.zeros(500, np.int8), {"units": "1", "long_name": "status"})})
-    ds["x"].encoding.update(compression="gzip", compression_opts=9, chunksizes=(10,))  # as if loaded
+    ds = xr.Dataset(
+        {
+            "x": ("run", np.linspace(0, 1, 500), {"units": "m", "long_name": "x"}),
+            "status": ("run", np.zeros(500, np.int8), {"units": "1", "long_name": "status"}),
+        }
+    )
+    ds["x"].encoding.update(
+        compression="gzip", compression_opts=9, chunksizes=(10,)
+    )  # as if loaded
     a = store.write(ds, tmp_path / "a.h5")
     b = store.write(store.load(a), tmp_path / "b.h5")
     c = store.write(store.load(a), tmp_path / "c.h5", complevel=0)
@@ -112,8 +130,9 @@ def test_stale_temporaries_of_a_dead_process_are_removed(result, tmp_path):
     import subprocess
     import sys
 
-    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True,
-                          text=True).stdout.strip()
+    dead = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True
+    ).stdout.strip()
     stale = tmp_path / f".r.h5.{socket.gethostname()}.{dead}.deadbeef.tmp"
     stale.write_bytes(b"x" * 1000)
     other_host = tmp_path / ".r.h5.elsewhere.1.cafe0000.tmp"  # another host's writer may still run
@@ -133,10 +152,24 @@ def test_a_failed_write_leaves_nothing(result, tmp_path):
 
 @pytest.fixture
 def chunk(tmp_path):
-    sec = resolve({"studies": ["roller"], "roller": {"design": "factorial", "parameters": {
-        "rollers": {"values": [8, 12]}, "wedge_angle": {"values": ["9 deg", "11 deg"]}}}})["roller"]
+    sec = resolve(
+        {
+            "studies": ["roller"],
+            "roller": {
+                "design": "factorial",
+                "parameters": {
+                    "rollers": {"values": [8, 12]},
+                    "wedge_angle": {"values": ["9 deg", "11 deg"]},
+                },
+            },
+        }
+    )["roller"]
     design = doe.build_design(sec)
-    return store.write(pipeline.run_chunk(design, sec["options"], 1, 0), tmp_path / "chunk_0000.h5", with_checksum=True)
+    return store.write(
+        pipeline.run_chunk(design, sec["options"], 1, 0),
+        tmp_path / "chunk_0000.h5",
+        with_checksum=True,
+    )
 
 
 def test_a_chunk_reads_back_against_its_checksum(chunk):

@@ -4,6 +4,7 @@ Physics modules are pure, vectorised numpy functions in SI units; studies turn a
 experiments into a labelled :class:`xarray.Dataset`; :mod:`clutchlab.store` writes and reads
 those Datasets as HDF5 (h5netcdf engine).
 """
+
 from importlib.metadata import PackageNotFoundError, version
 
 try:
@@ -24,6 +25,8 @@ def source_hash(root=None) -> str:
 
     root = Path(root) if root is not None else Path(__file__).parent
     h = hashlib.sha256()
-    for path in sorted(p for p in root.rglob("*") if p.suffix in (".py", ".yaml") and "__pycache__" not in p.parts):
+    for path in sorted(
+        p for p in root.rglob("*") if p.suffix in (".py", ".yaml") and "__pycache__" not in p.parts
+    ):
         h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
     return h.hexdigest()[:16]

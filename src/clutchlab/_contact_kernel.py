@@ -20,6 +20,7 @@ right-hand sides are dispatched by number rather than passed as functions so tha
 the compiled code on disk (first-class function arguments defeat its cache). Physics documented
 in :mod:`clutchlab.contact` and :mod:`clutchlab.roller`.
 """
+
 from __future__ import annotations
 
 import math
@@ -29,17 +30,25 @@ from numba import njit
 
 GAMMA = 0.25
 _A = np.zeros((5, 5))
-for _i, _row in enumerate([[1 / 4], [1 / 2, 1 / 4], [17 / 50, -1 / 25, 1 / 4],
-                           [371 / 1360, -137 / 2720, 15 / 544, 1 / 4],
-                           [25 / 24, -49 / 48, 125 / 16, -85 / 12, 1 / 4]]):
-    _A[_i, :len(_row)] = _row
+for _i, _row in enumerate(
+    [
+        [1 / 4],
+        [1 / 2, 1 / 4],
+        [17 / 50, -1 / 25, 1 / 4],
+        [371 / 1360, -137 / 2720, 15 / 544, 1 / 4],
+        [25 / 24, -49 / 48, 125 / 16, -85 / 12, 1 / 4],
+    ]
+):
+    _A[_i, : len(_row)] = _row
 C = _A.sum(axis=1)
 B = _A[4].copy()
 BHAT = np.array([59 / 48, -17 / 96, 225 / 32, -85 / 12, 0.0])
 _E = B - BHAT
 ORDER_EMBEDDED = 3
 NEWTON_MAXIT = 8
-NEWTON_TOL = 0.03  # scaled Newton increment (in units of the local tolerance) at which a stage is solved
+NEWTON_TOL = (
+    0.03  # scaled Newton increment (in units of the local tolerance) at which a stage is solved
+)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -107,8 +116,8 @@ def sdirk4_step(system, t, y, h, p, mode, rtol, atol, y_new, work):
     measured in the weights 1/(atol + rtol·|y|) of the step's start."""
     n = y.size
     jac = work[0:n]
-    m = work[n:2 * n]
-    k = work[2 * n:2 * n + 5]
+    m = work[n : 2 * n]
+    k = work[2 * n : 2 * n + 5]
     f = work[2 * n + 5]
     w = work[2 * n + 6]
     z = work[2 * n + 7]
@@ -117,7 +126,7 @@ def sdirk4_step(system, t, y, h, p, mode, rtol, atol, y_new, work):
     f0 = work[2 * n + 11]
     eta = work[2 * n + 12]  # eta[0]: Newton convergence factor, carried from step to step
     eta[0] = max(eta[0], 1e-16) ** 0.8 if eta[0] > 0 else 1.0
-    inv = work[2 * n + 13:3 * n + 13]
+    inv = work[2 * n + 13 : 3 * n + 13]
     wt = work[2 * n + 10]  # error weights (the event functions' scratch row is free during a step)
     for i in range(n):
         wt[i] = 1.0 / (atol[i] + rtol * abs(y[i]))
@@ -151,7 +160,9 @@ def sdirk4_step(system, t, y, h, p, mode, rtol, atol, y_new, work):
             for i in range(n):
                 z[i] += dz[i]
                 nrm += (dz[i] * wt[i]) ** 2
-            if it > 0:  # contraction rate θ; the remaining error is about θ/(1 − θ) times the increment
+            if (
+                it > 0
+            ):  # contraction rate θ; the remaining error is about θ/(1 − θ) times the increment
                 theta = math.sqrt(nrm / last)
                 if theta >= 0.99:
                     break
@@ -229,7 +240,9 @@ def locate(system, which, t, y, f0, y1, f1, h, g0, g1, p, mode, rtol, atol, y_ou
     f0, f1: derivatives at the step's ends (copies of the step's work rows, see sdirk4_step).
     Writes the state at t + h* into y_out (and leaves the work rows of that step); returns
     (h*, f evals)."""
-    x = min(max(hermite_root(system, which, t, y, f0, y1, f1, h, g0, g1, p, mode, work), time_tol), h)
+    x = min(
+        max(hermite_root(system, which, t, y, f0, y1, f1, h, g0, g1, p, mode, work), time_tol), h
+    )
     lo, hi, glo, ghi = 0.0, h, g0, g1
     xp, gp = -1.0, 0.0  # previous true point (for the secant)
     nfev = 0
@@ -271,10 +284,34 @@ SLIP, STICK = 0, 1  # wedge ring slipping on, or stuck to, the driving ring
 EV_STICK, EV_SYNC, EV_PEAK, EV_RELEASE = range(4)
 N_EVENTS = 4
 # roller result columns
-(STICK_TIME, SLIP_BACKLASH, SYNC_TIME, TOTAL_BACKLASH, PEAK_FORCE, RELEASE_TIME, FINAL_FORCE, N_STEPS, N_FEV,
- N_REJECTED, N_NEWTON_FAIL, STATUS) = range(12)
-RESULTS = ("stick_time", "slip_backlash", "engagement_time", "backlash", "peak_contact_force", "release_time",
-           "final_contact_force", "n_steps", "n_fev", "n_rejected", "n_newton_fail", "status")
+(
+    STICK_TIME,
+    SLIP_BACKLASH,
+    SYNC_TIME,
+    TOTAL_BACKLASH,
+    PEAK_FORCE,
+    RELEASE_TIME,
+    FINAL_FORCE,
+    N_STEPS,
+    N_FEV,
+    N_REJECTED,
+    N_NEWTON_FAIL,
+    STATUS,
+) = range(12)
+RESULTS = (
+    "stick_time",
+    "slip_backlash",
+    "engagement_time",
+    "backlash",
+    "peak_contact_force",
+    "release_time",
+    "final_contact_force",
+    "n_steps",
+    "n_fev",
+    "n_rejected",
+    "n_newton_fail",
+    "status",
+)
 ST_OK, ST_NEVER, ST_FAIL = 0, 4, 6  # clutchlab.status codes: ok, never_locked, not_converged
 EVENT_TIME_TOL = 1e-14  # s
 
@@ -289,7 +326,7 @@ def contact_force(d, dd, k, e, c, dmax):
         s, ds = x * x * (3.0 - 2.0 * x), 6.0 * x * (1.0 - x) / dmax
     else:
         s, ds = 1.0, 0.0
-    de = d * math.sqrt(d) if e == 1.5 else d ** e  # the Hertz exponent without pow()
+    de = d * math.sqrt(d) if e == 1.5 else d**e  # the Hertz exponent without pow()
     f = k * de + s * c * dd
     if f <= 0.0:
         return 0.0, 0.0, 0.0, f
@@ -402,14 +439,48 @@ def impact(p, v, rtol, atol, h0):
             continue
         if y[1] > 0.0 and y_new[1] <= 0.0:
             f0, f1 = work[15].copy(), work[8].copy()  # rows 2n + 11, 2n + 4 (n = 2)
-            hx, nf = locate(IMPACT, 1, t, y, f0, y_new, f1, h, y[1], y_new[1], p, 0, rtol, atol, y_ev, work,
-                            EVENT_TIME_TOL * max(t / 1e-3, 1e-3))
+            hx, nf = locate(
+                IMPACT,
+                1,
+                t,
+                y,
+                f0,
+                y_new,
+                f1,
+                h,
+                y[1],
+                y_new[1],
+                p,
+                0,
+                rtol,
+                atol,
+                y_ev,
+                work,
+                EVENT_TIME_TOL * max(t / 1e-3, 1e-3),
+            )
             nfev += nf
             dmax_pen, t_max = y_ev[0], t + hx
         if y_new[0] <= 0.0 and t > 0.0:
             f0, f1 = work[15].copy(), work[8].copy()  # rows 2n + 11, 2n + 4 (n = 2)
-            hx, nf = locate(IMPACT, 0, t, y, f0, y_new, f1, h, y[0], y_new[0], p, 0, rtol, atol, y_ev, work,
-                            EVENT_TIME_TOL * max(t / 1e-3, 1e-3))
+            hx, nf = locate(
+                IMPACT,
+                0,
+                t,
+                y,
+                f0,
+                y_new,
+                f1,
+                h,
+                y[0],
+                y_new[0],
+                p,
+                0,
+                rtol,
+                atol,
+                y_ev,
+                work,
+                EVENT_TIME_TOL * max(t / 1e-3, 1e-3),
+            )
             nfev += nf
             return dmax_pen, t_max, t + hx, -y_ev[1] / v, nfev
         t += h
@@ -474,8 +545,25 @@ def _roller_one(p, rtol, max_steps, res, trace, n_trace):
             ga = event(ROLLER, t, y, p, mode, e, work)
             gb = event(ROLLER, t + hs, y_new, p, mode, e, work)
             if ga > 0.0 and gb <= 0.0:
-                h_acc, nf = locate(ROLLER, e, t, y, f0, y_new, f1, hs, ga, gb, p, mode, rtol, atol, y_best, work,
-                                   EVENT_TIME_TOL)
+                h_acc, nf = locate(
+                    ROLLER,
+                    e,
+                    t,
+                    y,
+                    f0,
+                    y_new,
+                    f1,
+                    hs,
+                    ga,
+                    gb,
+                    p,
+                    mode,
+                    rtol,
+                    atol,
+                    y_best,
+                    work,
+                    EVENT_TIME_TOL,
+                )
                 nfev += nf
                 f1[:] = work[2 * n + 4]
                 switch = e
@@ -485,8 +573,25 @@ def _roller_one(p, rtol, max_steps, res, trace, n_trace):
             ga = event(ROLLER, t, y, p, mode, EV_SYNC, work)
             gb = event(ROLLER, t + h_acc, y_best, p, mode, EV_SYNC, work)
             if ga > 0.0 and gb <= 0.0:
-                hx, nf = locate(ROLLER, EV_SYNC, t, y, f0, y_best, f1, h_acc, ga, gb, p, mode, rtol, atol, y_ev,
-                                work, EVENT_TIME_TOL)
+                hx, nf = locate(
+                    ROLLER,
+                    EV_SYNC,
+                    t,
+                    y,
+                    f0,
+                    y_best,
+                    f1,
+                    h_acc,
+                    ga,
+                    gb,
+                    p,
+                    mode,
+                    rtol,
+                    atol,
+                    y_ev,
+                    work,
+                    EVENT_TIME_TOL,
+                )
                 nfev += nf
                 synced = True
                 res[SYNC_TIME] = t + hx
@@ -528,7 +633,13 @@ def _roller_one(p, rtol, max_steps, res, trace, n_trace):
     res[FINAL_FORCE] = F
     if status == ST_OK and not synced:
         status = ST_NEVER
-    res[N_STEPS], res[N_FEV], res[N_REJECTED], res[N_NEWTON_FAIL], res[STATUS] = steps, nfev, n_rej, n_fail, status
+    res[N_STEPS], res[N_FEV], res[N_REJECTED], res[N_NEWTON_FAIL], res[STATUS] = (
+        steps,
+        nfev,
+        n_rej,
+        n_fail,
+        status,
+    )
     return n_tr
 
 

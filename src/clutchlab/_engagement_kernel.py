@@ -16,6 +16,7 @@ documented in :mod:`clutchlab.engagement`; this module only makes it fast:
   fade, while slipping, the 15 modes of the friction face's temperature too);
 * the rigid and the compliant model are compiled as two loops with the flag a constant.
 """
+
 from __future__ import annotations
 
 import math
@@ -26,10 +27,40 @@ from numba import njit
 from . import _linear_phase as _lp
 
 # parameter columns (one row per scenario)
-(WE0, JE, TE, JV, TM0, CMAX, TR, RS, VS, WC0, KA, DTM, TSTEP, PHI, K, ZETA, TEND, HELD, INV_JE, JH, JR,
- CD, KAPPA, TCON, FADE, FADE_ON, FACE_K, FTAB) = range(28)
+(
+    WE0,
+    JE,
+    TE,
+    JV,
+    TM0,
+    CMAX,
+    TR,
+    RS,
+    VS,
+    WC0,
+    KA,
+    DTM,
+    TSTEP,
+    PHI,
+    K,
+    ZETA,
+    TEND,
+    HELD,
+    INV_JE,
+    JH,
+    JR,
+    CD,
+    KAPPA,
+    TCON,
+    FADE,
+    FADE_ON,
+    FACE_K,
+    FTAB,
+) = range(28)
 N_PARAM = 28
-NTAB = N_PARAM  # engine torque table: count, then speeds, then torques (shared, appended to every row)
+NTAB = (
+    N_PARAM  # engine torque table: count, then speeds, then torques (shared, appended to every row)
+)
 # FTAB: column of the friction table (0: none) after it, laid out alike: count, slip speeds, μ/μ_k
 # state columns: engine, hub, output speed, damper twist, slip/load/input/damping work
 H, WS, WL, WI, E, R, TH, WD = range(8)  # rigid held: the first 4 move; rigid free: 5
@@ -46,14 +77,44 @@ N_MECH = 8
 # seed-like slip power (1000/s: 6e-4), and the stiffest mode (6 552/s) within DOPRI5's stability
 # for steps up to 0.5 ms. Checked against a Picard iteration with the exact kernel in
 # tests/test_fade.py.
-SOE_LAMBDA = np.array([6551.82794011116, 2682.9030848013267, 1098.619961975734, 449.87306015227944,
-                       184.21818031306321, 75.43536380322267, 30.889970264900256, 12.64911064067352,
-                       5.179674782070132, 2.121021122366016, 0.8685353406927243, 0.3556558820077846,
-                       0.14563725905021752, 0.059636891435401344, 0.01])
-SOE_WEIGHT = np.array([1.0530600051732957, 23.723283392222843, 16.97838879544467, 10.605038794078247,
-                       6.868111310665909, 4.362443640753169, 2.805304573335715, 1.7886805840332438,
-                       1.1483443174771812, 0.7317541220924253, 0.47246489841591777, 0.29325528400612916,
-                       0.20871327506035586, 0.11227925977551365, 0.21804431165750585])
+SOE_LAMBDA = np.array(
+    [
+        6551.82794011116,
+        2682.9030848013267,
+        1098.619961975734,
+        449.87306015227944,
+        184.21818031306321,
+        75.43536380322267,
+        30.889970264900256,
+        12.64911064067352,
+        5.179674782070132,
+        2.121021122366016,
+        0.8685353406927243,
+        0.3556558820077846,
+        0.14563725905021752,
+        0.059636891435401344,
+        0.01,
+    ]
+)
+SOE_WEIGHT = np.array(
+    [
+        1.0530600051732957,
+        23.723283392222843,
+        16.97838879544467,
+        10.605038794078247,
+        6.868111310665909,
+        4.362443640753169,
+        2.805304573335715,
+        1.7886805840332438,
+        1.1483443174771812,
+        0.7317541220924253,
+        0.47246489841591777,
+        0.29325528400612916,
+        0.20871327506035586,
+        0.11227925977551365,
+        0.21804431165750585,
+    ]
+)
 SOE_CUT = 4000.0  # λ_c [1/s]
 SOE_M0 = 2.0 / math.sqrt(math.pi * SOE_CUT)
 SOE_TMAX = 10.0  # [s]: the longest window the fit covers
@@ -66,15 +127,60 @@ LOCK, BREAK, UNPARK, PARK, PEAK = range(5)
 N_EVENTS = 5
 EVENT_TIME_TOL = 1e-13  # s: bracket width at which an event time is final (Illinois method)
 # result columns
-(LOCKUP_TIME, BREAKAWAY_TIME, CAPACITY_AT_LOCKUP, ACCEL_JUMP, LOCKUP_SPEED, PEAK_SLIP_POWER,
- PEAK_FRICTION_TORQUE, PEAK_JERK, SLIP_WORK, LOAD_WORK, INPUT_WORK, KINETIC_ENERGY_CHANGE, DAMPING_WORK,
- ENERGY_RESIDUAL, N_STEPS, FINAL_LOCKED, HIT_STEP_LIMIT, N_REJECTED, N_LOCATE, N_FALSE_ALARMS, N_EVENT_STEPS,
- TRUNCATED, N_LINEAR, FLASH_PEAK, N_POWER_SAMPLES) = range(25)
-RESULTS = ("lockup_time", "breakaway_time", "capacity_at_lockup", "accel_jump", "lockup_speed", "peak_slip_power",
-           "peak_friction_torque", "peak_jerk", "slip_work", "load_work", "input_work", "kinetic_energy_change",
-           "damping_work", "energy_residual", "n_steps", "final_locked", "hit_step_limit",
-           "n_rejected", "n_locate", "n_false_alarms", "n_event_steps", "truncated", "n_linear",
-           "flash_peak", "n_power_samples")
+(
+    LOCKUP_TIME,
+    BREAKAWAY_TIME,
+    CAPACITY_AT_LOCKUP,
+    ACCEL_JUMP,
+    LOCKUP_SPEED,
+    PEAK_SLIP_POWER,
+    PEAK_FRICTION_TORQUE,
+    PEAK_JERK,
+    SLIP_WORK,
+    LOAD_WORK,
+    INPUT_WORK,
+    KINETIC_ENERGY_CHANGE,
+    DAMPING_WORK,
+    ENERGY_RESIDUAL,
+    N_STEPS,
+    FINAL_LOCKED,
+    HIT_STEP_LIMIT,
+    N_REJECTED,
+    N_LOCATE,
+    N_FALSE_ALARMS,
+    N_EVENT_STEPS,
+    TRUNCATED,
+    N_LINEAR,
+    FLASH_PEAK,
+    N_POWER_SAMPLES,
+) = range(25)
+RESULTS = (
+    "lockup_time",
+    "breakaway_time",
+    "capacity_at_lockup",
+    "accel_jump",
+    "lockup_speed",
+    "peak_slip_power",
+    "peak_friction_torque",
+    "peak_jerk",
+    "slip_work",
+    "load_work",
+    "input_work",
+    "kinetic_energy_change",
+    "damping_work",
+    "energy_residual",
+    "n_steps",
+    "final_locked",
+    "hit_step_limit",
+    "n_rejected",
+    "n_locate",
+    "n_false_alarms",
+    "n_event_steps",
+    "truncated",
+    "n_linear",
+    "flash_peak",
+    "n_power_samples",
+)
 # the slip power history (issue 20; only when asked for: with_hist): sampled while slipping every ramp time / POWER_SAMPLES_PER_RAMP
 # (a ramp shorter than window / 48, or a step: every window / 48²) and at every step end and event, at most POWER_SAMPLES_MAX samples a scenario; its Duhamel
 # integral's peak, max over t of ∫ P(τ)/√(t − τ) dτ [W s^0.5] (P linear between samples, each segment
@@ -86,25 +192,51 @@ POWER_SAMPLES_PER_RAMP = 48
 POWER_SAMPLES_PER_SLIP = 64
 POWER_SAMPLES_DENSER = 8
 POWER_SAMPLES_MAX = 4096
-TRACES = ("engine_speed", "hub_speed", "output_speed", "friction_torque", "capacity", "slip_work", "jerk",
-          "face_temperature_rise")
+TRACES = (
+    "engine_speed",
+    "hub_speed",
+    "output_speed",
+    "friction_torque",
+    "capacity",
+    "slip_work",
+    "jerk",
+    "face_temperature_rise",
+)
 N_RESULTS, N_TRACES = len(RESULTS), len(TRACES)
 
 # Dormand-Prince 5(4)
 _C = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0, 1.0])
 _A = np.zeros((7, 6))
-for _i, _row in enumerate([[], [1 / 5], [3 / 40, 9 / 40], [44 / 45, -56 / 15, 32 / 9],
-                           [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729],
-                           [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656],
-                           [35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84]]):
-    _A[_i, :len(_row)] = _row
+for _i, _row in enumerate(
+    [
+        [],
+        [1 / 5],
+        [3 / 40, 9 / 40],
+        [44 / 45, -56 / 15, 32 / 9],
+        [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729],
+        [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656],
+        [35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84],
+    ]
+):
+    _A[_i, : len(_row)] = _row
 _B = np.array([35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84, 0.0])
-_E = _B - np.array([5179 / 57600, 0.0, 7571 / 16695, 393 / 640, -92097 / 339200, 187 / 2100, 1 / 40])
+_E = _B - np.array(
+    [5179 / 57600, 0.0, 7571 / 16695, 393 / 640, -92097 / 339200, 187 / 2100, 1 / 40]
+)
 _EPS = np.finfo(float).eps
-_FAC_ACC_MIN = 0.01 ** 0.2  # Gustafsson's controller: accepted errors below 1e-2 count as 1e-2
+_FAC_ACC_MIN = 0.01**0.2  # Gustafsson's controller: accepted errors below 1e-2 count as 1e-2
 # DOPRI5 continuous extension of order 4 (Hairer, Norsett & Wanner, dopri5.f)
-_D = np.array([-12715105075 / 11282082432, 0.0, 87487479700 / 32700410799, -10690763975 / 1880347072,
-               701980252875 / 199316789632, -1453857185 / 822651844, 69997945 / 29380423])
+_D = np.array(
+    [
+        -12715105075 / 11282082432,
+        0.0,
+        87487479700 / 32700410799,
+        -10690763975 / 1880347072,
+        701980252875 / 199316789632,
+        -1453857185 / 822651844,
+        69997945 / 29380423,
+    ]
+)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -336,7 +468,9 @@ def _events(t, y, q, locked, parked, s, compliant, prof, dy, aux, g):
     g[BREAK] = q[RS] * C - abs(t_need) if locked else inf
     g[UNPARK] = _load_static(t, q) - (ts if compliant else tc) if parked else inf
     g[PARK] = (y[R] if compliant else y[H]) if (not parked and (not locked or compliant)) else inf
-    g[PEAK] = inf if locked else (_slip_torque_rate(t, q, s, prof, dy, aux) * slip + tc * (dy[E] - dy[H]))
+    g[PEAK] = (
+        inf if locked else (_slip_torque_rate(t, q, s, prof, dy, aux) * slip + tc * (dy[E] - dy[H]))
+    )
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -486,10 +620,14 @@ def _g_dense(kind, t, tau, h, rc, q, locked, parked, s, compliant, prof, dm, gm,
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _g_true(kind, t, y, d, tau, q, locked, parked, s, compliant, prof, rtol, atol, kk, yi, dm, gm, yout, err):
+def _g_true(
+    kind, t, y, d, tau, q, locked, parked, s, compliant, prof, rtol, atol, kk, yi, dm, gm, yout, err
+):
     """Event function ``kind`` at t + tau by re-integration from (t, y): (g, error norm of that step)."""
     _dopri(t, y, tau, q, locked, parked, s, compliant, prof, d, kk, yi, yout, err)
-    return _g_state(kind, t + tau, yout, q, locked, parked, s, compliant, prof, dm, gm), _err_norm(y, yout, err, rtol, atol, _n_active(q, compliant, locked), compliant)
+    return _g_state(kind, t + tau, yout, q, locked, parked, s, compliant, prof, dm, gm), _err_norm(
+        y, yout, err, rtol, atol, _n_active(q, compliant, locked), compliant
+    )
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -512,8 +650,33 @@ def _g_line(kind, t, ya, da, sigma, q, locked, parked, s, compliant, prof, dm, g
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _locate(kind, t, y, d, rc, h, tau_hi, g0, q, locked, parked, s, compliant, prof, rtol, atol, kk,
-            yi, dm, gm, ya, yb, err, da, interpolant_only=False):
+def _locate(
+    kind,
+    t,
+    y,
+    d,
+    rc,
+    h,
+    tau_hi,
+    g0,
+    q,
+    locked,
+    parked,
+    s,
+    compliant,
+    prof,
+    rtol,
+    atol,
+    kk,
+    yi,
+    dm,
+    gm,
+    ya,
+    yb,
+    err,
+    da,
+    interpolant_only=False,
+):
     """Time (from t) at which event ``kind`` falls through zero in (0, tau_hi], or inf (false alarm).
 
     1. Illinois on the event function along the step's order-4 continuous extension (cheap: no
@@ -562,11 +725,34 @@ def _locate(kind, t, y, d, rc, h, tau_hi, g0, q, locked, parked, s, compliant, p
     # 2. the true function (re-integration to tau), corrected along the local Taylor line (3.)
     tau, n_re, tau_p, g_p = guess, 0, -1.0, 0.0
     for _ in range(8):
-        g_a, nv = _g_true(kind, t, y, d, tau, q, locked, parked, s, compliant, prof, rtol, atol, kk, yi, dm, gm,
-                          ya, err)
+        g_a, nv = _g_true(
+            kind,
+            t,
+            y,
+            d,
+            tau,
+            q,
+            locked,
+            parked,
+            s,
+            compliant,
+            prof,
+            rtol,
+            atol,
+            kk,
+            yi,
+            dm,
+            gm,
+            ya,
+            err,
+        )
         n_re += 1
         if g_a == 0 or nv > 1.0:
-            return tau, nv, n_re  # on the root, or the step to it fails the tolerance: the caller shortens it
+            return (
+                tau,
+                nv,
+                n_re,
+            )  # on the root, or the step to it fails the tolerance: the caller shortens it
         tau_a = tau
         _copy(da, dm)
         ta = t + tau
@@ -583,7 +769,10 @@ def _locate(kind, t, y, d, rc, h, tau_hi, g0, q, locked, parked, s, compliant, p
         if not math.isfinite(s1):
             break
         _g_line(kind, ta, ya, da, s1, q, locked, parked, s, compliant, prof, dm, gm, yb)
-        if 0.0 < tau + s1 <= tau_hi and _line_norm(ya, dm, da, s1, rtol, atol, _n_active(q, compliant, locked)) <= 0.1:
+        if (
+            0.0 < tau + s1 <= tau_hi
+            and _line_norm(ya, dm, da, s1, rtol, atol, _n_active(q, compliant, locked)) <= 0.1
+        ):
             _copy(ya, yb)
             return tau + s1, nv, n_re
         # not accepted (a long step: the line and the step map part): secant on the true function
@@ -601,8 +790,27 @@ def _locate(kind, t, y, d, rc, h, tau_hi, g0, q, locked, parked, s, compliant, p
     else:
         lo, g_lo, hi, g_hi, hi_known, n_hi = 0.0, g0, guess, g_a, True, nv
     if not hi_known:
-        g_hi, n_hi = _g_true(kind, t, y, d, hi, q, locked, parked, s, compliant, prof, rtol, atol, kk, yi,
-                             dm, gm, ya, err)
+        g_hi, n_hi = _g_true(
+            kind,
+            t,
+            y,
+            d,
+            hi,
+            q,
+            locked,
+            parked,
+            s,
+            compliant,
+            prof,
+            rtol,
+            atol,
+            kk,
+            yi,
+            dm,
+            gm,
+            ya,
+            err,
+        )
         n_re += 1
         if g_hi > 0:
             return inf, 0.0, n_re  # false alarm (the interpolant dipped, the solution does not)
@@ -613,8 +821,27 @@ def _locate(kind, t, y, d, rc, h, tau_hi, g0, q, locked, parked, s, compliant, p
         tau = hi - g_hi * (hi - lo) / (g_hi - g_lo)
         if not (lo < tau < hi):
             tau = 0.5 * (lo + hi)
-        g_tau, nv = _g_true(kind, t, y, d, tau, q, locked, parked, s, compliant, prof, rtol, atol, kk, yi,
-                            dm, gm, yb, err)
+        g_tau, nv = _g_true(
+            kind,
+            t,
+            y,
+            d,
+            tau,
+            q,
+            locked,
+            parked,
+            s,
+            compliant,
+            prof,
+            rtol,
+            atol,
+            kk,
+            yi,
+            dm,
+            gm,
+            yb,
+            err,
+        )
         n_re += 1
         if g_tau > 0:
             if side > 0:
@@ -710,11 +937,10 @@ def _store_trace(trace, tt, t, y, q, wr_col, aux, jk):
                 trace[i, 7] = _face_rise(y, q) + q[FACE_K] * SOE_M0 * aux[1] * aux[5]
 
 
-
-
 # ----------------------------------------------------------------------------------------------
 # Exact linear phases of the compliant model (see clutchlab._linear_phase)
 # ----------------------------------------------------------------------------------------------
+
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _is_linear(q, locked):
@@ -722,8 +948,13 @@ def _is_linear(q, locked):
     engine or one with constant torque, a finite damper stiffness, and constant μ unless locked (no
     Stribeck law, friction table or fade while slipping; a locked phase with fade is linear too:
     the face temperature's modes then only decay, :func:`_decay_modes`)."""
-    return (q[KA] == 0.0 and (q[HELD] > 0.0 or q[NTAB] == 0.0) and math.isfinite(q[K]) and q[K] > 0.0
-            and (locked or (not math.isfinite(q[VS]) and q[FTAB] == 0.0 and q[FADE] == 0.0)))
+    return (
+        q[KA] == 0.0
+        and (q[HELD] > 0.0 or q[NTAB] == 0.0)
+        and math.isfinite(q[K])
+        and q[K] > 0.0
+        and (locked or (not math.isfinite(q[VS]) and q[FTAB] == 0.0 and q[FADE] == 0.0))
+    )
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -748,7 +979,7 @@ def _form_bounds(ft, fd, i, lo, hi, rh, rd, rate, osc):
     r = 3 * i
     dp, du, dw = int(fd[r]), int(fd[r + 1]), int(fd[r + 2])
     if math.isfinite(hi):
-        pmin, pmax = _lp.prange(ft[r], dp, lo, hi, osc[5 + 3 * _lp.N_FORM:])
+        pmin, pmax = _lp.prange(ft[r], dp, lo, hi, osc[5 + 3 * _lp.N_FORM :])
     else:
         if dp > 1 or du > 0 or dw > 0:
             return -np.inf, np.inf, np.inf
@@ -763,12 +994,14 @@ def _form_bounds(ft, fd, i, lo, hi, rh, rd, rate, osc):
             return pmin, pmax, 0.0
         if w2 > 0.0:
             wd = math.sqrt(w2)
-            amp = math.hypot(u * h0 + w * h1, (u * (h1 + a * h0) - w * (a * h1 + (w2 + a * a) * h0)) / wd)
+            amp = math.hypot(
+                u * h0 + w * h1, (u * (h1 + a * h0) - w * (a * h1 + (w2 + a * a) * h0)) / wd
+            )
             return pmin, pmax, amp * math.exp(-a * lo)
         um, wm = abs(u), abs(w)
     else:
-        u0, u1 = _lp.prange(ft[r + 1], du, lo, hi, osc[5 + 3 * _lp.N_FORM:])
-        w0, w1 = _lp.prange(ft[r + 2], dw, lo, hi, osc[5 + 3 * _lp.N_FORM:])
+        u0, u1 = _lp.prange(ft[r + 1], du, lo, hi, osc[5 + 3 * _lp.N_FORM :])
+        w0, w1 = _lp.prange(ft[r + 2], dw, lo, hi, osc[5 + 3 * _lp.N_FORM :])
         um, wm = max(abs(u0), abs(u1)), max(abs(w0), abs(w1))
     env = um * rh + wm * rd
     if env > 0.0:
@@ -812,7 +1045,9 @@ def _monotone(ft, fd, i, lo, hi, rh, rd, rate, osc):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _linear_segment(t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, ft, pw, tq, osc, armed):
+def _linear_segment(
+    t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, ft, pw, tq, osc, armed
+):
     """Advance a linear phase of the compliant model exactly from t to the first event in (t, t_b]
     or to t_b (``t_b`` may be inf with ``follow``). Returns (time, event kind or −1, settled):
     y holds the state there (works updated unless ``follow``), pk the peaks inside the segment.
@@ -823,7 +1058,15 @@ def _linear_segment(t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, f
     k, c, jr, jh = q[K], q[CD], q[JR], q[JH]
     tm = _load_static(t_load, q)
     te = 0.0 if held else q[TE]
-    C, D, F, XP, XPD, OM, WE = pw[_lp.R_C], pw[_lp.R_D], pw[_lp.R_F], pw[_lp.R_XP], pw[_lp.R_XPD], pw[_lp.R_OM], pw[_lp.R_WE]
+    C, D, F, XP, XPD, OM, WE = (
+        pw[_lp.R_C],
+        pw[_lp.R_D],
+        pw[_lp.R_F],
+        pw[_lp.R_XP],
+        pw[_lp.R_XPD],
+        pw[_lp.R_OM],
+        pw[_lp.R_WE],
+    )
     T1, T2, ONE, ZERO = pw[_lp.R_T1], pw[_lp.R_T2], pw[_lp.R_T3], pw[_lp.R_T4]
     _lp._zero(ONE)
     ONE[0] = 1.0
@@ -839,7 +1082,9 @@ def _linear_segment(t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, f
             D[n] = s * C[n]
     th0 = y[TH]
     thd0 = y[H] - (0.0 if parked else y[R])
-    osc_on = not (parked and ia == 0.0)  # held, locked and parked: the twist grows at the engine speed
+    osc_on = not (
+        parked and ia == 0.0
+    )  # held, locked and parked: the twist grows at the engine speed
     ra, rr = 1.0, 0.0
     if parked:
         m = 1.0 / ia if osc_on else np.inf
@@ -936,7 +1181,7 @@ def _linear_segment(t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, f
         if armed[i] > 0.0:
             _lp._fder(ft, i, i + _lp.N_FORM, km, cm)
             _lp._fder(ft, i + _lp.N_FORM, i + 2 * _lp.N_FORM, km, cm)
-    fd = armed[_lp.N_FORM:]  # degrees of the form rows
+    fd = armed[_lp.N_FORM :]  # degrees of the form rows
     for i in range(_lp.N_FORM):
         if armed[i] > 0.0:
             for j in (i, i + _lp.N_FORM, i + 2 * _lp.N_FORM):
@@ -956,7 +1201,7 @@ def _linear_segment(t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, f
     # an event never fires at once, and a short episode after it is not stepped over. If it is
     # not positive by then, it stays pending and is armed at the first grid point where it is.
     hA, hdA = _lp.hh(0.0, a, w2, h0, h1)
-    t_arm = osc[5 + 2 * _lp.N_FORM:5 + 3 * _lp.N_FORM]
+    t_arm = osc[5 + 2 * _lp.N_FORM : 5 + 3 * _lp.N_FORM]
     for i in range(_lp.N_FORM):
         t_arm[i] = 0.0
         if armed[i] == 1.0:
@@ -971,8 +1216,10 @@ def _linear_segment(t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, f
                         armed[i], t_arm[i] = 1.0, ta
                         break
     t_lo, n_int, settled = 0.0, 0, False
-    mode = osc[5:5 + _lp.N_FORM]  # per form: how it is quiet up to its horizon (1 bounds, 2 monotone)
-    quiet_until = osc[5 + _lp.N_FORM:5 + 2 * _lp.N_FORM]
+    mode = osc[
+        5 : 5 + _lp.N_FORM
+    ]  # per form: how it is quiet up to its horizon (1 bounds, 2 monotone)
+    quiet_until = osc[5 + _lp.N_FORM : 5 + 2 * _lp.N_FORM]
     for i in range(_lp.N_FORM):
         mode[i], quiet_until[i] = 0.0, -1.0
     hL, hdL = hA, hdA
@@ -985,7 +1232,8 @@ def _linear_segment(t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, f
                 if armed[i] == 0.0 or armed[i] == 3.0:
                     continue
                 if _excluded(ft, fd, i, armed[i], t_lo, T, rh, rd, rate, pk, osc) or (
-                        rate <= 0.0 and _lp.degree(ft[3 * i]) == 0 and t_lo > period + dg):  # undamped: a period shows all
+                    rate <= 0.0 and _lp.degree(ft[3 * i]) == 0 and t_lo > period + dg
+                ):  # undamped: a period shows all
                     armed[i] = 0.0
                 else:
                     n_armed += 1
@@ -1008,7 +1256,11 @@ def _linear_segment(t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, f
                 break
             if quiet_until[i] <= t_lo:
                 qu, qm = t_lo, 0.0
-                m_i = _quiet(ft, fd, i, armed[i], t_lo, T, rh, rd, rate, pk, osc) if math.isfinite(T) else 0.0
+                m_i = (
+                    _quiet(ft, fd, i, armed[i], t_lo, T, rh, rd, rate, pk, osc)
+                    if math.isfinite(T)
+                    else 0.0
+                )
                 if m_i > 0.0:  # quiet to the segment's end (the common case: one try)
                     qu, qm = T, m_i
                 else:
@@ -1039,7 +1291,9 @@ def _linear_segment(t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, f
             hE, hdE = (hS, hdS) if t_end == t_s else _lp.hh(t_end, a, w2, h0, h1)
             for i in range(_lp.N_FORM):  # a monotone peak function has its maximum at an end
                 if armed[i] == 2.0 and mode[i] == 2.0:
-                    pk[_peak_slot(i)] = max(pk[_peak_slot(i)], abs(_lp.fvald(ft, fd, i, t_end, hE, hdE)))
+                    pk[_peak_slot(i)] = max(
+                        pk[_peak_slot(i)], abs(_lp.fvald(ft, fd, i, t_end, hE, hdE))
+                    )
             if not locked:
                 pk[1] = max(pk[1], abs(_lp.pv(C, t_end)))
             if kind_ev >= 0:
@@ -1114,7 +1368,11 @@ def _linear_segment(t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, f
         if held:
             if locked:  # ω_e·∫T_s, ∫θ = ∫x_p + ∫h
                 _lp._integ(XP, T2)
-                ith = _lp.pv(T2, tau) + _lp._int_qh(ONE, m, c, k, tau, hA, hdA, hE, hdE, tq) if osc_on else _lp.pv(T2, tau)
+                ith = (
+                    _lp.pv(T2, tau) + _lp._int_qh(ONE, m, c, k, tau, hA, hdA, hE, hdE, tq)
+                    if osc_on
+                    else _lp.pv(T2, tau)
+                )
                 y[WI] += y[E] * (k * ith + c * (th - th_a))
             else:
                 y[WI] += y[E] * s * _lp.pv(T1, tau)
@@ -1136,16 +1394,25 @@ def _linear_segment(t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, f
             ws = _lp.pv(T2, tau)
             if uA != 0.0:
                 _lp._der(C, T1)
-                ch = _lp.pv(C, tau) * hE - C[0] * hA - _lp._int_qh(T1, m, c, k, tau, hA, hdA, hE, hdE, tq)
+                ch = (
+                    _lp.pv(C, tau) * hE
+                    - C[0] * hA
+                    - _lp._int_qh(T1, m, c, k, tau, hA, hdA, hE, hdE, tq)
+                )
                 ws -= s * uA * ch
             y[WS] += ws
         if osc_on:  # c∫θ'² = [F·θ] − ∫F'·x_p − ∫F'·h − Δ(½mθ'² + ½kθ²)
             _lp._der(F, T1)
             _lp._mul(T1, XP, T2)
             _lp._integ(T2, T2)
-            ifth = (_lp.pv(F, tau) * th - F[0] * th_a) - _lp.pv(T2, tau) - _lp._int_qh(T1, m, c, k, tau, hA, hdA, hE,
-                                                                                      hdE, tq)
-            y[WD] += ifth - (0.5 * m * (thd * thd - thd_a * thd_a) + 0.5 * k * (th * th - th_a * th_a))
+            ifth = (
+                (_lp.pv(F, tau) * th - F[0] * th_a)
+                - _lp.pv(T2, tau)
+                - _lp._int_qh(T1, m, c, k, tau, hA, hdA, hE, hdE, tq)
+            )
+            y[WD] += ifth - (
+                0.5 * m * (thd * thd - thd_a * thd_a) + 0.5 * k * (th * th - th_a * th_a)
+            )
         else:
             y[WD] += c * y[E] * y[E] * tau
     y[TH] = th
@@ -1194,7 +1461,9 @@ def _apply_event(kind, t, y, q, locked, parked, s, compliant, prof, d, dm, g, pk
     elif kind == PARK:
         parked = True
         y[wr_col] = 0.0
-    acc_before = dm[H]  # the hub's (rigid: the driven side's); the output's is continuous (compliant)
+    acc_before = dm[
+        H
+    ]  # the hub's (rigid: the driven side's); the output's is continuous (compliant)
     aux = _forces(t, y, q, locked, parked, s, compliant, prof, d)
     if kind == LOCK:
         out[LOCKUP_TIME] = t
@@ -1221,8 +1490,9 @@ def _follow_linear(t, y, q, parked, s, prof, pk, ft, pw, tq, osc, armed):
         for b in (q[TR], q[TCON]):
             if t < b < nb:
                 nb = b
-        t, kind, settled = _linear_segment(t, nb, q[TEND], y, q, True, parked, s, prof, True, pk, ft, pw, tq, osc,
-                                           armed)
+        t, kind, settled = _linear_segment(
+            t, nb, q[TEND], y, q, True, parked, s, prof, True, pk, ft, pw, tq, osc, armed
+        )
         if kind >= 0:
             return False
         if nb == np.inf:
@@ -1291,7 +1561,9 @@ def duhamel_at(hist, k):
         u1 = tk - hist[0, j + 1]
         s1 = math.sqrt(u1)
         slope = (hist[1, j + 1] - hist[1, j]) / (hist[0, j + 1] - hist[0, j])
-        acc += 2.0 * (hist[1, j] + slope * u0) * (s0 - s1) - (2.0 / 3.0) * slope * (u0 * s0 - u1 * s1)
+        acc += 2.0 * (hist[1, j] + slope * u0) * (s0 - s1) - (2.0 / 3.0) * slope * (
+            u0 * s0 - u1 * s1
+        )
         u0, s0 = u1, s1
     return acc
 
@@ -1319,7 +1591,9 @@ def duhamel_peak(hist, n, stride):
             v = duhamel_at(hist, k)
             if v > best:
                 best, kb = v, k
-    if 1 <= kb < n - 1:  # the peak between samples: vertex of the parabola through the best and its neighbours
+    if (
+        1 <= kb < n - 1
+    ):  # the peak between samples: vertex of the parabola through the best and its neighbours
         ta, tb, tc = hist[0, kb - 1], hist[0, kb], hist[0, kb + 1]
         va, vc = duhamel_at(hist, kb - 1), duhamel_at(hist, kb + 1)
         d1, d2 = (best - va) / (tb - ta), (vc - best) / (tc - tb)
@@ -1348,8 +1622,27 @@ def flash_peaks(times, power):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False, inline="always")
-def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_steps, out, trace, work,
-                  ft, pw, tq, osc, armed, hist, with_hist):
+def _simulate_one(
+    q,
+    compliant,
+    prof,
+    tt,
+    rtol,
+    atol,
+    max_step,
+    first_step,
+    max_steps,
+    out,
+    trace,
+    work,
+    ft,
+    pw,
+    tq,
+    osc,
+    armed,
+    hist,
+    with_hist,
+):
     """Integrate one scenario over [0, q[TEND]]; fill ``out`` (RESULTS) and ``trace`` (times × TRACES).
     ``work``: a (N_WORK, N_STATE) scratch array shared by all scenarios (allocating the ~18 small
     arrays per scenario cost more than a short engagement's integration); ``ft``, ``pw``, ``tq``,
@@ -1364,20 +1657,41 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
     held = q[HELD] > 0.0
     for i in range(out.size):
         out[i] = nan
-    out[N_REJECTED] = out[N_LOCATE] = out[N_FALSE_ALARMS] = out[N_EVENT_STEPS] = out[TRUNCATED] = 0.0
+    out[N_REJECTED] = out[N_LOCATE] = out[N_FALSE_ALARMS] = out[N_EVENT_STEPS] = out[TRUNCATED] = (
+        0.0
+    )
     out[N_LINEAR] = 0.0
-    ns = N_STATE if q[FADE] > 0.0 else N_MECH  # state components (the face temperature's modes with fade)
-    y, d, d1, dm, y1, ym, err, yi, ya, yb, y_best = (work[0, :ns], work[1, :ns], work[2, :ns], work[3, :ns],
-                                                      work[4, :ns], work[5, :ns], work[6, :ns], work[7, :ns],
-                                                      work[8, :ns], work[9, :ns], work[10, :ns])
+    ns = (
+        N_STATE if q[FADE] > 0.0 else N_MECH
+    )  # state components (the face temperature's modes with fade)
+    y, d, d1, dm, y1, ym, err, yi, ya, yb, y_best = (
+        work[0, :ns],
+        work[1, :ns],
+        work[2, :ns],
+        work[3, :ns],
+        work[4, :ns],
+        work[5, :ns],
+        work[6, :ns],
+        work[7, :ns],
+        work[8, :ns],
+        work[9, :ns],
+        work[10, :ns],
+    )
     kk = work[11:18, :ns]
-    g, g1, gm, tau_hi = work[18, :N_EVENTS], work[19, :N_EVENTS], work[20, :N_EVENTS], work[21, :N_EVENTS]
+    g, g1, gm, tau_hi = (
+        work[18, :N_EVENTS],
+        work[19, :N_EVENTS],
+        work[20, :N_EVENTS],
+        work[21, :N_EVENTS],
+    )
     pk = work[22, :3]  # running maxima: slip power, |friction torque|, |output jerk|
     pk[:] = 0.0
     ths = work[23, :5]  # Hermite sample points in a step (fractions of it)
     rc = work[24:29, :ns]  # the step's continuous extension
     da = work[29, :ns]
-    y_end = work[30, :ns]  # the state at the window's end (the works and energies are over the window)
+    y_end = work[
+        30, :ns
+    ]  # the state at the window's end (the works and energies are over the window)
     y[:] = 0.0
     y[E] = q[WE0]
     y[H] = q[WC0]
@@ -1405,8 +1719,26 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
 
     t = 0.0
     aux = _forces(t, y, q, locked, parked, s, compliant, prof, d)
-    h = first_step if first_step > 0 else _initial_step(t, y, d, q, locked, parked, s, compliant, prof, rtol,
-                                                         atol, min(max_step, q[TEND]), y1, d1)
+    h = (
+        first_step
+        if first_step > 0
+        else _initial_step(
+            t,
+            y,
+            d,
+            q,
+            locked,
+            parked,
+            s,
+            compliant,
+            prof,
+            rtol,
+            atol,
+            min(max_step, q[TEND]),
+            y1,
+            d1,
+        )
+    )
     h_acc, fac_acc, last_rejected = 0.0, 1.0, False
     _events(t, y, q, locked, parked, s, compliant, prof, d, aux, g)
     jk = _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk)
@@ -1432,7 +1764,9 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                 if not _follow_linear(t, y, q, parked, s, prof, pk, ft, pw, tq, osc, armed):
                     out[TRUNCATED] = 1.0
                 break
-            jd = q[JR] / (1.0 + q[JR] * (0.0 if held else 1.0 / (q[JE] + q[JH])))  # locked oscillator's mass
+            jd = q[JR] / (
+                1.0 + q[JR] * (0.0 if held else 1.0 / (q[JE] + q[JH]))
+            )  # locked oscillator's mass
             decay = 0.5 * q[CD] / jd
             if not decay > 0.0:
                 out[TRUNCATED] = 1.0
@@ -1448,24 +1782,46 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                 nb = b
         if compliant and _is_linear(q, locked):
             out[N_LINEAR] += 1
-            t_new, kind, _ = _linear_segment(t, nb, t, y, q, locked, parked, s, prof, False, pk, ft, pw, tq, osc,
-                                             armed)
+            t_new, kind, _ = _linear_segment(
+                t, nb, t, y, q, locked, parked, s, prof, False, pk, ft, pw, tq, osc, armed
+            )
             _decay_modes(y, q, t_new - t)  # (a linear phase with fade is a locked one)
             if with_hist and not past:
-                n_hist = (_hist_add(hist, n_hist, t_new, 0.0) if locked
-                          else _hist_linear(hist, n_hist, t, t_new, _slip_spacing(dt_s, t_slip, t_new), ft, osc))
+                n_hist = (
+                    _hist_add(hist, n_hist, t_new, 0.0)
+                    if locked
+                    else _hist_linear(
+                        hist, n_hist, t, t_new, _slip_spacing(dt_s, t_slip, t_new), ft, osc
+                    )
+                )
             t = t_new
             if kind >= 0:
                 if past:
                     out[TRUNCATED] = 1.0
                     break
                 was_locked = locked
-                locked, parked, s = _apply_event(kind, t, y, q, locked, parked, s, compliant, prof, d, dm, g, pk, out)
+                locked, parked, s = _apply_event(
+                    kind, t, y, q, locked, parked, s, compliant, prof, d, dm, g, pk, out
+                )
                 if was_locked and not locked:
                     t_slip = t
                 j_left, tc_left = _jerk_torque(t, y, q, locked, parked, s, compliant, prof, dm)
-                h = _initial_step(t, y, d, q, locked, parked, s, compliant, prof, rtol, atol,
-                                  min(max_step, q[TEND]), y1, d1)
+                h = _initial_step(
+                    t,
+                    y,
+                    d,
+                    q,
+                    locked,
+                    parked,
+                    s,
+                    compliant,
+                    prof,
+                    rtol,
+                    atol,
+                    min(max_step, q[TEND]),
+                    y1,
+                    d1,
+                )
                 h_acc, fac_acc, last_rejected = 0.0, 1.0, False
             else:
                 t = nb
@@ -1482,7 +1838,7 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
         n_steps += 1
         # step-size control: Gustafsson's predictive controller (as in radau5.f): the smaller of the
         # elementary and the predicted step, factors in [0.2, 10], safety 0.9, no growth after a rejection
-        fac11 = norm ** 0.2 if norm > 1e-6 else 0.0  # (below, growth is capped at 10 anyway)
+        fac11 = norm**0.2 if norm > 1e-6 else 0.0  # (below, growth is capped at 10 anyway)
         if norm > 1.0:
             out[N_REJECTED] += 1
             h = h_try / min(5.0, fac11 / 0.9)
@@ -1495,7 +1851,11 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
         if last_rejected:
             h = min(h, h_try)
         acc_prev = (h_acc, fac_acc)
-        h_acc, fac_acc, last_rejected = h_try, max(_FAC_ACC_MIN, fac11), False  # max(1e-2, err)^(1/5)
+        h_acc, fac_acc, last_rejected = (
+            h_try,
+            max(_FAC_ACC_MIN, fac11),
+            False,
+        )  # max(1e-2, err)^(1/5)
         t_right = nb if hit else t + h_try
         aux1 = _forces(t_right, y1, q, locked, parked, s, compliant, prof, d1)
         _events(t_right, y1, q, locked, parked, s, compliant, prof, d1, aux1, g1)
@@ -1547,8 +1907,32 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                 if kind == PEAK:  # records a value only (below): the step is not cut there
                     continue
                 out[N_LOCATE] += 1
-                tau, nv, n_re = _locate(kind, t, y, d, rc, h_try, tau_hi[kind], g[kind], q, locked, parked, s,
-                                  compliant, prof, rtol, atol, kk, yi, dm, gm, ya, yb, err, da)
+                tau, nv, n_re = _locate(
+                    kind,
+                    t,
+                    y,
+                    d,
+                    rc,
+                    h_try,
+                    tau_hi[kind],
+                    g[kind],
+                    q,
+                    locked,
+                    parked,
+                    s,
+                    compliant,
+                    prof,
+                    rtol,
+                    atol,
+                    kk,
+                    yi,
+                    dm,
+                    gm,
+                    ya,
+                    yb,
+                    err,
+                    da,
+                )
                 out[N_EVENT_STEPS] += n_re
                 if tau == inf:
                     out[N_FALSE_ALARMS] += 1
@@ -1558,8 +1942,33 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
             if tau_hi[PEAK] < inf:
                 # the slip-power maximum: root of its derivative on the interpolant, value from the
                 # continuous extension there (valid only before a switching event in the same step)
-                tau_p, _, _ = _locate(PEAK, t, y, d, rc, h_try, tau_hi[PEAK], g[PEAK], q, locked, parked, s,
-                                   compliant, prof, rtol, atol, kk, yi, dm, gm, yb, ya, err, da, True)
+                tau_p, _, _ = _locate(
+                    PEAK,
+                    t,
+                    y,
+                    d,
+                    rc,
+                    h_try,
+                    tau_hi[PEAK],
+                    g[PEAK],
+                    q,
+                    locked,
+                    parked,
+                    s,
+                    compliant,
+                    prof,
+                    rtol,
+                    atol,
+                    kk,
+                    yi,
+                    dm,
+                    gm,
+                    yb,
+                    ya,
+                    err,
+                    da,
+                    True,
+                )
                 if tau_p < best_tau:
                     aux_p = _forces(t + tau_p, yb, q, locked, parked, s, compliant, prof, dm)
                     pk[0] = max(pk[0], abs(aux_p[1] * aux_p[5]))
@@ -1567,15 +1976,33 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                 # the located step must meet the tolerance itself; else retry with a shorter step
                 if best_norm > 1.0:
                     out[N_REJECTED] += 1
-                    h = best_tau / min(5.0, max(best_norm ** 0.2 / 0.9, 1.0 / 0.9))
+                    h = best_tau / min(5.0, max(best_norm**0.2 / 0.9, 1.0 / 0.9))
                     (h_acc, fac_acc), last_rejected = acc_prev, True
                     continue
                 if past:
                     out[TRUNCATED] = 1.0
                     break
                 if with_hist and not locked:
-                    n_hist = _hist_step(hist, n_hist, t, h_try, t + best_tau, _slip_spacing(dt_s, t_slip, t + best_tau),
-                                        y, d, y1, d1, q, locked, parked, s, compliant, prof, ym, dm)
+                    n_hist = _hist_step(
+                        hist,
+                        n_hist,
+                        t,
+                        h_try,
+                        t + best_tau,
+                        _slip_spacing(dt_s, t_slip, t + best_tau),
+                        y,
+                        d,
+                        y1,
+                        d1,
+                        q,
+                        locked,
+                        parked,
+                        s,
+                        compliant,
+                        prof,
+                        ym,
+                        dm,
+                    )
                 if locked:
                     _decay_modes(y_best, q, best_tau)
                 t = t + best_tau
@@ -1587,13 +2014,28 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                 if with_hist:
                     n_hist = _hist_add(hist, n_hist, t, 0.0 if locked else aux_e[1] * aux_e[5])
                 was_locked = locked
-                locked, parked, s = _apply_event(best_kind, t, y, q, locked, parked, s, compliant, prof, d, dm, g,
-                                                 pk, out)
+                locked, parked, s = _apply_event(
+                    best_kind, t, y, q, locked, parked, s, compliant, prof, d, dm, g, pk, out
+                )
                 if was_locked and not locked:
                     t_slip = t
                 j_left, tc_left = _jerk_torque(t, y, q, locked, parked, s, compliant, prof, dm)
-                h = _initial_step(t, y, d, q, locked, parked, s, compliant, prof, rtol, atol, min(max_step, q[TEND]),
-                                  y1, d1)
+                h = _initial_step(
+                    t,
+                    y,
+                    d,
+                    q,
+                    locked,
+                    parked,
+                    s,
+                    compliant,
+                    prof,
+                    rtol,
+                    atol,
+                    min(max_step, q[TEND]),
+                    y1,
+                    d1,
+                )
                 h_acc, fac_acc, last_rejected = 0.0, 1.0, False
                 continue
         # no event: take the step as it was, with the peaks inside it (compliant: the output jerk and
@@ -1606,14 +2048,36 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
                 if not fired:
                     _dense_coefficients(y, y1, kk, h_try, rc)
                 if th_j > 0.0:
-                    _refine_peak(2, th_j, t, h_try, rc, q, locked, parked, s, compliant, prof, pk, yb, dm)
+                    _refine_peak(
+                        2, th_j, t, h_try, rc, q, locked, parked, s, compliant, prof, pk, yb, dm
+                    )
                 if th_t > 0.0:
-                    _refine_peak(1, th_t, t, h_try, rc, q, locked, parked, s, compliant, prof, pk, yb, dm)
+                    _refine_peak(
+                        1, th_t, t, h_try, rc, q, locked, parked, s, compliant, prof, pk, yb, dm
+                    )
         j_left, tc_left = jk, aux1[1]
         if with_hist and not past:
             if not locked:
-                n_hist = _hist_step(hist, n_hist, t, h_try, t_right, _slip_spacing(dt_s, t_slip, t_right), y, d, y1,
-                                    d1, q, locked, parked, s, compliant, prof, ym, dm)
+                n_hist = _hist_step(
+                    hist,
+                    n_hist,
+                    t,
+                    h_try,
+                    t_right,
+                    _slip_spacing(dt_s, t_slip, t_right),
+                    y,
+                    d,
+                    y1,
+                    d1,
+                    q,
+                    locked,
+                    parked,
+                    s,
+                    compliant,
+                    prof,
+                    ym,
+                    dm,
+                )
             n_hist = _hist_add(hist, n_hist, t_right, 0.0 if locked else aux1[1] * aux1[5])
         if locked:
             _decay_modes(y1, q, t_right - t)
@@ -1625,8 +2089,11 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
 
     out[PEAK_SLIP_POWER], out[PEAK_FRICTION_TORQUE], out[PEAK_JERK] = pk[0], pk[1], pk[2]
     out[N_POWER_SAMPLES] = n_hist if with_hist else 0.0
-    out[FLASH_PEAK] = (duhamel_peak(hist, n_hist, max(1, int(math.sqrt(n_hist / 2.0))))
-                       if with_hist and n_hist <= POWER_SAMPLES_MAX else nan)
+    out[FLASH_PEAK] = (
+        duhamel_peak(hist, n_hist, max(1, int(math.sqrt(n_hist / 2.0))))
+        if with_hist and n_hist <= POWER_SAMPLES_MAX
+        else nan
+    )
     out[N_STEPS] = n_steps
     out[FINAL_LOCKED] = 1.0 if locked else 0.0
     out[HIT_STEP_LIMIT] = 1.0 if (n_steps >= max_steps and t < t_stop) else 0.0
@@ -1638,8 +2105,11 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
     wh, wr = y[H], y[wr_col]
     if compliant:
         k_el = q[K] if math.isfinite(q[K]) else 0.0
-        dke = (0.5 * q[JH] * (wh**2 - q[WC0] ** 2) + 0.5 * q[JR] * (wr**2 - q[WC0] ** 2)
-               + 0.5 * k_el * y[TH] ** 2)
+        dke = (
+            0.5 * q[JH] * (wh**2 - q[WC0] ** 2)
+            + 0.5 * q[JR] * (wr**2 - q[WC0] ** 2)
+            + 0.5 * k_el * y[TH] ** 2
+        )
     else:
         dke = 0.5 * q[JV] * (wh**2 - q[WC0] ** 2)
     if not held:
@@ -1654,22 +2124,98 @@ def _simulate_one(q, compliant, prof, tt, rtol, atol, max_step, first_step, max_
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _batch_rigid(Q, prof, tt, rtol, atol, max_step, first_step, max_steps, out, trace, work, ft, pw, tq, osc, armed,
-                 hist, with_hist):
+def _batch_rigid(
+    Q,
+    prof,
+    tt,
+    rtol,
+    atol,
+    max_step,
+    first_step,
+    max_steps,
+    out,
+    trace,
+    work,
+    ft,
+    pw,
+    tq,
+    osc,
+    armed,
+    hist,
+    with_hist,
+):
     for i in range(Q.shape[0]):
-        _simulate_one(Q[i], False, prof, tt, rtol, atol, max_step, first_step, max_steps, out[i], trace[i], work,
-                      ft, pw, tq, osc, armed, hist, with_hist)
+        _simulate_one(
+            Q[i],
+            False,
+            prof,
+            tt,
+            rtol,
+            atol,
+            max_step,
+            first_step,
+            max_steps,
+            out[i],
+            trace[i],
+            work,
+            ft,
+            pw,
+            tq,
+            osc,
+            armed,
+            hist,
+            with_hist,
+        )
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _batch_compliant(Q, prof, tt, rtol, atol, max_step, first_step, max_steps, out, trace, work, ft, pw, tq, osc,
-                     armed, hist, with_hist):
+def _batch_compliant(
+    Q,
+    prof,
+    tt,
+    rtol,
+    atol,
+    max_step,
+    first_step,
+    max_steps,
+    out,
+    trace,
+    work,
+    ft,
+    pw,
+    tq,
+    osc,
+    armed,
+    hist,
+    with_hist,
+):
     for i in range(Q.shape[0]):
-        _simulate_one(Q[i], True, prof, tt, rtol, atol, max_step, first_step, max_steps, out[i], trace[i], work,
-                      ft, pw, tq, osc, armed, hist, with_hist)
+        _simulate_one(
+            Q[i],
+            True,
+            prof,
+            tt,
+            rtol,
+            atol,
+            max_step,
+            first_step,
+            max_steps,
+            out[i],
+            trace[i],
+            work,
+            ft,
+            pw,
+            tq,
+            osc,
+            armed,
+            hist,
+            with_hist,
+        )
 
 
-def simulate_batch(Q, compliant, prof, tt, rtol, atol, max_step, first_step, max_steps, with_hist=False):
+def simulate_batch(
+    Q, compliant, prof, tt, rtol, atol, max_step, first_step, max_steps, with_hist=False
+):
     """Run every row of the parameter table Q; returns (results, traces). The rigid and the
     compliant model are compiled separately (the constant flag removes their branches: ~25 %)."""
     n = Q.shape[0]
@@ -1679,10 +2225,30 @@ def simulate_batch(Q, compliant, prof, tt, rtol, atol, max_step, first_step, max
     ft = np.zeros((_lp.N_FROWS, _lp.NP))
     pw = np.zeros((_lp.N_PROWS, _lp.NP))
     tq = np.zeros((_lp.NP, _lp.NP))
-    osc = np.zeros(5 + 3 * _lp.N_FORM + _lp.NP)  # free response, quiet modes and horizons, arming times, scratch
+    osc = np.zeros(
+        5 + 3 * _lp.N_FORM + _lp.NP
+    )  # free response, quiet modes and horizons, arming times, scratch
     armed = np.zeros(_lp.N_FORM + _lp.N_FROWS)  # flags, then the form rows' degrees
     hist = np.empty((2, POWER_SAMPLES_MAX))  # the slip power history of one scenario (issue 20)
     run = _batch_compliant if compliant else _batch_rigid
-    run(Q, prof, tt, rtol, atol, max_step, first_step, max_steps, out, trace, work, ft, pw, tq, osc, armed, hist,
-        bool(with_hist))
+    run(
+        Q,
+        prof,
+        tt,
+        rtol,
+        atol,
+        max_step,
+        first_step,
+        max_steps,
+        out,
+        trace,
+        work,
+        ft,
+        pw,
+        tq,
+        osc,
+        armed,
+        hist,
+        bool(with_hist),
+    )
     return out, trace

@@ -28,6 +28,7 @@ polynomials' ranges) exclude a root or a new peak, or keep a form monotone
 polynomials, and of Q·h by the recursion K·∫Q·h = −m[Q·h'] + m[Q'·h] − c[Q·h] + c∫Q'·h − m∫Q''·h;
 the damping work from the oscillator's energy balance c∫θ'² = ∫f·θ' − Δ(½mθ'² + ½Kθ²).
 """
+
 from __future__ import annotations
 
 import math
@@ -172,8 +173,11 @@ def fval(ft, i, tau, h, hd):
 def fvald(ft, fd, i, tau, h, hd):
     """Form i at τ with the rows' degrees ``fd``."""
     r = 3 * i
-    return (pvd(ft[r], int(fd[r]), tau) + pvd(ft[r + 1], int(fd[r + 1]), tau) * h
-            + pvd(ft[r + 2], int(fd[r + 2]), tau) * hd)
+    return (
+        pvd(ft[r], int(fd[r]), tau)
+        + pvd(ft[r + 1], int(fd[r + 1]), tau) * h
+        + pvd(ft[r + 2], int(fd[r + 2]), tau) * hd
+    )
 
 
 @njit(**_JNIT)
@@ -342,7 +346,12 @@ def _int_qh(q, m, c, k, tau, h_a, hd_a, h_b, hd_b, tmp):
         qa, qb = pv(tmp[j], 0.0), pv(tmp[j], tau)
         dqa = pv(tmp[j + 1], 0.0) if j + 1 <= deg else 0.0
         dqb = pv(tmp[j + 1], tau) if j + 1 <= deg else 0.0
-        ij = (-m * (qb * hd_b - qa * hd_a) + m * (dqb * h_b - dqa * h_a) - c * (qb * h_b - qa * h_a)
-              + c * i1 - m * i2) / k
+        ij = (
+            -m * (qb * hd_b - qa * hd_a)
+            + m * (dqb * h_b - dqa * h_a)
+            - c * (qb * h_b - qa * h_a)
+            + c * i1
+            - m * i2
+        ) / k
         i2, i1 = i1, ij
     return i1

@@ -29,15 +29,25 @@ References
 ----------
 .. [1] Sun R. (2017), seed 001, eqs. (1)-(2), Fig. 5 (capacity curves), Figs. 6-8 (speed traces).
 """
+
 from __future__ import annotations
 
 import numpy as np
 
 from . import status as st
 
-__all__ = ["centrifugal_force", "engagement_speed", "capacity", "linkage_factor_from_targets",
-           "passive_torque", "needed_reverse_torque", "release_after_failure", "engine_failure_trace",
-           "startup_trace", "design_status"]
+__all__ = [
+    "centrifugal_force",
+    "engagement_speed",
+    "capacity",
+    "linkage_factor_from_targets",
+    "passive_torque",
+    "needed_reverse_torque",
+    "release_after_failure",
+    "engine_failure_trace",
+    "startup_trace",
+    "design_status",
+]
 
 
 def centrifugal_force(*, shoe_mass, shoe_radius, speed):
@@ -50,8 +60,17 @@ def engagement_speed(*, shoe_mass, shoe_radius, spring_force):
     return np.sqrt(spring_force / (shoe_mass * shoe_radius))
 
 
-def capacity(*, speed, shoes, friction_coefficient, pressure_angle, shoe_mass, shoe_radius, drum_radius,
-             spring_force):
+def capacity(
+    *,
+    speed,
+    shoes,
+    friction_coefficient,
+    pressure_angle,
+    shoe_mass,
+    shoe_radius,
+    drum_radius,
+    spring_force,
+):
     """Forward and reverse torque capacity (seed 001 eqs. 1-2) [N m].
 
     Parameters
@@ -74,8 +93,10 @@ def capacity(*, speed, shoes, friction_coefficient, pressure_angle, shoe_mass, s
         linkage, see :func:`status`).
     """
     x = friction_coefficient * np.tan(pressure_angle)
-    excess = np.maximum(centrifugal_force(shoe_mass=shoe_mass, shoe_radius=shoe_radius, speed=speed)
-                        - spring_force, 0.0)
+    excess = np.maximum(
+        centrifugal_force(shoe_mass=shoe_mass, shoe_radius=shoe_radius, speed=speed) - spring_force,
+        0.0,
+    )
     base = shoes * friction_coefficient * drum_radius * excess
     with np.errstate(divide="ignore", invalid="ignore"):
         forward = np.where(_jammed(x), np.nan, base / (1.0 - x))
@@ -110,32 +131,60 @@ def passive_torque(speed, *, rated_passive_torque, rated_speed, static_fraction)
 def needed_reverse_torque(speed, *, engine_inertia, rotor_inertia, rotor_drag, p0, p2):
     """Torque the rotor must send back through a held clutch to carry the dead engine [N m]."""
     w2 = np.square(speed)
-    return (rotor_inertia * (p0 + p2 * w2) - engine_inertia * rotor_drag * w2) / (engine_inertia + rotor_inertia)
+    return (rotor_inertia * (p0 + p2 * w2) - engine_inertia * rotor_drag * w2) / (
+        engine_inertia + rotor_inertia
+    )
 
 
 def _drag_coefficients(rated_speed, rotor_load_torque, rated_passive_torque, static_fraction):
     """Rotor drag k [N m s²] of k·ω² and passive-torque coefficients p₀ [N m], p₂ [N m s²] of
     T_p = p₀ + p₂·ω² (see :func:`passive_torque`)."""
     w2 = np.square(rated_speed)
-    return (rotor_load_torque / w2, rated_passive_torque * static_fraction,
-            rated_passive_torque * (1.0 - static_fraction) / w2)
+    return (
+        rotor_load_torque / w2,
+        rated_passive_torque * static_fraction,
+        rated_passive_torque * (1.0 - static_fraction) / w2,
+    )
 
 
-_DOMAIN = {"rated_speed": st.positive, "shoes": st.whole(1), "friction_coefficient": st.positive,
-           "pressure_angle": st.between(0.0, np.pi / 2, hi_open=True), "shoe_mass": st.positive,
-           "shoe_radius": st.positive, "drum_radius": st.positive, "spring_force": st.nonnegative,
-           "rotor_load_torque": st.nonnegative, "engine_inertia": st.positive, "rotor_inertia": st.positive,
-           "rated_passive_torque": st.nonnegative, "static_fraction": st.between(0.0, 1.0),
-           "friction_scatter": st.nonnegative}
+_DOMAIN = {
+    "rated_speed": st.positive,
+    "shoes": st.whole(1),
+    "friction_coefficient": st.positive,
+    "pressure_angle": st.between(0.0, np.pi / 2, hi_open=True),
+    "shoe_mass": st.positive,
+    "shoe_radius": st.positive,
+    "drum_radius": st.positive,
+    "spring_force": st.nonnegative,
+    "rotor_load_torque": st.nonnegative,
+    "engine_inertia": st.positive,
+    "rotor_inertia": st.positive,
+    "rated_passive_torque": st.nonnegative,
+    "static_fraction": st.between(0.0, 1.0),
+    "friction_scatter": st.nonnegative,
+}
 
 
 def _domain(names):
     return {k: _DOMAIN[k] for k in names}
 
 
-def release_after_failure(*, rated_speed, shoes, friction_coefficient, pressure_angle, shoe_mass, shoe_radius,
-                          drum_radius, spring_force, engine_inertia, rotor_inertia, rotor_load_torque,
-                          rated_passive_torque, static_fraction):
+def release_after_failure(
+    *,
+    rated_speed,
+    shoes,
+    friction_coefficient,
+    pressure_angle,
+    shoe_mass,
+    shoe_radius,
+    drum_radius,
+    spring_force,
+    engine_inertia,
+    rotor_inertia,
+    rotor_load_torque,
+    rated_passive_torque,
+    static_fraction,
+):
     """Release speed and time after the engine dies at rated speed (closed form, exact).
 
     Parameters
@@ -158,20 +207,50 @@ def release_after_failure(*, rated_speed, shoes, friction_coefficient, pressure_
         ``invalid_input`` with NaN where an input is not finite or not physical: a negative
         passive torque or drag, a static fraction outside [0, 1], a count that is not whole, ...).
     """
-    inputs = dict(rated_speed=rated_speed, shoes=shoes, friction_coefficient=friction_coefficient,
-                  pressure_angle=pressure_angle, shoe_mass=shoe_mass, shoe_radius=shoe_radius, drum_radius=drum_radius,
-                  spring_force=spring_force, engine_inertia=engine_inertia, rotor_inertia=rotor_inertia,
-                  rotor_load_torque=rotor_load_torque, rated_passive_torque=rated_passive_torque,
-                  static_fraction=static_fraction)
+    inputs = dict(
+        rated_speed=rated_speed,
+        shoes=shoes,
+        friction_coefficient=friction_coefficient,
+        pressure_angle=pressure_angle,
+        shoe_mass=shoe_mass,
+        shoe_radius=shoe_radius,
+        drum_radius=drum_radius,
+        spring_force=spring_force,
+        engine_inertia=engine_inertia,
+        rotor_inertia=rotor_inertia,
+        rotor_load_torque=rotor_load_torque,
+        rated_passive_torque=rated_passive_torque,
+        static_fraction=static_fraction,
+    )
     return st.screened(_release_after_failure, inputs, _domain(inputs))
 
 
-def _release_after_failure(*, rated_speed, shoes, friction_coefficient, pressure_angle, shoe_mass, shoe_radius,
-                           drum_radius, spring_force, engine_inertia, rotor_inertia, rotor_load_torque,
-                           rated_passive_torque, static_fraction):
-    k, p0, p2 = _drag_coefficients(rated_speed, rotor_load_torque, rated_passive_torque, static_fraction)
+def _release_after_failure(
+    *,
+    rated_speed,
+    shoes,
+    friction_coefficient,
+    pressure_angle,
+    shoe_mass,
+    shoe_radius,
+    drum_radius,
+    spring_force,
+    engine_inertia,
+    rotor_inertia,
+    rotor_load_torque,
+    rated_passive_torque,
+    static_fraction,
+):
+    k, p0, p2 = _drag_coefficients(
+        rated_speed, rotor_load_torque, rated_passive_torque, static_fraction
+    )
     j = engine_inertia + rotor_inertia
-    a_rev = shoes * friction_coefficient * drum_radius / (1.0 + friction_coefficient * np.tan(pressure_angle))
+    a_rev = (
+        shoes
+        * friction_coefficient
+        * drum_radius
+        / (1.0 + friction_coefficient * np.tan(pressure_angle))
+    )
     w0 = engagement_speed(shoe_mass=shoe_mass, shoe_radius=shoe_radius, spring_force=spring_force)
     # g(ω) = T_need(ω) − M′(ω) = c2·ω² + c0 on ω ≥ ω₀ (release where g ≥ 0)
     c2 = (rotor_inertia * p2 - engine_inertia * k) / j - a_rev * shoe_mass * shoe_radius
@@ -180,11 +259,17 @@ def _release_after_failure(*, rated_speed, shoes, friction_coefficient, pressure
     at_once = g_rated >= 0.0
     with np.errstate(divide="ignore", invalid="ignore"):
         root = np.sqrt(-c0 / c2)  # c0 > 0: a root in (ω₀, ω_r) needs c2 < 0
-    w_rel = np.where(at_once, rated_speed, np.where((c2 < 0) & (root > w0), np.minimum(root, rated_speed), w0))
+    w_rel = np.where(
+        at_once, rated_speed, np.where((c2 < 0) & (root > w0), np.minimum(root, rated_speed), w0)
+    )
     w_rel = np.minimum(w_rel, rated_speed)
     t_rel = j * _inverse_quadratic_integral(p0, p2 + k, w_rel, rated_speed)
-    return {"release_speed": w_rel, "release_time": np.where(at_once, 0.0, t_rel), "released_at_once": at_once,
-            "status": np.full(np.shape(w_rel), st.CODE["ok"], dtype=st.DTYPE)}
+    return {
+        "release_speed": w_rel,
+        "release_time": np.where(at_once, 0.0, t_rel),
+        "released_at_once": at_once,
+        "status": np.full(np.shape(w_rel), st.CODE["ok"], dtype=st.DTYPE),
+    }
 
 
 def _inverse_quadratic_integral(a, c, lo, hi):
@@ -192,47 +277,110 @@ def _inverse_quadratic_integral(a, c, lo, hi):
     with np.errstate(divide="ignore", invalid="ignore"):
         s = np.sqrt(a * c)
         # atan difference as one atan (no cancellation when lo ≈ hi)
-        at = np.arctan2(np.sqrt(c / np.where(a > 0, a, 1.0)) * (hi - lo),
-                        1.0 + c / np.where(a > 0, a, 1.0) * lo * hi) / np.where(a > 0, s, 1.0)
+        at = np.arctan2(
+            np.sqrt(c / np.where(a > 0, a, 1.0)) * (hi - lo),
+            1.0 + c / np.where(a > 0, a, 1.0) * lo * hi,
+        ) / np.where(a > 0, s, 1.0)
         pure = (hi - lo) / (c * lo * hi)
     return np.where(a > 0, at, pure)
 
 
-def design_status(*, rated_speed, shoes, friction_coefficient, pressure_angle, shoe_mass, shoe_radius, drum_radius,
-           spring_force, rotor_load_torque, friction_scatter=0.0):
+def design_status(
+    *,
+    rated_speed,
+    shoes,
+    friction_coefficient,
+    pressure_angle,
+    shoe_mass,
+    shoe_radius,
+    drum_radius,
+    spring_force,
+    rotor_load_torque,
+    friction_scatter=0.0,
+):
     """``jammed`` where f·tanα ≥ 1 (to within :data:`JAM_TOLERANCE`); ``not_engaged`` where the
     springs beat the centrifugal force at rated speed or the forward capacity there is below the
     rotor load; ``near_jam`` where the design works but a friction coefficient higher by the
     relative ``friction_scatter`` would jam it, (1 + scatter)·f·tanα ≥ 1: its forward capacity
     M ∝ 1/(1 − f·tanα) is near-singular there (exact, but a few percent more friction multiplies
     it); ``invalid_input`` where an input is not finite or not physical; else ``ok``."""
-    inputs = dict(rated_speed=rated_speed, shoes=shoes, friction_coefficient=friction_coefficient,
-                  pressure_angle=pressure_angle, shoe_mass=shoe_mass, shoe_radius=shoe_radius, drum_radius=drum_radius,
-                  spring_force=spring_force, rotor_load_torque=rotor_load_torque, friction_scatter=friction_scatter)
+    inputs = dict(
+        rated_speed=rated_speed,
+        shoes=shoes,
+        friction_coefficient=friction_coefficient,
+        pressure_angle=pressure_angle,
+        shoe_mass=shoe_mass,
+        shoe_radius=shoe_radius,
+        drum_radius=drum_radius,
+        spring_force=spring_force,
+        rotor_load_torque=rotor_load_torque,
+        friction_scatter=friction_scatter,
+    )
     return st.screened(_design_status, inputs, _domain(inputs))["status"]
 
 
-def _design_status(*, rated_speed, shoes, friction_coefficient, pressure_angle, shoe_mass, shoe_radius, drum_radius,
-                   spring_force, rotor_load_torque, friction_scatter):
-    fwd, _ = capacity(speed=rated_speed, shoes=shoes, friction_coefficient=friction_coefficient,
-                      pressure_angle=pressure_angle, shoe_mass=shoe_mass, shoe_radius=shoe_radius,
-                      drum_radius=drum_radius, spring_force=spring_force)
-    weak = (centrifugal_force(shoe_mass=shoe_mass, shoe_radius=shoe_radius, speed=rated_speed) <= spring_force) | (
-        fwd < rotor_load_torque)
+def _design_status(
+    *,
+    rated_speed,
+    shoes,
+    friction_coefficient,
+    pressure_angle,
+    shoe_mass,
+    shoe_radius,
+    drum_radius,
+    spring_force,
+    rotor_load_torque,
+    friction_scatter,
+):
+    fwd, _ = capacity(
+        speed=rated_speed,
+        shoes=shoes,
+        friction_coefficient=friction_coefficient,
+        pressure_angle=pressure_angle,
+        shoe_mass=shoe_mass,
+        shoe_radius=shoe_radius,
+        drum_radius=drum_radius,
+        spring_force=spring_force,
+    )
+    weak = (
+        centrifugal_force(shoe_mass=shoe_mass, shoe_radius=shoe_radius, speed=rated_speed)
+        <= spring_force
+    ) | (fwd < rotor_load_torque)
     x = friction_coefficient * np.tan(pressure_angle)
-    code = np.where(_jammed(x), st.CODE["jammed"], np.where(weak, st.CODE["not_engaged"], np.where(
-        _jammed(x * (1.0 + friction_scatter)), st.CODE["near_jam"], st.CODE["ok"])))
+    code = np.where(
+        _jammed(x),
+        st.CODE["jammed"],
+        np.where(
+            weak,
+            st.CODE["not_engaged"],
+            np.where(_jammed(x * (1.0 + friction_scatter)), st.CODE["near_jam"], st.CODE["ok"]),
+        ),
+    )
     return {"status": code.astype(st.DTYPE)}
 
 
 def _params(p):
     """Unpack a scenario dict (scalars) into what the traces need."""
-    k, p0, p2 = _drag_coefficients(p["rated_speed"], p["rotor_load_torque"], p["rated_passive_torque"],
-                                   p["static_fraction"])
+    k, p0, p2 = _drag_coefficients(
+        p["rated_speed"], p["rotor_load_torque"], p["rated_passive_torque"], p["static_fraction"]
+    )
 
     def caps(we):
-        return capacity(speed=we, **{n: p[n] for n in ("shoes", "friction_coefficient", "pressure_angle", "shoe_mass",
-                                                       "shoe_radius", "drum_radius", "spring_force")})
+        return capacity(
+            speed=we,
+            **{
+                n: p[n]
+                for n in (
+                    "shoes",
+                    "friction_coefficient",
+                    "pressure_angle",
+                    "shoe_mass",
+                    "shoe_radius",
+                    "drum_radius",
+                    "spring_force",
+                )
+            },
+        )
 
     return k, p0, p2, caps
 
@@ -257,8 +405,12 @@ def engine_failure_trace(p, *, t_end=3.0, n=301, rtol=1e-10, atol=1e-10):
     je, jr = p["engine_inertia"], p["rotor_inertia"]
 
     def need_minus_cap(w):
-        return (needed_reverse_torque(w, engine_inertia=je, rotor_inertia=jr, rotor_drag=k, p0=p0, p2=p2)
-                - caps(w)[1])
+        return (
+            needed_reverse_torque(
+                w, engine_inertia=je, rotor_inertia=jr, rotor_drag=k, p0=p0, p2=p2
+            )
+            - caps(w)[1]
+        )
 
     times = np.linspace(0.0, t_end, n)
     w_r = p["rated_speed"]
@@ -267,8 +419,16 @@ def engine_failure_trace(p, *, t_end=3.0, n=301, rtol=1e-10, atol=1e-10):
     else:
         ev = lambda t, y: need_minus_cap(y[0])  # noqa: E731
         ev.terminal, ev.direction = True, 1
-        sol = solve_ivp(lambda t, y: [-(p0 + (p2 + k) * y[0] ** 2) / (je + jr)], (0.0, t_end), [w_r],
-                        method="DOP853", rtol=rtol, atol=atol, events=ev, dense_output=True)
+        sol = solve_ivp(
+            lambda t, y: [-(p0 + (p2 + k) * y[0] ** 2) / (je + jr)],
+            (0.0, t_end),
+            [w_r],
+            method="DOP853",
+            rtol=rtol,
+            atol=atol,
+            events=ev,
+            dense_output=True,
+        )
         t_rel = float(sol.t_events[0][0]) if sol.t_events[0].size else np.inf
         w_rel = float(sol.y_events[0][0][0]) if sol.t_events[0].size else np.nan
     we = np.full(n, np.nan)
@@ -278,8 +438,11 @@ def engine_failure_trace(p, *, t_end=3.0, n=301, rtol=1e-10, atol=1e-10):
     if np.any(held) and t_rel > 0:
         yy = sol.sol(times[held])[0]
         we[held] = wr[held] = yy
-        tc[held] = -needed_reverse_torque(yy, engine_inertia=je, rotor_inertia=jr, rotor_drag=k, p0=p0, p2=p2)
+        tc[held] = -needed_reverse_torque(
+            yy, engine_inertia=je, rotor_inertia=jr, rotor_drag=k, p0=p0, p2=p2
+        )
     if np.isfinite(t_rel):
+
         def free(t, y):
             e = max(y[0], 0.0)
             m_rev = caps(e)[1]
@@ -289,8 +452,16 @@ def engine_failure_trace(p, *, t_end=3.0, n=301, rtol=1e-10, atol=1e-10):
         stop = lambda t, y: y[0]  # noqa: E731
         stop.terminal, stop.direction = True, -1
         after = times[times > t_rel]
-        s2 = solve_ivp(free, (t_rel, t_end), [w_rel, w_rel], method="DOP853", rtol=rtol, atol=atol, events=stop,
-                       dense_output=True)
+        s2 = solve_ivp(
+            free,
+            (t_rel, t_end),
+            [w_rel, w_rel],
+            method="DOP853",
+            rtol=rtol,
+            atol=atol,
+            events=stop,
+            dense_output=True,
+        )
         t_stop = s2.t[-1]
         moving = after <= t_stop
         yy = s2.sol(after[moving])
@@ -302,8 +473,14 @@ def engine_failure_trace(p, *, t_end=3.0, n=301, rtol=1e-10, atol=1e-10):
             we[sel[~moving]] = 0.0
             wr[sel[~moving]] = w_stop / (1.0 + k * w_stop * tt / jr)
         tc[sel] = -caps(np.maximum(we[sel], 0.0))[1]
-    return {"time": times, "engine_speed": we, "rotor_speed": wr, "clutch_torque": tc, "release_time": t_rel,
-            "release_speed": w_rel}
+    return {
+        "time": times,
+        "engine_speed": we,
+        "rotor_speed": wr,
+        "clutch_torque": tc,
+        "release_time": t_rel,
+        "release_speed": w_rel,
+    }
 
 
 def startup_trace(p, *, idle_speed, startup_time, t_end=None, n=301, rtol=1e-10, atol=1e-10):
@@ -328,11 +505,28 @@ def startup_trace(p, *, idle_speed, startup_time, t_end=None, n=301, rtol=1e-10,
 
     lock = lambda t, y: w_e(t) - y[0]  # noqa: E731
     lock.terminal, lock.direction = True, -1
-    sol = solve_ivp(rhs, (0.0, startup_time), [0.0], method="DOP853", rtol=rtol, atol=atol, events=lock,
-                    dense_output=True, max_step=startup_time / 200)
+    sol = solve_ivp(
+        rhs,
+        (0.0, startup_time),
+        [0.0],
+        method="DOP853",
+        rtol=rtol,
+        atol=atol,
+        events=lock,
+        dense_output=True,
+        max_step=startup_time / 200,
+    )
     if not sol.t_events[0].size:
-        s2 = solve_ivp(rhs, (startup_time, t_end), sol.y[:, -1], method="DOP853", rtol=rtol, atol=atol, events=lock,
-                       dense_output=True)
+        s2 = solve_ivp(
+            rhs,
+            (startup_time, t_end),
+            sol.y[:, -1],
+            method="DOP853",
+            rtol=rtol,
+            atol=atol,
+            events=lock,
+            dense_output=True,
+        )
         t_lock = float(s2.t_events[0][0]) if s2.t_events[0].size else np.inf
     else:
         s2, t_lock = None, float(sol.t_events[0][0])
@@ -346,5 +540,11 @@ def startup_trace(p, *, idle_speed, startup_time, t_end=None, n=301, rtol=1e-10,
         second = slip & (times > startup_time)
         wr[second] = s2.sol(times[second])[0]
     tc = np.where(slip, caps(we)[0], jr * np.where(times < startup_time, rate, 0.0) + k * we**2)
-    return {"time": times, "engine_speed": we, "rotor_speed": wr, "clutch_torque": tc, "lockup_time": t_lock,
-            "lockup_speed": float(w_e(t_lock)) if np.isfinite(t_lock) else np.nan}
+    return {
+        "time": times,
+        "engine_speed": we,
+        "rotor_speed": wr,
+        "clutch_torque": tc,
+        "lockup_time": t_lock,
+        "lockup_speed": float(w_e(t_lock)) if np.isfinite(t_lock) else np.nan,
+    }

@@ -15,6 +15,7 @@ peaked at 0.54 GB, the report of 5 x 2^20 at 1.38 GB).
 Every job runs on one core (``cpus_per_task`` 1): the physics is single-threaded per process,
 and a study runs in parallel as its chunk jobs.
 """
+
 from __future__ import annotations
 
 import math
@@ -58,12 +59,18 @@ def chunk_resources(resolved_study: dict) -> dict:
 def merge_resources(resolved_study: dict) -> dict:
     """mem_mb, runtime and cpus_per_task of the merge job of a resolved study."""
     n = scenario_count(resolved_study)
-    return {"mem_mb": _mem(MERGE_MB[0] + MERGE_MB[1] * n), "runtime": MIN_RUNTIME + n // 200_000,
-            "cpus_per_task": 1}
+    return {
+        "mem_mb": _mem(MERGE_MB[0] + MERGE_MB[1] * n),
+        "runtime": MIN_RUNTIME + n // 200_000,
+        "cpus_per_task": 1,
+    }
 
 
 def report_resources(resolved: dict) -> dict:
     """mem_mb, runtime and cpus_per_task of the report job of a resolved config (all its studies)."""
     n = sum(scenario_count(resolved[s]) for s in resolved["studies"])
-    return {"mem_mb": _mem(REPORT_MB[0] + REPORT_MB[1] * n), "runtime": MIN_RUNTIME + n // 500_000,
-            "cpus_per_task": 1}
+    return {
+        "mem_mb": _mem(REPORT_MB[0] + REPORT_MB[1] * n),
+        "runtime": MIN_RUNTIME + n // 500_000,
+        "cpus_per_task": 1,
+    }

@@ -5,6 +5,7 @@ resolved config in which every quantity is a float in SI units, every study sect
 its ``fixed`` values and its ``factors``, and defaults are filled in. Any problem raises
 :class:`ConfigError` whose message starts with the offending key, before any job runs.
 """
+
 from __future__ import annotations
 
 import copy
@@ -17,8 +18,18 @@ import yaml
 from . import studies
 from .units import UnitError, to_si
 
-__all__ = ["ConfigError", "SCHEMA_PATH", "schema", "load", "read_file", "resolve", "study_config_text",
-           "stored_study", "scenario_count", "DEFAULT_MAX_SCENARIOS"]
+__all__ = [
+    "ConfigError",
+    "SCHEMA_PATH",
+    "schema",
+    "load",
+    "read_file",
+    "resolve",
+    "study_config_text",
+    "stored_study",
+    "scenario_count",
+    "DEFAULT_MAX_SCENARIOS",
+]
 
 SCHEMA_PATH = files("clutchlab") / "config.schema.yaml"
 DEFAULT_CHUNKS = 4  # of a study whose config gives neither chunks nor chunk_size (historical)
@@ -54,8 +65,11 @@ class _StrictLoader(yaml.SafeLoader):
             line = key_node.start_mark.line + 1
             try:
                 if key in seen:
-                    raise ConfigError(str(key), f"given twice in one mapping (lines {seen[key]} and {line}); "
-                                      "YAML would silently keep the last")
+                    raise ConfigError(
+                        str(key),
+                        f"given twice in one mapping (lines {seen[key]} and {line}); "
+                        "YAML would silently keep the last",
+                    )
                 seen[key] = line
             except TypeError:
                 continue  # an unhashable key: SafeLoader refuses it below
@@ -94,8 +108,12 @@ def read_file(path) -> dict:
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise ConfigError(where, f"is not UTF-8 text (byte {exc.start} is {data[exc.start:exc.start + 1]!r}); "
-                          "save it as UTF-8", "config file") from None
+        raise ConfigError(
+            where,
+            f"is not UTF-8 text (byte {exc.start} is {data[exc.start : exc.start + 1]!r}); "
+            "save it as UTF-8",
+            "config file",
+        ) from None
     try:
         raw = yaml.load(text, Loader=_StrictLoader)
     except ConfigError:
@@ -106,17 +124,28 @@ def read_file(path) -> dict:
         problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
         raise ConfigError(where, f"is not valid YAML{at}: {problem}", "config file") from None
     if raw is None:
-        raise ConfigError(where, "is empty: a config file needs at least 'studies' and a section for each",
-                          "config file")
+        raise ConfigError(
+            where,
+            "is empty: a config file needs at least 'studies' and a section for each",
+            "config file",
+        )
     if not isinstance(raw, dict):
-        raise ConfigError(where, f"must be a mapping of keys at the top level, got {type(raw).__name__}",
-                          "config file")
+        raise ConfigError(
+            where,
+            f"must be a mapping of keys at the top level, got {type(raw).__name__}",
+            "config file",
+        )
     if _expanded_size(raw) > MAX_NODES:
-        raise ConfigError(where, f"expands to more than {MAX_NODES} YAML nodes (anchors/aliases used as a "
-                          "bomb?); a clutchlab config needs a few hundred", "config file")
+        raise ConfigError(
+            where,
+            f"expands to more than {MAX_NODES} YAML nodes (anchors/aliases used as a "
+            "bomb?); a clutchlab config needs a few hundred",
+            "config file",
+        )
     if "__use_yte__" in raw:
-        raise ConfigError("__use_yte__", "config files are data, not templates: clutchlab refuses YTE "
-                          "templating")
+        raise ConfigError(
+            "__use_yte__", "config files are data, not templates: clutchlab refuses YTE templating"
+        )
     return raw
 
 
@@ -143,8 +172,12 @@ def validate_schema(cfg: dict) -> None:
         extra = sorted(set(error.instance) - set(error.schema.get("properties", {})))
         if extra:
             path.append(extra[0])
-            raise ConfigError(_key(path), "unknown key (allowed: "
-                              + ", ".join(sorted(error.schema.get("properties", {}))) + ")")
+            raise ConfigError(
+                _key(path),
+                "unknown key (allowed: "
+                + ", ".join(sorted(error.schema.get("properties", {})))
+                + ")",
+            )
     if error.validator == "required":
         missing = [k for k in error.validator_value if k not in error.instance]
         if missing:
@@ -158,10 +191,15 @@ ACCURACY_RANGE = (1e-7, 1e-2)
 
 
 def _quantity(value, param, key, finite=False) -> float:
-    if param.allow_infinite and (value == float("inf") or str(value).strip().lower() in ("inf", ".inf")):
+    if param.allow_infinite and (
+        value == float("inf") or str(value).strip().lower() in ("inf", ".inf")
+    ):
         if finite:
-            raise ConfigError(key, "a range needs finite bounds (inf is allowed as a fixed value or in a "
-                              "'values' list)")
+            raise ConfigError(
+                key,
+                "a range needs finite bounds (inf is allowed as a fixed value or in a "
+                "'values' list)",
+            )
         return float("inf")
     try:
         v = to_si(value, param.units)
@@ -192,7 +230,9 @@ def _table(study, tname, spec, key) -> dict:
         cols[col] = vals
     x, y = np.array(cols[xn]), np.array(cols[yn])
     if x.size != y.size:
-        raise ConfigError(key, f"'{xn}' and '{yn}' must be of equal length, got {x.size} and {y.size}")
+        raise ConfigError(
+            key, f"'{xn}' and '{yn}' must be of equal length, got {x.size} and {y.size}"
+        )
     if x[0] < 0 or np.any(np.diff(x) <= 0):
         raise ConfigError(f"{key}.{xn}", "must increase from a value >= 0")
     if np.any(y <= 0):
@@ -213,7 +253,9 @@ def scenario_count(resolved_study: dict) -> int:
     factor and option choice (saltelli), else its samples."""
     design = resolved_study["design"]
     if design == "factorial":
-        return int(np.prod([len(f["values"]) for f in resolved_study["factors"].values()], dtype=np.int64))
+        return int(
+            np.prod([len(f["values"]) for f in resolved_study["factors"].values()], dtype=np.int64)
+        )
     if design == "saltelli":
         d = len(resolved_study["factors"]) + len(resolved_study.get("option_factors", {}))
         return resolved_study["samples"] * (d + 2)
@@ -224,8 +266,10 @@ def _chunking(section, key) -> tuple[str, int] | None:
     """("chunks", N) or ("chunk_size", S) as a config level gives it (never both), or None."""
     given = [k for k in ("chunks", "chunk_size") if k in section]
     if len(given) == 2:
-        raise ConfigError(f"{key}chunk_size", "give either 'chunks' (jobs) or 'chunk_size' (scenarios per job), "
-                          "not both")
+        raise ConfigError(
+            f"{key}chunk_size",
+            "give either 'chunks' (jobs) or 'chunk_size' (scenarios per job), not both",
+        )
     return (given[0], _count(section, given[0], f"{key}{given[0]}")) if given else None
 
 
@@ -250,20 +294,26 @@ def _curve_stride(name, section, design, n) -> int:
         return 1
     if given is not None:
         if design == "factorial":
-            raise ConfigError(f"{name}.curves", "a factorial grid stores every scenario's curves (its figures read "
-                              "them over the grid); a subset is for sampled designs")
+            raise ConfigError(
+                f"{name}.curves",
+                "a factorial grid stores every scenario's curves (its figures read "
+                "them over the grid); a subset is for sampled designs",
+            )
         return _count(section, "curves", f"{name}.curves")
     return 1 if design == "factorial" or n <= CURVES_ALL_MAX else -(-n // CURVE_DESIGNS)
 
 
-def _resolve_study(name: str, section: dict, default_chunks, max_scenarios: int,
-                   results_dir: str = "results") -> dict:
+def _resolve_study(
+    name: str, section: dict, default_chunks, max_scenarios: int, results_dir: str = "results"
+) -> dict:
     study = studies.get(name)
     design = section["design"]
     if design == "refine":
         return _resolve_refine(name, section, default_chunks, max_scenarios, results_dir)
     if "refine" in section:
-        raise ConfigError(f"{name}.refine", f"only read by design 'refine' (this study's design is '{design}')")
+        raise ConfigError(
+            f"{name}.refine", f"only read by design 'refine' (this study's design is '{design}')"
+        )
     out = {
         "name": name,
         "design": design,
@@ -282,8 +332,11 @@ def _resolve_study(name: str, section: dict, default_chunks, max_scenarios: int,
     else:
         for key in ("samples", "seed"):
             if key in section:
-                raise ConfigError(f"{name}.{key}", "not used by a factorial design (its scenarios are the "
-                                  "grid of the factors' values); remove it or choose design lhs/sobol")
+                raise ConfigError(
+                    f"{name}.{key}",
+                    "not used by a factorial design (its scenarios are the "
+                    "grid of the factors' values); remove it or choose design lhs/sobol",
+                )
     given = section.get("parameters", {}) or {}
     for param in study.parameters:
         key = f"{name}.parameters.{param.name}"
@@ -293,7 +346,9 @@ def _resolve_study(name: str, section: dict, default_chunks, max_scenarios: int,
         else:
             out["fixed"][param.name] = _quantity(spec, param, key)
     if design == "saltelli" and not out["factors"]:
-        raise ConfigError(f"{name}.parameters", "design 'saltelli' needs at least one factor (min/max)")
+        raise ConfigError(
+            f"{name}.parameters", "design 'saltelli' needs at least one factor (min/max)"
+        )
     n = scenario_count(out)
     if n > max_scenarios:
         raise _ceiling(name, n, max_scenarios)
@@ -316,12 +371,18 @@ def _resolve_options(study, section: dict, out: dict) -> None:
         if isinstance(given, dict):  # {values: [...]}: a categorical factor, drawn per scenario
             key = f"{name}.options.{opt}"
             if design == "factorial":
-                raise ConfigError(key, "a list of choices is drawn per scenario by a sampled design (lhs, sobol, "
-                                  "saltelli); for a factorial design run one config per choice")
+                raise ConfigError(
+                    key,
+                    "a list of choices is drawn per scenario by a sampled design (lhs, sobol, "
+                    "saltelli); for a factorial design run one config per choice",
+                )
             if opt in study.model_options:
-                raise ConfigError(key, "chooses a model (or a reading of the paper), not a design or an operating "
-                                  "condition: its choices ranked together would compare models; run one config "
-                                  "per choice")
+                raise ConfigError(
+                    key,
+                    "chooses a model (or a reading of the paper), not a design or an operating "
+                    "condition: its choices ranked together would compare models; run one config "
+                    "per choice",
+                )
             if len(set(given["values"])) != len(given["values"]):
                 raise ConfigError(f"{key}.values", "values must be distinct")
             out.setdefault("option_factors", {})[opt] = list(given["values"])
@@ -333,12 +394,18 @@ def _resolve_options(study, section: dict, out: dict) -> None:
     if study.accuracy is not None:
         acc = section.get("accuracy", study.accuracy)
         if not ACCURACY_RANGE[0] <= acc <= ACCURACY_RANGE[1]:
-            raise ConfigError(f"{name}.accuracy", f"must be within {ACCURACY_RANGE[0]:g} to {ACCURACY_RANGE[1]:g} "
-                              f"(relative), got {acc:g}")
+            raise ConfigError(
+                f"{name}.accuracy",
+                f"must be within {ACCURACY_RANGE[0]:g} to {ACCURACY_RANGE[1]:g} "
+                f"(relative), got {acc:g}",
+            )
         out["options"]["accuracy"] = float(acc)
     elif "accuracy" in section:
-        raise ConfigError(f"{name}.accuracy", "this study has no tolerance to set (its models are closed forms "
-                          "or fixed-point solutions to round-off)")
+        raise ConfigError(
+            f"{name}.accuracy",
+            "this study has no tolerance to set (its models are closed forms "
+            "or fixed-point solutions to round-off)",
+        )
 
 
 def _factor(param, spec: dict, design: str, key: str, name: str, max_scenarios: int) -> dict:
@@ -354,8 +421,10 @@ def _factor(param, spec: dict, design: str, key: str, name: str, max_scenarios: 
             raise ConfigError(f"{key}.values", "values must be distinct")
         return {"values": vals}
     if param.choices is not None:
-        raise ConfigError(key, f"must be one of {param.choices}: give a fixed value or a 'values' list, "
-                          "not a range")
+        raise ConfigError(
+            key,
+            f"must be one of {param.choices}: give a fixed value or a 'values' list, not a range",
+        )
     lo = _quantity(spec["min"], param, f"{key}.min", finite=True)
     hi = _quantity(spec["max"], param, f"{key}.max", finite=True)
     if param.integer and design != "factorial":  # a sampled count: every whole number in [min, max]
@@ -363,7 +432,9 @@ def _factor(param, spec: dict, design: str, key: str, name: str, max_scenarios: 
             if v != round(v):
                 raise ConfigError(f"{key}.{bound}", f"a count: must be a whole number, got {v:g}")
         if set(spec) - {"min", "max"}:
-            raise ConfigError(key, "a sampled count takes only 'min' and 'max' (every whole number between)")
+            raise ConfigError(
+                key, "a sampled count takes only 'min' and 'max' (every whole number between)"
+            )
         if not lo < hi:
             raise ConfigError(key, f"min ({lo:g}) must be below max ({hi:g})")
         return {"values": [float(v) for v in range(int(lo), int(hi) + 1)]}
@@ -380,15 +451,21 @@ def _factor(param, spec: dict, design: str, key: str, name: str, max_scenarios: 
         raise ConfigError(f"{key}.num", "required for a factorial min/max factor")
     num = _count(spec, "num", f"{key}.num")
     if num < 2:
-        raise ConfigError(f"{key}.num", f"must be at least 2 to span min and max (got {num}); "
-                          "for one value give it as a fixed value")
+        raise ConfigError(
+            f"{key}.num",
+            f"must be at least 2 to span min and max (got {num}); "
+            "for one value give it as a fixed value",
+        )
     if num > max_scenarios:
         raise _ceiling(name, num, max_scenarios)
     if param.integer:
         step = (hi - lo) / (num - 1)
         if lo != round(lo) or step != round(step):
-            raise ConfigError(key, f"a count: min {lo:g}, max {hi:g} with num {num} gives non-whole "
-                              "values; give a 'values' list")
+            raise ConfigError(
+                key,
+                f"a count: min {lo:g}, max {hi:g} with num {num} gives non-whole "
+                "values; give a 'values' list",
+            )
     vals = np.geomspace(lo, hi, num) if scale == "log" else np.linspace(lo, hi, num)
     return {"values": [float(v) for v in vals]}
 
@@ -413,13 +490,20 @@ def stored_study(path, name=None, key="refine.from") -> dict:
     except (OSError, ValueError) as exc:
         raise ConfigError(key, f"cannot read {path!r} as a clutchlab result ({exc})") from None
     if attrs.get("source") != "clutchlab" or "config" not in attrs or rank is None:
-        raise ConfigError(key, f"{path!r} is not a clutchlab study result with design answers "
-                          "(no config attribute or pareto_rank)")
+        raise ConfigError(
+            key,
+            f"{path!r} is not a clutchlab study result with design answers "
+            "(no config attribute or pareto_rank)",
+        )
     section = yaml.safe_load(attrs["config"])
     if name is not None and section.get("name") != name:
-        raise ConfigError(key, f"{path!r} is a result of study {section.get('name')!r}, not {name!r}")
+        raise ConfigError(
+            key, f"{path!r} is a result of study {section.get('name')!r}, not {name!r}"
+        )
     if not (rank == 0).any():
-        raise ConfigError(key, f"{path!r} has no feasible design on a Pareto front to refine around")
+        raise ConfigError(
+            key, f"{path!r} has no feasible design on a Pareto front to refine around"
+        )
     return section
 
 
@@ -431,9 +515,12 @@ def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -
 
     for key in section:
         if key not in REFINE_KEYS:
-            raise ConfigError(f"{name}.{key}", "a 'design: refine' study takes its factors, fixed values, options, "
-                              "accuracy, objectives and constraints from the result it refines (refine.from); "
-                              "remove this key")
+            raise ConfigError(
+                f"{name}.{key}",
+                "a 'design: refine' study takes its factors, fixed values, options, "
+                "accuracy, objectives and constraints from the result it refines (refine.from); "
+                "remove this key",
+            )
     for key in ("refine", "samples"):
         if key not in section:
             raise ConfigError(f"{name}.{key}", "required for design 'refine'")
@@ -441,20 +528,28 @@ def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -
     key = f"{name}.refine.from"
     own = os.path.join(results_dir, studies.get(name).output)
     if os.path.realpath(path) == os.path.realpath(own):
-        raise ConfigError(key, f"is this run's own result file ({own}); write the refining run to another folder "
-                          "with the top-level key 'results: <folder>'")
+        raise ConfigError(
+            key,
+            f"is this run's own result file ({own}); write the refining run to another folder "
+            "with the top-level key 'results: <folder>'",
+        )
     first = stored_study(path, name, key)
     out = dict(first)
-    out.update({
-        "design": "refine",
-        "seed": _count(section, "seed", f"{name}.seed") if "seed" in section else 0,
-        "samples": _count(section, "samples", f"{name}.samples"),
-        # origin_design: the design the factor specs come from (a values list is a grid's levels
-        # for a factorial origin, a discrete factor for a sampled one)
-        "refine": {"from": path, "shrink": float(section["refine"].get("shrink", DEFAULT_SHRINK)),
-                   "first_design": first["design"],
-                   "origin_design": first.get("refine", {}).get("origin_design", first["design"])},
-    })
+    out.update(
+        {
+            "design": "refine",
+            "seed": _count(section, "seed", f"{name}.seed") if "seed" in section else 0,
+            "samples": _count(section, "samples", f"{name}.samples"),
+            # origin_design: the design the factor specs come from (a values list is a grid's levels
+            # for a factorial origin, a discrete factor for a sampled one)
+            "refine": {
+                "from": path,
+                "shrink": float(section["refine"].get("shrink", DEFAULT_SHRINK)),
+                "first_design": first["design"],
+                "origin_design": first.get("refine", {}).get("origin_design", first["design"]),
+            },
+        }
+    )
     if out["samples"] > max_scenarios:
         raise _ceiling(name, out["samples"], max_scenarios)
     out["chunks"] = chunk_count(out["samples"], _chunking(section, f"{name}.") or default_chunks)
@@ -469,18 +564,25 @@ def _answers(study, section):
     for i, item in enumerate(objectives):
         output = item.partition(":")[0]
         if output not in study.outputs:
-            raise ConfigError(f"{name}.objectives[{i}]", f"unknown output {output!r} (choose from "
-                              + ", ".join(sorted(study.outputs)) + ")")
+            raise ConfigError(
+                f"{name}.objectives[{i}]",
+                f"unknown output {output!r} (choose from " + ", ".join(sorted(study.outputs)) + ")",
+            )
     if len({o.partition(":")[0] for o in objectives}) != len(objectives):
         raise ConfigError(f"{name}.objectives", "an output given twice")
     constraints = {}
     given = section.get("constraints")
-    for output, limit in (given.items() if given is not None else
-                          ((k, {op: v}) for k, (op, v) in study.constraints.items())):
+    for output, limit in (
+        given.items()
+        if given is not None
+        else ((k, {op: v}) for k, (op, v) in study.constraints.items())
+    ):
         key = f"{name}.constraints.{output}"
         if output not in study.outputs:
-            raise ConfigError(key, "unknown output (choose from " + ", ".join(sorted(study.outputs)) + ")")
-        (op, value), = limit.items()
+            raise ConfigError(
+                key, "unknown output (choose from " + ", ".join(sorted(study.outputs)) + ")"
+            )
+        ((op, value),) = limit.items()
         try:
             v = to_si(value, study.outputs[output])
         except UnitError as exc:
@@ -490,8 +592,11 @@ def _answers(study, section):
 
 
 def _ceiling(name, n, max_scenarios) -> ConfigError:
-    return ConfigError(name, f"the design has {n} scenarios, above the ceiling of {max_scenarios}; to run it "
-                       f"on purpose set the top-level key 'max_scenarios: {n}' (or more)")
+    return ConfigError(
+        name,
+        f"the design has {n} scenarios, above the ceiling of {max_scenarios}; to run it "
+        f"on purpose set the top-level key 'max_scenarios: {n}' (or more)",
+    )
 
 
 def resolve(raw: dict) -> dict:
@@ -499,16 +604,31 @@ def resolve(raw: dict) -> dict:
     cfg = copy.deepcopy(dict(raw))
     validate_schema(cfg)
     default_chunks = _chunking(cfg, "") or ("chunks", DEFAULT_CHUNKS)
-    max_scenarios = _count(cfg, "max_scenarios", "max_scenarios") if "max_scenarios" in cfg else DEFAULT_MAX_SCENARIOS
+    max_scenarios = (
+        _count(cfg, "max_scenarios", "max_scenarios")
+        if "max_scenarios" in cfg
+        else DEFAULT_MAX_SCENARIOS
+    )
     title = cfg.get("report", {}).get("title", "")
     if any(not ch.isprintable() for ch in title):
-        raise ConfigError("report.title", "must be one line of printable text (no newline, tab or control "
-                          "character)")
+        raise ConfigError(
+            "report.title",
+            "must be one line of printable text (no newline, tab or control character)",
+        )
     results_dir = cfg.get("results", "results")
-    resolved = {"studies": list(cfg["studies"]), "max_scenarios": max_scenarios,
-                "results": results_dir, "report": {"title": "clutchlab report", "dpi": 120, "benchmark": False, "hard_cases": True,
-                           "numerics": True,
-                           **cfg.get("report", {})}}
+    resolved = {
+        "studies": list(cfg["studies"]),
+        "max_scenarios": max_scenarios,
+        "results": results_dir,
+        "report": {
+            "title": "clutchlab report",
+            "dpi": 120,
+            "benchmark": False,
+            "hard_cases": True,
+            "numerics": True,
+            **cfg.get("report", {}),
+        },
+    }
     for name in cfg["studies"]:
         if name not in cfg:
             raise ConfigError(name, "section missing for a study listed in 'studies'")

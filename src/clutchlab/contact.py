@@ -13,6 +13,7 @@ References
 [3] Johnson, K. L., Contact Mechanics, 1985, section 11.4: Hertz impact of a mass m at speed v:
     δ_max = (5mv²/(4k))^(2/5), contact time 2.9432·δ_max/v, restitution 1.
 """
+
 from __future__ import annotations
 
 import math
@@ -55,7 +56,7 @@ def hertz_impact(*, mass, speed, stiffness, exponent=1.5, damping=0.0, depth=1e-
     (events located by re-stepping). Returns dict: ``max_penetration`` [m], ``time_of_max`` [s],
     ``contact_time`` [s], ``restitution`` [1] (exit over entry speed), ``nfev``."""
     p = np.array([mass, stiffness, exponent, damping, depth], float)
-    d_ref = (5 * mass * speed ** 2 / (4 * stiffness)) ** (1 / (exponent + 1))
+    d_ref = (5 * mass * speed**2 / (4 * stiffness)) ** (1 / (exponent + 1))
     atol = np.array([rtol * d_ref, rtol * speed])
     out = _kernel.impact(p, float(speed), rtol, atol, 1e-3 * d_ref / speed)
     return dict(zip(("max_penetration", "time_of_max", "contact_time", "restitution", "nfev"), out))

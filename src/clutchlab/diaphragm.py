@@ -8,6 +8,7 @@ References
    unmanned helicopters" (seed 000), eq. (10) and Fig. 6.
 .. [2] Almen J.O., László A. (1936), "The uniform-section disk spring", Trans. ASME 58.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -30,18 +31,42 @@ def radius_ratio_k(outer_radius, inner_radius, load_radius_outer, load_radius_in
     return (outer_radius - inner_radius) / (load_radius_outer - load_radius_inner)
 
 
-def spring_constant(*, youngs_modulus, poisson_ratio, sheet_thickness, outer_radius, inner_radius,
-                    load_radius_outer, load_radius_inner):
+def spring_constant(
+    *,
+    youngs_modulus,
+    poisson_ratio,
+    sheet_thickness,
+    outer_radius,
+    inner_radius,
+    load_radius_outer,
+    load_radius_inner,
+):
     """Leading factor c of eq. (10) in [1]: F = c·λ·[(H − kλ)(H − kλ/2) + h²]  [N/m³].
 
     c = π·E·h / (6(1 − μ²)) · ln(R/r) / (R₁ − r₁)².
     """
-    return (np.pi * youngs_modulus * sheet_thickness / (6.0 * (1.0 - poisson_ratio**2))
-            * np.log(outer_radius / inner_radius) / (load_radius_outer - load_radius_inner) ** 2)
+    return (
+        np.pi
+        * youngs_modulus
+        * sheet_thickness
+        / (6.0 * (1.0 - poisson_ratio**2))
+        * np.log(outer_radius / inner_radius)
+        / (load_radius_outer - load_radius_inner) ** 2
+    )
 
 
-def almen_laszlo_load(deflection, *, youngs_modulus, poisson_ratio, sheet_thickness, cone_height,
-                      outer_radius, inner_radius, load_radius_outer, load_radius_inner):
+def almen_laszlo_load(
+    deflection,
+    *,
+    youngs_modulus,
+    poisson_ratio,
+    sheet_thickness,
+    cone_height,
+    outer_radius,
+    inner_radius,
+    load_radius_outer,
+    load_radius_inner,
+):
     """Load of a diaphragm spring at its pressure-plate load point, eq. (10) of [1].
 
     Parameters
@@ -70,33 +95,66 @@ def almen_laszlo_load(deflection, *, youngs_modulus, poisson_ratio, sheet_thickn
     ----------
     Eq. (10) of seed 000 ([1] in the module docstring).
     """
-    c = spring_constant(youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio,
-                        sheet_thickness=sheet_thickness, outer_radius=outer_radius,
-                        inner_radius=inner_radius, load_radius_outer=load_radius_outer,
-                        load_radius_inner=load_radius_inner)
+    c = spring_constant(
+        youngs_modulus=youngs_modulus,
+        poisson_ratio=poisson_ratio,
+        sheet_thickness=sheet_thickness,
+        outer_radius=outer_radius,
+        inner_radius=inner_radius,
+        load_radius_outer=load_radius_outer,
+        load_radius_inner=load_radius_inner,
+    )
     k = radius_ratio_k(outer_radius, inner_radius, load_radius_outer, load_radius_inner)
     lam = np.asarray(deflection, dtype=float)
     H, h = cone_height, sheet_thickness
     return c * lam * ((H - k * lam) * (H - 0.5 * k * lam) + h**2)
 
 
-def geometry_is_valid(*, sheet_thickness, cone_height, outer_radius, inner_radius,
-                      load_radius_outer, load_radius_inner):
+def geometry_is_valid(
+    *,
+    sheet_thickness,
+    cone_height,
+    outer_radius,
+    inner_radius,
+    load_radius_outer,
+    load_radius_inner,
+):
     """True where 0 < r ≤ r₁ < R₁ ≤ R and h, H > 0 (load points on the spring)."""
-    return ((inner_radius > 0) & (inner_radius <= load_radius_inner)
-            & (load_radius_inner < load_radius_outer) & (load_radius_outer <= outer_radius)
-            & (sheet_thickness > 0) & (cone_height > 0))
+    return (
+        (inner_radius > 0)
+        & (inner_radius <= load_radius_inner)
+        & (load_radius_inner < load_radius_outer)
+        & (load_radius_outer <= outer_radius)
+        & (sheet_thickness > 0)
+        & (cone_height > 0)
+    )
 
 
-_DOMAIN = {"youngs_modulus": st.positive, "poisson_ratio": st.between(-1.0, 0.5, lo_open=True, hi_open=True),
-           "sheet_thickness": st.positive, "cone_height": st.positive, "outer_radius": st.positive,
-           "inner_radius": st.positive, "load_radius_outer": st.positive, "load_radius_inner": st.positive,
-           "operating_point_factor": st.positive}
+_DOMAIN = {
+    "youngs_modulus": st.positive,
+    "poisson_ratio": st.between(-1.0, 0.5, lo_open=True, hi_open=True),
+    "sheet_thickness": st.positive,
+    "cone_height": st.positive,
+    "outer_radius": st.positive,
+    "inner_radius": st.positive,
+    "load_radius_outer": st.positive,
+    "load_radius_inner": st.positive,
+    "operating_point_factor": st.positive,
+}
 
 
-def characteristic_points(*, youngs_modulus, poisson_ratio, sheet_thickness, cone_height,
-                          outer_radius, inner_radius, load_radius_outer, load_radius_inner,
-                          operating_point_factor=0.9):
+def characteristic_points(
+    *,
+    youngs_modulus,
+    poisson_ratio,
+    sheet_thickness,
+    cone_height,
+    outer_radius,
+    inner_radius,
+    load_radius_outer,
+    load_radius_inner,
+    operating_point_factor=0.9,
+):
     """Characteristic points A (local max), C (flattening), D (local min), B (operating) of eq. (10).
 
     Closed form: with F = c·λ·[(H − kλ)(H − kλ/2) + h²],
@@ -116,29 +174,58 @@ def characteristic_points(*, youngs_modulus, poisson_ratio, sheet_thickness, con
         ``invalid_input`` (all NaN) where an input is not finite or not physical (E, h, H, radii,
         operating-point factor ≤ 0; ν outside (−1, 0.5)).
     """
-    return st.screened(_characteristic_points, dict(
-        youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio, sheet_thickness=sheet_thickness,
-        cone_height=cone_height, outer_radius=outer_radius, inner_radius=inner_radius,
-        load_radius_outer=load_radius_outer, load_radius_inner=load_radius_inner,
-        operating_point_factor=operating_point_factor), _DOMAIN)
+    return st.screened(
+        _characteristic_points,
+        dict(
+            youngs_modulus=youngs_modulus,
+            poisson_ratio=poisson_ratio,
+            sheet_thickness=sheet_thickness,
+            cone_height=cone_height,
+            outer_radius=outer_radius,
+            inner_radius=inner_radius,
+            load_radius_outer=load_radius_outer,
+            load_radius_inner=load_radius_inner,
+            operating_point_factor=operating_point_factor,
+        ),
+        _DOMAIN,
+    )
 
 
-def _characteristic_points(*, youngs_modulus, poisson_ratio, sheet_thickness, cone_height, outer_radius,
-                           inner_radius, load_radius_outer, load_radius_inner, operating_point_factor):
-    args = dict(youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio,
-                sheet_thickness=sheet_thickness, cone_height=cone_height, outer_radius=outer_radius,
-                inner_radius=inner_radius, load_radius_outer=load_radius_outer,
-                load_radius_inner=load_radius_inner)
+def _characteristic_points(
+    *,
+    youngs_modulus,
+    poisson_ratio,
+    sheet_thickness,
+    cone_height,
+    outer_radius,
+    inner_radius,
+    load_radius_outer,
+    load_radius_inner,
+    operating_point_factor,
+):
+    args = dict(
+        youngs_modulus=youngs_modulus,
+        poisson_ratio=poisson_ratio,
+        sheet_thickness=sheet_thickness,
+        cone_height=cone_height,
+        outer_radius=outer_radius,
+        inner_radius=inner_radius,
+        load_radius_outer=load_radius_outer,
+        load_radius_inner=load_radius_inner,
+    )
     geom = dict(args)
     del geom["youngs_modulus"], geom["poisson_ratio"]
     valid = geometry_is_valid(**geom)
-    shape = np.broadcast_shapes(*(np.shape(v) for v in args.values()), np.shape(operating_point_factor))
+    shape = np.broadcast_shapes(
+        *(np.shape(v) for v in args.values()), np.shape(operating_point_factor)
+    )
     valid = np.broadcast_to(valid, shape)
     with np.errstate(invalid="ignore", divide="ignore"):
         H = np.broadcast_to(cone_height, shape).astype(float)
         h = np.broadcast_to(sheet_thickness, shape).astype(float)
-        k = np.broadcast_to(radius_ratio_k(outer_radius, inner_radius, load_radius_outer,
-                                           load_radius_inner), shape)
+        k = np.broadcast_to(
+            radius_ratio_k(outer_radius, inner_radius, load_radius_outer, load_radius_inner), shape
+        )
         disc = (H**2 - 2.0 * h**2) / 3.0
         hump = valid & (disc > 0)
         root = np.sqrt(np.where(hump, disc, np.nan))
@@ -146,8 +233,12 @@ def _characteristic_points(*, youngs_modulus, poisson_ratio, sheet_thickness, co
         lam_A = (H - root) / k
         lam_D = (H + root) / k
         lam_B = np.broadcast_to(operating_point_factor, shape) * lam_C
-        out = {"deflection_A": lam_A, "deflection_C": lam_C, "deflection_D": lam_D,
-               "deflection_B": lam_B}
+        out = {
+            "deflection_A": lam_A,
+            "deflection_C": lam_C,
+            "deflection_D": lam_D,
+            "deflection_B": lam_B,
+        }
         for p in "ACDB":
             out[f"load_{p}"] = almen_laszlo_load(out[f"deflection_{p}"], **args)
     code = np.full(shape, st.CODE["ok"], dtype=st.DTYPE)

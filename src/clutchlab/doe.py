@@ -14,6 +14,7 @@ Design kinds (``design`` key of a study section):
 
 Parameters that are not factors are fixed and stored as 0-d variables.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -56,13 +57,23 @@ def build_design(resolved_study: dict) -> xr.Dataset:
     coords, data = {}, {}
     if kind == "factorial":
         for name, spec in factors.items():
-            coords[name] = (name, np.asarray(spec["values"], dtype=float), _param_attrs(study.parameter(name)))
+            coords[name] = (
+                name,
+                np.asarray(spec["values"], dtype=float),
+                _param_attrs(study.parameter(name)),
+            )
     elif kind == "refine":
         from . import store
 
         first = store.load(resolved_study["refine"]["from"])
-        values, halfwidth = refine_samples(first, resolved_study, np.random.default_rng(resolved_study["seed"]))
-        coords["run"] = ("run", np.arange(resolved_study["samples"]), {"long_name": "scenario index", "units": "1"})
+        values, halfwidth = refine_samples(
+            first, resolved_study, np.random.default_rng(resolved_study["seed"])
+        )
+        coords["run"] = (
+            "run",
+            np.arange(resolved_study["samples"]),
+            {"long_name": "scenario index", "units": "1"},
+        )
         for name in factors:
             attrs = {**_param_attrs(study.parameter(name)), "refine_halfwidth": halfwidth[name]}
             coords[name] = ("run", values[name], attrs)
@@ -87,16 +98,26 @@ def build_design(resolved_study: dict) -> xr.Dataset:
         coords["run"] = ("run", np.arange(n), {"long_name": "scenario index", "units": "1"})
         for j, (name, spec) in enumerate(factors.items()):
             u = unit[:, j]
-            if "values" in spec:  # a discrete factor (a count, a list): each value on an equal share of [0, 1)
+            if (
+                "values" in spec
+            ):  # a discrete factor (a count, a list): each value on an equal share of [0, 1)
                 values = np.asarray(spec["values"], dtype=float)
                 vals = values[np.minimum((u * values.size).astype(np.int64), values.size - 1)]
                 coords[name] = ("run", vals, _param_attrs(study.parameter(name)))
                 continue
             lo, hi = spec["min"], spec["max"]
-            vals = np.exp(np.log(lo) + u * np.log(hi / lo)) if spec["scale"] == "log" else lo + u * (hi - lo)
+            vals = (
+                np.exp(np.log(lo) + u * np.log(hi / lo))
+                if spec["scale"] == "log"
+                else lo + u * (hi - lo)
+            )
             coords[name] = ("run", vals, _param_attrs(study.parameter(name)))
-        for j, (name, labels) in enumerate(choices.items(), start=len(factors)):  # each on an equal share
-            codes = np.minimum((unit[:, j] * len(labels)).astype(np.int64), len(labels) - 1).astype(np.int8)
+        for j, (name, labels) in enumerate(
+            choices.items(), start=len(factors)
+        ):  # each on an equal share
+            codes = np.minimum((unit[:, j] * len(labels)).astype(np.int64), len(labels) - 1).astype(
+                np.int8
+            )
             coords[name] = ("run", codes, option_attrs(name, labels))
     for name, value in resolved_study["fixed"].items():
         data[name] = ((), float(value), _param_attrs(study.parameter(name)))
@@ -113,13 +134,20 @@ def build_design(resolved_study: dict) -> xr.Dataset:
 
 def option_attrs(name: str, labels) -> dict:
     """Attributes of a categorical option drawn per scenario: an int8 code, CF flags naming the choices."""
-    return {"long_name": f"option {name} (code; the choices are its flag_meanings)", "units": "1",
-            "flag_values": np.arange(len(labels), dtype=np.int8), "flag_meanings": " ".join(labels)}
+    return {
+        "long_name": f"option {name} (code; the choices are its flag_meanings)",
+        "units": "1",
+        "flag_values": np.arange(len(labels), dtype=np.int8),
+        "flag_meanings": " ".join(labels),
+    }
 
 
 def option_factors(design: xr.Dataset) -> dict:
     """{option: [choices]} of the options a design draws per scenario (codes index the choices)."""
-    return {o: design[o].attrs["flag_meanings"].split() for o in design.attrs.get("option_factors", "").split()}
+    return {
+        o: design[o].attrs["flag_meanings"].split()
+        for o in design.attrs.get("option_factors", "").split()
+    }
 
 
 def _unit_map(spec):
@@ -131,7 +159,9 @@ def _unit_map(spec):
     if hi == lo:
         return (lambda x: np.zeros_like(x)), (lambda u: np.full_like(u, lo))
     if log:
-        return (lambda x: np.log(x / lo) / np.log(hi / lo)), (lambda u: lo * np.exp(u * np.log(hi / lo)))
+        return (lambda x: np.log(x / lo) / np.log(hi / lo)), (
+            lambda u: lo * np.exp(u * np.log(hi / lo))
+        )
     return (lambda x: (x - lo) / (hi - lo)), (lambda u: lo + u * (hi - lo))
 
 

@@ -4,6 +4,7 @@ References
 ----------
 .. [1] Zhao P. (2026), seed 000, section 3.2.2 (spline) and eqs. (4)–(9) (damper springs).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -46,8 +47,12 @@ def damper_wire_diameter(spring_force, coil_diameter, allowable_shear_stress):
     stress of a helical spring τ = 8·P·D_c/(π·d³) gives the cube root used here (no Wahl factor,
     as in the paper).
     """
-    return np.cbrt(8.0 * np.asarray(spring_force, dtype=float) * coil_diameter
-                   / (np.pi * allowable_shear_stress))
+    return np.cbrt(
+        8.0
+        * np.asarray(spring_force, dtype=float)
+        * coil_diameter
+        / (np.pi * allowable_shear_stress)
+    )
 
 
 def damper_angular_stiffness(design_torque, factor=13.0):
@@ -64,13 +69,18 @@ def damper_spring_rate(angular_stiffness, spring_radius, spring_count):
     Erratum: eq. (8) is printed as C = C_a / (1000·R₁²·z) with R₁ in mm, and Table 2 gives the
     result (416) as "N/m"; in consistent units the value is 415.9 N/mm = 4.159e5 N/m.
     """
-    return np.asarray(angular_stiffness, dtype=float) / (np.asarray(spring_radius) ** 2 * spring_count)
+    return np.asarray(angular_stiffness, dtype=float) / (
+        np.asarray(spring_radius) ** 2 * spring_count
+    )
 
 
 def damper_coil_count(shear_modulus, wire_diameter, coil_diameter, spring_rate):
     """Active coils i = G·d₁⁴ / (8·D_c³·C), eq. (9) of [1] [-] (D₂ there is the coil diameter D_c)."""
-    return (np.asarray(shear_modulus, dtype=float) * np.asarray(wire_diameter) ** 4
-            / (8.0 * np.asarray(coil_diameter) ** 3 * spring_rate))
+    return (
+        np.asarray(shear_modulus, dtype=float)
+        * np.asarray(wire_diameter) ** 4
+        / (8.0 * np.asarray(coil_diameter) ** 3 * spring_rate)
+    )
 
 
 def spline_stresses(torque, *, teeth, outer_diameter, inner_diameter, tooth_width, length):

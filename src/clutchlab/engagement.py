@@ -26,6 +26,7 @@ References
 .. [2] Otter M., Elmqvist H., Mattsson S.E. (1999), "Hybrid modeling in Modelica based on the
    synchronous data flow principle" (friction state machine of the Modelica Standard Library).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -33,13 +34,20 @@ import numpy as np
 from . import _engagement_kernel as _k
 from . import status as st
 
-__all__ = ["PROFILES", "clamp_profile", "bearing_travel_clamp", "closed_form", "simulate", "ramp_time_for_lockup"]
+__all__ = [
+    "PROFILES",
+    "clamp_profile",
+    "bearing_travel_clamp",
+    "closed_form",
+    "simulate",
+    "ramp_time_for_lockup",
+]
 
 PROFILES = ("ramp", "cubic", "quintic")
 # profile p(x) on [0, 1] and its integral P(x) = ∫0^x p, as ascending polynomial coefficients
 _P = {
     "ramp": np.array([0.0, 1.0]),
-    "cubic": np.array([0.0, 0.0, 3.0, -2.0]),            # ADAMS STEP (cubic)
+    "cubic": np.array([0.0, 0.0, 3.0, -2.0]),  # ADAMS STEP (cubic)
     "quintic": np.array([0.0, 0.0, 0.0, 10.0, -15.0, 6.0]),  # STEP5-like quintic
 }
 
@@ -73,7 +81,9 @@ def _capacity_rate(t, c_max, t_r, kind):
     dp = np.polynomial.polynomial.polyder(_P[kind])
     tr = np.where(t_r > 0, t_r, 1.0)
     x = t / tr
-    return np.where((t_r > 0) & (x < 1.0) & (x >= 0.0), c_max * _polyval(dp, np.clip(x, 0, 1)) / tr, 0.0)
+    return np.where(
+        (t_r > 0) & (x < 1.0) & (x >= 0.0), c_max * _polyval(dp, np.clip(x, 0, 1)) / tr, 0.0
+    )
 
 
 def bearing_travel_clamp(x, *, air_gap, cushion_travel, kind="ramp"):
@@ -115,26 +125,58 @@ def _invert_profile(q, kind):
 
 # admissible per-scenario inputs (anything else: status invalid_input, NaN outputs)
 _DOMAIN = {
-    "engine_speed": st.nonnegative, "engine_inertia": st.positive_or_inf, "engine_torque": st.finite,
-    "driven_inertia": st.positive, "load_torque": st.nonnegative, "peak_capacity": st.nonnegative,
-    "ramp_time": st.nonnegative, "static_ratio": st.at_least(1.0), "driven_speed": st.nonnegative,
+    "engine_speed": st.nonnegative,
+    "engine_inertia": st.positive_or_inf,
+    "engine_torque": st.finite,
+    "driven_inertia": st.positive,
+    "load_torque": st.nonnegative,
+    "peak_capacity": st.nonnegative,
+    "ramp_time": st.nonnegative,
+    "static_ratio": st.at_least(1.0),
+    "driven_speed": st.nonnegative,
     "t_end": st.positive_or_inf,
     None: lambda a: a["driven_speed"] <= a["engine_speed"],
 }
 _DOMAIN_SIMULATE = {
-    **_DOMAIN, "t_end": st.positive, "stribeck_speed": st.positive_or_inf, "aero_coefficient": st.nonnegative,
-    "load_step": st.finite, "load_step_time": st.nonnegative_or_inf,
-    "hub_fraction": st.between(0.0, 1.0, lo_open=True, hi_open=True), "damper_stiffness": st.positive_or_inf,
-    "damping_ratio": st.nonnegative, "release_ratio": st.at_least(1.0),
-    "fade_coefficient": st.nonnegative, "fade_onset": st.nonnegative, "face_temperature_factor": st.nonnegative,
+    **_DOMAIN,
+    "t_end": st.positive,
+    "stribeck_speed": st.positive_or_inf,
+    "aero_coefficient": st.nonnegative,
+    "load_step": st.finite,
+    "load_step_time": st.nonnegative_or_inf,
+    "hub_fraction": st.between(0.0, 1.0, lo_open=True, hi_open=True),
+    "damper_stiffness": st.positive_or_inf,
+    "damping_ratio": st.nonnegative,
+    "release_ratio": st.at_least(1.0),
+    "fade_coefficient": st.nonnegative,
+    "fade_onset": st.nonnegative,
+    "face_temperature_factor": st.nonnegative,
     # and fade needs the face temperature (factor > 0) and a window its kernel fit covers
-    None: lambda a: _DOMAIN[None](a) & ((a["fade_coefficient"] == 0) | (
-        (a["face_temperature_factor"] > 0) & (a["t_end"] <= _k.SOE_TMAX))),
+    None: lambda a: (
+        _DOMAIN[None](a)
+        & (
+            (a["fade_coefficient"] == 0)
+            | ((a["face_temperature_factor"] > 0) & (a["t_end"] <= _k.SOE_TMAX))
+        )
+    ),
 }
 
 
-def closed_form(*, engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque, peak_capacity,
-                ramp_time, profile="ramp", static_ratio=1.0, driven_speed=0.0, t_end=np.inf, power_history=False):
+def closed_form(
+    *,
+    engine_speed,
+    engine_inertia,
+    engine_torque,
+    driven_inertia,
+    load_torque,
+    peak_capacity,
+    ramp_time,
+    profile="ramp",
+    static_ratio=1.0,
+    driven_speed=0.0,
+    t_end=np.inf,
+    power_history=False,
+):
     """Exact engagement for constant μ, constant torques and a polynomial clamp profile.
 
     Parameters
@@ -182,24 +224,65 @@ def closed_form(*, engine_speed, engine_inertia, engine_torque, driven_inertia, 
     """
     if profile not in PROFILES:
         raise ValueError(f"profile must be one of {PROFILES}, got {profile!r}")
-    return st.screened(_closed_form, dict(
-        engine_speed=engine_speed, engine_inertia=engine_inertia, engine_torque=engine_torque,
-        driven_inertia=driven_inertia, load_torque=load_torque, peak_capacity=peak_capacity, ramp_time=ramp_time,
-        static_ratio=static_ratio, driven_speed=driven_speed, t_end=t_end), _DOMAIN,
-        extra={"profile": profile, "power_history": power_history})
+    return st.screened(
+        _closed_form,
+        dict(
+            engine_speed=engine_speed,
+            engine_inertia=engine_inertia,
+            engine_torque=engine_torque,
+            driven_inertia=driven_inertia,
+            load_torque=load_torque,
+            peak_capacity=peak_capacity,
+            ramp_time=ramp_time,
+            static_ratio=static_ratio,
+            driven_speed=driven_speed,
+            t_end=t_end,
+        ),
+        _DOMAIN,
+        extra={"profile": profile, "power_history": power_history},
+    )
 
 
-def _closed_form(*, engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque, peak_capacity,
-                 ramp_time, static_ratio, driven_speed, t_end, profile, power_history=False):
-    arrs = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (
-        engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque, peak_capacity, ramp_time,
-        static_ratio, driven_speed, t_end)))
+def _closed_form(
+    *,
+    engine_speed,
+    engine_inertia,
+    engine_torque,
+    driven_inertia,
+    load_torque,
+    peak_capacity,
+    ramp_time,
+    static_ratio,
+    driven_speed,
+    t_end,
+    profile,
+    power_history=False,
+):
+    arrs = np.broadcast_arrays(
+        *(
+            np.asarray(v, dtype=float)
+            for v in (
+                engine_speed,
+                engine_inertia,
+                engine_torque,
+                driven_inertia,
+                load_torque,
+                peak_capacity,
+                ramp_time,
+                static_ratio,
+                driven_speed,
+                t_end,
+            )
+        )
+    )
     shape = arrs[0].shape
     flat = [a.astype(float).ravel() for a in arrs]
     n = flat[0].size
     if n > _BLOCK:  # cache-sized blocks: ~4x faster than whole-array temporaries at 1e6 scenarios
-        parts = [_closed_form_flat([a[i:i + _BLOCK] for a in flat], profile, power_history)
-                 for i in range(0, n, _BLOCK)]
+        parts = [
+            _closed_form_flat([a[i : i + _BLOCK] for a in flat], profile, power_history)
+            for i in range(0, n, _BLOCK)
+        ]
         return {k: np.concatenate([p[k] for p in parts]).reshape(shape) for k in parts[0]}
     return {k: v.reshape(shape) for k, v in _closed_form_flat(flat, profile, power_history).items()}
 
@@ -224,11 +307,18 @@ def _closed_form_flat(flat, profile, power_history=False):
     def cap_icap(t):
         x = np.minimum(t * inv_tr, 1.0)
         if not any_step:
-            if profile == "ramp":  # p = x, P = x²/2 (the common case, without the general Horner loop)
+            if (
+                profile == "ramp"
+            ):  # p = x, P = x²/2 (the common case, without the general Horner loop)
                 return cmax * x, cmax * (trs * 0.5 * x * x + np.maximum(t - tr, 0.0))
-            return cmax * _polyval(pc, x), cmax * (trs * _polyval(big_p, x) + np.maximum(t - tr, 0.0))
+            return cmax * _polyval(pc, x), cmax * (
+                trs * _polyval(big_p, x) + np.maximum(t - tr, 0.0)
+            )
         c = cmax * np.where(step, 1.0, _polyval(pc, x))
-        ic = cmax * (np.where(step, 0.0, trs * _polyval(big_p, x)) + np.maximum(t - np.where(step, 0.0, tr), 0.0))
+        ic = cmax * (
+            np.where(step, 0.0, trs * _polyval(big_p, x))
+            + np.maximum(t - np.where(step, 0.0, tr), 0.0)
+        )
         return c, ic
 
     # phase 1: the driven side is at rest (parked by the static load) while C(t) < T_m. It is parked
@@ -237,7 +327,9 @@ def _closed_form_flat(flat, profile, power_history=False):
     with np.errstate(divide="ignore", invalid="ignore"):
         q = tm / cmax
     moves = (tm <= 0.0) | (q < 1.0)
-    t_m = np.where((tm > 0) & moves & ~step, trs * _invert_profile(np.where(moves, q, 0.0), profile), 0.0)
+    t_m = np.where(
+        (tm > 0) & moves & ~step, trs * _invert_profile(np.where(moves, q, 0.0), profile), 0.0
+    )
     _, ic_m = cap_icap(t_m)
     wc_at_tm = wc0 + inv_jv * (ic_m - tm * t_m)
     starts_parked = (wc0 <= 0.0) & (tm > 0.0)
@@ -249,13 +341,19 @@ def _closed_form_flat(flat, profile, power_history=False):
             c, ic = cap_icap(t)
             return wc0 + inv_jv * (ic - tm * t), (c - tm) * inv_jv
 
-        t_p = np.where(parks_later, _newton_bracketed(w_moving, np.zeros_like(t_m), t_m, 0.5 * t_m, parks_later), t_p)
+        t_p = np.where(
+            parks_later,
+            _newton_bracketed(w_moving, np.zeros_like(t_m), t_m, 0.5 * t_m, parks_later),
+            t_p,
+        )
     parked_phase = starts_parked | parks_later
     t0 = np.where(parked_phase, t_m, 0.0)
     moves = moves | ~parked_phase
     _, ic0 = cap_icap(t0)
 
-    all_parked_from_start = bool(starts_parked.all())  # the usual case: the driven side starts at rest
+    all_parked_from_start = bool(
+        starts_parked.all()
+    )  # the usual case: the driven side starts at rest
 
     def state(t):
         """(C, Δω, ω_e, ω_c) at t (t ≥ 0), piecewise polynomial."""
@@ -280,19 +378,26 @@ def _closed_form_flat(flat, profile, power_history=False):
         k0 = state(t0)[1] - a_coef * t0 + 0.5 * b_coef * a_r * t0**2
         disc = np.sqrt(np.maximum(a_coef**2 + 2.0 * b_coef * a_r * k0, 0.0))
         with np.errstate(divide="ignore", invalid="ignore"):
-            r_pos = np.where(a_coef >= 0, (a_coef + disc) / (b_coef * a_r), -2.0 * k0 / (a_coef - disc))
+            r_pos = np.where(
+                a_coef >= 0, (a_coef + disc) / (b_coef * a_r), -2.0 * k0 / (a_coef - disc)
+            )
         t_lock = np.where(root_on_ramp, np.clip(r_pos, t0, ramp_end), t_lock)
     elif np.any(root_on_ramp):
         with np.errstate(divide="ignore", invalid="ignore"):
             qa = a_coef / (b_coef * cmax)
-        t_top = np.where(qa >= 1.0, ramp_end, np.maximum(t0, trs * _invert_profile(np.clip(qa, 0, 1), profile)))
+        t_top = np.where(
+            qa >= 1.0, ramp_end, np.maximum(t0, trs * _invert_profile(np.clip(qa, 0, 1), profile))
+        )
         lo = np.where(root_on_ramp, np.minimum(t_top, ramp_end), 0.0)
         hi = np.where(root_on_ramp, ramp_end, 1.0)
+
         def slip_rate(t):
             c, dw, _, _ = state(t)
             return dw, a_coef - b_coef * c
 
-        t_lock = np.where(root_on_ramp, _newton_bracketed(slip_rate, lo, hi, hi.copy(), root_on_ramp), t_lock)
+        t_lock = np.where(
+            root_on_ramp, _newton_bracketed(slip_rate, lo, hi, hi.copy(), root_on_ramp), t_lock
+        )
     rate = b_coef * cmax - a_coef  # −Δω' after the ramp
     after = moves & ~root_on_ramp & (rate > 0)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -300,7 +405,9 @@ def _closed_form_flat(flat, profile, power_history=False):
     # initial slip exactly zero: stuck from the start if the static capacity suffices (never sign(0))
     with np.errstate(divide="ignore", invalid="ignore"):
         need0 = np.where(held, tm, (tm + jv * te * inv_je) / (1.0 + jv * inv_je))
-    stuck0 = (we0 - wc0 == 0.0) & (np.abs(need0) <= rs * cmax * np.where(step, 1.0, _polyval(pc, 0.0)))
+    stuck0 = (we0 - wc0 == 0.0) & (
+        np.abs(need0) <= rs * cmax * np.where(step, 1.0, _polyval(pc, 0.0))
+    )
     t_lock = np.where(stuck0, 0.0, t_lock)
     locked = np.isfinite(t_lock) & (t_lock <= tend)
     t_stop = np.where(locked, t_lock, tend)
@@ -310,8 +417,20 @@ def _closed_form_flat(flat, profile, power_history=False):
     # exact works: Gauss-Legendre with just enough nodes on each polynomial piece
     nodes = {"ramp": 2, "cubic": 4, "quintic": 6}[profile]  # exact: integrands of degree 2n-1
     gx, gw = np.polynomial.legendre.leggauss(nodes)
-    knots = list(np.sort(np.stack([np.zeros_like(t_stop), np.minimum(t_p, t_stop), np.minimum(t0, t_stop),
-                                   np.minimum(ramp_end, t_stop), t_stop]), axis=0))
+    knots = list(
+        np.sort(
+            np.stack(
+                [
+                    np.zeros_like(t_stop),
+                    np.minimum(t_p, t_stop),
+                    np.minimum(t0, t_stop),
+                    np.minimum(ramp_end, t_stop),
+                    t_stop,
+                ]
+            ),
+            axis=0,
+        )
+    )
     w_slip = w_in = w_load = 0.0
     for a, b in zip(knots[:-1], knots[1:]):
         half, mid = 0.5 * (b - a), 0.5 * (b + a)
@@ -324,7 +443,9 @@ def _closed_form_flat(flat, profile, power_history=False):
     c_lock, _, we_end, wc_end = state(t_stop)
     wc_end = np.where(locked & held, we0, wc_end)  # at lock both sides turn together
     dke = 0.5 * jv * (wc_end**2 - wc0**2) + 0.5 * np.where(held, 0.0, je) * (we_end**2 - we0**2)
-    residual = (w_in - dke - w_slip - w_load) / np.maximum(np.maximum(np.abs(w_in), np.abs(w_slip)), 1e-300)
+    residual = (w_in - dke - w_slip - w_load) / np.maximum(
+        np.maximum(np.abs(w_in), np.abs(w_slip)), 1e-300
+    )
     peak_power = _peak_power(state, knots, profile, cmax / trs, inv_je, te, we0, a_coef, b_coef, t0)
 
     acc_before = (c_lock - tm) * inv_jv
@@ -351,8 +472,11 @@ def _closed_form_flat(flat, profile, power_history=False):
         # the slip power on each piece between the knots (zero-length pieces give repeated times,
         # which the history skips); 0 from lock-up on
         frac = np.linspace(0.0, 1.0, CLOSED_FORM_POWER_SAMPLES + 1)[:-1]
-        times = np.concatenate([a[:, None] + (b - a)[:, None] * frac[None, :]
-                                for a, b in zip(knots[:-1], knots[1:])] + [t_stop[:, None]], axis=1)
+        times = np.concatenate(
+            [a[:, None] + (b - a)[:, None] * frac[None, :] for a, b in zip(knots[:-1], knots[1:])]
+            + [t_stop[:, None]],
+            axis=1,
+        )
         power = np.empty_like(times)
         for j in range(times.shape[1]):
             c, dw, _, _ = state(times[:, j])
@@ -377,7 +501,11 @@ def _peak_power(state, knots, profile, a_r, inv_je, te, we0, a_coef, b_coef, t0)
         with np.errstate(divide="ignore", invalid="ignore"):
             # parked piece: P = a t (ω_e0 + J_e⁻¹(T_e t − a t²/2)) -> P' = a(ω_e0 + 2J_e⁻¹T_e t − 1.5 J_e⁻¹ a t²)
             qa, qb, qc = 1.5 * inv_je * a_r, -2.0 * inv_je * te, -we0
-            cands.append(np.where(qa > 0, (-qb + np.sqrt(np.maximum(qb**2 - 4 * qa * qc, 0))) / (2 * qa), 0.0))
+            cands.append(
+                np.where(
+                    qa > 0, (-qb + np.sqrt(np.maximum(qb**2 - 4 * qa * qc, 0))) / (2 * qa), 0.0
+                )
+            )
             # moving ramp piece: P = a t (K + A t − B a t²/2) -> P' = a(K + 2A t − 1.5 B a t²)
             k0 = state(t0)[1] - a_coef * t0 + 0.5 * b_coef * a_r * t0**2
             qa, qb, qc = 1.5 * b_coef * a_r, -2.0 * a_coef, -k0
@@ -413,7 +541,9 @@ def _peak_rate(a, b, c_max, t_r, kind):
     xa, xb = np.clip(a / tr, 0, 1), np.clip(b / tr, 0, 1)
     dp = np.polynomial.polynomial.polyder(_P[kind])
     cand = np.maximum(_polyval(dp, xa), _polyval(dp, xb))
-    cand = np.where((xa <= 0.5) & (xb >= 0.5), np.maximum(cand, _polyval(dp, np.full_like(xa, 0.5))), cand)
+    cand = np.where(
+        (xa <= 0.5) & (xb >= 0.5), np.maximum(cand, _polyval(dp, np.full_like(xa, 0.5))), cand
+    )
     return np.where((t_r > 0) & (xb > xa), c_max * cand / tr, np.where(t_r > 0, 0.0, np.inf))
 
 
@@ -464,9 +594,17 @@ def _check_table(table, name, x_name, y_name, y_positive):
     try:
         tx, ty = (np.asarray(a, dtype=float).ravel() for a in table)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a pair ({x_name}, {y_name}) of equal-length sequences") from None
-    if tx.size == 0 or tx.size != ty.size or not (np.all(np.isfinite(tx)) and np.all(np.isfinite(ty))):
-        raise ValueError(f"{name}: {x_name} and {y_name} must be finite and of equal, non-zero length")
+        raise ValueError(
+            f"{name} must be a pair ({x_name}, {y_name}) of equal-length sequences"
+        ) from None
+    if (
+        tx.size == 0
+        or tx.size != ty.size
+        or not (np.all(np.isfinite(tx)) and np.all(np.isfinite(ty)))
+    ):
+        raise ValueError(
+            f"{name}: {x_name} and {y_name} must be finite and of equal, non-zero length"
+        )
     if np.any(np.diff(tx) <= 0):
         raise ValueError(f"{name}: {x_name} must increase")
     if y_positive and (tx[0] < 0 or np.any(ty <= 0)):
@@ -474,67 +612,155 @@ def _check_table(table, name, x_name, y_name, y_positive):
     return tx, ty
 
 
-def _parameter_table(*, engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque, peak_capacity,
-                     ramp_time, profile, static_ratio, stribeck_speed, driven_speed, aero_coefficient, load_step,
-                     load_step_time, engine_torque_table, hub_fraction, damper_stiffness, damping_ratio,
-                     release_ratio, t_end, friction_table=None, fade_coefficient=0.0, fade_onset=0.0,
-                     face_temperature_factor=0.0):
+def _parameter_table(
+    *,
+    engine_speed,
+    engine_inertia,
+    engine_torque,
+    driven_inertia,
+    load_torque,
+    peak_capacity,
+    ramp_time,
+    profile,
+    static_ratio,
+    stribeck_speed,
+    driven_speed,
+    aero_coefficient,
+    load_step,
+    load_step_time,
+    engine_torque_table,
+    hub_fraction,
+    damper_stiffness,
+    damping_ratio,
+    release_ratio,
+    t_end,
+    friction_table=None,
+    fade_coefficient=0.0,
+    fade_onset=0.0,
+    face_temperature_factor=0.0,
+):
     """The kernel's parameter table (one row per scenario, columns of :mod:`._engagement_kernel`)
     and the scenarios' broadcast shape."""
     if profile not in PROFILES:
         raise ValueError(f"profile must be one of {PROFILES}, got {profile!r}")
-    vals = {_k.WE0: engine_speed, _k.JE: engine_inertia, _k.TE: engine_torque, _k.JV: driven_inertia,
-            _k.TM0: load_torque, _k.CMAX: peak_capacity, _k.TR: ramp_time, _k.RS: static_ratio,
-            _k.VS: stribeck_speed, _k.WC0: driven_speed, _k.KA: aero_coefficient, _k.DTM: load_step,
-            _k.TSTEP: load_step_time, _k.PHI: hub_fraction, _k.K: damper_stiffness, _k.ZETA: damping_ratio,
-            _k.TEND: t_end, _k.KAPPA: release_ratio, _k.FADE: fade_coefficient, _k.FADE_ON: fade_onset,
-            _k.FACE_K: face_temperature_factor}
+    vals = {
+        _k.WE0: engine_speed,
+        _k.JE: engine_inertia,
+        _k.TE: engine_torque,
+        _k.JV: driven_inertia,
+        _k.TM0: load_torque,
+        _k.CMAX: peak_capacity,
+        _k.TR: ramp_time,
+        _k.RS: static_ratio,
+        _k.VS: stribeck_speed,
+        _k.WC0: driven_speed,
+        _k.KA: aero_coefficient,
+        _k.DTM: load_step,
+        _k.TSTEP: load_step_time,
+        _k.PHI: hub_fraction,
+        _k.K: damper_stiffness,
+        _k.ZETA: damping_ratio,
+        _k.TEND: t_end,
+        _k.KAPPA: release_ratio,
+        _k.FADE: fade_coefficient,
+        _k.FADE_ON: fade_onset,
+        _k.FACE_K: face_temperature_factor,
+    }
     arrs = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in vals.values()))
     shape = arrs[0].shape
     tx = ty = fx = fy = np.zeros(0)
     if engine_torque_table is not None:
-        tx, ty = _check_table(engine_torque_table, "engine_torque_table", "speeds", "torques", False)
+        tx, ty = _check_table(
+            engine_torque_table, "engine_torque_table", "speeds", "torques", False
+        )
     if friction_table is not None:
-        fx, fy = _check_table(friction_table, "friction_table", "slip speeds", "friction ratios", True)
+        fx, fy = _check_table(
+            friction_table, "friction_table", "slip speeds", "friction ratios", True
+        )
     ftab = _k.N_PARAM + 1 + 2 * tx.size  # the shared tables ride on every row
     Q = np.empty((arrs[0].size, ftab + (1 + 2 * fx.size if fx.size else 0)))
     for col, a in zip(vals, arrs):
         Q[:, col] = a.ravel()
     Q[:, _k.NTAB] = tx.size
-    Q[:, _k.NTAB + 1:_k.NTAB + 1 + tx.size] = tx
-    Q[:, _k.NTAB + 1 + tx.size:ftab] = ty
+    Q[:, _k.NTAB + 1 : _k.NTAB + 1 + tx.size] = tx
+    Q[:, _k.NTAB + 1 + tx.size : ftab] = ty
     Q[:, _k.FTAB] = ftab if fx.size else 0.0
     if fx.size:
         Q[:, ftab] = fx.size
-        Q[:, ftab + 1:ftab + 1 + fx.size] = fx
-        Q[:, ftab + 1 + fx.size:] = fy
+        Q[:, ftab + 1 : ftab + 1 + fx.size] = fx
+        Q[:, ftab + 1 + fx.size :] = fy
     kappa = Q[:, _k.KAPPA]
     with np.errstate(divide="ignore"):  # the cushion is touched (kink of C(t)) where p = 1 − 1/κ
-        Q[:, _k.TCON] = np.where(kappa > 1.0, Q[:, _k.TR] * _invert_profile(1.0 - 1.0 / kappa, profile), 0.0)
+        Q[:, _k.TCON] = np.where(
+            kappa > 1.0, Q[:, _k.TR] * _invert_profile(1.0 - 1.0 / kappa, profile), 0.0
+        )
     held = ~np.isfinite(Q[:, _k.JE])
     Q[:, _k.HELD] = held
     Q[:, _k.INV_JE] = np.where(held, 0.0, 1.0 / np.where(held, 1.0, Q[:, _k.JE]))
     Q[:, _k.JH] = Q[:, _k.PHI] * Q[:, _k.JV]
     Q[:, _k.JR] = (1.0 - Q[:, _k.PHI]) * Q[:, _k.JV]
     with np.errstate(invalid="ignore"):
-        Q[:, _k.CD] = np.where(np.isfinite(Q[:, _k.K]),
-                               2.0 * Q[:, _k.ZETA] * np.sqrt(Q[:, _k.K] * Q[:, _k.JH] * Q[:, _k.JR] / Q[:, _k.JV]), 0.0)
+        Q[:, _k.CD] = np.where(
+            np.isfinite(Q[:, _k.K]),
+            2.0 * Q[:, _k.ZETA] * np.sqrt(Q[:, _k.K] * Q[:, _k.JH] * Q[:, _k.JR] / Q[:, _k.JV]),
+            0.0,
+        )
     return Q, shape
 
 
 # metrics an event after the window would change: NaN in a ``truncated`` scenario
-_TRUNCATED_NAN = [getattr(_k, n.upper()) for n in ("lockup_time", "breakaway_time", "capacity_at_lockup",
-                                                    "accel_jump", "lockup_speed", "peak_slip_power",
-                                                    "peak_friction_torque", "peak_jerk", "slip_work", "flash_peak")]
+_TRUNCATED_NAN = [
+    getattr(_k, n.upper())
+    for n in (
+        "lockup_time",
+        "breakaway_time",
+        "capacity_at_lockup",
+        "accel_jump",
+        "lockup_speed",
+        "peak_slip_power",
+        "peak_friction_torque",
+        "peak_jerk",
+        "slip_work",
+        "flash_peak",
+    )
+]
 
 
-def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque, peak_capacity,
-             ramp_time, profile="ramp", static_ratio=1.0, stribeck_speed=np.inf, driven_speed=0.0,
-             aero_coefficient=0.0, load_step=0.0, load_step_time=np.inf, engine_torque_table=None,
-             compliant=False, hub_fraction=0.5, damper_stiffness=np.inf, damping_ratio=0.0,
-             release_ratio=1.0, t_end=0.5, rtol=1e-10, atol=1e-10, max_step=np.inf, first_step=None,
-             max_steps=200000, trace_times=None, power_history=False, friction_table=None, fade_coefficient=0.0,
-             fade_onset=0.0, face_temperature_factor=0.0):
+def simulate(
+    *,
+    engine_speed,
+    engine_inertia,
+    engine_torque,
+    driven_inertia,
+    load_torque,
+    peak_capacity,
+    ramp_time,
+    profile="ramp",
+    static_ratio=1.0,
+    stribeck_speed=np.inf,
+    driven_speed=0.0,
+    aero_coefficient=0.0,
+    load_step=0.0,
+    load_step_time=np.inf,
+    engine_torque_table=None,
+    compliant=False,
+    hub_fraction=0.5,
+    damper_stiffness=np.inf,
+    damping_ratio=0.0,
+    release_ratio=1.0,
+    t_end=0.5,
+    rtol=1e-10,
+    atol=1e-10,
+    max_step=np.inf,
+    first_step=None,
+    max_steps=200000,
+    trace_times=None,
+    power_history=False,
+    friction_table=None,
+    fade_coefficient=0.0,
+    fade_onset=0.0,
+    face_temperature_factor=0.0,
+):
     """Engagement by a Dormand-Prince 5(4) integrator with exact stick-slip events.
 
     Every scenario has its own step sizes; steps end on breakpoints (profile end, load step, trace
@@ -629,37 +855,107 @@ def simulate(*, engine_speed, engine_inertia, engine_torque, driven_inertia, loa
     """
     if profile not in PROFILES:
         raise ValueError(f"profile must be one of {PROFILES}, got {profile!r}")
-    return st.screened(_simulate, dict(
-        engine_speed=engine_speed, engine_inertia=engine_inertia, engine_torque=engine_torque,
-        driven_inertia=driven_inertia, load_torque=load_torque, peak_capacity=peak_capacity, ramp_time=ramp_time,
-        static_ratio=static_ratio, stribeck_speed=stribeck_speed, driven_speed=driven_speed,
-        aero_coefficient=aero_coefficient, load_step=load_step, load_step_time=load_step_time,
-        hub_fraction=hub_fraction, damper_stiffness=damper_stiffness, damping_ratio=damping_ratio,
-        release_ratio=release_ratio, t_end=t_end, fade_coefficient=fade_coefficient, fade_onset=fade_onset,
-        face_temperature_factor=face_temperature_factor), _DOMAIN_SIMULATE, extra=dict(
-        profile=profile, engine_torque_table=engine_torque_table, friction_table=friction_table,
-        compliant=compliant, rtol=rtol, atol=atol,
-        max_step=max_step, first_step=first_step, max_steps=max_steps, trace_times=trace_times,
-        power_history=power_history))
+    return st.screened(
+        _simulate,
+        dict(
+            engine_speed=engine_speed,
+            engine_inertia=engine_inertia,
+            engine_torque=engine_torque,
+            driven_inertia=driven_inertia,
+            load_torque=load_torque,
+            peak_capacity=peak_capacity,
+            ramp_time=ramp_time,
+            static_ratio=static_ratio,
+            stribeck_speed=stribeck_speed,
+            driven_speed=driven_speed,
+            aero_coefficient=aero_coefficient,
+            load_step=load_step,
+            load_step_time=load_step_time,
+            hub_fraction=hub_fraction,
+            damper_stiffness=damper_stiffness,
+            damping_ratio=damping_ratio,
+            release_ratio=release_ratio,
+            t_end=t_end,
+            fade_coefficient=fade_coefficient,
+            fade_onset=fade_onset,
+            face_temperature_factor=face_temperature_factor,
+        ),
+        _DOMAIN_SIMULATE,
+        extra=dict(
+            profile=profile,
+            engine_torque_table=engine_torque_table,
+            friction_table=friction_table,
+            compliant=compliant,
+            rtol=rtol,
+            atol=atol,
+            max_step=max_step,
+            first_step=first_step,
+            max_steps=max_steps,
+            trace_times=trace_times,
+            power_history=power_history,
+        ),
+    )
 
 
-def _simulate(*, profile, engine_torque_table, friction_table, compliant, rtol, atol, max_step, first_step,
-              max_steps, trace_times, power_history, **scenario):
-    Q, shape = _parameter_table(profile=profile, engine_torque_table=engine_torque_table,
-                                friction_table=friction_table, **scenario)
-    tt = np.zeros(0) if trace_times is None else np.ascontiguousarray(trace_times, dtype=float).ravel()
-    res, trace = _k.simulate_batch(Q, bool(compliant), PROFILES.index(profile), tt, float(rtol), float(atol),
-                                   float(max_step), float(first_step or 0.0), int(max_steps), bool(power_history))
+def _simulate(
+    *,
+    profile,
+    engine_torque_table,
+    friction_table,
+    compliant,
+    rtol,
+    atol,
+    max_step,
+    first_step,
+    max_steps,
+    trace_times,
+    power_history,
+    **scenario,
+):
+    Q, shape = _parameter_table(
+        profile=profile,
+        engine_torque_table=engine_torque_table,
+        friction_table=friction_table,
+        **scenario,
+    )
+    tt = (
+        np.zeros(0)
+        if trace_times is None
+        else np.ascontiguousarray(trace_times, dtype=float).ravel()
+    )
+    res, trace = _k.simulate_batch(
+        Q,
+        bool(compliant),
+        PROFILES.index(profile),
+        tt,
+        float(rtol),
+        float(atol),
+        float(max_step),
+        float(first_step or 0.0),
+        int(max_steps),
+        bool(power_history),
+    )
     truncated = res[:, _k.TRUNCATED] > 0
     res[truncated[:, None] & np.isin(np.arange(_k.N_RESULTS), _TRUNCATED_NAN)[None, :]] = np.nan
-    out = {name: res[:, i].reshape(shape) for i, name in enumerate(_k.RESULTS)
-           if name not in ("final_locked", "hit_step_limit", "truncated")}
+    out = {
+        name: res[:, i].reshape(shape)
+        for i, name in enumerate(_k.RESULTS)
+        if name not in ("final_locked", "hit_step_limit", "truncated")
+    }
     for name in ("n_steps", "n_linear"):
         out[name] = out[name].astype(np.int64)
-    code = np.where(res[:, _k.HIT_STEP_LIMIT] > 0, st.CODE["not_converged"],
-                    np.where(truncated, st.CODE["truncated"],
-                             np.where(res[:, _k.FINAL_LOCKED] > 0, st.CODE["ok"], st.CODE["never_locked"])))
+    code = np.where(
+        res[:, _k.HIT_STEP_LIMIT] > 0,
+        st.CODE["not_converged"],
+        np.where(
+            truncated,
+            st.CODE["truncated"],
+            np.where(res[:, _k.FINAL_LOCKED] > 0, st.CODE["ok"], st.CODE["never_locked"]),
+        ),
+    )
     out["status"] = code.astype(st.DTYPE).reshape(shape)
     if trace_times is not None:
-        out["trace"] = {name: trace[:, :, i].reshape(shape + (tt.size,)) for i, name in enumerate(_k.TRACES)}
+        out["trace"] = {
+            name: trace[:, :, i].reshape(shape + (tt.size,)) for i, name in enumerate(_k.TRACES)
+        }
     return out

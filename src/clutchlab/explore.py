@@ -10,6 +10,7 @@ pipeline and for notebooks: an engineer asks a new question of results without r
 * :func:`feasible` — every constraint met and status ok, with the margin of each constraint.
 * :func:`grid_variance_decomposition` — exact main and total effects of a full factorial grid.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -17,9 +18,21 @@ from numba import njit
 
 from . import status as st
 
-__all__ = ["pareto_rank", "dominates", "feasible", "condition_factors", "annotate", "hypervolume", "best_compromise",
-           "refinement_gain", "objective_table", "front_order", "grid_variance_decomposition",
-           "sobol_indices", "sensitivity"]
+__all__ = [
+    "pareto_rank",
+    "dominates",
+    "feasible",
+    "condition_factors",
+    "annotate",
+    "hypervolume",
+    "best_compromise",
+    "refinement_gain",
+    "objective_table",
+    "front_order",
+    "grid_variance_decomposition",
+    "sobol_indices",
+    "sensitivity",
+]
 
 
 def dominates(a, b) -> bool:
@@ -57,8 +70,12 @@ def pareto_rank(values, include=None, groups=None):
     if hasattr(values, "data_vars"):  # a study Dataset
         ds = values
         kept = ds["feasible"] if "feasible" in ds else ds["status"] == st.CODE["ok"]
-        ranked = annotate(ds.assign(status=ds["status"].where(kept.astype(bool), st.CODE["invalid_input"])),
-                          list(include), {}, within=groups)
+        ranked = annotate(
+            ds.assign(status=ds["status"].where(kept.astype(bool), st.CODE["invalid_input"])),
+            list(include),
+            {},
+            within=groups,
+        )
         return ranked["pareto_rank"]
     f = np.asarray(values, dtype=float)
     if f.ndim != 2:
@@ -133,7 +150,9 @@ def _rank_nd(g):
     over the other objectives, itself divided along one objective at a time down to a sweep with
     a Fenwick tree over the last (Jensen 2003; Buzdalov & Shalyto 2014): O(N log^(M-1) N)."""
     uniq, inverse = np.unique(g, axis=0, return_inverse=True)  # sorted lexicographically, as needed
-    c = np.stack([np.searchsorted(np.unique(uniq[:, k]), uniq[:, k]) for k in range(1, g.shape[1])], axis=1)
+    c = np.stack(
+        [np.searchsorted(np.unique(uniq[:, k]), uniq[:, k]) for k in range(1, g.shape[1])], axis=1
+    )
     return _cdq_ranks(np.ascontiguousarray(c, dtype=np.int64))[inverse.reshape(-1)]
 
 
@@ -180,7 +199,9 @@ def _cross(left, right, c, rank, tree):
     subproblems are independent (max-updates), so they run from a work list, not by recursion
     (numba cannot cache recursive functions)."""
     k = c.shape[1]
-    tasks = [(0, left, right, 0)]  # (kind 0: cross / 1: split, rows, right rows or flags, coordinate)
+    tasks = [
+        (0, left, right, 0)
+    ]  # (kind 0: cross / 1: split, rows, right rows or flags, coordinate)
     while len(tasks):
         kind, a, b, d = tasks.pop()
         if kind == 0:
@@ -263,7 +284,9 @@ def condition_factors(ds) -> tuple[list[str], list[str]]:
     dims = ds["status"].dims
     factors = ds.attrs.get("factors", "").split()
     kept = ds.attrs.get("refine_within", "").split()
-    options = ds.attrs.get("option_factors", "").split()  # drawn per scenario, but a few choices: grouped
+    options = ds.attrs.get(
+        "option_factors", ""
+    ).split()  # drawn per scenario, but a few choices: grouped
     grouped = [c for c in conditions if c in dims or c in kept or c in options]
     return grouped, [c for c in conditions if c in factors and c not in grouped]
 
@@ -291,8 +314,9 @@ def front_order(ds) -> np.ndarray:
     rank = ds["pareto_rank"].values.reshape(-1)
     front = np.flatnonzero(rank == 0)
     first = ds["pareto_rank"].attrs["objectives"].split()[0].split(":")[0]
-    keys = [flat(ds, first)[front]] + [flat(ds, w)[front] for w in ds["pareto_rank"].attrs.get(
-        "ranked_within", "").split()[::-1]]
+    keys = [flat(ds, first)[front]] + [
+        flat(ds, w)[front] for w in ds["pareto_rank"].attrs.get("ranked_within", "").split()[::-1]
+    ]
     return front[np.lexsort(keys)]
 
 
@@ -320,28 +344,55 @@ def annotate(ds, objectives, constraints, within=None):
     within = grid_conditions if within is None else list(within)
     ok, margins = feasible(ds, {k: tuple(v) for k, v in constraints.items()})
     out = ds.copy()
-    out["feasible"] = (dims, ok.astype(np.int8), {
-        "long_name": "design meets every constraint and its status is ok", "units": "1",
-        "flag_values": np.array([0, 1], np.int8), "flag_meanings": "infeasible feasible"})
+    out["feasible"] = (
+        dims,
+        ok.astype(np.int8),
+        {
+            "long_name": "design meets every constraint and its status is ok",
+            "units": "1",
+            "flag_values": np.array([0, 1], np.int8),
+            "flag_meanings": "infeasible feasible",
+        },
+    )
     if margins:
         names = list(margins)
         out["constraint_margin"] = xr.DataArray(
-            np.stack([margins[k] for k in names]), dims=("constraint",) + dims,
-            attrs={"long_name": "relative constraint margin: (limit - value)/|limit| for a max, "
-                                "(value - limit)/|limit| for a min; >= 0 where met", "units": "1"})
-        out = out.assign_coords(constraint=("constraint", np.array(names, dtype=object), {
-            "long_name": "constrained output and its limit", "units": "1",
-            "limits": " ".join(f"{k}:{op}:{v:.6g}" for k, (op, v) in constraints.items())}))
+            np.stack([margins[k] for k in names]),
+            dims=("constraint",) + dims,
+            attrs={
+                "long_name": "relative constraint margin: (limit - value)/|limit| for a max, "
+                "(value - limit)/|limit| for a min; >= 0 where met",
+                "units": "1",
+            },
+        )
+        out = out.assign_coords(
+            constraint=(
+                "constraint",
+                np.array(names, dtype=object),
+                {
+                    "long_name": "constrained output and its limit",
+                    "units": "1",
+                    "limits": " ".join(f"{k}:{op}:{v:.6g}" for k, (op, v) in constraints.items()),
+                },
+            )
+        )
     cols = []
     for output, sense in (o.split(":") for o in objectives):
         v = np.broadcast_to(ds[output].values, ok.shape).astype(float).reshape(-1)
         cols.append(v if sense == "min" else -v)
     groups = group_ids(ds, within)
-    rank = (pareto_rank(np.stack(cols, axis=1), ok.reshape(-1), groups).reshape(ok.shape) if cols
-            else np.full(ok.shape, -1))
-    attrs = {"long_name": "Pareto rank among feasible designs (0: the front; -1: infeasible or an objective NaN)"
-                          + (f", within each {' and '.join(within)}" if within else ""),
-             "units": "1", "objectives": " ".join(objectives), "ranked_within": " ".join(within)}
+    rank = (
+        pareto_rank(np.stack(cols, axis=1), ok.reshape(-1), groups).reshape(ok.shape)
+        if cols
+        else np.full(ok.shape, -1)
+    )
+    attrs = {
+        "long_name": "Pareto rank among feasible designs (0: the front; -1: infeasible or an objective NaN)"
+        + (f", within each {' and '.join(within)}" if within else ""),
+        "units": "1",
+        "objectives": " ".join(objectives),
+        "ranked_within": " ".join(within),
+    }
     if mixed:
         attrs["conditions_mixed"] = " ".join(mixed)
     out["pareto_rank"] = (dims, rank, attrs)
@@ -370,14 +421,24 @@ def _hv(p, ref) -> float:
         return float(np.sum(np.diff(x) * (ref[1] - p[:, 1])))
     p = p[np.argsort(p[:, -1], kind="stable")]
     z = np.append(p[:, -1], ref[-1])
-    return float(sum(_hv(p[: i + 1, :-1], ref[:-1]) * (z[i + 1] - z[i]) for i in range(len(p)) if z[i + 1] > z[i]))
+    return float(
+        sum(
+            _hv(p[: i + 1, :-1], ref[:-1]) * (z[i + 1] - z[i])
+            for i in range(len(p))
+            if z[i + 1] > z[i]
+        )
+    )
 
 
 def objective_table(ds, objectives, within) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Flat per-scenario arrays of a study Dataset: the objectives to minimise (N, M; "name:max"
     negated), ``feasible`` (N,) and the values of the conditions ``within`` (N, len(within))."""
     cols = [flat(ds, o.split(":")[0]) * (1.0 if o.endswith(":min") else -1.0) for o in objectives]
-    key = np.stack([flat(ds, w) for w in within], axis=1) if within else np.zeros((ds["status"].size, 0))
+    key = (
+        np.stack([flat(ds, w) for w in within], axis=1)
+        if within
+        else np.zeros((ds["status"].size, 0))
+    )
     return np.stack(cols, axis=1), flat(ds, "feasible").astype(bool), key
 
 
@@ -402,13 +463,15 @@ def best_compromise(ds) -> int | None:
     if within and combos.size:  # the operating condition nearest the seed design's
         seed = studies.get(ds.attrs["study"]).defaults if "study" in ds.attrs else {}
         span = np.where(np.ptp(combos, axis=0) > 0, np.ptp(combos, axis=0), 1.0)
-        target = np.array([seed.get(w, 0.0) for w in within])  # an option: its first choice (code 0)
+        target = np.array(
+            [seed.get(w, 0.0) for w in within]
+        )  # an option: its first choice (code 0)
         combos = combos[[int(np.argmin((((combos - target) / span) ** 2).sum(axis=1)))]]
     for combo in combos:
         group = ok & (key == combo).all(axis=1)
         lo, hi = f[group].min(axis=0), f[group].max(axis=0)
         norm = (f - lo) / np.where(hi > lo, hi - lo, 1.0)
-        d = np.where(group & (rank == 0), np.sqrt((norm ** 2).sum(axis=1)), np.inf)
+        d = np.where(group & (rank == 0), np.sqrt((norm**2).sum(axis=1)), np.inf)
         i = int(np.argmin(d))
         if d[i] < best_d:
             best, best_d = i, d[i]
@@ -442,24 +505,60 @@ def refinement_gain(first, second):
         union = np.concatenate([norm1, norm2])
         after = hypervolume(union, ref)
         on_front = pareto_rank(union) == 0
-        rows.append((combo, before, after, int(g1.sum()), int(g2.sum()), int(on_front[len(norm1):].sum())))
+        rows.append(
+            (combo, before, after, int(g1.sum()), int(g2.sum()), int(on_front[len(norm1) :].sum()))
+        )
     return xr.Dataset(
-        {"hypervolume_before": ("group", [r[1] for r in rows], {
-            "long_name": "hypervolume of the first stage's front (objectives normalised per group)", "units": "1"}),
-         "hypervolume_after": ("group", [r[2] for r in rows], {
-             "long_name": "hypervolume of the front of both stages together", "units": "1"}),
-         "feasible_first": ("group", [r[3] for r in rows], {"long_name": "feasible designs, first stage", "units": "1"}),
-         "feasible_second": ("group", [r[4] for r in rows], {"long_name": "feasible designs, refining stage",
-                                                             "units": "1"}),
-         "front_from_second": ("group", [r[5] for r in rows], {
-             "long_name": "designs of the refining stage on the joint front", "units": "1"})},
-        coords={"group": ("group", np.arange(len(rows)), {"long_name": "operating-condition group", "units": "1"}),
-                **{w: ("group", np.array([r[0][j] for r in rows], float), dict(first[w].attrs))
-                   for j, w in enumerate(within)}},
-        attrs={"objectives": " ".join(objectives), "ranked_within": " ".join(within),
-               "scenarios_first": int(first["status"].size), "scenarios_second": int(second["status"].size),
-               "reference": "1.1 in every objective normalised to the first stage's feasible designs of the "
-                            "group (best 0, worst 1); maximised objectives negated"})
+        {
+            "hypervolume_before": (
+                "group",
+                [r[1] for r in rows],
+                {
+                    "long_name": "hypervolume of the first stage's front (objectives normalised per group)",
+                    "units": "1",
+                },
+            ),
+            "hypervolume_after": (
+                "group",
+                [r[2] for r in rows],
+                {"long_name": "hypervolume of the front of both stages together", "units": "1"},
+            ),
+            "feasible_first": (
+                "group",
+                [r[3] for r in rows],
+                {"long_name": "feasible designs, first stage", "units": "1"},
+            ),
+            "feasible_second": (
+                "group",
+                [r[4] for r in rows],
+                {"long_name": "feasible designs, refining stage", "units": "1"},
+            ),
+            "front_from_second": (
+                "group",
+                [r[5] for r in rows],
+                {"long_name": "designs of the refining stage on the joint front", "units": "1"},
+            ),
+        },
+        coords={
+            "group": (
+                "group",
+                np.arange(len(rows)),
+                {"long_name": "operating-condition group", "units": "1"},
+            ),
+            **{
+                w: ("group", np.array([r[0][j] for r in rows], float), dict(first[w].attrs))
+                for j, w in enumerate(within)
+            },
+        },
+        attrs={
+            "objectives": " ".join(objectives),
+            "ranked_within": " ".join(within),
+            "scenarios_first": int(first["status"].size),
+            "scenarios_second": int(second["status"].size),
+            "reference": "1.1 in every objective normalised to the first stage's feasible designs of the "
+            "group (best 0, worst 1); maximised objectives negated",
+        },
+    )
 
 
 def grid_variance_decomposition(y, axes_names) -> dict:
@@ -491,7 +590,9 @@ def grid_variance_decomposition(y, axes_names) -> dict:
             v_main = np.nansum(cnt * (m_i - mean) ** 2) / n
             cnt_g = ok.sum(axis=i)
             m_g = yz.sum(axis=i) / cnt_g  # E[y | x_~i]
-            v_g = np.where(ok, (y - np.expand_dims(m_g, i)) ** 2, 0.0).sum(axis=i)  # n_g · Var(y | x_~i)
+            v_g = np.where(ok, (y - np.expand_dims(m_g, i)) ** 2, 0.0).sum(
+                axis=i
+            )  # n_g · Var(y | x_~i)
             first[name] = float(v_main / var) if var > 0 else np.nan
             total[name] = float(v_g.sum() / n / var) if var > 0 else np.nan
     return {"first_order": first, "total": total, "variance": var, "failed": int(y.size - n)}
@@ -510,7 +611,9 @@ def sobol_indices(y, n_factors, names, conf_level=0.95, seed=1) -> dict:
     from SALib.analyze import sobol
 
     if not seed:
-        raise ValueError("seed must be a positive integer (SALib ignores 0 and draws unseeded intervals)")
+        raise ValueError(
+            "seed must be a positive integer (SALib ignores 0 and draws unseeded intervals)"
+        )
 
     y = np.asarray(y, dtype=float).reshape(-1, n_factors + 2)
     keep = np.isfinite(y).all(axis=1)
@@ -520,12 +623,22 @@ def sobol_indices(y, n_factors, names, conf_level=0.95, seed=1) -> dict:
         res = nan
     else:
         problem = {"num_vars": n_factors, "names": list(names), "bounds": [[0.0, 1.0]] * n_factors}
-        res = sobol.analyze(problem, y[keep].reshape(-1), calc_second_order=False, conf_level=conf_level,
-                            print_to_console=False, seed=seed)
-    out.update({"first_order": dict(zip(names, np.asarray(res["S1"], float))),
-                "first_order_conf": dict(zip(names, np.asarray(res["S1_conf"], float))),
-                "total": dict(zip(names, np.asarray(res["ST"], float))),
-                "total_conf": dict(zip(names, np.asarray(res["ST_conf"], float)))})
+        res = sobol.analyze(
+            problem,
+            y[keep].reshape(-1),
+            calc_second_order=False,
+            conf_level=conf_level,
+            print_to_console=False,
+            seed=seed,
+        )
+    out.update(
+        {
+            "first_order": dict(zip(names, np.asarray(res["S1"], float))),
+            "first_order_conf": dict(zip(names, np.asarray(res["S1_conf"], float))),
+            "total": dict(zip(names, np.asarray(res["ST"], float))),
+            "total_conf": dict(zip(names, np.asarray(res["ST_conf"], float))),
+        }
+    )
     return out
 
 
@@ -543,7 +656,9 @@ def sensitivity(ds, outputs) -> "xr.Dataset":
     dims = list(ds["status"].dims)
     design = ds.attrs.get("design", "factorial" if dims != ["run"] else "")
     if dims == ["run"] and design != "saltelli":
-        raise ValueError(f"design {design!r} gives no sensitivity indices: use factorial or saltelli")
+        raise ValueError(
+            f"design {design!r} gives no sensitivity indices: use factorial or saltelli"
+        )
     factor_names = dims if dims != ["run"] else ds.attrs["factors"].split()
     names = list(dict.fromkeys(list(outputs)))
     rows = []
@@ -561,24 +676,64 @@ def sensitivity(ds, outputs) -> "xr.Dataset":
     dims = factor_names
     out_names = names + ["failure"]
     return xr.Dataset(
-        {"first_order": (("output", "factor"), [[r["first_order"][f] for f in dims] for r in rows],
-                         {"long_name": "first-order (main effect) index Var(E[y|x_i])/Var(y)", "units": "1"}),
-         "total": (("output", "factor"), [[r["total"][f] for f in dims] for r in rows],
-                   {"long_name": "total effect index E[Var(y|x_~i)]/Var(y)", "units": "1"}),
-         "first_order_conf": (("output", "factor"), [[r["first_order_conf"][f] for f in dims] for r in rows],
-                              {"long_name": "95 % confidence half-width of first_order (NaN: exact, a grid)",
-                               "units": "1"}),
-         "total_conf": (("output", "factor"), [[r["total_conf"][f] for f in dims] for r in rows],
-                        {"long_name": "95 % confidence half-width of total (NaN: exact, a grid)", "units": "1"}),
-         "failed": ("output", [r["failed"] for r in rows],
-                    {"long_name": "scenarios whose output is NaN (left out; saltelli: with their whole block)",
-                     "units": "1"})},
-        coords={"output": ("output", np.array(out_names, dtype=object),
-                           {"long_name": "output (failure: 1 where status is not ok)", "units": "1"}),
-                "factor": ("factor", np.array(dims, dtype=object), {"long_name": "factor of the design", "units": "1"})},
-        attrs={"method": ("exact variance decomposition of the full factorial grid; failed cells left out "
-                          "(means and variances over the finite cells, count-weighted), counted in 'failed'")
-               if design != "saltelli" else
-               ("Sobol indices from a Saltelli design (SALib sobol.analyze, calc_second_order=False, 95 % "
-                "bootstrap intervals); a base point's block is left out when any of its scenarios failed"),
-               "title": ds.attrs.get("title", "")})
+        {
+            "first_order": (
+                ("output", "factor"),
+                [[r["first_order"][f] for f in dims] for r in rows],
+                {"long_name": "first-order (main effect) index Var(E[y|x_i])/Var(y)", "units": "1"},
+            ),
+            "total": (
+                ("output", "factor"),
+                [[r["total"][f] for f in dims] for r in rows],
+                {"long_name": "total effect index E[Var(y|x_~i)]/Var(y)", "units": "1"},
+            ),
+            "first_order_conf": (
+                ("output", "factor"),
+                [[r["first_order_conf"][f] for f in dims] for r in rows],
+                {
+                    "long_name": "95 % confidence half-width of first_order (NaN: exact, a grid)",
+                    "units": "1",
+                },
+            ),
+            "total_conf": (
+                ("output", "factor"),
+                [[r["total_conf"][f] for f in dims] for r in rows],
+                {
+                    "long_name": "95 % confidence half-width of total (NaN: exact, a grid)",
+                    "units": "1",
+                },
+            ),
+            "failed": (
+                "output",
+                [r["failed"] for r in rows],
+                {
+                    "long_name": "scenarios whose output is NaN (left out; saltelli: with their whole block)",
+                    "units": "1",
+                },
+            ),
+        },
+        coords={
+            "output": (
+                "output",
+                np.array(out_names, dtype=object),
+                {"long_name": "output (failure: 1 where status is not ok)", "units": "1"},
+            ),
+            "factor": (
+                "factor",
+                np.array(dims, dtype=object),
+                {"long_name": "factor of the design", "units": "1"},
+            ),
+        },
+        attrs={
+            "method": (
+                "exact variance decomposition of the full factorial grid; failed cells left out "
+                "(means and variances over the finite cells, count-weighted), counted in 'failed'"
+            )
+            if design != "saltelli"
+            else (
+                "Sobol indices from a Saltelli design (SALib sobol.analyze, calc_second_order=False, 95 % "
+                "bootstrap intervals); a base point's block is left out when any of its scenarios failed"
+            ),
+            "title": ds.attrs.get("title", ""),
+        },
+    )

@@ -4,6 +4,7 @@ References
 ----------
 .. [1] Zhao P. (2026), seed 000, eqs. (3), (13), (14).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -55,8 +56,17 @@ def effective_radius(outer_radius, inner_radius, assumption="uniform_pressure"):
     raise ValueError(f"assumption must be 'uniform_pressure' or 'uniform_wear', got {assumption!r}")
 
 
-def torque_capacity(clamp_force, friction_coefficient, outer_radius, inner_radius, *, faces=2,
-                    assumption="uniform_pressure", stack_mass=0.0, gravity=STANDARD_GRAVITY):
+def torque_capacity(
+    clamp_force,
+    friction_coefficient,
+    outer_radius,
+    inner_radius,
+    *,
+    faces=2,
+    assumption="uniform_pressure",
+    stack_mass=0.0,
+    gravity=STANDARD_GRAVITY,
+):
     """Friction torque capacity T = z_f·μ·(F + m·g)·R_eff [N·m].
 
     Parameters
@@ -85,18 +95,30 @@ def torque_capacity(clamp_force, friction_coefficient, outer_radius, inner_radiu
     available from :func:`torque_capacity_eq14_as_printed` (239.3 N·m for the seed design).
     """
     f_total = np.asarray(clamp_force, dtype=float) + np.asarray(stack_mass) * gravity
-    return faces * friction_coefficient * f_total * effective_radius(outer_radius, inner_radius, assumption)
+    return (
+        faces
+        * friction_coefficient
+        * f_total
+        * effective_radius(outer_radius, inner_radius, assumption)
+    )
 
 
-def torque_capacity_eq14_as_printed(clamp_force, friction_coefficient, stack_mass, outer_radius,
-                                    inner_radius, gravity=STANDARD_GRAVITY):
+def torque_capacity_eq14_as_printed(
+    clamp_force,
+    friction_coefficient,
+    stack_mass,
+    outer_radius,
+    inner_radius,
+    gravity=STANDARD_GRAVITY,
+):
     """Eq. (14) of [1] exactly as printed: M = (μ·m·g + F)·R_eff (one face) [N·m].
 
     Kept only to reproduce the paper's 239.3 N·m; it is dimensionally consistent but physically
     wrong (see :func:`torque_capacity`). Do not use it for design.
     """
-    return ((friction_coefficient * np.asarray(stack_mass) * gravity + clamp_force)
-            * effective_radius(outer_radius, inner_radius, "uniform_pressure"))
+    return (
+        friction_coefficient * np.asarray(stack_mass) * gravity + clamp_force
+    ) * effective_radius(outer_radius, inner_radius, "uniform_pressure")
 
 
 def reserve_factor(torque_capacity, max_engine_torque):

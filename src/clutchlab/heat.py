@@ -25,15 +25,27 @@ parts equals the slip work to rounding.
 Material values are documented defaults (:data:`MATERIALS`), assumptions to be replaced by the
 drivetrain's own data sheets.
 """
+
 from __future__ import annotations
 
 import math
 
 import numpy as np
 
-__all__ = ["MATERIALS", "effusivity", "face_shares", "lining_area", "specific_loading", "bulk_rise",
-           "duhamel_surface_temperature", "surface_temperature_constant", "surface_temperature_ramp",
-           "sequence_temperatures", "engagements_to_limit", "kernel_modes"]
+__all__ = [
+    "MATERIALS",
+    "effusivity",
+    "face_shares",
+    "lining_area",
+    "specific_loading",
+    "bulk_rise",
+    "duhamel_surface_temperature",
+    "surface_temperature_constant",
+    "surface_temperature_ramp",
+    "sequence_temperatures",
+    "engagements_to_limit",
+    "kernel_modes",
+]
 
 # Typical room-temperature handbook values (assumed; replace by the part's data sheet):
 # grey cast iron (flywheel, pressure plate): rho 7200 kg/m^3, c 500 J/(kg K), k 50 W/(m K) -- the
@@ -69,9 +81,12 @@ def face_shares(flywheel_effusivity, pressure_plate_effusivity, lining_effusivit
 
 def _loading(slip_work, peak_slip_power, outer_radius, inner_radius, faces):
     area = faces * lining_area(outer_radius, inner_radius)
-    return {"friction_area": area, "specific_friction_work": slip_work / area,
-            "peak_specific_friction_power": peak_slip_power / area,
-            "status": np.zeros(np.shape(area), dtype=np.int8)}
+    return {
+        "friction_area": area,
+        "specific_friction_work": slip_work / area,
+        "peak_specific_friction_power": peak_slip_power / area,
+        "status": np.zeros(np.shape(area), dtype=np.int8),
+    }
 
 
 def specific_loading(slip_work, peak_slip_power, outer_radius, inner_radius, faces=2):
@@ -82,11 +97,25 @@ def specific_loading(slip_work, peak_slip_power, outer_radius, inner_radius, fac
     otherwise status ``invalid_input`` and NaN."""
     from . import status as st
 
-    domain = {"slip_work": st.nonnegative, "peak_slip_power": st.nonnegative, "inner_radius": st.positive,
-              "outer_radius": st.positive, "faces": st.whole(1),
-              None: lambda a: a["outer_radius"] > a["inner_radius"]}
-    return st.screened(_loading, dict(slip_work=slip_work, peak_slip_power=peak_slip_power,
-                                      outer_radius=outer_radius, inner_radius=inner_radius, faces=faces), domain)
+    domain = {
+        "slip_work": st.nonnegative,
+        "peak_slip_power": st.nonnegative,
+        "inner_radius": st.positive,
+        "outer_radius": st.positive,
+        "faces": st.whole(1),
+        None: lambda a: a["outer_radius"] > a["inner_radius"],
+    }
+    return st.screened(
+        _loading,
+        dict(
+            slip_work=slip_work,
+            peak_slip_power=peak_slip_power,
+            outer_radius=outer_radius,
+            inner_radius=inner_radius,
+            faces=faces,
+        ),
+        domain,
+    )
 
 
 def bulk_rise(heat, mass, specific_heat):
@@ -102,7 +131,13 @@ def surface_temperature_constant(flux, time, effusivity):
 
 def surface_temperature_ramp(rate, time, effusivity):
     """Surface temperature rise under a linearly rising flux q = b t: (4/3)·b·t^{3/2}/(e√π) [K]."""
-    return 4.0 / 3.0 * np.asarray(rate) * np.power(time, 1.5) / (np.asarray(effusivity) * math.sqrt(math.pi))
+    return (
+        4.0
+        / 3.0
+        * np.asarray(rate)
+        * np.power(time, 1.5)
+        / (np.asarray(effusivity) * math.sqrt(math.pi))
+    )
 
 
 def duhamel_surface_temperature(times, flux, effusivity):
@@ -123,12 +158,12 @@ def duhamel_surface_temperature(times, flux, effusivity):
     out = np.zeros(t.shape)
     if n < 2:
         return out
-    h = np.diff(t, axis=-1)                                   # (..., n-1)
+    h = np.diff(t, axis=-1)  # (..., n-1)
     slope = np.diff(q, axis=-1) / h
-    tk = t[..., 1:, None]                                     # evaluation times t_1..t_{n-1}
-    u0 = np.maximum(tk - t[..., None, :-1], 0.0)              # u at the segment's start
-    u1 = np.maximum(tk - t[..., None, 1:], 0.0)               # u at its end (smaller)
-    valid = t[..., None, 1:] <= tk                            # segments before t_k
+    tk = t[..., 1:, None]  # evaluation times t_1..t_{n-1}
+    u0 = np.maximum(tk - t[..., None, :-1], 0.0)  # u at the segment's start
+    u1 = np.maximum(tk - t[..., None, 1:], 0.0)  # u at its end (smaller)
+    valid = t[..., None, 1:] <= tk  # segments before t_k
     a = q[..., None, :-1] + slope[..., None, :] * u0
     b = -slope[..., None, :]
     s0, s1 = np.sqrt(u0), np.sqrt(u1)
@@ -144,8 +179,10 @@ def sequence_temperatures(rise, interval, time_constant, engagements):
     """Temperature over ambient just after each of ``engagements`` engagements (last axis) of a
     lumped part: each adds ``rise`` [K]; between them it cools exponentially (Newton's law,
     time constant τ = m c/(h A) [s]) for ``interval`` [s]: T_n = r·T_{n−1} + ΔT, r = exp(−t_i/τ)."""
-    rise, r = np.broadcast_arrays(np.asarray(rise, dtype=float),
-                                  np.exp(-np.asarray(interval, dtype=float) / np.asarray(time_constant, dtype=float)))
+    rise, r = np.broadcast_arrays(
+        np.asarray(rise, dtype=float),
+        np.exp(-np.asarray(interval, dtype=float) / np.asarray(time_constant, dtype=float)),
+    )
     out = np.empty(rise.shape + (int(engagements),))
     temp = np.zeros(rise.shape)
     for i in range(int(engagements)):
@@ -163,11 +200,13 @@ def engagements_to_limit(rise, interval, time_constant, margin):
     """Engagements in a row after which the part first reaches ``margin`` [K] over ambient (the
     material limit minus ambient): the least n with ΔT(1 − rⁿ)/(1 − r) ≥ margin; inf if the
     periodic state stays below it (or no heat)."""
-    rise, r, margin = np.broadcast_arrays(np.asarray(rise, dtype=float),
-                                          np.exp(-np.asarray(interval, dtype=float) / np.asarray(time_constant)),
-                                          np.asarray(margin, dtype=float))
+    rise, r, margin = np.broadcast_arrays(
+        np.asarray(rise, dtype=float),
+        np.exp(-np.asarray(interval, dtype=float) / np.asarray(time_constant)),
+        np.asarray(margin, dtype=float),
+    )
     with np.errstate(divide="ignore", invalid="ignore"):
-        x = 1.0 - margin * (1.0 - r) / rise                 # r^n <= x
+        x = 1.0 - margin * (1.0 - r) / rise  # r^n <= x
         n = np.where(r > 0, np.ceil(np.log(np.maximum(x, 1e-300)) / np.log(r) - 1e-12), 1.0)
     n = np.where(rise >= margin, 1.0, np.where(x <= 0, np.inf, np.maximum(n, 1.0)))
     n = np.where(rise == 0, np.inf, n)
@@ -177,7 +216,11 @@ def engagements_to_limit(rise, interval, time_constant, margin):
 # the three parts of a single-plate clutch that take the friction heat, and their materials
 # (driven plate: its faces are the linings; its heat capacity mostly the steel carrier's)
 PARTS = ("flywheel", "pressure_plate", "driven_plate")
-FACE_MATERIAL = {"flywheel": "cast_iron", "pressure_plate": "cast_iron", "driven_plate": "organic_lining"}
+FACE_MATERIAL = {
+    "flywheel": "cast_iron",
+    "pressure_plate": "cast_iron",
+    "driven_plate": "organic_lining",
+}
 BULK_MATERIAL = {"flywheel": "cast_iron", "pressure_plate": "cast_iron", "driven_plate": "steel"}
 
 
@@ -186,12 +229,27 @@ def part_effusivities() -> tuple[float, float, float]:
     return tuple(float(effusivity(**MATERIALS[FACE_MATERIAL[p]])) for p in PARTS)
 
 
-def _engagement_heat(slip_work, peak_slip_power, outer_radius, inner_radius, faces, flywheel_mass,
-                     pressure_plate_mass, driven_plate_mass, heat_transfer_coefficient, cooling_area,
-                     engagement_interval, temperature_margin):
+def _engagement_heat(
+    slip_work,
+    peak_slip_power,
+    outer_radius,
+    inner_radius,
+    faces,
+    flywheel_mass,
+    pressure_plate_mass,
+    driven_plate_mass,
+    heat_transfer_coefficient,
+    cooling_area,
+    engagement_interval,
+    temperature_margin,
+):
     out = _loading(slip_work, peak_slip_power, outer_radius, inner_radius, faces)
     shares = face_shares(*part_effusivities())
-    masses = {"flywheel": flywheel_mass, "pressure_plate": pressure_plate_mass, "driven_plate": driven_plate_mass}
+    masses = {
+        "flywheel": flywheel_mass,
+        "pressure_plate": pressure_plate_mass,
+        "driven_plate": driven_plate_mass,
+    }
     rises = []
     for part, share in zip(PARTS, shares):
         out[f"heat_{part}"] = share * slip_work
@@ -203,14 +261,29 @@ def _engagement_heat(slip_work, peak_slip_power, outer_radius, inner_radius, fac
     out["bulk_temperature_rise"] = np.take_along_axis(rise, hottest[None], 0)[0]
     out["hottest_part"] = hottest.astype(np.int8)
     out["engagements_to_limit"] = engagements_to_limit(
-        out["bulk_temperature_rise"], engagement_interval, capacity / (heat_transfer_coefficient * cooling_area),
-        temperature_margin)
+        out["bulk_temperature_rise"],
+        engagement_interval,
+        capacity / (heat_transfer_coefficient * cooling_area),
+        temperature_margin,
+    )
     return out
 
 
-def engagement_heat(slip_work, peak_slip_power, outer_radius, inner_radius, faces=2, *, flywheel_mass=10.3,
-                    pressure_plate_mass=2.5, driven_plate_mass=1.9, heat_transfer_coefficient=40.0, cooling_area=0.1,
-                    engagement_interval=60.0, temperature_margin=210.0):
+def engagement_heat(
+    slip_work,
+    peak_slip_power,
+    outer_radius,
+    inner_radius,
+    faces=2,
+    *,
+    flywheel_mass=10.3,
+    pressure_plate_mass=2.5,
+    driven_plate_mass=1.9,
+    heat_transfer_coefficient=40.0,
+    cooling_area=0.1,
+    engagement_interval=60.0,
+    temperature_margin=210.0,
+):
     """Heat of one engagement of a single-plate dry clutch and of a sequence of them.
 
     Returns per scenario: ``friction_area`` [m²], ``specific_friction_work`` [J/m²],
@@ -232,17 +305,38 @@ def engagement_heat(slip_work, peak_slip_power, outer_radius, inner_radius, face
     """
     from . import status as st
 
-    domain = {"slip_work": st.nonnegative, "peak_slip_power": st.nonnegative, "inner_radius": st.positive,
-              "outer_radius": st.positive, "faces": lambda x: x == 2,
-              None: lambda a: a["outer_radius"] > a["inner_radius"]}
-    for name in ("flywheel_mass", "pressure_plate_mass", "driven_plate_mass", "heat_transfer_coefficient",
-                 "cooling_area", "engagement_interval", "temperature_margin"):
+    domain = {
+        "slip_work": st.nonnegative,
+        "peak_slip_power": st.nonnegative,
+        "inner_radius": st.positive,
+        "outer_radius": st.positive,
+        "faces": lambda x: x == 2,
+        None: lambda a: a["outer_radius"] > a["inner_radius"],
+    }
+    for name in (
+        "flywheel_mass",
+        "pressure_plate_mass",
+        "driven_plate_mass",
+        "heat_transfer_coefficient",
+        "cooling_area",
+        "engagement_interval",
+        "temperature_margin",
+    ):
         domain[name] = st.positive
-    inputs = dict(slip_work=slip_work, peak_slip_power=peak_slip_power, outer_radius=outer_radius,
-                  inner_radius=inner_radius, faces=faces, flywheel_mass=flywheel_mass,
-                  pressure_plate_mass=pressure_plate_mass, driven_plate_mass=driven_plate_mass,
-                  heat_transfer_coefficient=heat_transfer_coefficient, cooling_area=cooling_area,
-                  engagement_interval=engagement_interval, temperature_margin=temperature_margin)
+    inputs = dict(
+        slip_work=slip_work,
+        peak_slip_power=peak_slip_power,
+        outer_radius=outer_radius,
+        inner_radius=inner_radius,
+        faces=faces,
+        flywheel_mass=flywheel_mass,
+        pressure_plate_mass=pressure_plate_mass,
+        driven_plate_mass=driven_plate_mass,
+        heat_transfer_coefficient=heat_transfer_coefficient,
+        cooling_area=cooling_area,
+        engagement_interval=engagement_interval,
+        temperature_margin=temperature_margin,
+    )
     return st.screened(_engagement_heat, inputs, domain)
 
 

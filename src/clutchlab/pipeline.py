@@ -5,6 +5,7 @@ A design comes from :func:`clutchlab.doe.build_design`; a chunk is computed by t
 ``compute`` (:mod:`clutchlab.studies`); the Snakemake job scripts call :func:`run_chunk` and
 :func:`merge_to_file`.
 """
+
 from __future__ import annotations
 
 import time
@@ -15,7 +16,15 @@ import xarray as xr
 from . import studies
 from .doe import build_design, option_factors
 
-__all__ = ["n_scenarios", "chunk_slice", "chunk_inputs", "run_chunk", "merge", "merge_to_file", "run_study"]
+__all__ = [
+    "n_scenarios",
+    "chunk_slice",
+    "chunk_inputs",
+    "run_chunk",
+    "merge",
+    "merge_to_file",
+    "run_study",
+]
 
 
 def _factors(design: xr.Dataset) -> list[str]:
@@ -76,7 +85,9 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=N
     def compute(sel):
         part = {k: (v[sel] if np.ndim(v) else v) for k, v in inputs.items()}
         if choices:
-            return _compute_by_choice(study, part, options, choices, {o: c[sel] for o, c in codes.items()})
+            return _compute_by_choice(
+                study, part, options, choices, {o: c[sel] for o, c in codes.items()}
+            )
         return study.compute(part, options)
 
     if n <= PROGRESS_MIN:
@@ -88,21 +99,31 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=N
             parts.append(compute(slice(int(bounds[b]), int(bounds[b + 1]))))
             if progress is not None and b < PROGRESS_BATCHES - 1:
                 done, spent = int(bounds[b + 1]), time.perf_counter() - start
-                progress(f"{study.name} chunk {i + 1} of {chunks}: {done} of {n} scenarios ({100 * done / n:.0f} %), "
-                         f"{done / spent:,.0f} per second, about {spent * (n - done) / done:.0f} s left")
+                progress(
+                    f"{study.name} chunk {i + 1} of {chunks}: {done} of {n} scenarios ({100 * done / n:.0f} %), "
+                    f"{done / spent:,.0f} per second, about {spent * (n - done) / done:.0f} s left"
+                )
         ds = _join_batches(parts)
     if progress is not None:
         spent = time.perf_counter() - start
-        progress(f"{study.name} chunk {i + 1} of {chunks}: {n} scenarios computed in {spent:.1f} s"
-                 + (f" ({n / spent:,.0f} per second)" if n and spent > 0 else ""))
+        progress(
+            f"{study.name} chunk {i + 1} of {chunks}: {n} scenarios computed in {spent:.1f} s"
+            + (f" ({n / spent:,.0f} per second)" if n and spent > 0 else "")
+        )
     ds = _curve_subset(ds, idx, int(design.attrs.get("curve_stride", 1)))
-    if idx.size and idx[0] == 0 and study.traces is not None:  # the seed design's traces: once per study,
+    if (
+        idx.size and idx[0] == 0 and study.traces is not None
+    ):  # the seed design's traces: once per study,
         # by the chunk holding scenario 0 (with more chunks than scenarios, chunk 0 may be empty)
         ds = ds.merge(study.traces(inputs, study.full_options(options)))
     seconds = time.perf_counter() - start
     coords = {"run": ("run", idx, {"long_name": "scenario index", "units": "1"})}
     for f in _factors(design):
-        coords[f] = ("run", np.asarray(codes[f] if f in codes else inputs[f]), dict(design[f].attrs))
+        coords[f] = (
+            "run",
+            np.asarray(codes[f] if f in codes else inputs[f]),
+            dict(design[f].attrs),
+        )
     ds = ds.assign_coords(coords)
     ds.attrs.update(design.attrs)
     ds.attrs["chunk"] = f"{i + 1} of {chunks}"
@@ -113,15 +134,24 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=N
 def _join_batches(parts) -> xr.Dataset:
     """Batches of one chunk, in order, as one Dataset; an attribute the batches disagree on (the
     models that ran, "; "-separated) is the union of their parts."""
-    ds = xr.concat(parts, dim="run", data_vars="minimal", coords="minimal", compat="override", join="outer",
-                   combine_attrs="override")
+    ds = xr.concat(
+        parts,
+        dim="run",
+        data_vars="minimal",
+        coords="minimal",
+        compat="override",
+        join="outer",
+        combine_attrs="override",
+    )
     ds.attrs = {}
     for k in dict.fromkeys(k for p in parts for k in p.attrs):
         vals = [p.attrs[k] for p in parts if k in p.attrs]
         if len(vals) == len(parts) and all(_same(v, vals[0]) for v in vals):
             ds.attrs[k] = vals[0]
         elif all(isinstance(v, str) for v in vals):
-            ds.attrs[k] = "; ".join(dict.fromkeys(seg for v in vals for seg in v.split("; ") if seg))
+            ds.attrs[k] = "; ".join(
+                dict.fromkeys(seg for v in vals for seg in v.split("; ") if seg)
+            )
     return ds
 
 
@@ -132,17 +162,28 @@ def _compute_by_choice(study, inputs, options, choices, codes) -> xr.Dataset:
     names = list(choices)
     n = len(next(iter(codes.values())))
     key = np.stack([np.asarray(codes[o]) for o in names], axis=1)
-    combos, group = np.unique(key, axis=0, return_inverse=True) if n else (np.zeros((1, len(names)), int), None)
+    combos, group = (
+        np.unique(key, axis=0, return_inverse=True) if n else (np.zeros((1, len(names)), int), None)
+    )
     parts, where = [], []
     for g, combo in enumerate(combos):
         sel = np.flatnonzero(group.reshape(-1) == g) if n else np.zeros(0, np.int64)
         chosen = {o: choices[o][int(c)] for o, c in zip(names, combo)}
-        part = study.compute({k: (v[sel] if np.ndim(v) else v) for k, v in inputs.items()}, {**options, **chosen})
+        part = study.compute(
+            {k: (v[sel] if np.ndim(v) else v) for k, v in inputs.items()}, {**options, **chosen}
+        )
         label = ", ".join(f"{o} {c}" for o, c in chosen.items())
         parts.append((label, part))
         where.append(sel)
-    ds = xr.concat([p for _, p in parts], dim="run", data_vars="minimal", coords="minimal", compat="override",
-                   join="outer", combine_attrs="override")  # variables' attributes: the first group's
+    ds = xr.concat(
+        [p for _, p in parts],
+        dim="run",
+        data_vars="minimal",
+        coords="minimal",
+        compat="override",
+        join="outer",
+        combine_attrs="override",
+    )  # variables' attributes: the first group's
     ds = ds.isel(run=np.argsort(np.concatenate(where), kind="stable"))
     ds.attrs = {}
     # attributes: one that differs between choices (the model text) lists every combination of the
@@ -151,9 +192,12 @@ def _compute_by_choice(study, inputs, options, choices, codes) -> xr.Dataset:
     import itertools
 
     empty = {k: (v[:0] if np.ndim(v) else v) for k, v in inputs.items()}
-    every = {", ".join(f"{o} {c}" for o, c in zip(names, combo)):
-             study.compute(empty, {**options, **dict(zip(names, combo))}).attrs
-             for combo in itertools.product(*choices.values())}
+    every = {
+        ", ".join(f"{o} {c}" for o, c in zip(names, combo)): study.compute(
+            empty, {**options, **dict(zip(names, combo))}
+        ).attrs
+        for combo in itertools.product(*choices.values())
+    }
     labels = list(every)
     for k in dict.fromkeys(k for _, p in parts for k in p.attrs):
         if not all(k in a and _same(a[k], every[labels[0]].get(k)) for a in every.values()):
@@ -179,8 +223,16 @@ def _curve_subset(ds: xr.Dataset, idx, stride: int) -> xr.Dataset:
     keep = np.flatnonzero(idx % stride == 0)
     sub = ds[curves].isel(run=keep).rename(run="curve_run")
     out = ds.drop_vars(curves).assign({n: sub[n] for n in curves})
-    return out.assign_coords(curve_run=("curve_run", idx[keep], {
-        "long_name": f"scenario index of the stored curves (every {stride}th scenario)", "units": "1"}))
+    return out.assign_coords(
+        curve_run=(
+            "curve_run",
+            idx[keep],
+            {
+                "long_name": f"scenario index of the stored curves (every {stride}th scenario)",
+                "units": "1",
+            },
+        )
+    )
 
 
 def merge(design: xr.Dataset, parts: list[xr.Dataset]) -> xr.Dataset:
@@ -192,16 +244,31 @@ def merge(design: xr.Dataset, parts: list[xr.Dataset]) -> xr.Dataset:
     curves = [n for n, v in parts[0].data_vars.items() if "curve_run" in v.dims]
     # the seed design's traces (no run dimension) come from the chunk holding scenario 0 (run_chunk)
     first = next((p for p in parts if p.sizes.get("run", 0) and int(p["run"][0]) == 0), parts[0])
-    seed = [n for n, v in first.data_vars.items() if "run" not in v.dims and "curve_run" not in v.dims]
-    ds = xr.concat([p.drop_vars(curves + (["curve_run"] if curves else []) + [n for n in seed if n in p])
-                    for p in parts], dim="run", data_vars="minimal", coords="minimal", compat="override",
-                   join="outer", combine_attrs="drop_conflicts").sortby("run")
+    seed = [
+        n for n, v in first.data_vars.items() if "run" not in v.dims and "curve_run" not in v.dims
+    ]
+    ds = xr.concat(
+        [
+            p.drop_vars(curves + (["curve_run"] if curves else []) + [n for n in seed if n in p])
+            for p in parts
+        ],
+        dim="run",
+        data_vars="minimal",
+        coords="minimal",
+        compat="override",
+        join="outer",
+        combine_attrs="drop_conflicts",
+    ).sortby("run")
     ds = ds.assign(first[seed].drop_dims(["run", "curve_run"], errors="ignore"))
     if curves:  # the stored subset of the curves, along its own dimension
-        ds = ds.assign(xr.concat([p[curves] for p in parts], dim="curve_run", combine_attrs="drop_conflicts"))
+        ds = ds.assign(
+            xr.concat([p[curves] for p in parts], dim="curve_run", combine_attrs="drop_conflicts")
+        )
     n = n_scenarios(design)
     if ds.sizes["run"] != n or not np.array_equal(ds["run"].values, np.arange(n)):
-        raise ValueError(f"chunks cover {ds.sizes['run']} scenarios, the design has {n} (missing or duplicated)")
+        raise ValueError(
+            f"chunks cover {ds.sizes['run']} scenarios, the design has {n} (missing or duplicated)"
+        )
     for key in CHUNK_ATTRS:
         ds.attrs.pop(key, None)
     factors = _factors(design)
@@ -212,7 +279,11 @@ def merge(design: xr.Dataset, parts: list[xr.Dataset]) -> xr.Dataset:
             if "run" in var.dims:
                 var = var.transpose("run", ...)
                 rest = var.dims[1:]
-                out[name] = (tuple(factors) + rest, var.values.reshape(shape + var.shape[1:]), var.attrs)
+                out[name] = (
+                    tuple(factors) + rest,
+                    var.values.reshape(shape + var.shape[1:]),
+                    var.attrs,
+                )
             else:
                 out[name] = var
         other = {c: v for c, v in ds.coords.items() if "run" not in v.dims}
@@ -222,8 +293,9 @@ def merge(design: xr.Dataset, parts: list[xr.Dataset]) -> xr.Dataset:
     return ds
 
 
-def merge_to_file(design: xr.Dataset, chunk_paths, path, objectives=(), constraints=None,
-                  sensitivity_path=None) -> None:
+def merge_to_file(
+    design: xr.Dataset, chunk_paths, path, objectives=(), constraints=None, sensitivity_path=None
+) -> None:
     """Merge chunk files into the study's result file without holding the study in memory.
 
     Each chunk is read (checked against its checksum, :func:`clutchlab.store.load_verified`) and
@@ -243,13 +315,22 @@ def merge_to_file(design: xr.Dataset, chunk_paths, path, objectives=(), constrai
     grid = {f: design[f] for f in factors} if factorial else None
     attrs, bounds = None, []
     with store.atomic(path) as tmp:
-        with store.StreamWriter(tmp, n, grid, curve_stride=int(design.attrs.get("curve_stride", 1))) as out:
+        with store.StreamWriter(
+            tmp, n, grid, curve_stride=int(design.attrs.get("curve_stride", 1))
+        ) as out:
             for p in chunk_paths:
                 chunk = store.load_verified(p)
                 for key in CHUNK_ATTRS:
                     chunk.attrs.pop(key, None)
-                attrs = dict(chunk.attrs) if attrs is None else {
-                    k: v for k, v in attrs.items() if k in chunk.attrs and _same(chunk.attrs[k], v)}
+                attrs = (
+                    dict(chunk.attrs)
+                    if attrs is None
+                    else {
+                        k: v
+                        for k, v in attrs.items()
+                        if k in chunk.attrs and _same(chunk.attrs[k], v)
+                    }
+                )
                 if chunk.sizes.get("run", 0) == 0:
                     continue
                 idx = chunk["run"].values
@@ -262,7 +343,9 @@ def merge_to_file(design: xr.Dataset, chunk_paths, path, objectives=(), constrai
                 out.write(chunk, start)
             covered = sorted(bounds)
             if [a for a, _ in covered] != [0] + [b for _, b in covered[:-1]] or covered[-1][1] != n:
-                raise ValueError(f"chunks cover {covered}, the design has {n} scenarios (missing or duplicated)")
+                raise ValueError(
+                    f"chunks cover {covered}, the design has {n} scenarios (missing or duplicated)"
+                )
             out.set_attrs(attrs)
         needed = ["status"] + [o.split(":")[0] for o in objectives] + list(constraints)
         with xr.open_dataset(tmp, engine=store.ENGINE) as lazy:

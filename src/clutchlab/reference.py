@@ -16,6 +16,7 @@ sampled every 1/40 of the oscillation period and refined by a bounded scalar sea
 window's end (or past lock-up, whichever is later), far beyond the post-lock transient's first
 peaks.
 """
+
 from __future__ import annotations
 
 import math
@@ -24,26 +25,43 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 
-_PROFILES = {"ramp": lambda x: x, "cubic": lambda x: x * x * (3 - 2 * x),
-             "quintic": lambda x: x ** 3 * (10 + x * (-15 + 6 * x))}
+_PROFILES = {
+    "ramp": lambda x: x,
+    "cubic": lambda x: x * x * (3 - 2 * x),
+    "quintic": lambda x: x**3 * (10 + x * (-15 + 6 * x)),
+}
 
 
 def _slip_law(slip, rs, vs, table):
     """μ/μ_k while slipping: the friction table (np.interp of |Δω|), the Stribeck law, or 1."""
     if table is not None:
         return float(np.interp(abs(slip), *table))
-    return 1.0 if not np.isfinite(vs) else 1.0 + (rs - 1.0) * math.exp(-(slip / vs) ** 2)
+    return 1.0 if not np.isfinite(vs) else 1.0 + (rs - 1.0) * math.exp(-((slip / vs) ** 2))
 
 
-def compliant(p, *, method="DOP853", rtol=1e-12, atol=None, jerk_peak="dense", follow=0.3, profile="ramp",
-              max_step=np.inf):
+def compliant(
+    p,
+    *,
+    method="DOP853",
+    rtol=1e-12,
+    atol=None,
+    jerk_peak="dense",
+    follow=0.3,
+    profile="ramp",
+    max_step=np.inf,
+):
     """One scenario (``p``: the keyword arguments of :func:`clutchlab.engagement.simulate`, scalars)
     by per-mode ``solve_ivp``; returns dict(lockup_time, slip_work, peak_jerk, peak_friction_torque,
     status 'ok'/'never_locked')."""
     we0, je, te = p["engine_speed"], p.get("engine_inertia", np.inf), p.get("engine_torque", 0.0)
     jv, tm, cmax, tr = p["driven_inertia"], p["load_torque"], p["peak_capacity"], p["ramp_time"]
     rs, vs = p.get("static_ratio", 1.0), p.get("stribeck_speed", np.inf)
-    phi, k, zeta, t_end = p.get("hub_fraction", 0.5), p["damper_stiffness"], p["damping_ratio"], p["t_end"]
+    phi, k, zeta, t_end = (
+        p.get("hub_fraction", 0.5),
+        p["damper_stiffness"],
+        p["damping_ratio"],
+        p["t_end"],
+    )
     dtm, t_step = p.get("load_step", 0.0), p.get("load_step_time", np.inf)
     tm0 = tm
     held = not np.isfinite(je)
@@ -78,6 +96,7 @@ def compliant(p, *, method="DOP853", rtol=1e-12, atol=None, jerk_peak="dense", f
                 tc_slip = tc * (we - wh)
             dwr = 0.0 if parked else (ts - tm) / jr
             return [dwe, dwh, dwr, wh - wr, tc_slip]
+
         return rhs
 
     def needed(t, y, locked):
@@ -103,6 +122,7 @@ def compliant(p, *, method="DOP853", rtol=1e-12, atol=None, jerk_peak="dense", f
         def armed(fn):
             def g(tt, yy):
                 return 1.0 if tt < t_arm else fn(tt, yy)
+
             g.terminal, g.direction = True, -1
             return g
 
@@ -124,8 +144,17 @@ def compliant(p, *, method="DOP853", rtol=1e-12, atol=None, jerk_peak="dense", f
         for b in (tr, t_step, t_con):
             if b > t:
                 t_b = min(t_b, b)  # the profile's corner and the load step: breakpoints
-        sol = solve_ivp(rhs, (t, t_b), y, method=method, rtol=rtol, atol=atol, events=events,
-                        dense_output=(jerk_peak == "dense"), max_step=max_step)
+        sol = solve_ivp(
+            rhs,
+            (t, t_b),
+            y,
+            method=method,
+            rtol=rtol,
+            atol=atol,
+            events=events,
+            dense_output=(jerk_peak == "dense"),
+            max_step=max_step,
+        )
         t_stop = sol.t[-1]
         y_stop = sol.y[:, -1].copy()
         # peaks over this piece
@@ -138,15 +167,21 @@ def compliant(p, *, method="DOP853", rtol=1e-12, atol=None, jerk_peak="dense", f
             for j in {max(i - 1, 0), i, min(i + 1, n)}:
                 lo, hi = ts_[max(j - 1, 0)], ts_[min(j + 1, n)]
                 if hi > lo:
-                    r = minimize_scalar(lambda tt: -abs(jerk(rhs, tt, sol.sol(tt), parked)), bounds=(lo, hi),
-                                        method="bounded", options={"xatol": 1e-13 * max(1.0, hi)})
+                    r = minimize_scalar(
+                        lambda tt: -abs(jerk(rhs, tt, sol.sol(tt), parked)),
+                        bounds=(lo, hi),
+                        method="bounded",
+                        options={"xatol": 1e-13 * max(1.0, hi)},
+                    )
                     best = max(best, -r.fun)
             peak_jerk = max(peak_jerk, best)
         else:
             for tt, yy in zip(sol.t, sol.y.T):
                 peak_jerk = max(peak_jerk, abs(jerk(rhs, tt, yy, parked)))
         if locked:
-            peak_torque = max(peak_torque, max(abs(needed(tt, yy, True)) for tt, yy in zip(sol.t, sol.y.T)))
+            peak_torque = max(
+                peak_torque, max(abs(needed(tt, yy, True)) for tt, yy in zip(sol.t, sol.y.T))
+            )
         else:
             peak_torque = max(peak_torque, cap(t_stop))
         fired = [i for i, te_ in enumerate(sol.t_events) if te_.size]
@@ -171,8 +206,13 @@ def compliant(p, *, method="DOP853", rtol=1e-12, atol=None, jerk_peak="dense", f
             parked = True
             y[2] = 0.0
     ok = locked and t_lock <= t_end
-    return dict(lockup_time=t_lock if ok else np.nan, slip_work=y[4], peak_jerk=peak_jerk,
-                peak_friction_torque=peak_torque, status="ok" if ok else "never_locked")
+    return dict(
+        lockup_time=t_lock if ok else np.nan,
+        slip_work=y[4],
+        peak_jerk=peak_jerk,
+        peak_friction_torque=peak_torque,
+        status="ok" if ok else "never_locked",
+    )
 
 
 def _invert(prof, q):
@@ -199,10 +239,21 @@ def rigid_fade(p, *, rtol=1e-12, samples=20001, iterations=40, tol=1e-10):
     iterations)."""
     from ._engagement_kernel import duhamel_at
 
-    we0, jv, tm, cmax, tr = (float(p[k]) for k in ("engine_speed", "driven_inertia", "load_torque", "peak_capacity",
-                                                     "ramp_time"))
-    rs, vs, table = p.get("static_ratio", 1.0), p.get("stribeck_speed", np.inf), p.get("friction_table")
-    beta, on, kf, t_end = p["fade_coefficient"], p.get("fade_onset", 0.0), p["face_temperature_factor"], p["t_end"]
+    we0, jv, tm, cmax, tr = (
+        float(p[k])
+        for k in ("engine_speed", "driven_inertia", "load_torque", "peak_capacity", "ramp_time")
+    )
+    rs, vs, table = (
+        p.get("static_ratio", 1.0),
+        p.get("stribeck_speed", np.inf),
+        p.get("friction_table"),
+    )
+    beta, on, kf, t_end = (
+        p["fade_coefficient"],
+        p.get("fade_onset", 0.0),
+        p["face_temperature_factor"],
+        p["t_end"],
+    )
     prof = _PROFILES[p.get("profile", "ramp")]
 
     def cap(t):
@@ -214,6 +265,7 @@ def rigid_fade(p, *, rtol=1e-12, samples=20001, iterations=40, tol=1e-10):
     times, rise = np.array([0.0, t_end]), np.zeros(2)
     t_lock_prev = np.nan
     for it in range(1, iterations + 1):
+
         def torque(t, wh, times=times, rise=rise):
             g = 1.0 / (1.0 + beta * max(0.0, float(np.interp(t, times, rise)) - on))
             return mu_f(we0 - wh) * g * cap(t)
@@ -224,9 +276,18 @@ def rigid_fade(p, *, rtol=1e-12, samples=20001, iterations=40, tol=1e-10):
 
         def lock(t, y):
             return we0 - y[0]
+
         lock.terminal, lock.direction = True, -1
-        sol = solve_ivp(rhs, (0.0, t_end), [0.0, 0.0], method="DOP853", rtol=rtol, atol=rtol, events=lock,
-                        dense_output=True)
+        sol = solve_ivp(
+            rhs,
+            (0.0, t_end),
+            [0.0, 0.0],
+            method="DOP853",
+            rtol=rtol,
+            atol=rtol,
+            events=lock,
+            dense_output=True,
+        )
         t_lock = float(sol.t_events[0][0]) if sol.t_events[0].size else np.nan
         t_stop = t_lock if np.isfinite(t_lock) else t_end
         grid = np.linspace(0.0, t_stop, samples)
@@ -238,11 +299,19 @@ def rigid_fade(p, *, rtol=1e-12, samples=20001, iterations=40, tol=1e-10):
         after = np.linspace(t_stop, t_end, 200)[1:] if t_stop < t_end else np.zeros(0)
         if after.size:
             ext = np.hstack([hist, np.vstack([after, np.zeros(after.size)])])
-            new_rise = np.concatenate([new_rise, [kf * duhamel_at(ext, samples + k) for k in range(after.size)]])
+            new_rise = np.concatenate(
+                [new_rise, [kf * duhamel_at(ext, samples + k) for k in range(after.size)]]
+            )
             grid = np.concatenate([grid, after])
         times, rise = grid, new_rise
         if abs(t_lock - t_lock_prev) <= tol * t_lock:
             break
         t_lock_prev = t_lock
-    return dict(lockup_time=t_lock, slip_work=float(sol.y[1, -1]), peak_face_rise=float(rise.max()), times=times,
-                face_rise=rise, iterations=it)
+    return dict(
+        lockup_time=t_lock,
+        slip_work=float(sol.y[1, -1]),
+        peak_face_rise=float(rise.max()),
+        times=times,
+        face_rise=rise,
+        iterations=it,
+    )

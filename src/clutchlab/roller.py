@@ -36,6 +36,7 @@ References
 [1] seed 003: Wang P. et al., "Design of a new roller-type control-separated overrunning
     clutch", Sci Sin Tech 2013. Eqs. (1)-(4), Table 1, section 3.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -44,9 +45,22 @@ from . import _contact_kernel as _k
 from . import status as st
 from .contact import hertz_stiffness
 
-__all__ = ["computed_torque", "loaded_rollers", "normal_force", "equivalent_radius", "contact_stress",
-           "roller_mass", "spring_preload", "self_locking_margin", "limit_wedge_angle", "simulate",
-           "parameter_rows", "MODES", "engages", "RPM"]
+__all__ = [
+    "computed_torque",
+    "loaded_rollers",
+    "normal_force",
+    "equivalent_radius",
+    "contact_stress",
+    "roller_mass",
+    "spring_preload",
+    "self_locking_margin",
+    "limit_wedge_angle",
+    "simulate",
+    "parameter_rows",
+    "MODES",
+    "engages",
+    "RPM",
+]
 
 RPM = np.pi / 30.0
 STEEL_DENSITY = 7850.0
@@ -90,8 +104,11 @@ def equivalent_radius(roller_diameter, counter_diameter=np.inf):
 def contact_stress(force, *, roller_length, radius, youngs_modulus=206e9, poisson_ratio=0.3):
     """Hertz line-contact stress σ_H = √(N·E / (2π(1−ν²)·b·ρ_v)) (seed 003 eq. 3: 0.418 = 1/√(2π(1−ν²))
     for steel, ν = 0.3) [Pa]."""
-    return np.sqrt(np.asarray(force, float) * youngs_modulus
-                   / (2 * np.pi * (1 - np.square(poisson_ratio)) * roller_length * radius))
+    return np.sqrt(
+        np.asarray(force, float)
+        * youngs_modulus
+        / (2 * np.pi * (1 - np.square(poisson_ratio)) * roller_length * radius)
+    )
 
 
 def roller_mass(*, roller_diameter, roller_length, density=STEEL_DENSITY):
@@ -106,7 +123,14 @@ def spring_preload(*, roller_mass, contact_radius, friction_coefficient, speed, 
     published 3.7 N implies m = 4.6 g, half the 9.25 g of a solid 10 x 15 mm roller."""
     if formula == "eq4":
         n = np.asarray(speed, float) / RPM
-        return 2 * (np.asarray(contact_radius) * 1e3) * friction_coefficient * roller_mass * n ** 2 / 18e4
+        return (
+            2
+            * (np.asarray(contact_radius) * 1e3)
+            * friction_coefficient
+            * roller_mass
+            * n**2
+            / 18e4
+        )
     return friction_coefficient * roller_mass * np.square(speed) * contact_radius
 
 
@@ -136,33 +160,103 @@ def engages(mode, direction=1):
     return d < 0 if mode == "overrun_forward" else d > 0
 
 
-_DOMAIN = {"driving_speed": st.positive, "load_torque": st.nonnegative, "wedge_inertia": st.positive,
-           "driven_inertia": st.positive, "contact_radius": st.positive, "rollers_loaded": st.positive,
-           "wedge_angle": st.between(0.0, np.pi / 2, lo_open=True, hi_open=True), "friction_coefficient": st.positive,
-           "spring_force": st.nonnegative, "stiffness": st.positive, "exponent": st.at_least(1.0),
-           "damping": st.nonnegative, "penetration_depth": st.positive, "control_stop_time": st.nonnegative_or_inf,
-           "claw_clearance": st.nonnegative, "end_time": st.positive, "sync_tolerance": st.between(0.0, 1.0, hi_open=True),
-           "max_step": st.positive_or_inf}
+_DOMAIN = {
+    "driving_speed": st.positive,
+    "load_torque": st.nonnegative,
+    "wedge_inertia": st.positive,
+    "driven_inertia": st.positive,
+    "contact_radius": st.positive,
+    "rollers_loaded": st.positive,
+    "wedge_angle": st.between(0.0, np.pi / 2, lo_open=True, hi_open=True),
+    "friction_coefficient": st.positive,
+    "spring_force": st.nonnegative,
+    "stiffness": st.positive,
+    "exponent": st.at_least(1.0),
+    "damping": st.nonnegative,
+    "penetration_depth": st.positive,
+    "control_stop_time": st.nonnegative_or_inf,
+    "claw_clearance": st.nonnegative,
+    "end_time": st.positive,
+    "sync_tolerance": st.between(0.0, 1.0, hi_open=True),
+    "max_step": st.positive_or_inf,
+}
 
 
-def parameter_rows(*, driving_speed, load_torque, wedge_inertia, driven_inertia, contact_radius, rollers_loaded,
-                   wedge_angle, friction_coefficient, spring_force, stiffness, exponent=1.5, damping=2.1e6,
-                   penetration_depth=1e-4, control_stop_time=np.inf, claw_clearance=0.0, end_time=2e-3,
-                   sync_tolerance=0.01, max_step=np.inf):
+def parameter_rows(
+    *,
+    driving_speed,
+    load_torque,
+    wedge_inertia,
+    driven_inertia,
+    contact_radius,
+    rollers_loaded,
+    wedge_angle,
+    friction_coefficient,
+    spring_force,
+    stiffness,
+    exponent=1.5,
+    damping=2.1e6,
+    penetration_depth=1e-4,
+    control_stop_time=np.inf,
+    claw_clearance=0.0,
+    end_time=2e-3,
+    sync_tolerance=0.01,
+    max_step=np.inf,
+):
     """The compiled kernel's parameter rows (one per scenario, broadcast) and their shape; see
     :func:`simulate` for the arguments."""
-    args = np.broadcast_arrays(*(np.asarray(a, float) for a in (
-        driving_speed, load_torque, wedge_inertia, driven_inertia, contact_radius, rollers_loaded, wedge_angle,
-        friction_coefficient, spring_force, stiffness, exponent, damping, penetration_depth, control_stop_time,
-        claw_clearance, end_time, max_step, sync_tolerance)))
-    (wd, tl, jw, jo, rc, z, alpha, mu, ft, k, e, c, dmax, trel, clr, tend, hmax, eps) = (a.ravel() for a in args)
+    args = np.broadcast_arrays(
+        *(
+            np.asarray(a, float)
+            for a in (
+                driving_speed,
+                load_torque,
+                wedge_inertia,
+                driven_inertia,
+                contact_radius,
+                rollers_loaded,
+                wedge_angle,
+                friction_coefficient,
+                spring_force,
+                stiffness,
+                exponent,
+                damping,
+                penetration_depth,
+                control_stop_time,
+                claw_clearance,
+                end_time,
+                max_step,
+                sync_tolerance,
+            )
+        )
+    )
+    (wd, tl, jw, jo, rc, z, alpha, mu, ft, k, e, c, dmax, trel, clr, tend, hmax, eps) = (
+        a.ravel() for a in args
+    )
     P = np.zeros((wd.size, _k.N_PARAM))
     with np.errstate(divide="ignore", invalid="ignore"):  # rows of invalid inputs are not simulated
         n0 = ft / (2.0 * np.sin(0.5 * alpha))  # preload normal force of the spring-held roller
-        cols = {_k.WD: wd, _k.TL: tl, _k.JW: jw, _k.JO: jo, _k.RC: rc, _k.Z: z, _k.TH: np.tan(0.5 * alpha),
-                _k.TA: np.tan(alpha), _k.MU: mu, _k.K: k, _k.EXP: e, _k.CD: c, _k.DMAX: dmax,
-                _k.D0: (n0 / k) ** (1.0 / e), _k.TREL: trel, _k.CLR: clr, _k.TEND: tend, _k.HMAX: hmax,
-                _k.WSYNC: (1.0 - eps) * wd}
+        cols = {
+            _k.WD: wd,
+            _k.TL: tl,
+            _k.JW: jw,
+            _k.JO: jo,
+            _k.RC: rc,
+            _k.Z: z,
+            _k.TH: np.tan(0.5 * alpha),
+            _k.TA: np.tan(alpha),
+            _k.MU: mu,
+            _k.K: k,
+            _k.EXP: e,
+            _k.CD: c,
+            _k.DMAX: dmax,
+            _k.D0: (n0 / k) ** (1.0 / e),
+            _k.TREL: trel,
+            _k.CLR: clr,
+            _k.TEND: tend,
+            _k.HMAX: hmax,
+            _k.WSYNC: (1.0 - eps) * wd,
+        }
     for col, v in cols.items():
         P[:, col] = v
     return P, args[0].shape

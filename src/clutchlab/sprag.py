@@ -17,6 +17,7 @@ References
 [2] Harris, T. A., Kotzalas, M. N., Rolling Bearing Analysis, 5th ed., 2007: Palmgren's
     line-contact approach δ = 3.84e-5 Q^0.9 / l^0.8 (mm, N; steel).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -24,24 +25,43 @@ import numpy as np
 from . import status as st
 
 __all__ = [
-    "impact_speed", "impact_torque", "steady_torque", "peak_torque", "rise_time_for_peak",
-    "inertia_for_peak", "rest_geometry", "contact_approach", "race_deflections", "gripping_angle",
-    "contact_stress", "shaft_stress", "statics", "fit_compliance_factor", "SEED_GEOMETRY",
+    "impact_speed",
+    "impact_torque",
+    "steady_torque",
+    "peak_torque",
+    "rise_time_for_peak",
+    "inertia_for_peak",
+    "rest_geometry",
+    "contact_approach",
+    "race_deflections",
+    "gripping_angle",
+    "contact_stress",
+    "shaft_stress",
+    "statics",
+    "fit_compliance_factor",
+    "SEED_GEOMETRY",
 ]
 
 #: seed 002 Table 1 [m], sprag count; steel (E, ν not printed: bearing steel 206 GPa, 0.3 assumed)
 SEED_GEOMETRY = dict(
-    inner_bore_radius=15.875e-3, inner_race_radius=22.225e-3, outer_race_radius=30.5562e-3,
-    outer_rim_radius=38.735e-3, sprag_inner_radius=4.4958e-3, sprag_outer_radius=4.5212e-3,
-    centre_distance=0.7468e-3, sprag_length=16.891e-3, sprags=18.0,
+    inner_bore_radius=15.875e-3,
+    inner_race_radius=22.225e-3,
+    outer_race_radius=30.5562e-3,
+    outer_rim_radius=38.735e-3,
+    sprag_inner_radius=4.4958e-3,
+    sprag_outer_radius=4.5212e-3,
+    centre_distance=0.7468e-3,
+    sprag_length=16.891e-3,
+    sprags=18.0,
 )
 STEEL = dict(youngs_modulus=206e9, poisson_ratio=0.3)
 
-_PALMGREN = 3.84e-5 * 1e-3 / 1e3 ** 0.8  # δ [m] = _PALMGREN * Q[N]^0.9 / l[m]^0.8 (steel)
-_E_STAR_STEEL = 206e9 / (2.0 * (1.0 - 0.3 ** 2))  # reduced modulus the Palmgren constant belongs to
+_PALMGREN = 3.84e-5 * 1e-3 / 1e3**0.8  # δ [m] = _PALMGREN * Q[N]^0.9 / l[m]^0.8 (steel)
+_E_STAR_STEEL = 206e9 / (2.0 * (1.0 - 0.3**2))  # reduced modulus the Palmgren constant belongs to
 
 
 # --------------------------------------------------------------------------- impact torque (eqs 1-5)
+
 
 def impact_speed(time, *, power, inertia, damping, initial_speed=0.0):
     """Output speed ω(t) under constant input power with quadratic damping (seed 002 eqs. 3-5).
@@ -65,7 +85,10 @@ def impact_speed(time, *, power, inertia, damping, initial_speed=0.0):
     Eq. (4) of [1] is printed garbled; this is its exact solution, equivalent to T = P₀/ω.
     """
     p0, c = np.asarray(power, float), np.asarray(damping, float)
-    w2 = (p0 - (p0 - c * np.square(initial_speed)) * np.exp(-2.0 * c * np.asarray(time, float) / inertia)) / c
+    w2 = (
+        p0
+        - (p0 - c * np.square(initial_speed)) * np.exp(-2.0 * c * np.asarray(time, float) / inertia)
+    ) / c
     return np.sqrt(w2)
 
 
@@ -73,8 +96,9 @@ def impact_torque(time, *, power, inertia, damping, initial_speed=0.0):
     """Clutch torque T(t) = P₀ / ω(t) (seed 002 eqs. 2, 4, 5) [N m]; infinite at t = 0 for ω₀ = 0,
     hence the finite rise time t₀ of :func:`peak_torque` (the curve is used for t ≥ t₀)."""
     with np.errstate(divide="ignore"):
-        return power / impact_speed(time, power=power, inertia=inertia, damping=damping,
-                                    initial_speed=initial_speed)
+        return power / impact_speed(
+            time, power=power, inertia=inertia, damping=damping, initial_speed=initial_speed
+        )
 
 
 def steady_torque(*, power, damping):
@@ -86,7 +110,9 @@ def peak_torque(*, rise_time, power, inertia, damping, initial_speed=0.0):
     """Peak torque T₀ = T(t₀) reached at the end of the rise time t₀ (seed 002 section 1.1) [N m].
 
     Rises with P₀, J and C and falls with ω₀ and t₀ (seed 002 Fig. 4 b-e)."""
-    return impact_torque(rise_time, power=power, inertia=inertia, damping=damping, initial_speed=initial_speed)
+    return impact_torque(
+        rise_time, power=power, inertia=inertia, damping=damping, initial_speed=initial_speed
+    )
 
 
 def rise_time_for_peak(*, peak, power, inertia, damping, initial_speed=0.0):
@@ -111,6 +137,7 @@ def inertia_for_peak(*, peak, rise_time, power, damping):
 
 # --------------------------------------------------------------------------- geometry and deflection
 
+
 def _chord_angles(psi, r_in, r_out):
     """V and W of the contact chord for central angle ψ between contacts on radii r_in, r_out."""
     v = np.arctan2(r_out * np.sin(psi), r_out * np.cos(psi) - r_in)
@@ -125,8 +152,15 @@ def _central_angle(oa, ob, z):
     return np.arccos(np.clip(c, -1.0, 1.0))
 
 
-def rest_geometry(*, inner_race_radius, outer_race_radius, sprag_inner_radius, sprag_outer_radius,
-                  centre_distance, **_):
+def rest_geometry(
+    *,
+    inner_race_radius,
+    outer_race_radius,
+    sprag_inner_radius,
+    sprag_outer_radius,
+    centre_distance,
+    **_,
+):
     """Unloaded ψ₀, V₀, W₀ [rad] and the radial overlap d₀ = |OA| − |OB| [m].
 
     The sprag spans the races only for 0 < d₀ < Z (d₀ ≥ Z: it does not reach both races; d₀ ≤ 0: it
@@ -143,11 +177,23 @@ def contact_approach(load, *, sprag_length, youngs_modulus=206e9, poisson_ratio=
     scaled as (E*_steel / E*)^0.9 for other moduli (the power of Q/(l E*) in that formula)."""
     e_star = youngs_modulus / (2.0 * (1.0 - np.square(poisson_ratio)))
     q = np.maximum(load, 0.0)
-    return _PALMGREN * q ** 0.9 / sprag_length ** 0.8 * (_E_STAR_STEEL / e_star) ** 0.9
+    return _PALMGREN * q**0.9 / sprag_length**0.8 * (_E_STAR_STEEL / e_star) ** 0.9
 
 
-def race_deflections(load_inner, load_outer, *, sprags, sprag_length, inner_bore_radius, inner_race_radius,
-                     outer_race_radius, outer_rim_radius, youngs_modulus=206e9, poisson_ratio=0.3, **_):
+def race_deflections(
+    load_inner,
+    load_outer,
+    *,
+    sprags,
+    sprag_length,
+    inner_bore_radius,
+    inner_race_radius,
+    outer_race_radius,
+    outer_rim_radius,
+    youngs_modulus=206e9,
+    poisson_ratio=0.3,
+    **_,
+):
     """Radial displacement of the race surfaces under the smeared sprag pressure [m] (Lamé thick
     cylinders, plane stress): inner shaft under external pressure p_i = n N_i/(2π R_i l) (u_i < 0),
     outer race under internal pressure p_o = n N_o/(2π R_o l) (u_o > 0)."""
@@ -189,8 +235,13 @@ def _deformed(torque, v, g, compliance_factor, inner_passes=3):
     # change of the radii in the last pass: ~1e-6 relative on the physical branch; far above that
     # the races' load-deflection loop does not settle (loads so large that the radii move by their
     # own size): the roots found there are not states of the clutch
-    unsettled = ~(np.maximum(np.abs(ri_bar - ri_prev) / g["inner_race_radius"],
-                             np.abs(ro_bar - ro_prev) / g["outer_race_radius"]) <= UNSETTLED_RADII)
+    unsettled = ~(
+        np.maximum(
+            np.abs(ri_bar - ri_prev) / g["inner_race_radius"],
+            np.abs(ro_bar - ro_prev) / g["outer_race_radius"],
+        )
+        <= UNSETTLED_RADII
+    )
     d_i = compliance_factor * contact_approach(n_i, sprag_length=l, **mat)
     d_o = compliance_factor * contact_approach(n_o, sprag_length=l, **mat)
     # the contact approach shortens the sprag's effective arc radii (the r̄ of seed 002 eq. 7)
@@ -198,9 +249,19 @@ def _deformed(torque, v, g, compliance_factor, inner_passes=3):
     oa, ob = ri_bar + si_bar, ro_bar - so_bar
     psi = _central_angle(oa, ob, g["centre_distance"])
     v_new, w_new = _chord_angles(psi, ri_bar, ro_bar)
-    return dict(V=v_new, W=w_new, psi=psi, inner_race_radius=ri_bar, outer_race_radius=ro_bar,
-                sprag_inner_radius=si_bar, sprag_outer_radius=so_bar, overlap=oa - ob,
-                load_inner=n_i, load_outer=n_o, unsettled=unsettled)
+    return dict(
+        V=v_new,
+        W=w_new,
+        psi=psi,
+        inner_race_radius=ri_bar,
+        outer_race_radius=ro_bar,
+        sprag_inner_radius=si_bar,
+        sprag_outer_radius=so_bar,
+        overlap=oa - ob,
+        load_inner=n_i,
+        load_outer=n_o,
+        unsettled=unsettled,
+    )
 
 
 def _geometry(kw):
@@ -243,7 +304,9 @@ def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **g
     """
     g = _geometry(geometry)
     torque = np.asarray(torque, float)
-    shape = np.broadcast_shapes(torque.shape, np.shape(compliance_factor), *(v.shape for v in g.values()))
+    shape = np.broadcast_shapes(
+        torque.shape, np.shape(compliance_factor), *(v.shape for v in g.values())
+    )
     g = {k: np.broadcast_to(v, shape).ravel() for k, v in g.items()}
     t = np.broadcast_to(torque, shape).ravel()
     c = np.broadcast_to(np.asarray(compliance_factor, float), shape).ravel()
@@ -253,9 +316,13 @@ def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **g
     lo = np.where(valid, rest["V"], 0.1)
     # unloaded (T = 0): the rest geometry itself (no load, no deflection), bracket closed at V₀
     hi = np.where(valid & (t == 0), lo, np.deg2rad(80.0))
+
     def f(v):
-        with np.errstate(invalid="ignore"):  # beyond roll-over the deformed geometry has no angles (NaN)
+        with np.errstate(
+            invalid="ignore"
+        ):  # beyond roll-over the deformed geometry has no angles (NaN)
             return v - _deformed(t, v, g, c)["V"]
+
     f_lo, f_hi = f(lo), f(hi)
     side = np.zeros(lo.shape, np.int8)
     iterations = np.zeros(lo.shape, np.int32)
@@ -264,7 +331,9 @@ def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **g
         if not active.any():
             break
         iterations += active
-        with np.errstate(divide="ignore", invalid="ignore"):  # inactive (e.g. unloaded) lanes: unused
+        with np.errstate(
+            divide="ignore", invalid="ignore"
+        ):  # inactive (e.g. unloaded) lanes: unused
             x = np.where(active, (lo * f_hi - hi * f_lo) / (f_hi - f_lo), lo)
         x = np.where(active & ~((x > lo) & (x < hi)), 0.5 * (lo + hi), x)
         fx = f(x)
@@ -291,22 +360,44 @@ def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **g
     # so far beyond it that the deformed geometry is no state of the clutch (radii that do not
     # settle, a sprag longer than it is wide): the roots found there are spurious (a status that
     # grows back to above_allowable at 50x the roll-over torque, issue 14)
-    beyond = ((out["overlap"] <= 0) | ~(out["overlap"] < g["centre_distance"]) | out.pop("unsettled")
-              | ~(out["sprag_inner_radius"] > 0) | ~(out["sprag_outer_radius"] > 0)
-              | ~(out["load_inner"] >= 0) | ~(out["load_outer"] >= 0))
+    beyond = (
+        (out["overlap"] <= 0)
+        | ~(out["overlap"] < g["centre_distance"])
+        | out.pop("unsettled")
+        | ~(out["sprag_inner_radius"] > 0)
+        | ~(out["sprag_outer_radius"] > 0)
+        | ~(out["load_inner"] >= 0)
+        | ~(out["load_outer"] >= 0)
+    )
     code[valid & beyond] = st.CODE["roll_over"]
     code[~valid] = st.CODE["invalid_geometry"]
     bad = code != st.CODE["ok"]
     res = {k: np.where(bad, np.nan, val).reshape(shape) for k, val in out.items() if k != "overlap"}
     res["status"] = code.reshape(shape)
-    res["n_iterations"] = iterations.reshape(shape)  # bracketing steps taken (Illinois regula falsi)
+    res["n_iterations"] = iterations.reshape(
+        shape
+    )  # bracketing steps taken (Illinois regula falsi)
     return res
 
 
 # --------------------------------------------------------------------------- stresses (eqs 7-8)
 
-def contact_stress(torque, *, V, W, sprags, sprag_length, inner_race_radius, outer_race_radius,
-                   sprag_inner_radius, sprag_outer_radius, youngs_modulus=206e9, poisson_ratio=0.3, **_):
+
+def contact_stress(
+    torque,
+    *,
+    V,
+    W,
+    sprags,
+    sprag_length,
+    inner_race_radius,
+    outer_race_radius,
+    sprag_inner_radius,
+    sprag_outer_radius,
+    youngs_modulus=206e9,
+    poisson_ratio=0.3,
+    **_,
+):
     """Hertz line-contact stress at the inner and outer contact (seed 002 eq. 7) [Pa].
 
     σ_ci = √[T cot V (1/r̄_i + 1/R̄_i) / (π n l R̄_i · 2(1−ν²)/E)],
@@ -316,10 +407,18 @@ def contact_stress(torque, *, V, W, sprags, sprag_length, inner_race_radius, out
     (eq. 7 allows E₁, E₂, E₃: the paper prints none).
     """
     k = 2.0 * (1.0 - np.square(poisson_ratio)) / youngs_modulus
-    ci = torque / np.tan(V) * (1.0 / sprag_inner_radius + 1.0 / inner_race_radius) / (
-        np.pi * sprags * sprag_length * inner_race_radius * k)
-    co = torque / np.tan(W) * (1.0 / sprag_outer_radius - 1.0 / outer_race_radius) / (
-        np.pi * sprags * sprag_length * outer_race_radius * k)
+    ci = (
+        torque
+        / np.tan(V)
+        * (1.0 / sprag_inner_radius + 1.0 / inner_race_radius)
+        / (np.pi * sprags * sprag_length * inner_race_radius * k)
+    )
+    co = (
+        torque
+        / np.tan(W)
+        * (1.0 / sprag_outer_radius - 1.0 / outer_race_radius)
+        / (np.pi * sprags * sprag_length * outer_race_radius * k)
+    )
     return np.sqrt(ci), np.sqrt(co)
 
 
@@ -327,8 +426,19 @@ def _von_mises(sr, st_, tau):
     return np.sqrt(sr * sr + st_ * st_ - sr * st_ + 3.0 * tau * tau)
 
 
-def shaft_stress(torque, *, V, W, sprags, sprag_length, inner_bore_radius, inner_race_radius,
-                 outer_race_radius, outer_rim_radius, **_):
+def shaft_stress(
+    torque,
+    *,
+    V,
+    W,
+    sprags,
+    sprag_length,
+    inner_bore_radius,
+    inner_race_radius,
+    outer_race_radius,
+    outer_rim_radius,
+    **_,
+):
     """Von Mises stress of the inner shaft and the outer race (seed 002 eq. 8) [Pa].
 
     Plane stress (no axial load): Lamé radial and hoop stress under the smeared sprag pressure
@@ -340,27 +450,38 @@ def shaft_stress(torque, *, V, W, sprags, sprag_length, inner_bore_radius, inner
     """
     n_i, n_o = _normal_loads(torque, V, W, inner_race_radius, outer_race_radius, sprags)
     out = {}
-    for name, a, b, p, sign in (("inner", inner_bore_radius, inner_race_radius, n_i, -1.0),
-                                ("outer", outer_race_radius, outer_rim_radius, n_o, 1.0)):
+    for name, a, b, p, sign in (
+        ("inner", inner_bore_radius, inner_race_radius, n_i, -1.0),
+        ("outer", outer_race_radius, outer_rim_radius, n_o, 1.0),
+    ):
         r_load = b if sign < 0 else a
         press = sprags * p / (2.0 * np.pi * r_load * sprag_length)
-        jp = 0.5 * np.pi * (b ** 4 - a ** 4)
+        jp = 0.5 * np.pi * (b**4 - a**4)
         k = press * r_load * r_load / (b * b - a * a)  # Lamé: σ = A ∓ B/ρ²
         for where, rho in (("bore", a), ("surface", b)):
             if sign < 0:  # external pressure on (a, b)
-                sr, sth = -k * (1.0 - a * a / rho ** 2), -k * (1.0 + a * a / rho ** 2)
+                sr, sth = -k * (1.0 - a * a / rho**2), -k * (1.0 + a * a / rho**2)
             else:  # internal pressure on (a, b)
-                sr, sth = k * (1.0 - b * b / rho ** 2), k * (1.0 + b * b / rho ** 2)
+                sr, sth = k * (1.0 - b * b / rho**2), k * (1.0 + b * b / rho**2)
             out[f"{name}_{where}"] = _von_mises(sr, sth, torque * rho / jp)
         out[name] = np.maximum(out[f"{name}_bore"], out[f"{name}_surface"])
     return out
 
 
-ALLOWABLES = dict(contact_allowable=3400e6, shaft_allowable=793e6, gripping_angle_allowable=np.deg2rad(5.0))
+ALLOWABLES = dict(
+    contact_allowable=3400e6, shaft_allowable=793e6, gripping_angle_allowable=np.deg2rad(5.0)
+)
 
 
-def statics(torque, *, compliance_factor=1.0, contact_allowable=3400e6, shaft_allowable=793e6,
-            gripping_angle_allowable=np.deg2rad(5.0), **geometry):
+def statics(
+    torque,
+    *,
+    compliance_factor=1.0,
+    contact_allowable=3400e6,
+    shaft_allowable=793e6,
+    gripping_angle_allowable=np.deg2rad(5.0),
+    **geometry,
+):
     """Gripping angle, contact and shaft stresses, margins and checks for a torque (seed 002).
 
     Parameters as :func:`gripping_angle`, plus the allowables of seed 002 Table 2: contact
@@ -376,31 +497,77 @@ def statics(torque, *, compliance_factor=1.0, contact_allowable=3400e6, shaft_al
     not_converged (no numbers), else pop_out_risk when V exceeds its allowable, else
     above_allowable when a stress does, else ok. Zero torque: the rest geometry, zero stresses.
     """
-    inputs = dict(torque=torque, compliance_factor=compliance_factor, contact_allowable=contact_allowable,
-                  shaft_allowable=shaft_allowable, gripping_angle_allowable=gripping_angle_allowable, **geometry)
+    inputs = dict(
+        torque=torque,
+        compliance_factor=compliance_factor,
+        contact_allowable=contact_allowable,
+        shaft_allowable=shaft_allowable,
+        gripping_angle_allowable=gripping_angle_allowable,
+        **geometry,
+    )
     return st.screened(_statics, inputs, {k: _DOMAIN[k] for k in inputs})
 
 
-_DOMAIN = {"torque": st.nonnegative, "compliance_factor": st.positive, "contact_allowable": st.positive,
-           "shaft_allowable": st.positive, "gripping_angle_allowable": st.between(0.0, np.pi / 2, lo_open=True),
-           "sprags": st.whole(1), "sprag_length": st.positive, "centre_distance": st.positive,
-           "sprag_inner_radius": st.positive, "sprag_outer_radius": st.positive, "inner_bore_radius": st.nonnegative,
-           "inner_race_radius": st.positive, "outer_race_radius": st.positive, "outer_rim_radius": st.positive,
-           "youngs_modulus": st.positive, "poisson_ratio": st.between(-1.0, 0.5, lo_open=True, hi_open=True)}
+_DOMAIN = {
+    "torque": st.nonnegative,
+    "compliance_factor": st.positive,
+    "contact_allowable": st.positive,
+    "shaft_allowable": st.positive,
+    "gripping_angle_allowable": st.between(0.0, np.pi / 2, lo_open=True),
+    "sprags": st.whole(1),
+    "sprag_length": st.positive,
+    "centre_distance": st.positive,
+    "sprag_inner_radius": st.positive,
+    "sprag_outer_radius": st.positive,
+    "inner_bore_radius": st.nonnegative,
+    "inner_race_radius": st.positive,
+    "outer_race_radius": st.positive,
+    "outer_rim_radius": st.positive,
+    "youngs_modulus": st.positive,
+    "poisson_ratio": st.between(-1.0, 0.5, lo_open=True, hi_open=True),
+}
 
 
-def _statics(torque, *, compliance_factor, contact_allowable, shaft_allowable, gripping_angle_allowable,
-             **geometry):
+def _statics(
+    torque,
+    *,
+    compliance_factor,
+    contact_allowable,
+    shaft_allowable,
+    gripping_angle_allowable,
+    **geometry,
+):
     grip = gripping_angle(torque, compliance_factor=compliance_factor, **geometry)
-    g = {**_geometry(geometry), **{k: grip[k] for k in ("inner_race_radius", "outer_race_radius",
-                                                          "sprag_inner_radius", "sprag_outer_radius")}}
+    g = {
+        **_geometry(geometry),
+        **{
+            k: grip[k]
+            for k in (
+                "inner_race_radius",
+                "outer_race_radius",
+                "sprag_inner_radius",
+                "sprag_outer_radius",
+            )
+        },
+    }
     ci, co = contact_stress(torque, V=grip["V"], W=grip["W"], **g)
     vm = shaft_stress(torque, V=grip["V"], W=grip["W"], **g)
-    out = dict(V=grip["V"], W=grip["W"], psi=grip["psi"], contact_stress_inner=ci, contact_stress_outer=co,
-               vm_stress_inner=vm["inner"], vm_stress_outer=vm["outer"])
-    checks = dict(contact_inner=(ci, contact_allowable), contact_outer=(co, contact_allowable),
-                  vm_inner=(vm["inner"], shaft_allowable), vm_outer=(vm["outer"], shaft_allowable),
-                  gripping_angle=(grip["V"], gripping_angle_allowable))
+    out = dict(
+        V=grip["V"],
+        W=grip["W"],
+        psi=grip["psi"],
+        contact_stress_inner=ci,
+        contact_stress_outer=co,
+        vm_stress_inner=vm["inner"],
+        vm_stress_outer=vm["outer"],
+    )
+    checks = dict(
+        contact_inner=(ci, contact_allowable),
+        contact_outer=(co, contact_allowable),
+        vm_inner=(vm["inner"], shaft_allowable),
+        vm_outer=(vm["outer"], shaft_allowable),
+        gripping_angle=(grip["V"], gripping_angle_allowable),
+    )
     with np.errstate(divide="ignore"):  # unloaded: an infinite margin
         for name, (value, allowable) in checks.items():
             out[f"margin_{name}"] = allowable / value - 1.0

@@ -3,6 +3,7 @@
 A scenario that fails never stops a study and never hides as a number: its outputs are NaN and
 its ``status`` says why.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -49,6 +50,7 @@ def attrs(description: str = "") -> dict:
 # ``invalid_input`` and NaN outputs, and the others are computed as a batch of their own, so they
 # are bit-identical to a batch without the bad ones.
 
+
 def finite(x):
     return np.isfinite(x)
 
@@ -76,7 +78,12 @@ def at_least(lo):
 
 def between(lo, hi, *, lo_open=False, hi_open=False):
     def check(x):
-        return (np.isfinite(x) & ((x > lo) if lo_open else (x >= lo)) & ((x < hi) if hi_open else (x <= hi)))
+        return (
+            np.isfinite(x)
+            & ((x > lo) if lo_open else (x >= lo))
+            & ((x < hi) if hi_open else (x <= hi))
+        )
+
     return check
 
 
@@ -87,7 +94,9 @@ def whole(minimum):
 def admissible(inputs: dict, domain: dict):
     """The inputs broadcast together (a dict of float arrays) and the mask of scenarios whose
     inputs all lie in ``domain`` (see :func:`screened`)."""
-    arrays = dict(zip(inputs, np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in inputs.values()))))
+    arrays = dict(
+        zip(inputs, np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in inputs.values())))
+    )
     shape = next(iter(arrays.values())).shape if arrays else ()
     ok = np.ones(shape, dtype=bool)
     with np.errstate(invalid="ignore"):

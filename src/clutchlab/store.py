@@ -9,6 +9,7 @@
 * :func:`checksum` digests a Dataset's data, so a chunk file changed or cut after it was written
   is found by the merge (``clutchlab_checksum`` attribute).
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -21,8 +22,18 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-__all__ = ["MissingMetadata", "check_metadata", "write", "open", "load", "atomic", "checksum", "CorruptChunk",
-           "load_verified", "StreamWriter"]
+__all__ = [
+    "MissingMetadata",
+    "check_metadata",
+    "write",
+    "open",
+    "load",
+    "atomic",
+    "checksum",
+    "CorruptChunk",
+    "load_verified",
+    "StreamWriter",
+]
 
 ENGINE = "h5netcdf"
 
@@ -43,8 +54,19 @@ def check_metadata(ds: xr.Dataset) -> None:
         raise MissingMetadata("missing CF attributes: " + ", ".join(missing))
 
 
-_FILTER_KEYS = ("compression", "compression_opts", "shuffle", "chunksizes", "zlib", "complevel", "contiguous",
-                "fletcher32", "szip_coding", "szip_pixels_per_block", "blosc_shuffle")
+_FILTER_KEYS = (
+    "compression",
+    "compression_opts",
+    "shuffle",
+    "chunksizes",
+    "zlib",
+    "complevel",
+    "contiguous",
+    "fletcher32",
+    "szip_coding",
+    "szip_pixels_per_block",
+    "blosc_shuffle",
+)
 
 
 def _encoding(ds: xr.Dataset, complevel: int) -> dict:
@@ -72,7 +94,7 @@ def _remove_stale_temporaries(path: Path) -> None:
     host = socket.gethostname()
     for old in path.parent.glob(f".{path.name}.*.tmp"):
         try:
-            tmp_host, pid, _, _ = old.name[len(path.name) + 2:].rsplit(".", 3)
+            tmp_host, pid, _, _ = old.name[len(path.name) + 2 :].rsplit(".", 3)
             mine = tmp_host == host
             alive = mine and _pid_alive(int(pid))
             if (mine and not alive) or time.time() - old.stat().st_mtime > STALE_AFTER_S:
@@ -101,7 +123,9 @@ def atomic(path):
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     _remove_stale_temporaries(path)
-    tmp = path.parent / f".{path.name}.{socket.gethostname()}.{os.getpid()}.{os.urandom(4).hex()}.tmp"
+    tmp = (
+        path.parent / f".{path.name}.{socket.gethostname()}.{os.getpid()}.{os.urandom(4).hex()}.tmp"
+    )
     try:
         yield tmp
         os.replace(tmp, path)
@@ -138,13 +162,24 @@ def load_verified(path) -> xr.Dataset:
     try:
         ds = load(path)
         stored = ds.attrs.pop("clutchlab_checksum", None)
-        problem = None if stored == checksum(ds) else (
-            "has no checksum" if stored is None else "does not match its checksum (changed after it was written)")
+        problem = (
+            None
+            if stored == checksum(ds)
+            else (
+                "has no checksum"
+                if stored is None
+                else "does not match its checksum (changed after it was written)"
+            )
+        )
     except Exception as exc:  # h5py/netCDF raise several types for a cut or damaged file
-        problem = f"cannot be read ({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})"
+        problem = (
+            f"cannot be read ({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})"
+        )
     if problem:
         path.unlink(missing_ok=True)
-        raise CorruptChunk(f"{path} {problem}; it has been removed, run snakemake again to recompute it")
+        raise CorruptChunk(
+            f"{path} {problem}; it has been removed, run snakemake again to recompute it"
+        )
     return ds
 
 
@@ -177,7 +212,9 @@ def load(path) -> xr.Dataset:
 def flag_meanings(ds: xr.Dataset, var: str = "status") -> xr.DataArray:
     """The ``status`` codes of ``ds`` as meaning strings (for notebooks)."""
     v = ds[var]
-    table = dict(zip(np.atleast_1d(v.attrs["flag_values"]).tolist(), v.attrs["flag_meanings"].split()))
+    table = dict(
+        zip(np.atleast_1d(v.attrs["flag_values"]).tolist(), v.attrs["flag_meanings"].split())
+    )
     return xr.apply_ufunc(np.vectorize(lambda c: table.get(int(c), "unknown"), otypes=[object]), v)
 
 
@@ -192,15 +229,26 @@ def _flat_blocks(start: int, stop: int, shape: tuple) -> list[tuple[tuple, int, 
     i0, r0 = divmod(start, inner)
     i1, r1 = divmod(stop, inner)
     if i0 == i1:
-        return [((i0,) + s, i0 * inner + a, i0 * inner + b) for s, a, b in _flat_blocks(r0, r1, shape[1:])]
+        return [
+            ((i0,) + s, i0 * inner + a, i0 * inner + b)
+            for s, a, b in _flat_blocks(r0, r1, shape[1:])
+        ]
     out = []
     if r0:
-        out += [((i0,) + s, i0 * inner + a, i0 * inner + b) for s, a, b in _flat_blocks(r0, inner, shape[1:])]
+        out += [
+            ((i0,) + s, i0 * inner + a, i0 * inner + b)
+            for s, a, b in _flat_blocks(r0, inner, shape[1:])
+        ]
         i0 += 1
     if i1 > i0:
-        out.append(((slice(i0, i1),) + tuple(slice(None) for _ in shape[1:]), i0 * inner, i1 * inner))
+        out.append(
+            ((slice(i0, i1),) + tuple(slice(None) for _ in shape[1:]), i0 * inner, i1 * inner)
+        )
     if r1:
-        out += [((i1,) + s, i1 * inner + a, i1 * inner + b) for s, a, b in _flat_blocks(0, r1, shape[1:])]
+        out += [
+            ((i1,) + s, i1 * inner + a, i1 * inner + b)
+            for s, a, b in _flat_blocks(0, r1, shape[1:])
+        ]
     return out
 
 
@@ -216,11 +264,15 @@ class StreamWriter:
     context manager around :func:`atomic`'s temporary path.
     """
 
-    def __init__(self, path, n: int, grid: dict | None = None, complevel: int = 4, curve_stride: int = 1):
+    def __init__(
+        self, path, n: int, grid: dict | None = None, complevel: int = 4, curve_stride: int = 1
+    ):
         from xarray.backends import H5NetCDFStore
 
         self.path, self.n, self.grid = Path(path), int(n), grid
-        self.curve_stride = int(curve_stride)  # curves stored for every curve_stride-th scenario (curve_run)
+        self.curve_stride = int(
+            curve_stride
+        )  # curves stored for every curve_stride-th scenario (curve_run)
         self.complevel = complevel
         self.shape = tuple(c.size for c in grid.values()) if grid else (self.n,)
         self.store = H5NetCDFStore.open(str(self.path), mode="w")
@@ -256,13 +308,19 @@ class StreamWriter:
             if "run" in var.dims:
                 var = var.transpose("run", ...)
             attrs = dict(var.attrs)
-            if self.grid and "coordinates" in attrs:  # factors and run are no longer auxiliary coordinates
+            if (
+                self.grid and "coordinates" in attrs
+            ):  # factors and run are no longer auxiliary coordinates
                 kept = [c for c in attrs["coordinates"].split() if c not in ("run", *self.grid)]
                 attrs.pop("coordinates")
                 if kept:
                     attrs["coordinates"] = " ".join(kept)
-            dims = self._final_dims(var.dims)  # the file's variable is sized by the dimensions set above
-            final = xr.Variable(dims, np.empty((1,) * len(dims), dtype=var.dtype), attrs, var.encoding)
+            dims = self._final_dims(
+                var.dims
+            )  # the file's variable is sized by the dimensions set above
+            final = xr.Variable(
+                dims, np.empty((1,) * len(dims), dtype=var.dtype), attrs, var.encoding
+            )
             self.store.prepare_variable(name, final)
             if "run" not in var.dims and "curve_run" not in var.dims:
                 self.store.ds[name][...] = np.asarray(var.data)
@@ -278,20 +336,26 @@ class StreamWriter:
         if not self.created:
             self._create(ds, variables)
         for name, var in variables.items():
-            if "curve_run" in var.dims:  # the stored curves: their own slice, after the earlier chunks'
+            if (
+                "curve_run" in var.dims
+            ):  # the stored curves: their own slice, after the earlier chunks'
                 data = np.asarray(var.transpose("curve_run", ...).data)
                 if data.shape[0] == 0:
                     continue
                 first = -(-start // self.curve_stride)
-                self.store.ds[name][first:first + data.shape[0]] = data
+                self.store.ds[name][first : first + data.shape[0]] = data
                 continue
             if "run" not in var.dims or (self.grid and name in ("run", *self.grid)):
                 continue
             data = np.asarray(var.transpose("run", ...).data)
             target = self.store.ds[name]
             for index, a, b in _flat_blocks(start, start + k, self.shape):
-                block = data[a - start:b - start]
-                shape = tuple(len(range(*s.indices(n))) for s, n in zip(index, self.shape) if isinstance(s, slice))
+                block = data[a - start : b - start]
+                shape = tuple(
+                    len(range(*s.indices(n)))
+                    for s, n in zip(index, self.shape)
+                    if isinstance(s, slice)
+                )
                 target[index] = block.reshape(shape + data.shape[1:])
 
     def set_attrs(self, attrs: dict) -> None:

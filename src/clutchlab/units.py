@@ -4,6 +4,7 @@ A bare number is taken as already in SI. Parsing uses pint, the maintained stand
 unit-aware arithmetic in Python; the registry is built lazily so that importing clutchlab
 (e.g. inside a chunk job) does not pay for it.
 """
+
 from __future__ import annotations
 
 import functools
@@ -57,11 +58,15 @@ def to_si(value, si_unit: str) -> float:
         for old, new in _REPLACE.items():
             text = text.replace(old, new)
         if "," in text:
-            raise UnitError(f"{value!r}: a comma is not read as a decimal point or a thousands separator; "
-                            "write e.g. '2.3 mm'")
+            raise UnitError(
+                f"{value!r}: a comma is not read as a decimal point or a thousands separator; "
+                "write e.g. '2.3 mm'"
+            )
         match = _NUMBER.fullmatch(text)
         if match is None:
-            raise UnitError(f"cannot parse quantity {value!r}: expected 'number unit', e.g. '2.3 mm'")
+            raise UnitError(
+                f"cannot parse quantity {value!r}: expected 'number unit', e.g. '2.3 mm'"
+            )
         number, unit = float(match.group(1)), match.group(2)
         if not unit:  # "3.7": a bare number, SI like 3.7
             return _finite(number, value)
@@ -78,7 +83,9 @@ def to_si(value, si_unit: str) -> float:
                 f"{value!r} has units of {q.dimensionality}, expected something convertible to {si_unit!r}"
             ) from None
     else:
-        raise UnitError(f"expected a number or a 'number unit' string, got {type(value).__name__} {value!r}")
+        raise UnitError(
+            f"expected a number or a 'number unit' string, got {type(value).__name__} {value!r}"
+        )
     return _finite(out, value)
 
 

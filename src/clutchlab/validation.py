@@ -3,6 +3,7 @@
 Each seed contributes a Dataset with one ``row`` per reproduced number; the report writes the
 union as ``validation.csv`` and as a table page.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -12,8 +13,18 @@ import xarray as xr
 
 __all__ = ["Row", "to_dataset", "to_csv"]
 
-COLUMNS = ["seed", "quantity", "source", "published", "computed", "units", "rel_error",
-           "tolerance", "passed", "note"]
+COLUMNS = [
+    "seed",
+    "quantity",
+    "source",
+    "published",
+    "computed",
+    "units",
+    "rel_error",
+    "tolerance",
+    "passed",
+    "note",
+]
 
 
 @dataclass(frozen=True)
@@ -41,9 +52,13 @@ class Row:
 
 def to_dataset(rows: list[Row], title: str) -> xr.Dataset:
     """Rows -> Dataset on dimension ``row`` with units and long_name everywhere."""
+
     def text(name, long_name):
-        return ("row", np.array([getattr(r, name) for r in rows], dtype=object),
-                {"long_name": long_name, "units": ""})
+        return (
+            "row",
+            np.array([getattr(r, name) for r in rows], dtype=object),
+            {"long_name": long_name, "units": ""},
+        )
 
     mixed = "mixed: see variable 'units' (row-wise)"
     ds = xr.Dataset(
@@ -51,13 +66,32 @@ def to_dataset(rows: list[Row], title: str) -> xr.Dataset:
             "seed": text("seed", "seed paper"),
             "quantity": text("quantity", "reproduced quantity"),
             "source": text("source", "where the published value is printed"),
-            "published": ("row", [r.published for r in rows], {"long_name": "published value", "units": mixed}),
-            "computed": ("row", [r.computed for r in rows], {"long_name": "clutchlab value", "units": mixed}),
+            "published": (
+                "row",
+                [r.published for r in rows],
+                {"long_name": "published value", "units": mixed},
+            ),
+            "computed": (
+                "row",
+                [r.computed for r in rows],
+                {"long_name": "clutchlab value", "units": mixed},
+            ),
             "units": text("units", "units of published and computed (row-wise)"),
-            "rel_error": ("row", [r.rel_error for r in rows], {"long_name": "relative error", "units": "1"}),
-            "tolerance": ("row", [r.tolerance for r in rows], {"long_name": "relative tolerance", "units": "1"}),
-            "passed": ("row", np.array([r.passed for r in rows], dtype=np.int8),
-                       {"long_name": "within tolerance (1) or not (0)", "units": "1"}),
+            "rel_error": (
+                "row",
+                [r.rel_error for r in rows],
+                {"long_name": "relative error", "units": "1"},
+            ),
+            "tolerance": (
+                "row",
+                [r.tolerance for r in rows],
+                {"long_name": "relative tolerance", "units": "1"},
+            ),
+            "passed": (
+                "row",
+                np.array([r.passed for r in rows], dtype=np.int8),
+                {"long_name": "within tolerance (1) or not (0)", "units": "1"},
+            ),
             "note": text("note", "assumptions and errata"),
         },
         coords={"row": ("row", np.arange(len(rows)), {"long_name": "row index", "units": "1"})},

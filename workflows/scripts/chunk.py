@@ -1,4 +1,5 @@
 """Snakemake script: compute one chunk of a design (no physics here)."""
+
 import re
 import sys
 
@@ -8,9 +9,14 @@ sm = snakemake  # noqa: F821
 i = int(re.search(r"chunk_(\d+)\.h5$", sm.output[0]).group(1))
 design = store.load(sm.input[0])
 with open(sm.log[0], "w") as log:
+
     def progress(line):  # to the job's log and to the terminal (a large chunk: after each tenth)
         for stream in (log, sys.stderr):
             print(line, file=stream, flush=True)
 
-    ds = pipeline.run_chunk(design, dict(sm.params.options), int(sm.params.chunks), i, progress=progress)
-store.write(ds, sm.output[0], with_checksum=True, complevel=0)  # uncompressed: written once, read once by the merge
+    ds = pipeline.run_chunk(
+        design, dict(sm.params.options), int(sm.params.chunks), i, progress=progress
+    )
+store.write(
+    ds, sm.output[0], with_checksum=True, complevel=0
+)  # uncompressed: written once, read once by the merge

@@ -1,4 +1,5 @@
 """Snakemake script: the hard cases of the studies run (clutchlab.hardcases), as a Dataset."""
+
 from clutchlab import hardcases, store
 
 sm = snakemake  # noqa: F821

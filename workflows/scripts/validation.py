@@ -1,4 +1,5 @@
 """Snakemake script: the seed numbers a study reproduces, as a validation Dataset."""
+
 from clutchlab import store, studies
 
 sm = snakemake  # noqa: F821

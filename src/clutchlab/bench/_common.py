@@ -1,4 +1,5 @@
 """Shared plumbing of the benchmark scripts: command line and CSV output."""
+
 from __future__ import annotations
 
 import argparse
@@ -54,7 +55,12 @@ def per_scenario_sweep(solve, scenarios, ref, methods, rtols, error_key, label) 
         for rtol in rtols:
             t0 = time.perf_counter()
             v = np.array([solve(p, method, rtol) for p in scenarios])
-            rows.append({"method": label.format(method=method), "rtol": rtol,
-                         "seconds_per_scenario": (time.perf_counter() - t0) / len(scenarios),
-                         error_key: float(np.nanmax(np.abs(v - ref)))})
+            rows.append(
+                {
+                    "method": label.format(method=method),
+                    "rtol": rtol,
+                    "seconds_per_scenario": (time.perf_counter() - t0) / len(scenarios),
+                    error_key: float(np.nanmax(np.abs(v - ref))),
+                }
+            )
     return rows

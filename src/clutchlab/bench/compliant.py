@@ -20,6 +20,7 @@
   events): RK45 with the jerk taken at its steps (as one usually writes it) and DOP853 with the
   jerk refined on its dense output (as an expert would), each over a sweep of rtol (atol = rtol/1000).
 """
+
 from __future__ import annotations
 
 import time
@@ -33,8 +34,17 @@ from ._common import parse, save_figure, write_rows
 from ..studies.engagement import tolerances
 
 METRICS = ("lockup_time", "slip_work", "peak_jerk")
-COLUMNS = ("variant", "method", "setting", "seconds_per_scenario", "err_lockup_time", "err_slip_work",
-           "err_peak_jerk", "max_rel_error", "scenarios")
+COLUMNS = (
+    "variant",
+    "method",
+    "setting",
+    "seconds_per_scenario",
+    "err_lockup_time",
+    "err_slip_work",
+    "err_peak_jerk",
+    "max_rel_error",
+    "scenarios",
+)
 CLUTCHLAB = "clutchlab (closed-form phases, DOPRI5 where nonlinear)"
 RK45 = "scipy solve_ivp RK45 per scenario (jerk at steps)"
 DOP853 = "scipy solve_ivp DOP853 per scenario (jerk on dense output)"
@@ -45,10 +55,19 @@ ACCURACIES = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7)
 def design(n, variant, seed=0):
     """Random scenarios in the default engagement study's ranges (keyword arguments of simulate)."""
     rng = np.random.default_rng(seed)
-    d = dict(engine_speed=570.0, engine_inertia=np.inf, engine_torque=0.0,
-             driven_inertia=rng.uniform(0.021, 0.05, n), load_torque=rng.uniform(44.0, 80.0, n),
-             peak_capacity=rng.uniform(150.0, 300.0, n), ramp_time=rng.uniform(0.05, 0.3, n),
-             damper_stiffness=4498.0, damping_ratio=0.05, hub_fraction=0.5, t_end=0.6)
+    d = dict(
+        engine_speed=570.0,
+        engine_inertia=np.inf,
+        engine_torque=0.0,
+        driven_inertia=rng.uniform(0.021, 0.05, n),
+        load_torque=rng.uniform(44.0, 80.0, n),
+        peak_capacity=rng.uniform(150.0, 300.0, n),
+        ramp_time=rng.uniform(0.05, 0.3, n),
+        damper_stiffness=4498.0,
+        damping_ratio=0.05,
+        hub_fraction=0.5,
+        t_end=0.6,
+    )
     if variant == "stribeck":
         d.update(static_ratio=1.3, stribeck_speed=rng.uniform(5.0, 50.0, n))
     return d
@@ -75,16 +94,26 @@ def run(outdir="results/benchmark", n=10_000, n_ref=10):
         d = design(n, variant)
         ref_d = {k: (v[:n_ref] if np.ndim(v) else v) for k, v in d.items()}
         t = time.perf_counter()
-        refs = [reference.compliant(_scenario(ref_d, i), rtol=1e-13, atol=1e-13) for i in range(n_ref)]
+        refs = [
+            reference.compliant(_scenario(ref_d, i), rtol=1e-13, atol=1e-13) for i in range(n_ref)
+        ]
         t_ref = (time.perf_counter() - t) / n_ref
         assert all(r["status"] == "ok" for r in refs), "every reference scenario locks up"
         ref = {k: np.array([r[k] for r in refs]) for k in METRICS}
-        rows.append(_row(variant, "DOP853 reference (per scenario)", "rtol 1e-13", t_ref, [0.0] * 3, n_ref))
-        print(f"[{variant}] reference: scipy DOP853 rtol 1e-13, {n_ref} scenarios, {t_ref * 1e3:.0f} ms/scenario")
-        m = n if variant == "constant_mu" else max(n // 5, n_ref)  # the Stribeck runs take ~1 ms each
+        rows.append(
+            _row(variant, "DOP853 reference (per scenario)", "rtol 1e-13", t_ref, [0.0] * 3, n_ref)
+        )
+        print(
+            f"[{variant}] reference: scipy DOP853 rtol 1e-13, {n_ref} scenarios, {t_ref * 1e3:.0f} ms/scenario"
+        )
+        m = (
+            n if variant == "constant_mu" else max(n // 5, n_ref)
+        )  # the Stribeck runs take ~1 ms each
         dm = {k: (v[:m] if np.ndim(v) else v) for k, v in d.items()}
-        eng.simulate(**{k: (v[:4] if np.ndim(v) else v) for k, v in dm.items()}, compliant=True)  # load the compiled kernel outside the timing
-        for acc in ((None,) if variant == "constant_mu" else ACCURACIES):
+        eng.simulate(
+            **{k: (v[:4] if np.ndim(v) else v) for k, v in dm.items()}, compliant=True
+        )  # load the compiled kernel outside the timing
+        for acc in (None,) if variant == "constant_mu" else ACCURACIES:
             kw = {} if acc is None else dict(zip(("rtol", "atol"), tolerances(acc)))
             runs = []
             for _ in range(3):
@@ -96,28 +125,44 @@ def run(outdir="results/benchmark", n=10_000, n_ref=10):
             errs = _errors({k: res[k][:n_ref] for k in METRICS}, ref)
             setting = "exact" if acc is None else f"accuracy {acc:.0e}"
             rows.append(_row(variant, CLUTCHLAB, setting, float(np.median(runs)), errs, m))
-            print(f"[{variant}] clutchlab {setting}: {np.median(runs) * 1e6:8.1f} us/scenario ({m} in one call), "
-                  f"errors lock-up {errs[0]:.1e}, slip work {errs[1]:.1e}, peak jerk {errs[2]:.1e}")
+            print(
+                f"[{variant}] clutchlab {setting}: {np.median(runs) * 1e6:8.1f} us/scenario ({m} in one call), "
+                f"errors lock-up {errs[0]:.1e}, slip work {errs[1]:.1e}, peak jerk {errs[2]:.1e}"
+            )
         for method, rtols in SCIPY_RTOLS.items():
             for rtol in rtols:
                 t = time.perf_counter()
-                out = [reference.compliant(_scenario(ref_d, i), method=method.split()[2], rtol=rtol, atol=rtol * 1e-3,
-                                           jerk_peak="dense" if method == DOP853 else "steps") for i in range(n_ref)]
+                out = [
+                    reference.compliant(
+                        _scenario(ref_d, i),
+                        method=method.split()[2],
+                        rtol=rtol,
+                        atol=rtol * 1e-3,
+                        jerk_peak="dense" if method == DOP853 else "steps",
+                    )
+                    for i in range(n_ref)
+                ]
                 dt = (time.perf_counter() - t) / n_ref
                 errs = _errors({k: [o[k] for o in out] for k in METRICS}, ref)
                 rows.append(_row(variant, method, f"rtol {rtol:.0e}", dt, errs, n_ref))
-                print(f"[{variant}] {method} rtol {rtol:.0e}: {dt * 1e3:8.1f} ms/scenario, errors lock-up "
-                      f"{errs[0]:.1e}, slip work {errs[1]:.1e}, peak jerk {errs[2]:.1e}")
+                print(
+                    f"[{variant}] {method} rtol {rtol:.0e}: {dt * 1e3:8.1f} ms/scenario, errors lock-up "
+                    f"{errs[0]:.1e}, slip work {errs[1]:.1e}, peak jerk {errs[2]:.1e}"
+                )
     write_rows(rows, outdir / "compliant_benchmark.csv")
     for variant in ("constant_mu", "stribeck"):
         ratios = speed_ratios(rows, variant)
         for r, o, ratio in ratios:
-            print(f"  [{variant}] vs {r['method']} {r['setting']} (max rel. error {r['max_rel_error']:.1e}): clutchlab "
-                  f"{o['setting']} is {ratio:.0f}x faster per scenario at equal or better error")
+            print(
+                f"  [{variant}] vs {r['method']} {r['setting']} (max rel. error {r['max_rel_error']:.1e}): clutchlab "
+                f"{o['setting']} is {ratio:.0f}x faster per scenario at equal or better error"
+            )
         if ratios:
             target = 200 if variant == "constant_mu" else 50
             best = min(x[2] for x in ratios)
-            print(f"  [{variant}] smallest ratio {best:.0f}x (target >= {target}x: {'met' if best >= target else 'NOT met'})")
+            print(
+                f"  [{variant}] smallest ratio {best:.0f}x (target >= {target}x: {'met' if best >= target else 'NOT met'})"
+            )
     fig = work_precision_figure(rows)
     save_figure(fig, outdir / "compliant_work_precision.png")
     return rows
@@ -128,7 +173,10 @@ def read_rows(path) -> list[dict]:
 
     text = ("variant", "method", "setting")
     with open(path, newline="") as fh:
-        return [{k: (v if k in text else float(v)) for k, v in row.items()} for row in csv.DictReader(fh)]
+        return [
+            {k: (v if k in text else float(v)) for k, v in row.items()}
+            for row in csv.DictReader(fh)
+        ]
 
 
 def speed_ratios(rows, variant):
@@ -152,24 +200,48 @@ def work_precision_figure(rows):
 
     fig, axes = plt.subplots(1, 2, figsize=(11.69, 8.27), sharey=True)
     colors = {CLUTCHLAB: "C0", RK45: "C1", DOP853: "C2"}
-    for ax, variant, label in zip(axes, ("constant_mu", "stribeck"), ("constant μ (default study)", "Stribeck μ")):
+    for ax, variant, label in zip(
+        axes, ("constant_mu", "stribeck"), ("constant μ (default study)", "Stribeck μ")
+    ):
         for name, marker in ((CLUTCHLAB, "o-"), (RK45, "s-"), (DOP853, "^-")):
             pts = [r for r in rows if r["variant"] == variant and r["method"] == name]
             if not pts:
                 continue
-            ax.loglog([r["seconds_per_scenario"] for r in pts], [max(r["max_rel_error"], 1e-16) for r in pts], marker,
-                      label=name if variant == "constant_mu" else None, color=colors[name], ms=8 if len(pts) == 1 else 6)
+            ax.loglog(
+                [r["seconds_per_scenario"] for r in pts],
+                [max(r["max_rel_error"], 1e-16) for r in pts],
+                marker,
+                label=name if variant == "constant_mu" else None,
+                color=colors[name],
+                ms=8 if len(pts) == 1 else 6,
+            )
             for r in pts:
-                ax.annotate(r["setting"], (r["seconds_per_scenario"], max(r["max_rel_error"], 1e-16)),
-                            textcoords="offset points", xytext=(4, 4), fontsize=7)
+                ax.annotate(
+                    r["setting"],
+                    (r["seconds_per_scenario"], max(r["max_rel_error"], 1e-16)),
+                    textcoords="offset points",
+                    xytext=(4, 4),
+                    fontsize=7,
+                )
         ratios = [x[2] for x in speed_ratios(rows, variant)]
-        ax.set_title(f"{label}" + (f"\nclutchlab {min(ratios):.0f}-{max(ratios):.0f}x faster at equal or better error"
-                                   if ratios else ""), fontsize=10)
+        ax.set_title(
+            f"{label}"
+            + (
+                f"\nclutchlab {min(ratios):.0f}-{max(ratios):.0f}x faster at equal or better error"
+                if ratios
+                else ""
+            ),
+            fontsize=10,
+        )
         ax.set_xlabel("time per scenario [s]")
         ax.grid(True, which="both", alpha=0.3)
-    axes[0].set_ylabel("max relative error of lock-up time, slip work, peak jerk\n"
-                       "(reference: scipy DOP853, rtol 1e-13)")
-    fig.suptitle("Work-precision of the compliant engagement (the default study's model and ranges)")
+    axes[0].set_ylabel(
+        "max relative error of lock-up time, slip work, peak jerk\n"
+        "(reference: scipy DOP853, rtol 1e-13)"
+    )
+    fig.suptitle(
+        "Work-precision of the compliant engagement (the default study's model and ranges)"
+    )
     fig.legend(loc="lower center", ncol=2, fontsize=8, frameon=False)
     fig.tight_layout(rect=(0, 0.07, 1, 0.95))
     return fig

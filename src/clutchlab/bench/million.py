@@ -10,6 +10,7 @@ the study's largest job (Snakemake's per-job benchmark files), and for the whole
 time, the number of jobs and the report job. Run it alone on the machine (the timings are the
 point) and not while another run uses the same results folder.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -28,7 +29,10 @@ from ._common import write_rows
 def _tsv(path) -> dict:
     with open(path) as fh:
         row = next(csv.DictReader(fh, delimiter="\t"))
-    return {"seconds": float(row["s"]), "max_rss_mb": float(row["max_rss"]) if row["max_rss"] != "NA" else float("nan")}
+    return {
+        "seconds": float(row["s"]),
+        "max_rss_mb": float(row["max_rss"]) if row["max_rss"] != "NA" else float("nan"),
+    }
 
 
 def measure(configfile="config/million.yaml", cores=2) -> list[dict]:
@@ -37,14 +41,27 @@ def measure(configfile="config/million.yaml", cores=2) -> list[dict]:
 
     cfg = config.load(configfile)
     work = Path(cfg["results"]) / "work"
-    cmd = [sys.executable, "-m", "snakemake", "--cores", str(cores), "--configfile", str(configfile), "--forceall",
-           "--nolock", "--quiet", "progress"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "snakemake",
+        "--cores",
+        str(cores),
+        "--configfile",
+        str(configfile),
+        "--forceall",
+        "--nolock",
+        "--quiet",
+        "progress",
+    ]
     start = time.perf_counter()
     subprocess.run(cmd, check=True)
     wall = time.perf_counter() - start
     rows, jobs = [], 1  # the report job
     for name in cfg["studies"]:
-        n_chunks = cfg[name]["chunks"]  # this config's chunk files (an earlier run may have left more)
+        n_chunks = cfg[name][
+            "chunks"
+        ]  # this config's chunk files (an earlier run may have left more)
         chunks = [_tsv(work / name / "benchmark" / f"chunk_{i:04d}.tsv") for i in range(n_chunks)]
         merge = _tsv(work / name / "benchmark" / "merge.tsv")
         solver = 0.0
@@ -53,22 +70,47 @@ def measure(configfile="config/million.yaml", cores=2) -> list[dict]:
                 solver += float(np.ravel(fh.attrs["compute_seconds"])[0])
         job_s = sum(c["seconds"] for c in chunks) + merge["seconds"]
         jobs += len(chunks) + 2  # chunks, merge, design
-        rows.append(dict(study=name, scenarios=cfg[name]["samples"], chunk_jobs=len(chunks),
-                         physics_seconds=round(solver, 2), job_seconds=round(job_s, 2),
-                         pipeline_share=round(1 - solver / job_s, 3), merge_seconds=round(merge["seconds"], 2),
-                         peak_rss_mb=max([c["max_rss_mb"] for c in chunks] + [merge["max_rss_mb"]]),
-                         result_mb=round((Path(cfg["results"]) / studies.get(name).output).stat().st_size / 1e6, 1)))
+        rows.append(
+            dict(
+                study=name,
+                scenarios=cfg[name]["samples"],
+                chunk_jobs=len(chunks),
+                physics_seconds=round(solver, 2),
+                job_seconds=round(job_s, 2),
+                pipeline_share=round(1 - solver / job_s, 3),
+                merge_seconds=round(merge["seconds"], 2),
+                peak_rss_mb=max([c["max_rss_mb"] for c in chunks] + [merge["max_rss_mb"]]),
+                result_mb=round(
+                    (Path(cfg["results"]) / studies.get(name).output).stat().st_size / 1e6, 1
+                ),
+            )
+        )
     report = _tsv(work / "report_benchmark.tsv")
-    rows.insert(0, dict(study="all", scenarios=sum(r["scenarios"] for r in rows), chunk_jobs=sum(r["chunk_jobs"] for r in rows),
-                     physics_seconds=round(sum(r["physics_seconds"] for r in rows), 2),
-                     job_seconds=round(sum(r["job_seconds"] for r in rows) + report["seconds"], 2),
-                     pipeline_share=round(1 - sum(r["physics_seconds"] for r in rows)
-                                          / (sum(r["job_seconds"] for r in rows) + report["seconds"]), 3),
-                     merge_seconds=round(sum(r["merge_seconds"] for r in rows), 2),
-                     peak_rss_mb=max([r["peak_rss_mb"] for r in rows] + [report["max_rss_mb"]]),
-                     result_mb=round(sum(r["result_mb"] for r in rows), 1),
-                     wall_seconds=round(wall, 1), jobs=jobs, report_seconds=round(report["seconds"], 1),
-                     report_pdf_mb=round((Path(cfg["results"]) / "report" / "report.pdf").stat().st_size / 1e6, 2)))
+    rows.insert(
+        0,
+        dict(
+            study="all",
+            scenarios=sum(r["scenarios"] for r in rows),
+            chunk_jobs=sum(r["chunk_jobs"] for r in rows),
+            physics_seconds=round(sum(r["physics_seconds"] for r in rows), 2),
+            job_seconds=round(sum(r["job_seconds"] for r in rows) + report["seconds"], 2),
+            pipeline_share=round(
+                1
+                - sum(r["physics_seconds"] for r in rows)
+                / (sum(r["job_seconds"] for r in rows) + report["seconds"]),
+                3,
+            ),
+            merge_seconds=round(sum(r["merge_seconds"] for r in rows), 2),
+            peak_rss_mb=max([r["peak_rss_mb"] for r in rows] + [report["max_rss_mb"]]),
+            result_mb=round(sum(r["result_mb"] for r in rows), 1),
+            wall_seconds=round(wall, 1),
+            jobs=jobs,
+            report_seconds=round(report["seconds"], 1),
+            report_pdf_mb=round(
+                (Path(cfg["results"]) / "report" / "report.pdf").stat().st_size / 1e6, 2
+            ),
+        ),
+    )
     return rows
 
 
@@ -78,7 +120,9 @@ def main(argv=None):
     p.add_argument("--configfile", default="config/million.yaml")
     p.add_argument("--cores", type=int, default=2)
     args = p.parse_args(argv)
-    print(f"Million-design benchmark: snakemake --cores {args.cores} --configfile {args.configfile} (forced)")
+    print(
+        f"Million-design benchmark: snakemake --cores {args.cores} --configfile {args.configfile} (forced)"
+    )
     rows = measure(args.configfile, args.cores)
     for r in rows:
         print("  " + ", ".join(f"{k} {v}" for k, v in r.items()))

@@ -20,19 +20,36 @@ alternative worth timing; their checks are the validation table and the hard cas
 
 ``python -m clutchlab.bench.numerics OUTDIR STUDY...`` writes ``<name>_benchmark.csv`` per solver.
 """
+
 from __future__ import annotations
 
 import sys
 from pathlib import Path
 
-__all__ = ["SIZES", "files", "run", "release_benchmark", "roller_figure", "sprag_figure", "centrifugal_figure",
-           "pages"]
+__all__ = [
+    "SIZES",
+    "files",
+    "run",
+    "release_benchmark",
+    "roller_figure",
+    "sprag_figure",
+    "centrifugal_figure",
+    "pages",
+]
 
 # small samples: seconds each on one core (the full benchmarks use 10^4 to 10^6)
-SIZES = {"engagement": dict(n=300, n_ref=3), "roller": dict(n=6), "sprag": dict(n=2000, n_ref=40),
-         "centrifugal": dict(n=20_000, n_ref=30)}
-FILES = {"engagement": "compliant_benchmark.csv", "roller": "roller_benchmark.csv", "sprag": "sprag_benchmark.csv",
-         "centrifugal": "centrifugal_benchmark.csv"}
+SIZES = {
+    "engagement": dict(n=300, n_ref=3),
+    "roller": dict(n=6),
+    "sprag": dict(n=2000, n_ref=40),
+    "centrifugal": dict(n=20_000, n_ref=30),
+}
+FILES = {
+    "engagement": "compliant_benchmark.csv",
+    "roller": "roller_benchmark.csv",
+    "sprag": "sprag_benchmark.csv",
+    "centrifugal": "centrifugal_benchmark.csv",
+}
 RELEASE_RTOLS = (1e-3, 1e-5, 1e-7, 1e-9)
 
 
@@ -44,8 +61,12 @@ def files(study_names) -> list[str]:
 def run(outdir, study_names) -> list[Path]:
     from . import compliant, roller, sprag
 
-    runner = {"engagement": compliant.run, "roller": roller.run, "sprag": sprag.run,
-              "centrifugal": release_benchmark}
+    runner = {
+        "engagement": compliant.run,
+        "roller": roller.run,
+        "sprag": sprag.run,
+        "centrifugal": release_benchmark,
+    }
     out = []
     for s in study_names:
         if s in runner:
@@ -73,9 +94,21 @@ def release_design(n, seed=0) -> dict:
     return d
 
 
-_RELEASE = ("rated_speed", "shoes", "friction_coefficient", "pressure_angle", "shoe_mass", "shoe_radius",
-            "drum_radius", "spring_force", "engine_inertia", "rotor_inertia", "rotor_load_torque",
-            "rated_passive_torque", "static_fraction")
+_RELEASE = (
+    "rated_speed",
+    "shoes",
+    "friction_coefficient",
+    "pressure_angle",
+    "shoe_mass",
+    "shoe_radius",
+    "drum_radius",
+    "spring_force",
+    "engine_inertia",
+    "rotor_inertia",
+    "rotor_load_torque",
+    "rated_passive_torque",
+    "static_fraction",
+)
 
 
 def _release_ivp(p, method, rtol):
@@ -86,13 +119,29 @@ def _release_ivp(p, method, rtol):
 
     k, p0, p2, caps = cf._params(p)
     je, jr = p["engine_inertia"], p["rotor_inertia"]
-    g = lambda t, y: (cf.needed_reverse_torque(y[0], engine_inertia=je, rotor_inertia=jr, rotor_drag=k, p0=p0,  # noqa: E731
-                                               p2=p2) - caps(y[0])[1])
+    g = lambda t, y: (
+        cf.needed_reverse_torque(
+            y[0],
+            engine_inertia=je,
+            rotor_inertia=jr,
+            rotor_drag=k,
+            p0=p0,  # noqa: E731
+            p2=p2,
+        )
+        - caps(y[0])[1]
+    )
     if g(0.0, [p["rated_speed"]]) >= 0:
         return 0.0
     g.terminal, g.direction = True, 1
-    sol = solve_ivp(lambda t, y: [-(p0 + (p2 + k) * y[0] ** 2) / (je + jr)], (0.0, 60.0), [p["rated_speed"]],
-                    method=method, rtol=rtol, atol=rtol * 1e-3, events=g)
+    sol = solve_ivp(
+        lambda t, y: [-(p0 + (p2 + k) * y[0] ** 2) / (je + jr)],
+        (0.0, 60.0),
+        [p["rated_speed"]],
+        method=method,
+        rtol=rtol,
+        atol=rtol * 1e-3,
+        events=g,
+    )
     return float(sol.t_events[0][0]) if sol.t_events[0].size else float("nan")
 
 
@@ -116,24 +165,44 @@ def release_benchmark(outdir, n=20_000, n_ref=30) -> list[dict]:
         best = min(best, time.perf_counter() - t0)
     scen = [{k: float(v[i]) for k, v in d.items()} for i in range(n_ref)]
     ref = np.array([_release_ivp(p, "DOP853", 1e-13) for p in scen])
-    rows = [dict(method="clutchlab closed form (vectorised)", rtol=float("nan"), seconds_per_scenario=best / n,
-                 max_release_time_error_s=float(np.nanmax(np.abs(res["release_time"][:n_ref] - ref))))]
-    rows += per_scenario_sweep(_release_ivp, scen, ref, ("RK45", "DOP853"), RELEASE_RTOLS, "max_release_time_error_s",
-                               "scipy solve_ivp {method} per scenario (release event)")
+    rows = [
+        dict(
+            method="clutchlab closed form (vectorised)",
+            rtol=float("nan"),
+            seconds_per_scenario=best / n,
+            max_release_time_error_s=float(np.nanmax(np.abs(res["release_time"][:n_ref] - ref))),
+        )
+    ]
+    rows += per_scenario_sweep(
+        _release_ivp,
+        scen,
+        ref,
+        ("RK45", "DOP853"),
+        RELEASE_RTOLS,
+        "max_release_time_error_s",
+        "scipy solve_ivp {method} per scenario (release event)",
+    )
     for r in rows:
-        print(f"{r['method']:<55s} rtol {r['rtol']:.0e}: {r['seconds_per_scenario'] * 1e6:10.2f} us/scenario, "
-              f"max |release time error| {r['max_release_time_error_s']:.1e} s")
+        print(
+            f"{r['method']:<55s} rtol {r['rtol']:.0e}: {r['seconds_per_scenario'] * 1e6:10.2f} us/scenario, "
+            f"max |release time error| {r['max_release_time_error_s']:.1e} s"
+        )
     Path(outdir).mkdir(parents=True, exist_ok=True)
     write_rows(rows, Path(outdir) / FILES["centrifugal"])
     return rows
 
 
 def centrifugal_figure(rows):
-    return _wp_figure(rows, "max_release_time_error_s", "clutchlab",
-                      "Work-precision of the centrifugal release after an engine failure (small sample of this run): "
-                      "closed form against integrating the held phase\nper scenario with solve_ivp and the release as an "
-                      "event; reference: DOP853 at rtol 1e-13; error = max |release time - reference|",
-                      "max |release time error| [s]", "rtol")
+    return _wp_figure(
+        rows,
+        "max_release_time_error_s",
+        "clutchlab",
+        "Work-precision of the centrifugal release after an engine failure (small sample of this run): "
+        "closed form against integrating the held phase\nper scenario with solve_ivp and the release as an "
+        "event; reference: DOP853 at rtol 1e-13; error = max |release time - reference|",
+        "max |release time error| [s]",
+        "rtol",
+    )
 
 
 def _read(path) -> list[dict]:
@@ -176,43 +245,72 @@ def _wp_figure(rows, error, ours, title, ylabel, label_key):
 
     fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
     for j, method in enumerate(dict.fromkeys(r["method"] for r in rows)):
-        pts = sorted((r for r in rows if r["method"] == method), key=lambda r: -r[error])  # along the tolerance
+        pts = sorted(
+            (r for r in rows if r["method"] == method), key=lambda r: -r[error]
+        )  # along the tolerance
         x = [r["seconds_per_scenario"] for r in pts]
         y = [max(r[error], 1e-17) for r in pts]
         ax.loglog(x, y, "o-" if len(pts) > 1 else "o", color=f"C{j}", ms=7, label=method)
         for r in pts:
             if _setting(r, label_key):
-                ax.annotate(_setting(r, label_key)[4:], (r["seconds_per_scenario"], max(r[error], 1e-17)),
-                            textcoords="offset points", xytext=(4, 4), fontsize=6)
-    lines = [f"vs {r['method']}{_setting(r, label_key)} (error {r[error]:.1e}): {ratio:.0f}x faster"
-             for r, _, ratio in _ratios(rows, error, ours)]
+                ax.annotate(
+                    _setting(r, label_key)[4:],
+                    (r["seconds_per_scenario"], max(r[error], 1e-17)),
+                    textcoords="offset points",
+                    xytext=(4, 4),
+                    fontsize=6,
+                )
+    lines = [
+        f"vs {r['method']}{_setting(r, label_key)} (error {r[error]:.1e}): {ratio:.0f}x faster"
+        for r, _, ratio in _ratios(rows, error, ours)
+    ]
     ax.margins(0.15)
     ax.set_xlabel("time per scenario [s] (this machine, this run)")
     ax.set_ylabel(ylabel)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8, loc="upper right")
     fig.subplots_adjust(bottom=0.27)  # the ratios below the axes, clear of the points
-    fig.text(0.08, 0.015, "clutchlab at equal or better error:\n" + "\n".join(lines[:10]) if lines else
-             "no alternative reached an error clutchlab's settings cover", fontsize=7, va="bottom", family="monospace")
+    fig.text(
+        0.08,
+        0.015,
+        "clutchlab at equal or better error:\n" + "\n".join(lines[:10])
+        if lines
+        else "no alternative reached an error clutchlab's settings cover",
+        fontsize=7,
+        va="bottom",
+        family="monospace",
+    )
     ax.set_title(title, fontsize=10)
     return fig
 
 
 def roller_figure(rows):
-    return _wp_figure(rows, "max_engagement_error_s", "clutchlab",
-                      "Work-precision of the roller wedging (small sample of this run): compiled SDIRK4 against "
-                      "per-scenario solve_ivp LSODA and Radau\nreference: Radau at rtol 1e-12 with the analytic "
-                      "Jacobian, piecewise over slip and stick; error = max |engagement time - reference|",
-                      "max |engagement time error| [s]", "rtol")
+    return _wp_figure(
+        rows,
+        "max_engagement_error_s",
+        "clutchlab",
+        "Work-precision of the roller wedging (small sample of this run): compiled SDIRK4 against "
+        "per-scenario solve_ivp LSODA and Radau\nreference: Radau at rtol 1e-12 with the analytic "
+        "Jacobian, piecewise over slip and stick; error = max |engagement time - reference|",
+        "max |engagement time error| [s]",
+        "rtol",
+    )
 
 
 def sprag_figure(rows):
-    rows = [r for r in rows if r["max_V_error_rad"] == r["max_V_error_rad"]]  # the timed-only 10x size: no error
-    return _wp_figure(rows, "max_V_error_rad", "clutchlab",
-                      "Work-precision of the sprag gripping-angle fixed point (small sample of this run): "
-                      "vectorised statics against per-scenario brentq\nreference: brentq at xtol 1e-15; error = "
-                      "max |V - V_ref| over the scenarios with an answer", "max |gripping angle error| [rad]",
-                      "xtol")
+    rows = [
+        r for r in rows if r["max_V_error_rad"] == r["max_V_error_rad"]
+    ]  # the timed-only 10x size: no error
+    return _wp_figure(
+        rows,
+        "max_V_error_rad",
+        "clutchlab",
+        "Work-precision of the sprag gripping-angle fixed point (small sample of this run): "
+        "vectorised statics against per-scenario brentq\nreference: brentq at xtol 1e-15; error = "
+        "max |V - V_ref| over the scenarios with an answer",
+        "max |gripping angle error| [rad]",
+        "xtol",
+    )
 
 
 def pages(numerics_dir) -> list[tuple]:
@@ -222,8 +320,12 @@ def pages(numerics_dir) -> list[tuple]:
     d = Path(numerics_dir)
     out = []
     if (d / FILES["engagement"]).exists():
-        out.append(("numerics_engagement", compliant.work_precision_figure(
-            compliant.read_rows(d / FILES["engagement"]))))
+        out.append(
+            (
+                "numerics_engagement",
+                compliant.work_precision_figure(compliant.read_rows(d / FILES["engagement"])),
+            )
+        )
     if (d / FILES["roller"]).exists():
         out.append(("numerics_roller", roller_figure(_read(d / FILES["roller"]))))
     if (d / FILES["sprag"]).exists():

@@ -8,6 +8,7 @@ objectives, 5 objectives on N/10; best of 3 (one run for 4 and 5 objectives) aft
 is the plain O(N²) peeling (every point against every other, numpy-vectorised per point) on a
 subset, checked equal and timed for the ratio.
 """
+
 from __future__ import annotations
 
 import time
@@ -27,7 +28,9 @@ def peel(f):
     k = 0
     while left.size:
         g = f[left]
-        dominated = np.array([np.any(np.all(g <= g[i], axis=1) & np.any(g < g[i], axis=1)) for i in range(len(g))])
+        dominated = np.array(
+            [np.any(np.all(g <= g[i], axis=1) & np.any(g < g[i], axis=1)) for i in range(len(g))]
+        )
         rank[left[~dominated]] = k
         left = left[dominated]
         k += 1
@@ -54,12 +57,25 @@ def run(outdir, n, reference=2000):
         t_ref, ref = _best(lambda: peel(sub), repeat=1)
         t_sub, mine = _best(lambda: pareto_rank(sub))
         same = bool((ref == mine).all())
-        rows.append(dict(objectives=m, designs=size, seconds=t, fronts=int(rank.max()) + 1,
-                         front_size=int((rank == 0).sum()), reference_designs=len(sub), reference_seconds=t_ref,
-                         clutchlab_seconds_on_reference=t_sub, ratio=t_ref / t_sub, equal_to_reference=same))
-        print(f"  {m} objectives, {size} designs: {t:.3f} s ({rank.max() + 1} fronts, front of "
-              f"{(rank == 0).sum()}); O(N^2) peeling on {len(sub)}: {t_ref:.3f} s vs {t_sub * 1e3:.2f} ms "
-              f"({t_ref / t_sub:.0f}x), equal ranks: {same}")
+        rows.append(
+            dict(
+                objectives=m,
+                designs=size,
+                seconds=t,
+                fronts=int(rank.max()) + 1,
+                front_size=int((rank == 0).sum()),
+                reference_designs=len(sub),
+                reference_seconds=t_ref,
+                clutchlab_seconds_on_reference=t_sub,
+                ratio=t_ref / t_sub,
+                equal_to_reference=same,
+            )
+        )
+        print(
+            f"  {m} objectives, {size} designs: {t:.3f} s ({rank.max() + 1} fronts, front of "
+            f"{(rank == 0).sum()}); O(N^2) peeling on {len(sub)}: {t_ref:.3f} s vs {t_sub * 1e3:.2f} ms "
+            f"({t_ref / t_sub:.0f}x), equal ranks: {same}"
+        )
     write_rows(rows, Path(outdir) / "pareto_benchmark.csv")
     return rows
 

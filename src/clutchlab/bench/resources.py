@@ -9,6 +9,7 @@ A straight line through the sizes gives the fixed cost (imports, compiled-code c
 the cost per scenario; it writes ``resources_benchmark.csv`` and prints the table. Run it alone on
 the machine.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -39,8 +40,21 @@ print(json.dumps({"seconds": time.perf_counter() - t0,
 
 def measure_one(configfile, name, n, curves="all") -> dict:
     with tempfile.TemporaryDirectory() as tmp:
-        out = subprocess.run([sys.executable, "-c", _CHILD, str(configfile), name, str(n), f"{tmp}/chunk.h5", curves],
-                             check=True, capture_output=True, text=True)
+        out = subprocess.run(
+            [
+                sys.executable,
+                "-c",
+                _CHILD,
+                str(configfile),
+                name,
+                str(n),
+                f"{tmp}/chunk.h5",
+                curves,
+            ],
+            check=True,
+            capture_output=True,
+            text=True,
+        )
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -55,13 +69,18 @@ def measure(configfile="config/million.yaml", sizes=(16384, 262144)) -> list[dic
         dn = sizes[-1] - sizes[0]
         per_s = (runs[-1]["seconds"] - runs[0]["seconds"]) / dn
         per_mb = (runs[-1]["max_rss_mb"] - runs[0]["max_rss_mb"]) / dn
-        rows.append(dict(study=name, sizes=" ".join(map(str, sizes)),
-                         seconds=" ".join(f"{r['seconds']:.2f}" for r in runs),
-                         max_rss_mb=" ".join(f"{r['max_rss_mb']:.0f}" for r in runs),
-                         fixed_seconds=round(runs[0]["seconds"] - per_s * sizes[0], 2),
-                         us_per_scenario=round(per_s * 1e6, 1),
-                         fixed_mb=round(runs[0]["max_rss_mb"] - per_mb * sizes[0]),
-                         kb_per_scenario=round(per_mb * 1024, 2)))
+        rows.append(
+            dict(
+                study=name,
+                sizes=" ".join(map(str, sizes)),
+                seconds=" ".join(f"{r['seconds']:.2f}" for r in runs),
+                max_rss_mb=" ".join(f"{r['max_rss_mb']:.0f}" for r in runs),
+                fixed_seconds=round(runs[0]["seconds"] - per_s * sizes[0], 2),
+                us_per_scenario=round(per_s * 1e6, 1),
+                fixed_mb=round(runs[0]["max_rss_mb"] - per_mb * sizes[0]),
+                kb_per_scenario=round(per_mb * 1024, 2),
+            )
+        )
     return rows
 
 

@@ -15,6 +15,7 @@ prints and writes ``roller_benchmark.csv``:
 * error = max |engagement time − reference| over the scenarios; time per scenario; for each scipy
   method the ratio of its time to clutchlab's at equal or better error.
 """
+
 from __future__ import annotations
 
 import time
@@ -34,13 +35,21 @@ RTOLS = tuple(10.0 ** -np.arange(4.0, 10.01, 0.5))
 def design(n, seed=0):
     """Random scenarios around the seed 003 design (keyword arrays for :func:`roller.simulate`)."""
     rng = np.random.default_rng(seed)
-    return dict(driving_speed=np.full(n, 2000 * roller.RPM), load_torque=rng.uniform(1000, 2500, n),
-                wedge_inertia=10 ** rng.uniform(-5.5, -4, n), driven_inertia=10 ** rng.uniform(-2.5, -1.5, n),
-                contact_radius=np.full(n, 0.15), rollers_loaded=rng.integers(3, 9, n).astype(float),
-                wedge_angle=np.deg2rad(rng.uniform(8, 12, n)), friction_coefficient=np.full(n, 0.12),
-                spring_force=rng.uniform(2, 6, n), stiffness=np.full(n, 1.0671e10),
-                damping=10 ** rng.uniform(5.5, 6.5, n), penetration_depth=10 ** rng.uniform(-4.5, -3.5, n),
-                end_time=np.full(n, 3e-3))
+    return dict(
+        driving_speed=np.full(n, 2000 * roller.RPM),
+        load_torque=rng.uniform(1000, 2500, n),
+        wedge_inertia=10 ** rng.uniform(-5.5, -4, n),
+        driven_inertia=10 ** rng.uniform(-2.5, -1.5, n),
+        contact_radius=np.full(n, 0.15),
+        rollers_loaded=rng.integers(3, 9, n).astype(float),
+        wedge_angle=np.deg2rad(rng.uniform(8, 12, n)),
+        friction_coefficient=np.full(n, 0.12),
+        spring_force=rng.uniform(2, 6, n),
+        stiffness=np.full(n, 1.0671e10),
+        damping=10 ** rng.uniform(5.5, 6.5, n),
+        penetration_depth=10 ** rng.uniform(-4.5, -3.5, n),
+        end_time=np.full(n, 3e-3),
+    )
 
 
 def scipy_engagement(p, method, rtol):
@@ -57,18 +66,29 @@ def scipy_engagement(p, method, rtol):
         def jacobian(t, y):
             _k.rhs(_k.ROLLER, t, y, p, mode, f, jac, True)
             return jac.copy()
+
         return rhs, jacobian
 
     def ev(which, mode):
         def g(t, y):
             return _k.event(_k.ROLLER, t, y, p, mode, which, work)
+
         g.terminal, g.direction = True, -1
         return g
 
     extra = {} if method == "LSODA" else {"first_step": 1e-9}
     rhs, jacobian = fun(_k.SLIP)
-    s1 = solve_ivp(rhs, (0.0, p[_k.TEND]), np.zeros(4), method=method, rtol=rtol, atol=atol, jac=jacobian,
-                   events=[ev(_k.EV_STICK, _k.SLIP), ev(_k.EV_SYNC, _k.SLIP)], **extra)
+    s1 = solve_ivp(
+        rhs,
+        (0.0, p[_k.TEND]),
+        np.zeros(4),
+        method=method,
+        rtol=rtol,
+        atol=atol,
+        jac=jacobian,
+        events=[ev(_k.EV_STICK, _k.SLIP), ev(_k.EV_SYNC, _k.SLIP)],
+        **extra,
+    )
     if s1.t_events[1].size:
         return s1.t_events[1][0]
     if not s1.t_events[0].size:
@@ -76,8 +96,17 @@ def scipy_engagement(p, method, rtol):
     y = s1.y_events[0][0].copy()
     y[1] = p[_k.WD]
     rhs, jacobian = fun(_k.STICK)
-    s2 = solve_ivp(rhs, (s1.t_events[0][0], p[_k.TEND]), y, method=method, rtol=rtol, atol=atol, jac=jacobian,
-                   events=[ev(_k.EV_SYNC, _k.STICK)], **extra)
+    s2 = solve_ivp(
+        rhs,
+        (s1.t_events[0][0], p[_k.TEND]),
+        y,
+        method=method,
+        rtol=rtol,
+        atol=atol,
+        jac=jacobian,
+        events=[ev(_k.EV_SYNC, _k.STICK)],
+        **extra,
+    )
     return s2.t_events[0][0] if s2.t_events[0].size else np.nan
 
 
@@ -88,8 +117,10 @@ def run(outdir="results/benchmark", n=40):
     P, _ = roller.parameter_rows(**d)
     t0 = time.perf_counter()
     ref = np.array([scipy_engagement(p, "Radau", 1e-12) for p in P])
-    print(f"reference: Radau rtol 1e-12, {(time.perf_counter() - t0) / n * 1e3:.0f} ms per scenario; "
-          f"engagement times {np.nanmin(ref) * 1e3:.3f}-{np.nanmax(ref) * 1e3:.3f} ms")
+    print(
+        f"reference: Radau rtol 1e-12, {(time.perf_counter() - t0) / n * 1e3:.0f} ms per scenario; "
+        f"engagement times {np.nanmin(ref) * 1e3:.3f}-{np.nanmax(ref) * 1e3:.3f} ms"
+    )
     roller.simulate(**{k: v[:2] for k, v in d.items()})  # load the compiled kernel before timing
     rows = []
     for rtol in RTOLS:
@@ -98,23 +129,39 @@ def run(outdir="results/benchmark", n=40):
             t0 = time.perf_counter()
             res = roller.simulate(rtol=rtol, **d)
             best = min(best, time.perf_counter() - t0)
-        rows.append(dict(method="clutchlab SDIRK4 (numba, events by re-stepping)", rtol=rtol,
-                         seconds_per_scenario=best / n,
-                         max_engagement_error_s=float(np.nanmax(np.abs(res["engagement_time"] - ref)))))
-    rows += per_scenario_sweep(scipy_engagement, P, ref, ("LSODA", "Radau"), (1e-4, 1e-6, 1e-8, 1e-10),
-                               "max_engagement_error_s", "scipy solve_ivp {method} per scenario")
+        rows.append(
+            dict(
+                method="clutchlab SDIRK4 (numba, events by re-stepping)",
+                rtol=rtol,
+                seconds_per_scenario=best / n,
+                max_engagement_error_s=float(np.nanmax(np.abs(res["engagement_time"] - ref))),
+            )
+        )
+    rows += per_scenario_sweep(
+        scipy_engagement,
+        P,
+        ref,
+        ("LSODA", "Radau"),
+        (1e-4, 1e-6, 1e-8, 1e-10),
+        "max_engagement_error_s",
+        "scipy solve_ivp {method} per scenario",
+    )
     for r in rows:
-        print(f"{r['method']:<50s} rtol {r['rtol']:.0e}: {r['seconds_per_scenario'] * 1e6:9.1f} us/scenario, "
-              f"max |engagement time error| {r['max_engagement_error_s']:.2e} s")
+        print(
+            f"{r['method']:<50s} rtol {r['rtol']:.0e}: {r['seconds_per_scenario'] * 1e6:9.1f} us/scenario, "
+            f"max |engagement time error| {r['max_engagement_error_s']:.2e} s"
+        )
     mine = [r for r in rows if r["method"].startswith("clutchlab")]
     for method in ("LSODA", "Radau"):
         for r in (r for r in rows if method in r["method"]):
             ok = [m for m in mine if m["max_engagement_error_s"] <= r["max_engagement_error_s"]]
             if ok:
                 m = min(ok, key=lambda m: m["seconds_per_scenario"])
-                print(f"ratio vs {method} at rtol {r['rtol']:.0e} (error {r['max_engagement_error_s']:.1e} s): "
-                      f"{r['seconds_per_scenario'] / m['seconds_per_scenario']:.0f}x "
-                      f"(clutchlab rtol {m['rtol']:.0e}, error {m['max_engagement_error_s']:.1e} s)")
+                print(
+                    f"ratio vs {method} at rtol {r['rtol']:.0e} (error {r['max_engagement_error_s']:.1e} s): "
+                    f"{r['seconds_per_scenario'] / m['seconds_per_scenario']:.0f}x "
+                    f"(clutchlab rtol {m['rtol']:.0e}, error {m['max_engagement_error_s']:.1e} s)"
+                )
     write_rows(rows, outdir / "roller_benchmark.csv")
     return rows
 

@@ -12,6 +12,7 @@ SLURM job ran: the time spent waiting on the scheduler and the status checks (su
 noticing the end), plus the local target. ``--local`` also runs the same
 config with ``--cores`` on this machine for comparison. Run it alone on the machine.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -27,9 +28,16 @@ SUBMITTED = re.compile(r"Job \d+ has been submitted with SLURM jobid (\d+)")
 
 
 def _times(ids) -> list[tuple[float, float, float]]:
-    out = subprocess.run(["squeue", "--states=all", "--noheader", "--format=%V|%S|%e", "--jobs", ",".join(ids)],
-                         capture_output=True, text=True, check=True).stdout
-    return [tuple(datetime.fromisoformat(t).timestamp() for t in line.split("|")) for line in out.split()]
+    out = subprocess.run(
+        ["squeue", "--states=all", "--noheader", "--format=%V|%S|%e", "--jobs", ",".join(ids)],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    return [
+        tuple(datetime.fromisoformat(t).timestamp() for t in line.split("|"))
+        for line in out.split()
+    ]
 
 
 def idle_share(intervals, t0, t1) -> float:
@@ -44,8 +52,16 @@ def idle_share(intervals, t0, t1) -> float:
 
 
 def run(configfile, profile="workflows/profiles/slurm") -> dict:
-    cmd = [sys.executable, "-m", "snakemake", "--workflow-profile", profile, "--configfile", configfile,
-           "--forceall"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "snakemake",
+        "--workflow-profile",
+        profile,
+        "--configfile",
+        configfile,
+        "--forceall",
+    ]
     t0 = time.time()
     proc = subprocess.run(cmd, capture_output=True, text=True)
     t1 = time.time()
@@ -55,18 +71,39 @@ def run(configfile, profile="workflows/profiles/slurm") -> dict:
     times = _times(ids)
     wait = sum(start - submit for submit, start, _ in times)
     total = sum(end - submit for submit, _, end in times)
-    return dict(run="slurm", configfile=configfile, wall_seconds=round(t1 - t0, 1), jobs=len(ids),
-                job_seconds=round(sum(end - start for _, start, end in times)),
-                queue_wait_share=round(wait / total, 3),
-                no_job_running_share=round(idle_share([(s, e) for _, s, e in times], t0, t1), 3))
+    return dict(
+        run="slurm",
+        configfile=configfile,
+        wall_seconds=round(t1 - t0, 1),
+        jobs=len(ids),
+        job_seconds=round(sum(end - start for _, start, end in times)),
+        queue_wait_share=round(wait / total, 3),
+        no_job_running_share=round(idle_share([(s, e) for _, s, e in times], t0, t1), 3),
+    )
 
 
 def run_local(configfile, cores=2) -> dict:
-    cmd = [sys.executable, "-m", "snakemake", "--cores", str(cores), "--configfile", configfile, "--forceall"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "snakemake",
+        "--cores",
+        str(cores),
+        "--configfile",
+        configfile,
+        "--forceall",
+    ]
     t0 = time.time()
     subprocess.run(cmd, check=True, capture_output=True)
-    return dict(run=f"local --cores {cores}", configfile=configfile, wall_seconds=round(time.time() - t0, 1),
-                jobs="", job_seconds="", queue_wait_share="", no_job_running_share="")
+    return dict(
+        run=f"local --cores {cores}",
+        configfile=configfile,
+        wall_seconds=round(time.time() - t0, 1),
+        jobs="",
+        job_seconds="",
+        queue_wait_share="",
+        no_job_running_share="",
+    )
 
 
 def main(argv=None):

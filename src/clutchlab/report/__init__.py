@@ -3,6 +3,7 @@
 :func:`build` writes one PNG per figure, ``report.pdf`` with every figure as a page, and
 ``validation.csv`` with every reproduced seed number.
 """
+
 from __future__ import annotations
 
 import importlib
@@ -38,7 +39,9 @@ def _pages_of(name: str) -> dict:
     try:
         module = FIGURE_MODULES[name]
     except KeyError:
-        raise KeyError(f"no report pages for study {name!r}; known: {sorted(FIGURE_MODULES)}") from None
+        raise KeyError(
+            f"no report pages for study {name!r}; known: {sorted(FIGURE_MODULES)}"
+        ) from None
     return importlib.import_module(f".{module}", __name__).PAGES
 
 
@@ -52,31 +55,56 @@ def study_pages(name: str, ds) -> list:
     return [(stem, draw(ds)) for stem, draw in _pages_of(name).items()]
 
 
-def figure_stems(study_names, benchmark=False, sensitivity=(), refined=(), hard_cases=False,
-                 numerics=False) -> list[str]:
+def figure_stems(
+    study_names, benchmark=False, sensitivity=(), refined=(), hard_cases=False, numerics=False
+) -> list[str]:
     """PNG stems the report produces for these studies (for Snakemake outputs); a sensitivity page
     for the studies in ``sensitivity`` (factorial grids), a refinement page for those in ``refined``
     (design refine); the validation table only where one of them reproduces seed numbers; the
     hard-case table with ``hard_cases``; the work-precision pages of the solvers used with ``numerics``."""
     from ..bench.numerics import stems as numerics_stems
 
-    stems = ["title"] + [f"{name}_{s}" for name in study_names
-                         for s in (*study_page_stems(name), "answers",
-                                   *(["sensitivity"] if name in sensitivity else []),
-                                   *(["refinement"] if name in refined else []))]
+    stems = ["title"] + [
+        f"{name}_{s}"
+        for name in study_names
+        for s in (
+            *study_page_stems(name),
+            "answers",
+            *(["sensitivity"] if name in sensitivity else []),
+            *(["refinement"] if name in refined else []),
+        )
+    ]
     validated = any(studies.get(name).validation is not None for name in study_names)
-    return (stems + (["engagement_work_precision"] if benchmark else []) + (["validation_table"] if validated else [])
-            + (["hard_cases"] if hard_cases else []) + (numerics_stems(study_names) if numerics else []))
+    return (
+        stems
+        + (["engagement_work_precision"] if benchmark else [])
+        + (["validation_table"] if validated else [])
+        + (["hard_cases"] if hard_cases else [])
+        + (numerics_stems(study_names) if numerics else [])
+    )
 
 
 def answer_files(study_names, refined=()) -> list[str]:
     """The front tables the report writes (one CSV per study) and the refinement tables."""
-    return [f"{name}_pareto.csv" for name in study_names] + [f"{name}_refinement.csv" for name in refined]
+    return [f"{name}_pareto.csv" for name in study_names] + [
+        f"{name}_refinement.csv" for name in refined
+    ]
 
 
-def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab report", dpi=120,
-          benchmark_csv=None, sensitivity_files=None, refine_files=None, hard_cases_file=None,
-          numerics_dir=None, job_seconds=None) -> list[Path]:
+def build(
+    study_files: dict,
+    validation_files: list,
+    outdir,
+    *,
+    title="clutchlab report",
+    dpi=120,
+    benchmark_csv=None,
+    sensitivity_files=None,
+    refine_files=None,
+    hard_cases_file=None,
+    numerics_dir=None,
+    job_seconds=None,
+) -> list[Path]:
     """Build the report from stored results.
 
     Parameters
@@ -113,7 +141,12 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
         pages += [(f"{name}_{stem}", fig) for stem, fig in study_pages(name, ds)]
         pages.append((f"{name}_answers", answers.page(name, ds)))
         if name in (sensitivity_files or {}):
-            pages.append((f"{name}_sensitivity", answers.sensitivity_page(name, store.load(sensitivity_files[name]))))
+            pages.append(
+                (
+                    f"{name}_sensitivity",
+                    answers.sensitivity_page(name, store.load(sensitivity_files[name])),
+                )
+            )
         with store.atomic(outdir / f"{name}_pareto.csv") as tmp:
             answers.write_csv(ds, tmp)
         if name in (refine_files or {}):
@@ -142,12 +175,25 @@ def build(study_files: dict, validation_files: list, outdir, *, title="clutchlab
         with store.atomic(outdir / "hard_cases.csv") as tmp:
             hard_cases_csv(cases, tmp)
     # the summary page opens the report and names each study's pages
-    stems_of = {name: [stem for stem, _ in pages if stem.startswith(f"{name}_")] for name in results}
-    pages.insert(0, ("title", title_page(title, __version__, results, validations, stems_of, job_seconds)))
+    stems_of = {
+        name: [stem for stem, _ in pages if stem.startswith(f"{name}_")] for name in results
+    }
+    pages.insert(
+        0, ("title", title_page(title, __version__, results, validations, stems_of, job_seconds))
+    )
     written = []
-    with store.atomic(outdir / "report.pdf") as tmp_pdf, \
-            PdfPages(tmp_pdf, metadata={"Title": title, "Creator": f"clutchlab {__version__}",
-                                        "CreationDate": None, "ModDate": None}) as pdf:
+    with (
+        store.atomic(outdir / "report.pdf") as tmp_pdf,
+        PdfPages(
+            tmp_pdf,
+            metadata={
+                "Title": title,
+                "Creator": f"clutchlab {__version__}",
+                "CreationDate": None,
+                "ModDate": None,
+            },
+        ) as pdf,
+    ):
         for stem, fig in pages:
             _wrap_suptitle(fig)
             png = outdir / f"{stem}.png"
@@ -165,7 +211,9 @@ def _wrap_suptitle(fig, width=130):
     if title is not None:
         import textwrap
 
-        title.set_text("\n".join(textwrap.fill(line, width) for line in title.get_text().split("\n")))
+        title.set_text(
+            "\n".join(textwrap.fill(line, width) for line in title.get_text().split("\n"))
+        )
 
 
 def status_counts(ds) -> dict[str, int]:

@@ -6,6 +6,7 @@ in a folder of the working directory (``.snakemake/clutchlab_captions``) when th
 parsed. Captions are Jinja templates: ``snakemake.params`` of the report rule is available
 (clutchlab version, source hash, the run's resolved config).
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -14,56 +15,56 @@ __all__ = ["caption", "category", "write"]
 
 FIGURES = {
     "diaphragm_spring_load_curves": "Almen-László load-deflection curves of a spread of spring designs with their "
-                                    "characteristic points A-D and the operating point B (seed 000 eq. 10).",
+    "characteristic points A-D and the operating point B (seed 000 eq. 10).",
     "diaphragm_spring_reserve_map": "Reserve factor (torque capacity over the engine's maximum torque) over sheet "
-                                    "thickness and cone-height ratio; designs without a hump or off the spring flagged.",
+    "thickness and cone-height ratio; designs without a hump or off the spring flagged.",
     "engagement_tradeoff": "The efficiency-smoothness trade-off: slip work against peak output jerk of every locked "
-                           "engagement, coloured by lock-up time, with the Pareto front of the feasible designs.",
+    "engagement, coloured by lock-up time, with the Pareto front of the feasible designs.",
     "engagement_maps": "Slip work and lock-up time over ramp time and clamp force.",
     "engagement_traces": "Seed design traces (equivalents of seed 000 Figs. 7-11): clamp force, speeds, clutch "
-                         "torque, slip work and output jerk over time.",
+    "torque, slip work and output jerk over time.",
     "engagement_heat": "Heat: the seed design's friction-face (Duhamel) and bulk temperature over the engagement "
-                       "and over engagements in a row; the peak friction-face temperature over the design; the "
-                       "trade-off coloured by it (assumed materials, clutchlab.heat).",
+    "and over engagements in a row; the peak friction-face temperature over the design; the "
+    "trade-off coloured by it (assumed materials, clutchlab.heat).",
     "centrifugal_capacity_curves": "Forward and reverse capacity of the seed design over engine speed against the "
-                                   "engine and passive torques (cf. seed 001 Fig. 5).",
+    "engine and passive torques (cf. seed 001 Fig. 5).",
     "centrifugal_release_map": "Release margin after an engine failure and forward reserve over pressure angle and "
-                               "friction coefficient, with the jam (f tan alpha >= 1) and near-jam regions.",
+    "friction coefficient, with the jam (f tan alpha >= 1) and near-jam regions.",
     "centrifugal_traces": "Seed design start-up and engine-failure traces (DOP853 with lock-up and release events).",
     "sprag_stress_vs_torque": "Contact and shaft von Mises stresses and the gripping angle against torque, with the "
-                              "allowables (seed 002 Table 2 values marked).",
+    "allowables (seed 002 Table 2 values marked).",
     "sprag_pass_map": "Which sprag geometries pass every allowable (contact, shaft, gripping angle).",
     "sprag_impact_torque": "Impact torque of the starter (seed 002 eqs. 1-5): T(t) and its peak against power, "
-                           "inertia, damping and initial speed.",
+    "inertia, damping and initial speed.",
     "roller_stress_engagement": "Roller count: static contact stress and the engagement time and backlash of the "
-                                "wedging dynamics.",
+    "wedging dynamics.",
     "roller_feasible_region": "Feasible region over roller count and wedge angle: ok, above the allowable, not "
-                              "self-locking, never engaged, overrunning.",
+    "self-locking, never engaged, overrunning.",
     "roller_engagement_trace": "Seed 003 design: engagement from rest and release after the control ring stops "
-                               "(speeds and contact force; cf. Figs. 7 and 9).",
+    "(speeds and contact force; cf. Figs. 7 and 9).",
 }
 GENERIC = {
     "answers": "Design answers of study {study}: feasible share, the constraints that fail most, the Pareto front "
-               "(per operating condition where ranked within one) with the seed design, and the front's designs.",
+    "(per operating condition where ranked within one) with the seed design, and the front's designs.",
     "sensitivity": "First-order and total sensitivity indices of study {study}'s objectives, constrained outputs "
-                   "and failure indicator to each factor.",
+    "and failure indicator to each factor.",
     "refinement": "Refinement of study {study}: hypervolume of the first stage's front and of both stages' front "
-                  "per operating condition.",
+    "per operating condition.",
     "pareto.csv": "The Pareto front designs of study {study} (factors and objectives in SI).",
     "refinement.csv": "Hypervolume before and after the refinement of study {study}.",
     "numerics": "Work-precision of the solver study {study} runs, against per-scenario scipy, measured in this run "
-                "on a small sample, with the speed ratio at equal error.",
+    "on a small sample, with the speed ratio at equal error.",
 }
 SINGLE = {
     "title": "Summary: per study the scenarios, design, model, status counts, best compromise design and pages. "
-             "clutchlab {{ snakemake.params.version }}, source hash {{ snakemake.params.source }}.",
+    "clutchlab {{ snakemake.params.version }}, source hash {{ snakemake.params.source }}.",
     "validation_table": "Seed numbers reproduced: published value, clutchlab's value, relative error, tolerance.",
     "validation.csv": "The validation table as CSV.",
     "hard_cases": "Hard cases of the physics notes and since, computed in this run: right answer and its source, "
-                  "clutchlab's value, error, pass, and what an off-the-shelf solver gives.",
+    "clutchlab's value, error, pass, and what an off-the-shelf solver gives.",
     "hard_cases.csv": "The hard cases as CSV.",
     "engagement_work_precision": "Work-precision of the engagement solvers (rigid driveline, Stribeck friction) "
-                                 "against per-scenario solve_ivp RK45, from the engagement benchmark of this run.",
+    "against per-scenario solve_ivp RK45, from the engagement benchmark of this run.",
     "report.pdf": "The whole report as a PDF (every page above).",
 }
 
@@ -72,7 +73,7 @@ def _split(name: str, study_names) -> tuple[str | None, str]:
     """(study, the rest of the file name) of a report file name."""
     for s in sorted(study_names, key=len, reverse=True):
         if name.startswith(f"{s}_"):
-            return s, name[len(s) + 1:]
+            return s, name[len(s) + 1 :]
         if name == f"numerics_{s}.png":
             return s, "numerics"
     return None, name

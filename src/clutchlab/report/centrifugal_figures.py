@@ -1,5 +1,6 @@
 """Figures of the centrifugal study: capacity curves (seed 001 Fig. 5), release/reserve map over
 (α, f), start-up and engine-failure traces (Figs. 6-8)."""
+
 from __future__ import annotations
 
 import matplotlib.pyplot as plt
@@ -7,7 +8,14 @@ import numpy as np
 
 from .. import status as st
 from ..studies.centrifugal import PARAMETERS, RPM
-from .common import A4_LANDSCAPE, contour_level, fixed_text, robust_limits, sampled_value_map, with_curves
+from .common import (
+    A4_LANDSCAPE,
+    contour_level,
+    fixed_text,
+    robust_limits,
+    sampled_value_map,
+    with_curves,
+)
 from .common import seed_view as _seed_view
 
 SEED = {p.name: p.default for p in PARAMETERS}
@@ -22,17 +30,33 @@ def capacity_curves(ds):
     sub = seed_view(ds)
     rpm = ds["speed"].values / RPM
     fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
-    ax.plot(rpm, sub["capacity_forward_curve"].values, "b-", lw=2, label="forward capacity M(n) (eq. 1)")
-    ax.plot(rpm, sub["capacity_reverse_curve"].values, "r-", lw=2, label="reverse capacity M'(n) (eq. 2)")
-    ax.plot(rpm, sub["engine_torque_curve"].values, "k-", label="engine torque (shape illustrative)")
-    ax.plot(rpm, sub["passive_torque_curve"].values, "k--", label="passive (back-driven) engine torque")
+    ax.plot(
+        rpm, sub["capacity_forward_curve"].values, "b-", lw=2, label="forward capacity M(n) (eq. 1)"
+    )
+    ax.plot(
+        rpm,
+        sub["capacity_reverse_curve"].values,
+        "r-",
+        lw=2,
+        label="reverse capacity M'(n) (eq. 2)",
+    )
+    ax.plot(
+        rpm, sub["engine_torque_curve"].values, "k-", label="engine torque (shape illustrative)"
+    )
+    ax.plot(
+        rpm, sub["passive_torque_curve"].values, "k--", label="passive (back-driven) engine torque"
+    )
     if "pressure_angle" in ds.dims and "run" not in ds.dims:
         other = seed_view(ds, keep=("pressure_angle",))
         for a in other["pressure_angle"].values:
             c = other.sel(pressure_angle=a)
-            if int(c["status"]) == st.CODE["ok"] and not np.isclose(a, float(sub["pressure_angle"])):
+            if int(c["status"]) == st.CODE["ok"] and not np.isclose(
+                a, float(sub["pressure_angle"])
+            ):
                 ax.plot(rpm, c["capacity_reverse_curve"].values, "r-", lw=0.6, alpha=0.5)
-        ax.plot([], [], "r-", lw=0.6, alpha=0.5, label="M'(n) at the other pressure angles of the grid")
+        ax.plot(
+            [], [], "r-", lw=0.6, alpha=0.5, label="M'(n) at the other pressure angles of the grid"
+        )
     ax.axvspan(1900, 2100, color="0.85", label="idle 1900-2100 rpm (must be disengaged)")
     w0 = float(sub["engagement_speed"]) / RPM
     ax.axvline(w0, color="g", ls=":", label=f"engagement speed {w0:.0f} rpm")
@@ -44,10 +68,12 @@ def capacity_curves(ds):
     ax.set_ylabel("torque [N m]")
     ax.grid(alpha=0.3)
     ax.legend(loc="upper left", fontsize=9)
-    ax.set_title("Capacity curves of the seed design (nearest grid point): forward M, reverse M' and engine torques\n"
-                 f"M = {float(sub['capacity_forward']):.1f} N m, M' = {float(sub['capacity_reverse']):.1f} N m, "
-                 f"reserve {float(sub['reserve_factor']):.2f} at rated speed; "
-                 + fixed_text(sub, ("pressure_angle", "friction_coefficient")))
+    ax.set_title(
+        "Capacity curves of the seed design (nearest grid point): forward M, reverse M' and engine torques\n"
+        f"M = {float(sub['capacity_forward']):.1f} N m, M' = {float(sub['capacity_reverse']):.1f} N m, "
+        f"reserve {float(sub['reserve_factor']):.2f} at rated speed; "
+        + fixed_text(sub, ("pressure_angle", "friction_coefficient"))
+    )
     return fig
 
 
@@ -60,53 +86,112 @@ def release_map(ds):
         # colour limits from the designs without a near-singular capacity (near_jam: M ∝ 1/(1 - f tan(alpha)))
         scale = code == st.CODE["ok"]
         for ax, name in zip(axes, ("release_margin", "reserve_factor")):
-            x = np.rad2deg(ds["pressure_angle"].values.ravel()) if "pressure_angle" in ds.coords else np.zeros(ok.size)
-            y = ds["friction_coefficient"].values.ravel() if "friction_coefficient" in ds.coords else np.zeros(ok.size)
+            x = (
+                np.rad2deg(ds["pressure_angle"].values.ravel())
+                if "pressure_angle" in ds.coords
+                else np.zeros(ok.size)
+            )
+            y = (
+                ds["friction_coefficient"].values.ravel()
+                if "friction_coefficient" in ds.coords
+                else np.zeros(ok.size)
+            )
             z = np.broadcast_to(ds[name].values, ds["status"].shape).reshape(-1)
-            limits = robust_limits(z[scale] if scale.any() else z[ok], symmetric=name == "release_margin", cap=4.0)
-            sampled_value_map(ax, x[ok], y[ok], z[ok], f"{name} [{ds[name].attrs['units']}]",
-                              cmap="RdBu" if name == "release_margin" else "viridis", limits=limits)
+            limits = robust_limits(
+                z[scale] if scale.any() else z[ok], symmetric=name == "release_margin", cap=4.0
+            )
+            sampled_value_map(
+                ax,
+                x[ok],
+                y[ok],
+                z[ok],
+                f"{name} [{ds[name].attrs['units']}]",
+                cmap="RdBu" if name == "release_margin" else "viridis",
+                limits=limits,
+            )
             ax.set_xlabel("pressure angle [deg]")
             ax.set_ylabel("friction coefficient f")
         near = int((code == st.CODE["near_jam"]).sum())
-        fig.suptitle(f"Release margin and forward reserve of {ok.size} designs ({int((~ok).sum())} jammed left "
-                     f"out, {near} near_jam drawn but not scaling the colours;\ncolours clipped to the 1st-99th "
-                     "percentiles of the ok designs, reserve at 4)")
+        fig.suptitle(
+            f"Release margin and forward reserve of {ok.size} designs ({int((~ok).sum())} jammed left "
+            f"out, {near} near_jam drawn but not scaling the colours;\ncolours clipped to the 1st-99th "
+            "percentiles of the ok designs, reserve at 4)"
+        )
         return fig
     sub = seed_view(ds, keep=keep).transpose("friction_coefficient", "pressure_angle", ...)
     a = np.rad2deg(sub["pressure_angle"].values)
     f = sub["friction_coefficient"].values
     code = sub["status"].values
-    for ax, name, cmap, label in ((axes[0], "release_margin", "RdBu", "release margin T_p - M' at rated [N m]\n"
-                                   "(> 0: the clutch lets go when the engine dies)"),
-                                  (axes[1], "reserve_factor", "viridis", "reserve factor M / T_e at rated [-] (colour capped at 4)")):
+    for ax, name, cmap, label in (
+        (
+            axes[0],
+            "release_margin",
+            "RdBu",
+            "release margin T_p - M' at rated [N m]\n"
+            "(> 0: the clutch lets go when the engine dies)",
+        ),
+        (
+            axes[1],
+            "reserve_factor",
+            "viridis",
+            "reserve factor M / T_e at rated [-] (colour capped at 4)",
+        ),
+    ):
         z = np.where(code == st.CODE["jammed"], np.nan, sub[name].values)
         if name == "release_margin":
             lim = np.nanmax(np.abs(z)) if np.isfinite(z).any() else 1.0
             m = ax.pcolormesh(a, f, z, shading="nearest", cmap=cmap, vmin=-lim, vmax=lim)
             contour_level(ax, a, f, z, 0.0, colors="k", linewidths=1.5)
         else:
-            m = ax.pcolormesh(a, f, z, shading="nearest", cmap=cmap, vmin=0.0, vmax=min(np.nanmax(z), 4.0))
-            if contour_level(ax, a, f, z, 1.5, colors="w", linewidths=1.2, linestyles="--") is not None:
+            m = ax.pcolormesh(
+                a, f, z, shading="nearest", cmap=cmap, vmin=0.0, vmax=min(np.nanmax(z), 4.0)
+            )
+            if (
+                contour_level(ax, a, f, z, 1.5, colors="w", linewidths=1.2, linestyles="--")
+                is not None
+            ):
                 ax.plot([], [], "w--", label="reserve 1.5")
         fig.colorbar(m, ax=ax, label=label)
         # jam region: f tan(alpha) >= 1, drawn exactly as the curve f = 1/tan(alpha)
         aa = np.linspace(a.min(), a.max(), 200)
         fj = 1.0 / np.tan(np.deg2rad(aa))
-        ax.fill_between(aa, fj, f.max() + 0.5 * (f.max() - f.min()), where=fj <= f.max(), hatch="xx",
-                        facecolor="none", edgecolor="k", lw=0.5, label="jammed: f tan(alpha) >= 1")
+        ax.fill_between(
+            aa,
+            fj,
+            f.max() + 0.5 * (f.max() - f.min()),
+            where=fj <= f.max(),
+            hatch="xx",
+            facecolor="none",
+            edgecolor="k",
+            lw=0.5,
+            label="jammed: f tan(alpha) >= 1",
+        )
         if "friction_scatter" in sub and sub["friction_scatter"].ndim == 0:
             scatter = float(sub["friction_scatter"])
-            ax.plot(aa, fj / (1.0 + scatter), "k--", lw=1.0,
-                    label=f"near_jam above: {1 + scatter:g} f tan(alpha) >= 1")
-        ax.plot(np.rad2deg(SEED["pressure_angle"]), SEED["friction_coefficient"], "*", ms=16, mfc="orange", mec="k",
-                label="seed 001 design")
+            ax.plot(
+                aa,
+                fj / (1.0 + scatter),
+                "k--",
+                lw=1.0,
+                label=f"near_jam above: {1 + scatter:g} f tan(alpha) >= 1",
+            )
+        ax.plot(
+            np.rad2deg(SEED["pressure_angle"]),
+            SEED["friction_coefficient"],
+            "*",
+            ms=16,
+            mfc="orange",
+            mec="k",
+            label="seed 001 design",
+        )
         ax.set_ylim(f.min(), f.max())
         ax.set_xlabel("linkage pressure angle alpha [deg]")
         ax.set_ylabel("friction coefficient f")
         ax.legend(loc="lower left", fontsize=8)
     fixed = fixed_text(sub, [d for d in ds.dims if d not in keep])
-    fig.suptitle("Release margin and forward reserve over (alpha, f)" + (f"\n({fixed})" if fixed else ""))
+    fig.suptitle(
+        "Release margin and forward reserve over (alpha, f)" + (f"\n({fixed})" if fixed else "")
+    )
     return fig
 
 
@@ -114,10 +199,18 @@ def traces(ds):
     fig, axes = plt.subplots(1, 2, figsize=A4_LANDSCAPE, gridspec_kw={"wspace": 0.3})
     if "failure_engine_speed" not in ds:
         for ax in axes:
-            ax.text(0.5, 0.5, "seed design is not ok (status): no traces", ha="center", transform=ax.transAxes)
+            ax.text(
+                0.5,
+                0.5,
+                "seed design is not ok (status): no traces",
+                ha="center",
+                transform=ax.transAxes,
+            )
         return fig
-    for ax, prefix, dim, title in ((axes[0], "startup", "startup_time_axis", "Start-up (cf. Fig. 6)"),
-                                   (axes[1], "failure", "failure_time", "Engine failure at rated speed (cf. Fig. 8)")):
+    for ax, prefix, dim, title in (
+        (axes[0], "startup", "startup_time_axis", "Start-up (cf. Fig. 6)"),
+        (axes[1], "failure", "failure_time", "Engine failure at rated speed (cf. Fig. 8)"),
+    ):
         t = ds[dim].values
         ax.plot(t, ds[f"{prefix}_engine_speed"].values / RPM, "k-", label="engine (shoe carrier)")
         ax.plot(t, ds[f"{prefix}_rotor_speed"].values / RPM, "b--", label="rotor side (drum)")
@@ -129,10 +222,14 @@ def traces(ds):
     if np.isfinite(t_lock):
         axes[0].axvline(t_lock, color="g", ls=":", label=f"lock-up {t_lock:.2f} s")
     t_rel = float(ds["failure_release_time"])
-    axes[1].axvline(t_rel, color="r", ls=":", label=f"release {t_rel * 1e3:.1f} ms after the failure")
+    axes[1].axvline(
+        t_rel, color="r", ls=":", label=f"release {t_rel * 1e3:.1f} ms after the failure"
+    )
     for ax in axes:
         ax.legend(fontsize=9)
-    fig.suptitle("Seed design traces (DOP853, lock-up and release located as events); inertias and loads assumed")
+    fig.suptitle(
+        "Seed design traces (DOP853, lock-up and release located as events); inertias and loads assumed"
+    )
     return fig
 
 

@@ -1,4 +1,5 @@
 """Report pages and helpers shared by every study: seed selection, title page, validation table."""
+
 from __future__ import annotations
 
 import textwrap
@@ -19,9 +20,19 @@ def with_curves(ds):
         return ds
     curves = [n for n, v in ds.data_vars.items() if "curve_run" in v.dims]
     position = {int(r): i for i, r in enumerate(ds["run"].values)}
-    base = ds.drop_vars(curves + ["curve_run"]).isel(run=[position[int(r)] for r in ds["curve_run"].values])
-    return base.assign({n: (tuple("run" if d == "curve_run" else d for d in ds[n].dims), ds[n].values,
-                            ds[n].attrs) for n in curves})
+    base = ds.drop_vars(curves + ["curve_run"]).isel(
+        run=[position[int(r)] for r in ds["curve_run"].values]
+    )
+    return base.assign(
+        {
+            n: (
+                tuple("run" if d == "curve_run" else d for d in ds[n].dims),
+                ds[n].values,
+                ds[n].attrs,
+            )
+            for n in curves
+        }
+    )
 
 
 def seed_view(ds, seed, keep=()):
@@ -33,7 +44,9 @@ def seed_view(ds, seed, keep=()):
         options = ds.attrs.get("option_factors", "").split()
         for name in ds.attrs.get("factors", "").split():
             v = ds[name].values
-            if name in options:  # an option drawn per scenario: its first listed choice, as the traces
+            if (
+                name in options
+            ):  # an option drawn per scenario: its first listed choice, as the traces
                 dist += np.where(v == 0, 0.0, 1e6)
                 continue
             dist += ((v - seed[name]) / (np.ptp(v) or 1.0)) ** 2
@@ -43,7 +56,7 @@ def seed_view(ds, seed, keep=()):
 
 
 def fixed_text(sub, dims):
-    """"name = value unit" for the scalar coordinates ``dims`` of a selection (angles in deg)."""
+    """ "name = value unit" for the scalar coordinates ``dims`` of a selection (angles in deg)."""
     out = []
     for d in dims:
         if d in sub.coords and sub[d].ndim == 0:
@@ -62,24 +75,45 @@ def title_page(title, version, results, validations, pages=None, job_seconds=Non
 
     fig = plt.figure(figsize=A4_LANDSCAPE)
     # the title is the user's text: drawn as it is written ("$" is not mathtext), wrapped to the page
-    fig.text(0.06, 0.95, "\n".join(textwrap.wrap(title, 70)), fontsize=20, weight="bold", va="top",
-             parse_math=False)
+    fig.text(
+        0.06,
+        0.95,
+        "\n".join(textwrap.wrap(title, 70)),
+        fontsize=20,
+        weight="bold",
+        va="top",
+        parse_math=False,
+    )
     fig.text(0.06, 0.855, f"clutchlab {version}", fontsize=11, color="0.3")
     blocks = []
     for name, ds in results.items():
         n = int(np.prod([ds.sizes[d] for d in ds["status"].dims])) if ds["status"].dims else 1
         dims = ", ".join(f"{d} ({ds.sizes[d]})" for d in ds["status"].dims)
-        lines = [f"Study '{name}': {ds.attrs.get('title', '')}",
-                 f"  {n} scenarios, design {ds.attrs.get('design')}, dimensions: {dims}",
-                 f"  model: {ds.attrs.get('model', '')}",
-                 *([f"  computed by {job_seconds[name][0]} jobs in {job_seconds[name][1]:.1f} s of job time (chunks and "
-                    "merge, Snakemake's benchmark files)"] if job_seconds and name in job_seconds else []),
-                 "  status: " + ", ".join(f"{k} {v}" for k, v in status_counts(ds).items())]
+        lines = [
+            f"Study '{name}': {ds.attrs.get('title', '')}",
+            f"  {n} scenarios, design {ds.attrs.get('design')}, dimensions: {dims}",
+            f"  model: {ds.attrs.get('model', '')}",
+            *(
+                [
+                    f"  computed by {job_seconds[name][0]} jobs in {job_seconds[name][1]:.1f} s of job time (chunks and "
+                    "merge, Snakemake's benchmark files)"
+                ]
+                if job_seconds and name in job_seconds
+                else []
+            ),
+            "  status: " + ", ".join(f"{k} {v}" for k, v in status_counts(ds).items()),
+        ]
         if "pareto_rank" in ds:
             lines.append("  best compromise: " + best_text(ds))
         if pages and pages.get(name):
             lines.append("  pages: " + ", ".join(pages[name]))
-        blocks.append([w for line in lines for w in textwrap.wrap(line, 120, subsequent_indent="    ") or [""]])
+        blocks.append(
+            [
+                w
+                for line in lines
+                for w in textwrap.wrap(line, 120, subsequent_indent="    ") or [""]
+            ]
+        )
     # the studies' lines share the page between the title and the footnote (0.80 .. 0.10)
     n_lines = sum(len(b) for b in blocks) + 0.7 * len(blocks) + (2 if validations else 0)
     step = min(0.03, 0.70 / max(n_lines, 1))
@@ -93,10 +127,21 @@ def title_page(title, version, results, validations, pages=None, job_seconds=Non
     if validations:
         n = sum(v.sizes["row"] for v in validations)
         ok = sum(int(v["passed"].sum()) for v in validations)
-        fig.text(0.06, y - step, f"Validation: {ok} of {n} reproduced seed numbers within tolerance "
-                 "(table on the last page, validation.csv).", fontsize=10)
-    fig.text(0.06, 0.04, "Units: SI inside every result file (units attribute on each variable); "
-             "figures use mm, kN and MPa where marked.", fontsize=8, color="0.4")
+        fig.text(
+            0.06,
+            y - step,
+            f"Validation: {ok} of {n} reproduced seed numbers within tolerance "
+            "(table on the last page, validation.csv).",
+            fontsize=10,
+        )
+    fig.text(
+        0.06,
+        0.04,
+        "Units: SI inside every result file (units attribute on each variable); "
+        "figures use mm, kN and MPa where marked.",
+        fontsize=8,
+        color="0.4",
+    )
     return fig
 
 
@@ -104,21 +149,38 @@ def validation_table(validations):
     rows = []
     for v in validations:
         for i in range(v.sizes["row"]):
-            rows.append([
-                str(v["seed"].values[i]),
-                textwrap.fill(str(v["quantity"].values[i]), 40),
-                textwrap.fill(str(v["source"].values[i]), 20),
-                f"{float(v['published'].values[i]):.5g}",
-                f"{float(v['computed'].values[i]):.5g}",
-                str(v["units"].values[i]),
-                f"{float(v['rel_error'].values[i]):.2e}",
-                f"{float(v['tolerance'].values[i]):.0e}",
-                "yes" if int(v["passed"].values[i]) else "NO",
-                textwrap.fill(str(v["note"].values[i]), 54),
-            ])
-    cols = ["seed", "quantity", "source", "published", "computed", "units", "rel. error", "tol.", "pass", "note"]
-    return table_page("Validation against the seed papers", cols, rows,
-                      [0.035, 0.2, 0.09, 0.065, 0.065, 0.06, 0.06, 0.04, 0.035, 0.25])
+            rows.append(
+                [
+                    str(v["seed"].values[i]),
+                    textwrap.fill(str(v["quantity"].values[i]), 40),
+                    textwrap.fill(str(v["source"].values[i]), 20),
+                    f"{float(v['published'].values[i]):.5g}",
+                    f"{float(v['computed'].values[i]):.5g}",
+                    str(v["units"].values[i]),
+                    f"{float(v['rel_error'].values[i]):.2e}",
+                    f"{float(v['tolerance'].values[i]):.0e}",
+                    "yes" if int(v["passed"].values[i]) else "NO",
+                    textwrap.fill(str(v["note"].values[i]), 54),
+                ]
+            )
+    cols = [
+        "seed",
+        "quantity",
+        "source",
+        "published",
+        "computed",
+        "units",
+        "rel. error",
+        "tol.",
+        "pass",
+        "note",
+    ]
+    return table_page(
+        "Validation against the seed papers",
+        cols,
+        rows,
+        [0.035, 0.2, 0.09, 0.065, 0.065, 0.06, 0.06, 0.04, 0.035, 0.25],
+    )
 
 
 def hard_case_table(ds):
@@ -126,22 +188,39 @@ def hard_case_table(ds):
     rows = []
     for i in range(ds.sizes["case"]):
         err = float(ds["error"].values[i])
-        rows.append([
-            textwrap.fill(str(ds["study"].values[i]), 12),
-            textwrap.fill(str(ds["name"].values[i]), 30),
-            textwrap.fill(str(ds["right_answer"].values[i]), 34),
-            textwrap.fill(str(ds["source"].values[i]), 24),
-            textwrap.fill(str(ds["computed"].values[i]), 34),
-            "status" if np.isnan(err) else f"{err:.1e}" + (" rel." if ds["error_kind"].values[i] == "relative" else ""),
-            "" if np.isnan(err) else f"{float(ds['tolerance'].values[i]):.0e}",
-            "yes" if int(ds["passed"].values[i]) else "NO",
-            textwrap.fill(str(ds["off_the_shelf"].values[i]), 38),
-        ])
-    cols = ["study", "case", "right answer", "source", "clutchlab (this run)", "error", "tol.", "pass",
-            "off-the-shelf solver"]
+        rows.append(
+            [
+                textwrap.fill(str(ds["study"].values[i]), 12),
+                textwrap.fill(str(ds["name"].values[i]), 30),
+                textwrap.fill(str(ds["right_answer"].values[i]), 34),
+                textwrap.fill(str(ds["source"].values[i]), 24),
+                textwrap.fill(str(ds["computed"].values[i]), 34),
+                "status"
+                if np.isnan(err)
+                else f"{err:.1e}" + (" rel." if ds["error_kind"].values[i] == "relative" else ""),
+                "" if np.isnan(err) else f"{float(ds['tolerance'].values[i]):.0e}",
+                "yes" if int(ds["passed"].values[i]) else "NO",
+                textwrap.fill(str(ds["off_the_shelf"].values[i]), 38),
+            ]
+        )
+    cols = [
+        "study",
+        "case",
+        "right answer",
+        "source",
+        "clutchlab (this run)",
+        "error",
+        "tol.",
+        "pass",
+        "off-the-shelf solver",
+    ]
     n_pass = int(ds["passed"].values.sum())
-    return table_page(f"Hard cases: {n_pass} of {ds.sizes['case']} pass (computed in this run; hard_cases.csv)", cols,
-                      rows, [0.06, 0.14, 0.16, 0.115, 0.16, 0.06, 0.035, 0.03, 0.19])
+    return table_page(
+        f"Hard cases: {n_pass} of {ds.sizes['case']} pass (computed in this run; hard_cases.csv)",
+        cols,
+        rows,
+        [0.06, 0.14, 0.16, 0.115, 0.16, 0.06, 0.035, 0.03, 0.19],
+    )
 
 
 def table_page(title, cols, rows, widths):
@@ -152,7 +231,9 @@ def table_page(title, cols, rows, widths):
     ax = fig.add_axes([0.01, 0.02, 0.98, 1.0 - 0.9 / height])
     ax.axis("off")
     fig.text(0.02, 1.0 - 0.45 / height, title, fontsize=14, weight="bold")
-    table = ax.table(cellText=rows, colLabels=cols, loc="upper center", cellLoc="left", colWidths=widths)
+    table = ax.table(
+        cellText=rows, colLabels=cols, loc="upper center", cellLoc="left", colWidths=widths
+    )
     table.auto_set_font_size(False)
     table.set_fontsize(6.5)
     cells = table.get_celld()
@@ -200,15 +281,35 @@ def sampled_category_map(ax, x, y, category, categories, bins=30):
 
     x, y, category = (np.asarray(v).reshape(-1) for v in (x, y, category))
     if x.size <= SCATTER_MAX:
-        ax.scatter(x, y, c=category, s=14, cmap=ListedColormap([c for _, c in categories]),
-                   norm=BoundaryNorm(np.arange(len(categories) + 1) - 0.5, len(categories)), rasterized=True)
-        return [Line2D([], [], ls="", marker="s", color=c, ms=9, label=lab) for lab, c in categories]
+        ax.scatter(
+            x,
+            y,
+            c=category,
+            s=14,
+            cmap=ListedColormap([c for _, c in categories]),
+            norm=BoundaryNorm(np.arange(len(categories) + 1) - 0.5, len(categories)),
+            rasterized=True,
+        )
+        return [
+            Line2D([], [], ls="", marker="s", color=c, ms=9, label=lab) for lab, c in categories
+        ]
     from scipy.stats import binned_statistic_2d
 
-    share = binned_statistic_2d(x, y, (category == 0).astype(float), "mean", bins=[_edges(x, bins), _edges(y, bins)])
-    mesh = ax.pcolormesh(share.x_edge, share.y_edge, share.statistic.T, cmap="RdYlGn", vmin=0, vmax=1,
-                         rasterized=True)
-    ax.figure.colorbar(mesh, ax=ax, label=f"share of designs: {categories[0][0]} ({x.size} designs binned)")
+    share = binned_statistic_2d(
+        x, y, (category == 0).astype(float), "mean", bins=[_edges(x, bins), _edges(y, bins)]
+    )
+    mesh = ax.pcolormesh(
+        share.x_edge,
+        share.y_edge,
+        share.statistic.T,
+        cmap="RdYlGn",
+        vmin=0,
+        vmax=1,
+        rasterized=True,
+    )
+    ax.figure.colorbar(
+        mesh, ax=ax, label=f"share of designs: {categories[0][0]} ({x.size} designs binned)"
+    )
     return []
 
 
@@ -223,7 +324,11 @@ def texts_outside(fig) -> list[str]:
     ticks = set()
     for ax in fig.axes:
         for axis in (ax.xaxis, ax.yaxis):
-            ticks |= {id(t) for tick in axis.get_major_ticks() + axis.get_minor_ticks() for t in (tick.label1, tick.label2)}
+            ticks |= {
+                id(t)
+                for tick in axis.get_major_ticks() + axis.get_minor_ticks()
+                for t in (tick.label1, tick.label2)
+            }
     width, height = fig.bbox.width, fig.bbox.height
     out = []
     for t in fig.findobj(Text):
@@ -269,16 +374,42 @@ def sampled_value_map(ax, x, y, z, label, cmap="viridis", limits=None, bins=30):
     x, y, z = (np.asarray(v, dtype=float).reshape(-1) for v in (x, y, z))
     vmin, vmax = limits or robust_limits(z)
     finite = np.isfinite(z)
-    extend = {(False, False): "neither", (True, False): "min", (False, True): "max", (True, True): "both"}[
-        (bool((z[finite] < vmin).any()), bool((z[finite] > vmax).any()))]
+    extend = {
+        (False, False): "neither",
+        (True, False): "min",
+        (False, True): "max",
+        (True, True): "both",
+    }[(bool((z[finite] < vmin).any()), bool((z[finite] > vmax).any()))]
     if x.size <= SCATTER_MAX:
-        m = ax.scatter(x[finite], y[finite], c=z[finite], s=10, cmap=cmap, vmin=vmin, vmax=vmax, rasterized=True)
+        m = ax.scatter(
+            x[finite],
+            y[finite],
+            c=z[finite],
+            s=10,
+            cmap=cmap,
+            vmin=vmin,
+            vmax=vmax,
+            rasterized=True,
+        )
     else:
         from scipy.stats import binned_statistic_2d
 
-        med = binned_statistic_2d(x[finite], y[finite], z[finite], "median",
-                                  bins=[_edges(x[finite], bins), _edges(y[finite], bins)])
-        m = ax.pcolormesh(med.x_edge, med.y_edge, med.statistic.T, cmap=cmap, vmin=vmin, vmax=vmax, rasterized=True)
+        med = binned_statistic_2d(
+            x[finite],
+            y[finite],
+            z[finite],
+            "median",
+            bins=[_edges(x[finite], bins), _edges(y[finite], bins)],
+        )
+        m = ax.pcolormesh(
+            med.x_edge,
+            med.y_edge,
+            med.statistic.T,
+            cmap=cmap,
+            vmin=vmin,
+            vmax=vmax,
+            rasterized=True,
+        )
         label += f" (median per bin, {x.size} designs)"
     ax.figure.colorbar(m, ax=ax, label=label, extend=extend)
     return m

@@ -1,4 +1,5 @@
 """Figures of the diaphragm_spring study: F(λ) family with A/B/C/D, reserve-factor map."""
+
 from __future__ import annotations
 
 import matplotlib.pyplot as plt
@@ -9,7 +10,12 @@ from .. import status as st
 from ..explore import flat
 from .common import A4_LANDSCAPE, SCATTER_MAX, contour_level, sampled_value_map, with_curves
 
-MARKERS = {"A": ("^", "peak A"), "C": ("o", "flat C"), "D": ("v", "valley D"), "B": ("s", "operating B")}
+MARKERS = {
+    "A": ("^", "peak A"),
+    "C": ("o", "flat C"),
+    "D": ("v", "valley D"),
+    "B": ("s", "operating B"),
+}
 
 
 def _nearest(ds, **targets):
@@ -22,32 +28,49 @@ def load_curves(ds):
     fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
     ds = with_curves(ds)  # a large sampled design stores the curves of a subset
     if "run" in ds.dims:  # sampled design: a spread of designs ordered by H/h
-        order = np.argsort(ds["cone_height_ratio"].values if "cone_height_ratio" in ds.coords
-                           else ds["run"].values)
+        order = np.argsort(
+            ds["cone_height_ratio"].values if "cone_height_ratio" in ds.coords else ds["run"].values
+        )
         picks = order[np.linspace(0, len(order) - 1, min(9, len(order))).astype(int)]
         sub = ds.isel(run=picks)
         members = [sub.isel(run=i) for i in range(sub.sizes["run"])]
         fixed = "sampled design: 9 scenarios spread over H/h"
     else:
-        mid = {d: float(ds[d].values[len(ds[d]) // 2]) for d in ("sheet_thickness", "radius_ratio")
-               if d in ds.dims}
+        mid = {
+            d: float(ds[d].values[len(ds[d]) // 2])
+            for d in ("sheet_thickness", "radius_ratio")
+            if d in ds.dims
+        }
         sub = _nearest(ds, operating_point_factor=0.9, **mid)
         if "cone_height_ratio" in sub.dims:
             members = [sub.isel(cone_height_ratio=i) for i in range(sub.sizes["cone_height_ratio"])]
         else:
             members = [sub]
-        fixed = ", ".join([f"h = {float(sub['sheet_thickness']) * 1e3:.3g} mm",
-                           f"R/r = {float(sub['radius_ratio']):.3g}",
-                           f"lambda_B/lambda_C = {float(sub['operating_point_factor']):.2g}"])
+        fixed = ", ".join(
+            [
+                f"h = {float(sub['sheet_thickness']) * 1e3:.3g} mm",
+                f"R/r = {float(sub['radius_ratio']):.3g}",
+                f"lambda_B/lambda_C = {float(sub['operating_point_factor']):.2g}",
+            ]
+        )
     cmap = plt.get_cmap("viridis")
     for i, m in enumerate(members):
         color = cmap(i / max(1, len(members) - 1))
         ratio = float(m["cone_height_ratio"])
-        ax.plot(m["curve_deflection"] * 1e3, m["curve_load"] / 1e3, color=color, lw=1.4,
-                label=f"H/h = {ratio:.2f}" + ("" if int(m["status"]) == 0 else f" ({st.FLAGS[int(m['status'])]})"))
+        ax.plot(
+            m["curve_deflection"] * 1e3,
+            m["curve_load"] / 1e3,
+            color=color,
+            lw=1.4,
+            label=f"H/h = {ratio:.2f}"
+            + ("" if int(m["status"]) == 0 else f" ({st.FLAGS[int(m['status'])]})"),
+        )
         for p, (marker, _) in MARKERS.items():
             key = {"A": "peak", "C": "flat", "D": "valley", "B": "operating"}[p]
-            x, y = float(m[f"deflection_{key}"]), float(m[{"B": "clamp_load"}.get(p, f"load_{key}")])
+            x, y = (
+                float(m[f"deflection_{key}"]),
+                float(m[{"B": "clamp_load"}.get(p, f"load_{key}")]),
+            )
             if np.isfinite(x) and np.isfinite(y):
                 ax.plot(x * 1e3, y / 1e3, marker, color=color, ms=6, mec="k", mew=0.6)
     for p, (marker, name) in MARKERS.items():
@@ -55,7 +78,9 @@ def load_curves(ds):
     ax.axhline(0, color="0.5", lw=0.6)
     ax.set_xlabel("deflection at the pressure-plate load point lambda [mm]")
     ax.set_ylabel("spring load F [kN]")
-    ax.set_title("Diaphragm spring load-deflection curves, Almen-Laszlo eq. (10) of seed 000\n" + fixed)
+    ax.set_title(
+        "Diaphragm spring load-deflection curves, Almen-Laszlo eq. (10) of seed 000\n" + fixed
+    )
     ax.legend(ncol=2, fontsize=8, loc="upper left")
     ax.grid(alpha=0.3)
     return fig
@@ -67,14 +92,25 @@ def reserve_map(ds):
         ok = (ds["status"] == st.CODE["ok"]).values
         fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
         h, ratio = flat(ds, "sheet_thickness") * 1e3, flat(ds, "cone_height_ratio")
-        sampled_value_map(ax, h[ok], ratio[ok], flat(ds, "reserve_factor")[ok], "reserve factor [-]", cmap="RdYlGn")
+        sampled_value_map(
+            ax,
+            h[ok],
+            ratio[ok],
+            flat(ds, "reserve_factor")[ok],
+            "reserve factor [-]",
+            cmap="RdYlGn",
+        )
         if (~ok).any() and ok.size <= SCATTER_MAX:
-            ax.scatter(h[~ok], ratio[~ok], marker="x", c="k", s=8, label="status not ok", rasterized=True)
+            ax.scatter(
+                h[~ok], ratio[~ok], marker="x", c="k", s=8, label="status not ok", rasterized=True
+            )
             ax.legend()
         ax.set_xlabel("sheet thickness h [mm]")
         ax.set_ylabel("cone height ratio H/h")
-        ax.set_title(f"Reserve factor (torque capacity / engine maximum torque) of {ok.size} designs "
-                     f"({int((~ok).sum())} with status not ok{' left out' if ok.size > SCATTER_MAX else ''})")
+        ax.set_title(
+            f"Reserve factor (torque capacity / engine maximum torque) of {ok.size} designs "
+            f"({int((~ok).sum())} with status not ok{' left out' if ok.size > SCATTER_MAX else ''})"
+        )
         return fig
     sub = _nearest(ds, operating_point_factor=0.9)
     panels = sub["radius_ratio"].values if "radius_ratio" in sub.dims else [None]
@@ -83,11 +119,15 @@ def reserve_map(ds):
     vmax = float(np.nanmax(rf_all)) if np.isfinite(rf_all).any() else 2.0
     norm = TwoSlopeNorm(vmin=0.0, vcenter=1.0, vmax=max(vmax, 1.5))
     op_factor = float(sub["operating_point_factor"])
-    fixed = {d: [float(sub[d])] for d in ("cone_height_ratio", "sheet_thickness") if d not in sub.dims}
+    fixed = {
+        d: [float(sub[d])] for d in ("cone_height_ratio", "sheet_thickness") if d not in sub.dims
+    }
     if fixed:  # a fixed value: a map one cell wide
         sub = sub.drop_vars(list(fixed)).expand_dims(fixed)
     for ax, rr in zip(axes[0], panels):
-        p = (sub.sel(radius_ratio=rr) if rr is not None else sub).transpose("cone_height_ratio", "sheet_thickness", ...)
+        p = (sub.sel(radius_ratio=rr) if rr is not None else sub).transpose(
+            "cone_height_ratio", "sheet_thickness", ...
+        )
         rf = p["reserve_factor"].values
         x = p["sheet_thickness"].values * 1e3
         y = p["cone_height_ratio"].values
@@ -97,8 +137,11 @@ def reserve_map(ds):
             ax.clabel(cs, fmt="1.0", fontsize=7)
         code = p["status"].values
         xx, yy = np.meshgrid(x, y)
-        for c, mk in ((st.CODE["monotone_no_hump"], "."), (st.CODE["snap_through"], "x"),
-                      (st.CODE["invalid_geometry"], "*")):
+        for c, mk in (
+            (st.CODE["monotone_no_hump"], "."),
+            (st.CODE["snap_through"], "x"),
+            (st.CODE["invalid_geometry"], "*"),
+        ):
             sel = code == c
             if sel.any():
                 ax.plot(xx[sel], yy[sel], mk, color="0.2", ms=4, label=st.FLAGS[c])
@@ -108,9 +151,13 @@ def reserve_map(ds):
     axes[0][0].set_ylabel("cone height ratio H/h  (dashed: sqrt 2)")
     if axes[0][0].get_legend_handles_labels()[0]:
         axes[0][0].legend(fontsize=7, loc="upper left")
-    fig.colorbar(mesh, ax=axes[0].tolist(), label="reserve factor = capacity / T_emax [-]  (black line: 1.0)")
-    fig.suptitle("Torque reserve factor at lambda_B = %.2g lambda_C; markers: status (no hump = no wear "
-                 "compensation, snap-through, invalid)" % op_factor)
+    fig.colorbar(
+        mesh, ax=axes[0].tolist(), label="reserve factor = capacity / T_emax [-]  (black line: 1.0)"
+    )
+    fig.suptitle(
+        "Torque reserve factor at lambda_B = %.2g lambda_C; markers: status (no hump = no wear "
+        "compensation, snap-through, invalid)" % op_factor
+    )
     return fig
 
 

@@ -1,4 +1,5 @@
 """Figures of the engagement study: efficiency-smoothness trade-off and maps."""
+
 from __future__ import annotations
 
 import textwrap
@@ -10,8 +11,13 @@ from .. import status as st
 from ..explore import flat
 from .common import A4_LANDSCAPE, drawn, drawn_note, sampled_value_map
 
-SEED = {"sheet_thickness": 2.334e-3, "ramp_time": 0.15, "friction_coefficient": 0.4, "driven_inertia": 0.021,
-        "load_torque": 44.0}
+SEED = {
+    "sheet_thickness": 2.334e-3,
+    "ramp_time": 0.15,
+    "friction_coefficient": 0.4,
+    "driven_inertia": 0.021,
+    "load_torque": 44.0,
+}
 
 
 def _flat(ds, name):
@@ -23,33 +29,61 @@ def tradeoff(ds):
     w, j, t = _flat(ds, "slip_work")[ok], _flat(ds, "peak_jerk")[ok], _flat(ds, "lockup_time")[ok]
     fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
     show = drawn(w.size)
-    sc = ax.scatter(w[show] / 1e3, j[show], c=t[show] * 1e3, cmap="viridis", s=28 if w.size < 2000 else 6,
-                    edgecolor="k", linewidth=0.3 if w.size < 2000 else 0, rasterized=True)
+    sc = ax.scatter(
+        w[show] / 1e3,
+        j[show],
+        c=t[show] * 1e3,
+        cmap="viridis",
+        s=28 if w.size < 2000 else 6,
+        edgecolor="k",
+        linewidth=0.3 if w.size < 2000 else 0,
+        rasterized=True,
+    )
     fig.colorbar(sc, ax=ax, label="lock-up time [ms]")
     rank = ds["pareto_rank"] if "pareto_rank" in ds else None
     if rank is not None and rank.attrs["objectives"] == "slip_work:min peak_jerk:min":
         # the stored fronts (feasible designs only), one per operating condition ranked within
         within = rank.attrs.get("ranked_within", "").split()
         front = _flat(ds, "pareto_rank") == 0
-        key = np.stack([flat(ds, w_) for w_ in within], axis=1) if within else np.zeros((front.size, 0))
+        key = (
+            np.stack([flat(ds, w_) for w_ in within], axis=1)
+            if within
+            else np.zeros((front.size, 0))
+        )
         for k, combo in enumerate(np.unique(key[front], axis=0)):
             members = np.flatnonzero(front & (key == combo).all(axis=1))
             members = members[np.argsort(_flat(ds, "slip_work")[members], kind="stable")]
             where = ", ".join(f"{w_} {v:.4g}" for w_, v in zip(within, combo))
-            ax.plot(_flat(ds, "slip_work")[members] / 1e3, _flat(ds, "peak_jerk")[members], "-", lw=1.5,
-                    color=plt.cm.tab10(k % 10) if within else "r",
-                    label=(f"Pareto front at {where}" if within else "Pareto front (feasible designs)") if k < 8 else None)
+            ax.plot(
+                _flat(ds, "slip_work")[members] / 1e3,
+                _flat(ds, "peak_jerk")[members],
+                "-",
+                lw=1.5,
+                color=plt.cm.tab10(k % 10) if within else "r",
+                label=(f"Pareto front at {where}" if within else "Pareto front (feasible designs)")
+                if k < 8
+                else None,
+            )
     dims = [d for d in SEED if d in ds.dims]
     if dims and "run" not in ds.dims:
         seed = ds.sel({d: SEED[d] for d in dims}, method="nearest")
         if seed["status"].ndim == 0 and int(seed["status"]) == st.CODE["ok"]:
-            ax.plot(float(seed["slip_work"]) / 1e3, float(seed["peak_jerk"]), "*", ms=18, mfc="orange", mec="k",
-                    label="seed 000 design (nearest grid point)")
+            ax.plot(
+                float(seed["slip_work"]) / 1e3,
+                float(seed["peak_jerk"]),
+                "*",
+                ms=18,
+                mfc="orange",
+                mec="k",
+                label="seed 000 design (nearest grid point)",
+            )
     ax.set_yscale("log")
     ax.set_xlabel("slip work [kJ]  (efficiency: lower is better)")
     ax.set_ylabel("peak output jerk [rad/s³]  (smoothness: lower is better)")
-    title = ("Efficiency-smoothness trade-off of the engagement (%d locked scenarios, %d not locked)%s"
-             % (ok.sum(), (~ok).sum(), drawn_note(int(ok.sum()))))
+    title = (
+        "Efficiency-smoothness trade-off of the engagement (%d locked scenarios, %d not locked)%s"
+        % (ok.sum(), (~ok).sum(), drawn_note(int(ok.sum())))
+    )
     model = "model: " + ds.attrs.get("model_used", ds.attrs.get("model", ""))
     ax.set_title("\n".join(textwrap.wrap(title, 110) + textwrap.wrap(model, 110)), fontsize=10)
     ax.grid(alpha=0.3, which="both")
@@ -62,14 +96,23 @@ def maps(ds):
     fig, axes = plt.subplots(1, 2, figsize=A4_LANDSCAPE, gridspec_kw={"wspace": 0.45})
     if "run" in ds.dims or not {"ramp_time", "sheet_thickness"} <= set(ds.dims):
         for ax, name in zip(axes, ("slip_work", "lockup_time")):
-            sampled_value_map(ax, flat(ds, "ramp_time") if "ramp_time" in ds.coords else np.zeros(ds["status"].size),
-                              flat(ds, "clamp_load"), flat(ds, name), f"{name} [{ds[name].attrs['units']}]")
+            sampled_value_map(
+                ax,
+                flat(ds, "ramp_time") if "ramp_time" in ds.coords else np.zeros(ds["status"].size),
+                flat(ds, "clamp_load"),
+                flat(ds, name),
+                f"{name} [{ds[name].attrs['units']}]",
+            )
             ax.set_xlabel("ramp time [s]")
             ax.set_ylabel("clamp force [N]")
-        fig.suptitle(f"Slip work and lock-up time of {ds['status'].size} designs over ramp time and clamp force "
-                     "(colours clipped to the 1st-99th percentiles)")
+        fig.suptitle(
+            f"Slip work and lock-up time of {ds['status'].size} designs over ramp time and clamp force "
+            "(colours clipped to the 1st-99th percentiles)"
+        )
         return fig
-    others = {d: SEED[d] for d in SEED if d in ds.dims and d not in ("ramp_time", "sheet_thickness")}
+    others = {
+        d: SEED[d] for d in SEED if d in ds.dims and d not in ("ramp_time", "sheet_thickness")
+    }
     sub = ds.sel(others, method="nearest") if others else ds
     extra = [d for d in sub.dims if d not in ("ramp_time", "sheet_thickness")]
     if extra:
@@ -78,7 +121,10 @@ def maps(ds):
     force = sub["clamp_load"].values[:, 0]
     order = np.argsort(force)
     x = sub["ramp_time"].values * 1e3
-    for ax, name, scale, unit in ((axes[0], "slip_work", 1e-3, "kJ"), (axes[1], "lockup_time", 1e3, "ms")):
+    for ax, name, scale, unit in (
+        (axes[0], "slip_work", 1e-3, "kJ"),
+        (axes[1], "lockup_time", 1e3, "ms"),
+    ):
         z = sub[name].values[order] * scale
         m = ax.pcolormesh(x, force[order], z, shading="nearest", cmap="magma_r")
         fig.colorbar(m, ax=ax, label=f"{name.replace('_', ' ')} [{unit}]")
@@ -90,15 +136,26 @@ def maps(ds):
         ax.set_xlabel("ramp (engagement) time [ms]")
         ax.set_ylabel("clamp force from the spring design [N]")
     fixed = ", ".join(f"{d} = {float(sub[d]):.3g}" for d in others)
-    fig.suptitle("Slip work and lock-up time over ramp time and clamp force" + (f"\n({fixed})" if fixed else ""))
+    fig.suptitle(
+        "Slip work and lock-up time over ramp time and clamp force"
+        + (f"\n({fixed})" if fixed else "")
+    )
     return fig
 
 
 def traces(ds):
     """Seed design traces (seed 000 Figs. 7-11): clamp force, speeds, torque and slip work, jerk."""
-    fig, axes = plt.subplots(2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.35, "wspace": 0.3})
+    fig, axes = plt.subplots(
+        2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.35, "wspace": 0.3}
+    )
     if "trace_time" not in ds.dims:
-        axes[0, 0].text(0.5, 0.5, "no seed design traces (invalid spring)", ha="center", transform=axes[0, 0].transAxes)
+        axes[0, 0].text(
+            0.5,
+            0.5,
+            "no seed design traces (invalid spring)",
+            ha="center",
+            transform=axes[0, 0].transAxes,
+        )
         return fig
     t = ds["trace_time"].values * 1e3
     ax = axes[0, 0]
@@ -128,8 +185,11 @@ def traces(ds):
         ax.grid(alpha=0.3)
         if np.isfinite(t_lock):
             ax.axvline(t_lock, color="g", ls=":", lw=1)
-    fig.suptitle(f"Seed 000 design traces (lock-up at {t_lock:.1f} ms, green)\nmodel: "
-                 f"{ds.attrs.get('model_used', '')}", fontsize=10)
+    fig.suptitle(
+        f"Seed 000 design traces (lock-up at {t_lock:.1f} ms, green)\nmodel: "
+        f"{ds.attrs.get('model_used', '')}",
+        fontsize=10,
+    )
     return fig
 
 
@@ -137,11 +197,18 @@ def heat_page(ds):
     """Heat (issue 20): the seed design's friction-face and bulk temperature over the engagement
     and over engagements in a row; the peak friction-face temperature over the design; the
     trade-off coloured by it."""
-    fig, axes = plt.subplots(2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.45, "wspace": 0.5})
+    fig, axes = plt.subplots(
+        2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.45, "wspace": 0.5}
+    )
     ax = axes[0, 0]
     if "trace_surface_temperature" in ds:
         t = ds["trace_time"].values * 1e3
-        ax.plot(t, ds["trace_surface_temperature"].values - 273.15, "r-", label="friction face (flash, Duhamel)")
+        ax.plot(
+            t,
+            ds["trace_surface_temperature"].values - 273.15,
+            "r-",
+            label="friction face (flash, Duhamel)",
+        )
         ax.plot(t, ds["trace_bulk_temperature"].values - 273.15, "k--", label="bulk (lumped)")
         ax2 = ax.twinx()
         ax2.plot(t, ds["trace_slip_power"].values / 1e3, "b:", lw=1)
@@ -149,17 +216,28 @@ def heat_page(ds):
         ax.set_xlabel("time [ms]")
         ax.set_ylabel("pressure plate temperature [°C]")
         ax.legend(fontsize=8, loc="center right")
-        ax.set_title("(a) seed design: peak face %.1f °C" % (float(ds["trace_peak_surface_temperature"]) - 273.15),
-                     fontsize=10)
+        ax.set_title(
+            "(a) seed design: peak face %.1f °C"
+            % (float(ds["trace_peak_surface_temperature"]) - 273.15),
+            fontsize=10,
+        )
         ax = axes[0, 1]
         n = ds["engagement_number"].values
         ax.plot(n, ds["trace_sequence_temperature"].values - 273.15, "ko-", ms=3)
         ax.set_xlabel("engagement in a row")
         ax.set_ylabel("bulk temperature just after it [°C]")
-        ax.set_title("(b) seed design, engagements in a row: " + ds["trace_sequence_temperature"].attrs["long_name"]
-                     .split(" just")[0].replace("bulk temperature of the ", ""), fontsize=10)
+        ax.set_title(
+            "(b) seed design, engagements in a row: "
+            + ds["trace_sequence_temperature"]
+            .attrs["long_name"]
+            .split(" just")[0]
+            .replace("bulk temperature of the ", ""),
+            fontsize=10,
+        )
     else:
-        ax.text(0.5, 0.5, "no seed design traces (invalid spring)", ha="center", transform=ax.transAxes)
+        ax.text(
+            0.5, 0.5, "no seed design traces (invalid spring)", ha="center", transform=ax.transAxes
+        )
     temp = _flat(ds, "peak_surface_temperature") - 273.15
     ok = (_flat(ds, "status") == st.CODE["ok"]) & np.isfinite(temp)
     ax = axes[1, 0]
@@ -167,28 +245,46 @@ def heat_page(ds):
     x, y, z = x[ok], flat(ds, "clamp_load")[ok], temp[ok]
     pairs, inverse = np.unique(np.stack([x, y], axis=1), axis=0, return_inverse=True)
     note = "all designs"
-    if len(pairs) < x.size:  # a grid: designs that differ in other factors share a point; draw the hottest
+    if (
+        len(pairs) < x.size
+    ):  # a grid: designs that differ in other factors share a point; draw the hottest
         hottest = np.full(len(pairs), -np.inf)
         np.maximum.at(hottest, inverse.ravel(), z)
         x, y, z, note = pairs[:, 0], pairs[:, 1], hottest, "the hottest over the other factors"
     sampled_value_map(ax, x, y, z, "peak face temperature [°C]", cmap="inferno")
     ax.set_xlabel("ramp time [s]")
     ax.set_ylabel("clamp force [N]")
-    ax.set_title(f"(c) peak face temperature, one engagement ({note.replace('the hottest', 'max')})", fontsize=10)
+    ax.set_title(
+        f"(c) peak face temperature, one engagement ({note.replace('the hottest', 'max')})",
+        fontsize=10,
+    )
     ax = axes[1, 1]
     show = drawn(ok)
-    m = ax.scatter(_flat(ds, "specific_friction_work")[show] / 1e3, _flat(ds, "peak_jerk")[show],
-                   c=temp[show], cmap="inferno", s=8, rasterized=True)
+    m = ax.scatter(
+        _flat(ds, "specific_friction_work")[show] / 1e3,
+        _flat(ds, "peak_jerk")[show],
+        c=temp[show],
+        cmap="inferno",
+        s=8,
+        rasterized=True,
+    )
     fig.colorbar(m, ax=ax, label="peak friction-face temperature [°C]")
     ax.set_yscale("log")
     ax.set_xlabel("specific friction work [kJ/m²]")
     ax.set_ylabel("peak output jerk [rad/s³]")
-    ax.set_title("\n".join(textwrap.wrap("(d) trade-off coloured by temperature%s" % drawn_note(int(ok.sum())), 55)),
-                 fontsize=10)
+    ax.set_title(
+        "\n".join(
+            textwrap.wrap("(d) trade-off coloured by temperature%s" % drawn_note(int(ok.sum())), 55)
+        ),
+        fontsize=10,
+    )
     for a in axes.ravel():
         a.grid(alpha=0.3)
-    fig.suptitle("Heat: friction face and parts (pressure plate, flywheel: cast iron; linings: organic; "
-                 "assumed materials, clutchlab.heat)", fontsize=10)
+    fig.suptitle(
+        "Heat: friction face and parts (pressure plate, flywheel: cast iron; linings: organic; "
+        "assumed materials, clutchlab.heat)",
+        fontsize=10,
+    )
     return fig
 
 

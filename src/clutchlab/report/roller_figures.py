@@ -1,5 +1,6 @@
 """Figures of the roller study: contact stress and engagement time against roller count (seed 003
 allowable band), the feasible region over (z, α), the seed design's engagement trace (Fig. 7)."""
+
 from __future__ import annotations
 
 import matplotlib.pyplot as plt
@@ -8,8 +9,15 @@ from matplotlib.colors import BoundaryNorm, ListedColormap
 
 from .. import status as st
 from ..studies.roller import PARAMETERS, RPM
-from .common import (A4_LANDSCAPE, drawn, drawn_note, fixed_text, sampled_category_map, seed_view,
-                     status_categories)
+from .common import (
+    A4_LANDSCAPE,
+    drawn,
+    drawn_note,
+    fixed_text,
+    sampled_category_map,
+    seed_view,
+    status_categories,
+)
 
 SEED = {p.name: p.default for p in PARAMETERS}
 BAND = (3041.0, 3247.0)  # MPa, seed 003 section 2.2 (10^6 wedging cycles)
@@ -42,19 +50,29 @@ def _sampled_stress_engagement(ds):
     z = ds["rollers"].values
     jitter = (np.random.default_rng(0).random(z.size) - 0.5) * 0.4
     locks = ds["status"].values != st.CODE["not_self_locking"]
-    series = ((axes[0], "contact_stress", 1e6, "k", "static, eq. 3 at T_c", np.ones(z.size, bool)),
-              (axes[0], "peak_contact_stress", 1e6, "tab:blue", "peak dynamic", locks),
-              (axes[1], "engagement_time", 1e-3, "tab:green", "engagement time", locks))
+    series = (
+        (axes[0], "contact_stress", 1e6, "k", "static, eq. 3 at T_c", np.ones(z.size, bool)),
+        (axes[0], "peak_contact_stress", 1e6, "tab:blue", "peak dynamic", locks),
+        (axes[1], "engagement_time", 1e-3, "tab:green", "engagement time", locks),
+    )
     for ax, name, unit, colour, label, keep in series:
         v = ds[name].values / unit
         show = drawn(keep)
         ax.scatter(z[show] + jitter[show], v[show], s=3, color=colour, alpha=0.3, rasterized=True)
         counts = np.unique(z[keep & np.isfinite(v)])
-        ax.plot(counts, [np.median(v[keep & (z == c) & np.isfinite(v)]) for c in counts], "o-", color=colour,
-                label=f"{label} (median per count)")
+        ax.plot(
+            counts,
+            [np.median(v[keep & (z == c) & np.isfinite(v)]) for c in counts],
+            "o-",
+            color=colour,
+            label=f"{label} (median per count)",
+        )
     _stress_time_axes(axes)
-    fig.suptitle(f"Roller count: contact stress and engagement time of {z.size} sampled designs "
-                 "(self-locking ones for the dynamic values)" + drawn_note(z.size), fontsize=10)
+    fig.suptitle(
+        f"Roller count: contact stress and engagement time of {z.size} sampled designs "
+        "(self-locking ones for the dynamic values)" + drawn_note(z.size),
+        fontsize=10,
+    )
     return fig
 
 
@@ -77,50 +95,89 @@ def stress_engagement(ds):
         locks = c["status"].values != st.CODE["not_self_locking"]
         if not locks.any():
             continue
-        axes[1].plot(z[locks], c["engagement_time"].values[locks] * 1e3, "o-", color=colour, label=label)
+        axes[1].plot(
+            z[locks], c["engagement_time"].values[locks] * 1e3, "o-", color=colour, label=label
+        )
         if i == 0 or a is None:
             axes[0].plot(z, c["contact_stress"].values / 1e6, "ko-", label="static, eq. 3 at T_c")
-        axes[0].plot(z[locks], c["peak_contact_stress"].values[locks] / 1e6, "s--", color=colour, ms=4,
-                     label=f"peak dynamic, {label}" if label else "peak dynamic")
+        axes[0].plot(
+            z[locks],
+            c["peak_contact_stress"].values[locks] / 1e6,
+            "s--",
+            color=colour,
+            ms=4,
+            label=f"peak dynamic, {label}" if label else "peak dynamic",
+        )
     _stress_time_axes(axes)
-    axes[0].set_title("Static (eq. 3, independent of alpha) and peak dynamic contact stress", fontsize=10)
+    axes[0].set_title(
+        "Static (eq. 3, independent of alpha) and peak dynamic contact stress", fontsize=10
+    )
     axes[1].set_title("Engagement time (self-locking wedge angles only)", fontsize=10)
-    fig.suptitle("Roller count: contact stress and engagement time at the seed d, b, mu "
-                 f"({fixed_text(sub, [d for d in ds.dims if d not in keep])})", fontsize=10)
+    fig.suptitle(
+        "Roller count: contact stress and engagement time at the seed d, b, mu "
+        f"({fixed_text(sub, [d for d in ds.dims if d not in keep])})",
+        fontsize=10,
+    )
     return fig
 
 
-CATEGORIES = (("ok", "#4daf4a"), ("static stress above allowable", "#ffb000"), ("not self-locking", "#e41a1c"),
-              ("never engaged / not converged", "k"), ("overrunning (mode)", "0.7"))
+CATEGORIES = (
+    ("ok", "#4daf4a"),
+    ("static stress above allowable", "#ffb000"),
+    ("not self-locking", "#e41a1c"),
+    ("never engaged / not converged", "k"),
+    ("overrunning (mode)", "0.7"),
+)
 
 
 def _categories(code):
-    return status_categories(code, {"ok": 0, "above_allowable": 1, "not_self_locking": 2, "overrunning": 4}, 3)
+    return status_categories(
+        code, {"ok": 0, "above_allowable": 1, "not_self_locking": 2, "overrunning": 4}, 3
+    )
 
 
 def feasible_region(ds):
     if "run" in ds.dims and {"rollers", "wedge_angle"} <= set(ds.attrs.get("factors", "").split()):
         fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
-        handles = sampled_category_map(ax, ds["rollers"].values, np.rad2deg(ds["wedge_angle"].values),
-                                       _categories(ds["status"].values), CATEGORIES)
+        handles = sampled_category_map(
+            ax,
+            ds["rollers"].values,
+            np.rad2deg(ds["wedge_angle"].values),
+            _categories(ds["status"].values),
+            CATEGORIES,
+        )
         ax.plot(SEED["rollers"], np.rad2deg(SEED["wedge_angle"]), "*", ms=22, mfc="none", mec="k")
         ax.set_xlabel("number of rollers z")
         ax.set_ylabel("wedge angle alpha [deg]")
         if handles:
             ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
             fig.subplots_adjust(right=0.72)
-        ax.set_title(f"Feasible region of {ds['status'].size} sampled designs (all other factors too)", fontsize=9)
+        ax.set_title(
+            f"Feasible region of {ds['status'].size} sampled designs (all other factors too)",
+            fontsize=9,
+        )
         return fig
     fig = _needs(ds, ("rollers", "wedge_angle"))
     if fig is not None:
         return fig
-    sub = seed_view(ds[["status", "contact_stress", "engagement_time", "limit_wedge_angle"]], SEED,
-                    keep=("rollers", "wedge_angle")).transpose("wedge_angle", "rollers")
+    sub = seed_view(
+        ds[["status", "contact_stress", "engagement_time", "limit_wedge_angle"]],
+        SEED,
+        keep=("rollers", "wedge_angle"),
+    ).transpose("wedge_angle", "rollers")
     cat = _categories(sub["status"].values)
     z, a = sub["rollers"].values, np.rad2deg(sub["wedge_angle"].values)
     fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
-    ax.pcolormesh(z, a, cat, shading="nearest", cmap=ListedColormap([c for _, c in CATEGORIES]),
-                  norm=BoundaryNorm(np.arange(len(CATEGORIES) + 1) - 0.5, len(CATEGORIES)), edgecolors="w", lw=0.5)
+    ax.pcolormesh(
+        z,
+        a,
+        cat,
+        shading="nearest",
+        cmap=ListedColormap([c for _, c in CATEGORIES]),
+        norm=BoundaryNorm(np.arange(len(CATEGORIES) + 1) - 0.5, len(CATEGORIES)),
+        edgecolors="w",
+        lw=0.5,
+    )
     for j, aa in enumerate(a):
         for i, zz in enumerate(z):
             te = sub["engagement_time"].values[j, i]
@@ -129,23 +186,45 @@ def feasible_region(ds):
     lim = np.rad2deg(np.unique(sub["limit_wedge_angle"].values))
     for v in lim:
         ax.axhline(v, color="k", ls="--", lw=1)
-    ax.plot([], [], "k--", label=f"self-locking limit 2 atan(mu) = {', '.join(f'{v:.2f}' for v in lim)} deg")
-    ax.plot(SEED["rollers"], np.rad2deg(SEED["wedge_angle"]), "*", ms=22, mfc="none", mec="k", label="seed 003 design")
+    ax.plot(
+        [],
+        [],
+        "k--",
+        label=f"self-locking limit 2 atan(mu) = {', '.join(f'{v:.2f}' for v in lim)} deg",
+    )
+    ax.plot(
+        SEED["rollers"],
+        np.rad2deg(SEED["wedge_angle"]),
+        "*",
+        ms=22,
+        mfc="none",
+        mec="k",
+        label="seed 003 design",
+    )
     for label, colour in CATEGORIES:
         ax.plot([], [], "s", color=colour, ms=10, label=label)
     ax.set_xlabel("number of rollers z")
     ax.set_ylabel("wedge angle alpha [deg]")
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
     fig.subplots_adjust(right=0.72)
-    ax.set_title("Feasible region (numbers: engagement time in ms); "
-                 + fixed_text(sub, [d for d in ds.dims if d not in ("rollers", "wedge_angle")]), fontsize=9)
+    ax.set_title(
+        "Feasible region (numbers: engagement time in ms); "
+        + fixed_text(sub, [d for d in ds.dims if d not in ("rollers", "wedge_angle")]),
+        fontsize=9,
+    )
     return fig
 
 
 def engagement_trace(ds):
     fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
     if "trace_driven_speed" not in ds:
-        ax.text(0.5, 0.5, "the seed design does not self-lock: no trace", ha="center", transform=ax.transAxes)
+        ax.text(
+            0.5,
+            0.5,
+            "the seed design does not self-lock: no trace",
+            ha="center",
+            transform=ax.transAxes,
+        )
         return fig
     t = ds["trace_time"].values * 1e3
     for name, style in (("driving", "k-"), ("wedge", "b--"), ("driven", "r-")):
@@ -153,26 +232,46 @@ def engagement_trace(ds):
     ax.set_xlabel("time [ms]")
     ax.set_ylabel("speed [rpm]")
     ax2 = ax.twinx()
-    ax2.plot(t, ds["trace_contact_force"].values / 1e3, color="0.6", lw=0.8, label="contact force per roller")
+    ax2.plot(
+        t,
+        ds["trace_contact_force"].values / 1e3,
+        color="0.6",
+        lw=0.8,
+        label="contact force per roller",
+    )
     ax2.set_ylabel("contact force [kN]")
-    marks = (("trace_stick_time", "B: wedge ring synchronous", "b"), ("trace_engagement_time", "C: engaged", "r"))
+    marks = (
+        ("trace_stick_time", "B: wedge ring synchronous", "b"),
+        ("trace_engagement_time", "C: engaged", "r"),
+    )
     for name, label, colour in marks:
         v = float(ds[name])
         if np.isfinite(v):
             ax.axvline(v * 1e3, color=colour, ls=":", label=f"{label} {v * 1e3:.3f} ms")
     stop, rel = float(ds["trace_control_stop_time"]), float(ds["trace_release_time"])
     if np.isfinite(rel):
-        ax.axvspan(stop * 1e3, (stop + rel) * 1e3, color="g", alpha=0.2,
-                   label=f"release: control ring stopped at {stop * 1e3:.2f} ms, free after {rel * 1e3:.3f} ms")
+        ax.axvspan(
+            stop * 1e3,
+            (stop + rel) * 1e3,
+            color="g",
+            alpha=0.2,
+            label=f"release: control ring stopped at {stop * 1e3:.2f} ms, free after {rel * 1e3:.3f} ms",
+        )
     h1, l1 = ax.get_legend_handles_labels()
     h2, l2 = ax2.get_legend_handles_labels()
     ax.legend(h1 + h2, l1 + l2, loc="center right", fontsize=8)
     ax.grid(alpha=0.3)
-    ax.set_title("Seed 003 design: engagement from rest at 2000 rpm under T_c = 1848 N m (cf. Figs. 7 and 9); "
-                 "inertias and penetration depth assumed", fontsize=10)
+    ax.set_title(
+        "Seed 003 design: engagement from rest at 2000 rpm under T_c = 1848 N m (cf. Figs. 7 and 9); "
+        "inertias and penetration depth assumed",
+        fontsize=10,
+    )
     return fig
 
 
 # page stem -> function drawing it from the study's Dataset, in report order
-PAGES = {"stress_engagement": stress_engagement, "feasible_region": feasible_region,
-         "engagement_trace": engagement_trace}
+PAGES = {
+    "stress_engagement": stress_engagement,
+    "feasible_region": feasible_region,
+    "engagement_trace": engagement_trace,
+}

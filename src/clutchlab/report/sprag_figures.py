@@ -1,5 +1,6 @@
 """Figures of the sprag study: stresses and gripping angle against torque with the allowables
 (seed 002 Table 2), the map of geometries that pass every allowable, impact-torque curves (Fig. 4)."""
+
 from __future__ import annotations
 
 import matplotlib.pyplot as plt
@@ -7,14 +8,25 @@ import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap
 
 from ..studies.sprag import CHECKS, PARAMETERS
-from .common import (A4_LANDSCAPE, drawn, drawn_note, fixed_text, sampled_category_map, seed_view,
-                     status_categories)
+from .common import (
+    A4_LANDSCAPE,
+    drawn,
+    drawn_note,
+    fixed_text,
+    sampled_category_map,
+    seed_view,
+    status_categories,
+)
 
 SEED = {p.name: p.default for p in PARAMETERS}
 MPA = 1e6
 TABLE2 = {750.0: (3482, 2928, 673.8, 582.0, 5.097), 267.5: (2314, 1945, 295.2, 255.4, 4.093)}
-STRESSES = (("contact_stress_inner", "contact inner", "C0"), ("contact_stress_outer", "contact outer", "C1"),
-            ("vm_stress_inner", "shaft inner (von Mises)", "C2"), ("vm_stress_outer", "outer race (von Mises)", "C3"))
+STRESSES = (
+    ("contact_stress_inner", "contact inner", "C0"),
+    ("contact_stress_outer", "contact outer", "C1"),
+    ("vm_stress_inner", "shaft inner (von Mises)", "C2"),
+    ("vm_stress_outer", "outer race (von Mises)", "C3"),
+)
 
 
 def _allowable(sub, name):
@@ -27,7 +39,13 @@ def stress_vs_torque(ds):
         return _sampled_stress_vs_torque(fig, axes, ds)
     if "torque" not in ds.dims:
         for ax in axes:
-            ax.text(0.5, 0.5, "torque is not a dimension of this design", ha="center", transform=ax.transAxes)
+            ax.text(
+                0.5,
+                0.5,
+                "torque is not a dimension of this design",
+                ha="center",
+                transform=ax.transAxes,
+            )
         return fig
     sub = seed_view(ds, SEED, keep=("torque",))
     t = sub["torque"].values
@@ -35,8 +53,16 @@ def stress_vs_torque(ds):
     for (name, label, colour), k in zip(STRESSES, range(4)):
         ax.plot(t, sub[name].values / MPA, "-", color=colour, label=label)
         ax.plot(list(TABLE2), [v[k] for v in TABLE2.values()], "o", mfc="none", color=colour)
-    ax.axhline(_allowable(sub, "contact_allowable") / MPA, color="k", ls="--", lw=1, label="contact allowable")
-    ax.axhline(_allowable(sub, "shaft_allowable") / MPA, color="k", ls=":", lw=1, label="shaft allowable")
+    ax.axhline(
+        _allowable(sub, "contact_allowable") / MPA,
+        color="k",
+        ls="--",
+        lw=1,
+        label="contact allowable",
+    )
+    ax.axhline(
+        _allowable(sub, "shaft_allowable") / MPA, color="k", ls=":", lw=1, label="shaft allowable"
+    )
     ax.plot([], [], "ko", mfc="none", label="seed 002 Table 2 (theory)")
     ax.set_xlabel("torque [N m]")
     ax.set_ylabel("stress [MPa]")
@@ -44,18 +70,31 @@ def stress_vs_torque(ds):
     ax = axes[1]
     ax.plot(t, np.rad2deg(sub["gripping_angle"].values), "b-", label="V (inner contact)")
     ax.plot(t, np.rad2deg(sub["gripping_angle_outer"].values), "b--", label="W (outer contact)")
-    ax.plot(list(TABLE2), [v[4] for v in TABLE2.values()], "bo", mfc="none", label="seed 002 Table 2 V (theory)")
-    ax.axhline(np.rad2deg(_allowable(sub, "gripping_angle_allowable")), color="r", ls="--", lw=1,
-               label="allowable V (pop-out beyond)")
+    ax.plot(
+        list(TABLE2),
+        [v[4] for v in TABLE2.values()],
+        "bo",
+        mfc="none",
+        label="seed 002 Table 2 V (theory)",
+    )
+    ax.axhline(
+        np.rad2deg(_allowable(sub, "gripping_angle_allowable")),
+        color="r",
+        ls="--",
+        lw=1,
+        label="allowable V (pop-out beyond)",
+    )
     ax.set_xlabel("torque [N m]")
     ax.set_ylabel("gripping angle [deg]")
     ax.legend(fontsize=8)
     for a in axes:
         a.grid(alpha=0.3)
     c = np.unique(sub["compliance_factor_used"].values)
-    fig.suptitle("Seed 002 geometry (nearest grid point): stresses and gripping angle against torque\n"
-                 f"deflection compliance factor {', '.join(f'{x:.4g}' for x in c)} (1 = physical); "
-                 + fixed_text(sub, [d for d in ds.dims if d != "torque"]))
+    fig.suptitle(
+        "Seed 002 geometry (nearest grid point): stresses and gripping angle against torque\n"
+        f"deflection compliance factor {', '.join(f'{x:.4g}' for x in c)} (1 = physical); "
+        + fixed_text(sub, [d for d in ds.dims if d != "torque"])
+    )
     return fig
 
 
@@ -66,49 +105,105 @@ def _sampled_stress_vs_torque(fig, axes, ds):
     show = drawn(t.size)
     ax = axes[0]
     for (name, label, colour), k in zip(STRESSES, range(4)):
-        ax.scatter(t[show], ds[name].values[show] / MPA, s=2, alpha=0.3, color=colour, rasterized=True)
-        ax.plot(list(TABLE2), [v[k] for v in TABLE2.values()], "o", mfc="none", color=colour, label=label)
-    ax.axhline(_allowable(ds, "contact_allowable") / MPA, color="k", ls="--", lw=1, label="contact allowable")
-    ax.axhline(_allowable(ds, "shaft_allowable") / MPA, color="k", ls=":", lw=1, label="shaft allowable")
+        ax.scatter(
+            t[show], ds[name].values[show] / MPA, s=2, alpha=0.3, color=colour, rasterized=True
+        )
+        ax.plot(
+            list(TABLE2),
+            [v[k] for v in TABLE2.values()],
+            "o",
+            mfc="none",
+            color=colour,
+            label=label,
+        )
+    ax.axhline(
+        _allowable(ds, "contact_allowable") / MPA,
+        color="k",
+        ls="--",
+        lw=1,
+        label="contact allowable",
+    )
+    ax.axhline(
+        _allowable(ds, "shaft_allowable") / MPA, color="k", ls=":", lw=1, label="shaft allowable"
+    )
     ax.set_ylabel("stress [MPa]")
     ax.legend(fontsize=8, title="dots: designs; circles: seed 002 Table 2", title_fontsize=8)
     ax = axes[1]
-    ax.scatter(t[show], np.rad2deg(ds["gripping_angle"].values[show]), s=2, alpha=0.3, color="b", rasterized=True)
-    ax.plot(list(TABLE2), [v[4] for v in TABLE2.values()], "bo", mfc="none", label="seed 002 Table 2 V (theory)")
-    ax.axhline(np.rad2deg(_allowable(ds, "gripping_angle_allowable")), color="r", ls="--", lw=1,
-               label="allowable V (pop-out beyond)")
+    ax.scatter(
+        t[show],
+        np.rad2deg(ds["gripping_angle"].values[show]),
+        s=2,
+        alpha=0.3,
+        color="b",
+        rasterized=True,
+    )
+    ax.plot(
+        list(TABLE2),
+        [v[4] for v in TABLE2.values()],
+        "bo",
+        mfc="none",
+        label="seed 002 Table 2 V (theory)",
+    )
+    ax.axhline(
+        np.rad2deg(_allowable(ds, "gripping_angle_allowable")),
+        color="r",
+        ls="--",
+        lw=1,
+        label="allowable V (pop-out beyond)",
+    )
     ax.set_ylabel("gripping angle V [deg]")
     ax.legend(fontsize=8)
     for a in axes:
         a.set_xlabel("torque [N m]")
         a.grid(alpha=0.3)
     others = [f for f in ds.attrs.get("factors", "").split() if f != "torque"]
-    fig.suptitle(f"Stresses and gripping angle of {t.size} sampled designs against torque"
-                 + (f" ({', '.join(others)} varying too)" if others else "") + drawn_note(t.size))
+    fig.suptitle(
+        f"Stresses and gripping angle of {t.size} sampled designs against torque"
+        + (f" ({', '.join(others)} varying too)" if others else "")
+        + drawn_note(t.size)
+    )
     return fig
 
 
-CATEGORIES = (("passes every allowable", "#4daf4a"), ("stress above allowable", "#ffb000"),
-              ("pop-out risk (V above allowable)", "#e41a1c"), ("roll-over", "#984ea3"),
-              ("sprag does not span the races", "0.6"), ("not converged", "k"))
+CATEGORIES = (
+    ("passes every allowable", "#4daf4a"),
+    ("stress above allowable", "#ffb000"),
+    ("pop-out risk (V above allowable)", "#e41a1c"),
+    ("roll-over", "#984ea3"),
+    ("sprag does not span the races", "0.6"),
+    ("not converged", "k"),
+)
 
 
 def _category(status):
-    return status_categories(status, {"ok": 0, "above_allowable": 1, "pop_out_risk": 2, "roll_over": 3,
-                                      "invalid_geometry": 4}, 5)
+    return status_categories(
+        status,
+        {"ok": 0, "above_allowable": 1, "pop_out_risk": 2, "roll_over": 3, "invalid_geometry": 4},
+        5,
+    )
 
 
 def pass_map(ds):
-    pairs = [p for p in (("sprag_length", "sprags"), ("centre_distance", "sprag_outer_radius"))
-             if set(p) <= set(ds.dims)]
-    fig, axes = plt.subplots(1, max(len(pairs), 1), figsize=A4_LANDSCAPE, squeeze=False,
-                             gridspec_kw={"wspace": 0.3})
+    pairs = [
+        p
+        for p in (("sprag_length", "sprags"), ("centre_distance", "sprag_outer_radius"))
+        if set(p) <= set(ds.dims)
+    ]
+    fig, axes = plt.subplots(
+        1, max(len(pairs), 1), figsize=A4_LANDSCAPE, squeeze=False, gridspec_kw={"wspace": 0.3}
+    )
     if "run" in ds.dims:
         plt.close(fig)
         return _sampled_pass_map(ds)
     if not pairs:
-        axes[0, 0].text(0.5, 0.5, "needs a factorial design over (sprag_length, sprags) or\n"
-                        "(centre_distance, sprag_outer_radius)", ha="center", transform=axes[0, 0].transAxes)
+        axes[0, 0].text(
+            0.5,
+            0.5,
+            "needs a factorial design over (sprag_length, sprags) or\n"
+            "(centre_distance, sprag_outer_radius)",
+            ha="center",
+            transform=axes[0, 0].transAxes,
+        )
         return fig
     torque = None
     if "torque" in ds.dims:
@@ -117,11 +212,15 @@ def pass_map(ds):
     norm = BoundaryNorm(np.arange(len(CATEGORIES) + 1) - 0.5, len(CATEGORIES))
     for ax, (x, y) in zip(axes[0], pairs):
         view = ds[["status"] + [f"margin_{k}" for k in CHECKS]]
-        sub = seed_view(view, {**SEED, **({"torque": torque} if torque else {})}, keep=(x, y)).transpose(y, x)
+        sub = seed_view(
+            view, {**SEED, **({"torque": torque} if torque else {})}, keep=(x, y)
+        ).transpose(y, x)
         cat = _category(sub["status"].values)
         scale = {n: (1e3, "mm") if sub[n].attrs.get("units") == "m" else (1.0, "") for n in (x, y)}
         xv, yv = sub[x].values * scale[x][0], sub[y].values * scale[y][0]
-        ax.pcolormesh(xv, yv, cat, cmap=cmap, norm=norm, shading="nearest", edgecolors="w", linewidth=0.5)
+        ax.pcolormesh(
+            xv, yv, cat, cmap=cmap, norm=norm, shading="nearest", edgecolors="w", linewidth=0.5
+        )
         margin = np.minimum.reduce([sub[f"margin_{k}"].values for k in CHECKS])
         for j, yy in enumerate(yv):
             for i, xx in enumerate(xv):
@@ -136,8 +235,10 @@ def pass_map(ds):
     axes[0, 0].plot([], [], "*", ms=12, mfc="none", mec="k", label="seed 002 design")
     fig.legend(loc="lower center", ncol=4, fontsize=8)
     fig.subplots_adjust(bottom=0.2)
-    fig.suptitle("Which sprag geometries pass every allowable (numbers: smallest margin of safety, "
-                 "allowable/value - 1)")
+    fig.suptitle(
+        "Which sprag geometries pass every allowable (numbers: smallest margin of safety, "
+        "allowable/value - 1)"
+    )
     return fig
 
 
@@ -145,32 +246,48 @@ def _sampled_pass_map(ds):
     """The pass map of a sampled design: over the geometry pairs that are factors (else the first
     two factors), each design's category (or, for many designs, the share passing per bin)."""
     factors = ds.attrs.get("factors", "").split()
-    pairs = [p for p in (("sprag_length", "sprags"), ("centre_distance", "sprag_outer_radius"))
-             if set(p) <= set(factors)] or ([tuple(factors[:2])] if len(factors) >= 2 else [])
-    fig, axes = plt.subplots(1, max(len(pairs), 1), figsize=A4_LANDSCAPE, squeeze=False, gridspec_kw={"wspace": 0.3})
+    pairs = [
+        p
+        for p in (("sprag_length", "sprags"), ("centre_distance", "sprag_outer_radius"))
+        if set(p) <= set(factors)
+    ] or ([tuple(factors[:2])] if len(factors) >= 2 else [])
+    fig, axes = plt.subplots(
+        1, max(len(pairs), 1), figsize=A4_LANDSCAPE, squeeze=False, gridspec_kw={"wspace": 0.3}
+    )
     if not pairs:
-        axes[0, 0].text(0.5, 0.5, "a map needs two factors", ha="center", transform=axes[0, 0].transAxes)
+        axes[0, 0].text(
+            0.5, 0.5, "a map needs two factors", ha="center", transform=axes[0, 0].transAxes
+        )
         return fig
     cat = _category(ds["status"].values)
     handles = []
     for ax, (x, y) in zip(axes[0], pairs):
         scale = {n: (1e3, "mm") if ds[n].attrs.get("units") == "m" else (1.0, "") for n in (x, y)}
-        handles = sampled_category_map(ax, ds[x].values * scale[x][0], ds[y].values * scale[y][0], cat, CATEGORIES)
+        handles = sampled_category_map(
+            ax, ds[x].values * scale[x][0], ds[y].values * scale[y][0], cat, CATEGORIES
+        )
         if x in SEED and y in SEED:
             ax.plot(SEED[x] * scale[x][0], SEED[y] * scale[y][0], "*", ms=22, mfc="none", mec="k")
         ax.set_xlabel(f"{x.replace('_', ' ')} [{scale[x][1] or ds[x].attrs.get('units', '-')}]")
         ax.set_ylabel(f"{y.replace('_', ' ')} [{scale[y][1] or ds[y].attrs.get('units', '-')}]")
         others = [f for f in factors if f not in (x, y)]
-        ax.set_title("all designs of the sample" + (f" (over {', '.join(others)} too)" if others else ""), fontsize=8)
+        ax.set_title(
+            "all designs of the sample" + (f" (over {', '.join(others)} too)" if others else ""),
+            fontsize=8,
+        )
     if handles:
         fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8)
         fig.subplots_adjust(bottom=0.2)
-    fig.suptitle(f"Which sprag geometries pass every allowable ({ds['status'].size} sampled designs)")
+    fig.suptitle(
+        f"Which sprag geometries pass every allowable ({ds['status'].size} sampled designs)"
+    )
     return fig
 
 
 def impact_torque(ds):
-    fig, axes = plt.subplots(2, 3, figsize=A4_LANDSCAPE, gridspec_kw={"wspace": 0.35, "hspace": 0.45})
+    fig, axes = plt.subplots(
+        2, 3, figsize=A4_LANDSCAPE, gridspec_kw={"wspace": 0.35, "hspace": 0.45}
+    )
     ax = axes[0, 0]
     ax.plot(ds["impact_time"].values, ds["impact_torque"].values, "k-")
     ax.axhline(float(ds["impact_steady_torque"]), color="b", ls="--", lw=1, label="sqrt(P0 C)")
@@ -178,22 +295,32 @@ def impact_torque(ds):
     ax.set_ylabel("torque T [N m]")
     ax.set_title("(a) T(t) from the peak T0 at t0", fontsize=10)
     ax.legend(fontsize=8)
-    panels = (("impact_power", 1e-3, "input power P0 [kW]", "(b)"),
-              ("output_inertia", 1.0, "output inertia J [kg m2]", "(c)"),
-              ("impact_damping", 1.0, "damping C [N m s2]", "(d)"),
-              ("initial_speed", 30 / np.pi, "initial speed w0 [rpm]", "(e)"))
+    panels = (
+        ("impact_power", 1e-3, "input power P0 [kW]", "(b)"),
+        ("output_inertia", 1.0, "output inertia J [kg m2]", "(c)"),
+        ("impact_damping", 1.0, "damping C [N m s2]", "(d)"),
+        ("initial_speed", 30 / np.pi, "initial speed w0 [rpm]", "(e)"),
+    )
     for ax, (name, scale, label, tag) in zip(axes.ravel()[1:], panels):
         ax.plot(ds[f"sweep_{name}"].values * scale, ds[f"peak_torque_vs_{name}"].values, "r-")
         ax.set_xlabel(label)
         ax.set_ylabel("peak torque T0 [N m]")
         ax.set_title(f"{tag} T0 against {label.split('[')[0].strip()}", fontsize=10)
     axes[1, 2].axis("off")
-    axes[1, 2].text(0, 0.9, "Nominal (assumed, not printed in seed 002):\n"
-                    "P0 = 100 kW, C with sqrt(P0 C) = 267.5 N m,\nJ with T0 = 750 N m at t0 = 0.1 s from rest.\n"
-                    "T0 rises with P0, J, C and falls with w0\n(seed 002 Fig. 4 b-e).", va="top", fontsize=9)
+    axes[1, 2].text(
+        0,
+        0.9,
+        "Nominal (assumed, not printed in seed 002):\n"
+        "P0 = 100 kW, C with sqrt(P0 C) = 267.5 N m,\nJ with T0 = 750 N m at t0 = 0.1 s from rest.\n"
+        "T0 rises with P0, J, C and falls with w0\n(seed 002 Fig. 4 b-e).",
+        va="top",
+        fontsize=9,
+    )
     for ax in axes.ravel()[:5]:
         ax.grid(alpha=0.3)
-    fig.suptitle("Impact torque of the starter (seed 002 eqs. 1-5, Fig. 4): J w dw/dt + C w^2 = P0, T = P0/w")
+    fig.suptitle(
+        "Impact torque of the starter (seed 002 eqs. 1-5, Fig. 4): J w dw/dt + C w^2 = P0, T = P0/w"
+    )
     return fig
 
 

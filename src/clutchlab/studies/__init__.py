@@ -6,6 +6,7 @@ units and returns an :class:`xarray.Dataset` whose scenario dimension is ``run``
 dimensions (e.g. points of a curve) are allowed. :mod:`clutchlab.doe` builds the design,
 :mod:`clutchlab.pipeline` runs and merges its chunks.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -28,7 +29,9 @@ class Parameter:
     minimum_inclusive: bool = False
     maximum: float | None = None
     maximum_inclusive: bool = True
-    allow_infinite: bool = False  # e.g. engine inertia (inf = held engine), Stribeck speed (inf = constant mu)
+    allow_infinite: bool = (
+        False  # e.g. engine inertia (inf = held engine), Stribeck speed (inf = constant mu)
+    )
     integer: bool = False  # a count (sprags, rollers, shoes, friction faces)
     choices: tuple[float, ...] | None = None  # the only values allowed (e.g. drive direction +1/-1)
 

@@ -27,6 +27,7 @@ The result records accuracy, rtol and atol. ``end_time`` bounds the search for l
 found is followed past it until its metrics are final (status ``truncated`` where an event after
 the window would change them).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -41,50 +42,131 @@ from .diaphragm_spring import spring_geometry
 PARAMETERS = SPRING_PARAMETERS + (
     Parameter("ramp_time", "s", "clamp force rise (engagement) time", 0.15, minimum_inclusive=True),
     Parameter("engine_speed", "rad/s", "engine speed at the start of engagement", 570.0),
-    Parameter("engine_inertia", "kg m^2", "engine-side inertia (inf: engine held at its speed)", np.inf,
-              allow_infinite=True),
+    Parameter(
+        "engine_inertia",
+        "kg m^2",
+        "engine-side inertia (inf: engine held at its speed)",
+        np.inf,
+        allow_infinite=True,
+    ),
     Parameter("engine_torque", "N m", "engine torque (free engine)", 156.0, minimum=None),
     Parameter("driven_inertia", "kg m^2", "driven-side inertia (plate hub + output)", 0.021),
-    Parameter("load_torque", "N m", "load torque (static while the output is at rest)", 44.0,
-              minimum_inclusive=True),
-    Parameter("aero_coefficient", "N m s^2", "rotor drag coefficient k in k*omega^2", 0.0, minimum_inclusive=True),
-    Parameter("static_ratio", "1", "static over kinetic friction coefficient", 1.0, minimum=1.0,
-              minimum_inclusive=True),
-    Parameter("stribeck_speed", "rad/s", "Stribeck slip speed v_s (inf: constant kinetic mu)", np.inf,
-              allow_infinite=True),
-    Parameter("hub_fraction", "1", "share of the driven inertia on the plate hub (compliant driveline)", 0.5,
-              maximum=1.0, maximum_inclusive=False),
-    Parameter("damper_stiffness", "N m/rad", "damper angular stiffness C_a between hub and output", 4498.0),
-    Parameter("damping_ratio", "1", "damping ratio of the hub-output mode", 0.05, minimum_inclusive=True),
-    Parameter("air_gap", "m", "pressure-plate travel before the lining cushion is touched (release-bearing model)",
-              0.0, minimum_inclusive=True),
+    Parameter(
+        "load_torque",
+        "N m",
+        "load torque (static while the output is at rest)",
+        44.0,
+        minimum_inclusive=True,
+    ),
+    Parameter(
+        "aero_coefficient",
+        "N m s^2",
+        "rotor drag coefficient k in k*omega^2",
+        0.0,
+        minimum_inclusive=True,
+    ),
+    Parameter(
+        "static_ratio",
+        "1",
+        "static over kinetic friction coefficient",
+        1.0,
+        minimum=1.0,
+        minimum_inclusive=True,
+    ),
+    Parameter(
+        "stribeck_speed",
+        "rad/s",
+        "Stribeck slip speed v_s (inf: constant kinetic mu)",
+        np.inf,
+        allow_infinite=True,
+    ),
+    Parameter(
+        "hub_fraction",
+        "1",
+        "share of the driven inertia on the plate hub (compliant driveline)",
+        0.5,
+        maximum=1.0,
+        maximum_inclusive=False,
+    ),
+    Parameter(
+        "damper_stiffness", "N m/rad", "damper angular stiffness C_a between hub and output", 4498.0
+    ),
+    Parameter(
+        "damping_ratio", "1", "damping ratio of the hub-output mode", 0.05, minimum_inclusive=True
+    ),
+    Parameter(
+        "air_gap",
+        "m",
+        "pressure-plate travel before the lining cushion is touched (release-bearing model)",
+        0.0,
+        minimum_inclusive=True,
+    ),
     Parameter("cushion_travel", "m", "lining cushion travel at full clamp (assumed)", 0.6e-3),
-    Parameter("lever_ratio", "1", "finger lever ratio: bearing travel over plate lift (assumed)", 4.0),
-    Parameter("end_time", "s", "end of the window searched for lock-up (a lock-up found is followed to its final "
-              "metrics)", 0.5),
+    Parameter(
+        "lever_ratio", "1", "finger lever ratio: bearing travel over plate lift (assumed)", 4.0
+    ),
+    Parameter(
+        "end_time",
+        "s",
+        "end of the window searched for lock-up (a lock-up found is followed to its final metrics)",
+        0.5,
+    ),
     # heat (issue 20, clutchlab.heat): masses of seed 000 Table 3; the rest assumed (see heat.engagement_heat)
     Parameter("flywheel_mass", "kg", "flywheel mass (seed 000 Table 3)", 10.3),
     Parameter("pressure_plate_mass", "kg", "pressure plate mass (seed 000 Table 3)", 2.5),
     Parameter("driven_plate_mass", "kg", "driven plate mass (seed 000 Table 3)", 1.9),
-    Parameter("heat_transfer_coefficient", "W/(m^2*K)", "convective heat transfer coefficient between "
-              "engagements (assumed)", 40.0),
-    Parameter("cooling_area", "m^2", "cooled area of the hottest part (assumed: both sides and rim)", 0.1),
-    Parameter("engagement_interval", "s", "time between engagements in a row (assumed: a retried start)", 60.0),
-    Parameter("ambient_temperature", "K", "air in the clutch housing, and the parts before the first engagement "
-              "(assumed: 40 C)", 313.15),
-    Parameter("temperature_limit", "K", "material limit of the hottest part's bulk temperature (assumed: 250 C, "
-              "organic linings)", 523.15),
+    Parameter(
+        "heat_transfer_coefficient",
+        "W/(m^2*K)",
+        "convective heat transfer coefficient between engagements (assumed)",
+        40.0,
+    ),
+    Parameter(
+        "cooling_area", "m^2", "cooled area of the hottest part (assumed: both sides and rim)", 0.1
+    ),
+    Parameter(
+        "engagement_interval",
+        "s",
+        "time between engagements in a row (assumed: a retried start)",
+        60.0,
+    ),
+    Parameter(
+        "ambient_temperature",
+        "K",
+        "air in the clutch housing, and the parts before the first engagement (assumed: 40 C)",
+        313.15,
+    ),
+    Parameter(
+        "temperature_limit",
+        "K",
+        "material limit of the hottest part's bulk temperature (assumed: 250 C, organic linings)",
+        523.15,
+    ),
     # friction fade (issue 20 item 4; off by default): mu_k / (1 + beta (T_face - T_onset)+) while slipping
-    Parameter("fade_coefficient", "1/K", "friction fade beta: kinetic mu divided by 1 + beta*(T_face - "
-              "fade_onset_temperature) above the onset (0: no fade)", 0.0, minimum_inclusive=True),
-    Parameter("fade_onset_temperature", "K", "friction-face temperature at which fade begins (assumed: 200 C, "
-              "organic linings; not below ambient_temperature)", 473.15),
+    Parameter(
+        "fade_coefficient",
+        "1/K",
+        "friction fade beta: kinetic mu divided by 1 + beta*(T_face - "
+        "fade_onset_temperature) above the onset (0: no fade)",
+        0.0,
+        minimum_inclusive=True,
+    ),
+    Parameter(
+        "fade_onset_temperature",
+        "K",
+        "friction-face temperature at which fade begins (assumed: 200 C, "
+        "organic linings; not below ambient_temperature)",
+        473.15,
+    ),
 )
 
 ACCURACY = 1e-6  # default relative accuracy of lock-up time, slip work and peak jerk
 
-OPTIONS = {"driveline": ("compliant", "rigid"), "profile": engagement.PROFILES,
-           "capacity_formula": ("corrected", "eq14_as_printed")}
+OPTIONS = {
+    "driveline": ("compliant", "rigid"),
+    "profile": engagement.PROFILES,
+    "capacity_formula": ("corrected", "eq14_as_printed"),
+}
 
 OUTPUTS = {
     "clamp_load": ("N", "clamp load at the spring operating point B (eq. 10)"),
@@ -96,33 +178,60 @@ OUTPUTS = {
     "peak_friction_torque": ("N m", "peak transmitted clutch torque"),
     "clamp_force_at_lockup": ("N", "clamp force at lock-up"),
     "accel_jump": ("rad/s^2", "driven (rigid) or hub (compliant) acceleration jump at lock-up"),
-    "peak_jerk": ("rad/s^3", "peak output jerk (compliant: from the model equations; rigid: slip phase only)"),
-    "energy_residual": ("1", "input work - kinetic/elastic energy change - slip, load, damping work, relative"),
-    "peak_bearing_force": ("N", "largest release-bearing force over the release travel (diaphragm curve, eq. 10)"),
+    "peak_jerk": (
+        "rad/s^3",
+        "peak output jerk (compliant: from the model equations; rigid: slip phase only)",
+    ),
+    "energy_residual": (
+        "1",
+        "input work - kinetic/elastic energy change - slip, load, damping work, relative",
+    ),
+    "peak_bearing_force": (
+        "N",
+        "largest release-bearing force over the release travel (diaphragm curve, eq. 10)",
+    ),
     "specific_friction_work": ("J/m^2", "slip work per friction area (all faces)"),
     "peak_specific_friction_power": ("W/m^2", "peak slip power per friction area (all faces)"),
     "heat_flywheel": ("J", "friction heat into the flywheel (effusivity partition)"),
     "heat_pressure_plate": ("J", "friction heat into the pressure plate (effusivity partition)"),
     "heat_driven_plate": ("J", "friction heat into the driven plate (its linings)"),
     "bulk_temperature_rise": ("K", "lumped temperature rise of the hottest part in one engagement"),
-    "peak_surface_temperature": ("K", "peak friction-face (flash) temperature of flywheel and pressure plate in one "
-                                      "engagement from ambient (Duhamel's integral of the slip power history)"),
-    "engagements_to_limit": ("1", "engagements in a row until the hottest part's bulk temperature reaches "
-                                  "temperature_limit (inf: never)"),
+    "peak_surface_temperature": (
+        "K",
+        "peak friction-face (flash) temperature of flywheel and pressure plate in one "
+        "engagement from ambient (Duhamel's integral of the slip power history)",
+    ),
+    "engagements_to_limit": (
+        "1",
+        "engagements in a row until the hottest part's bulk temperature reaches "
+        "temperature_limit (inf: never)",
+    ),
 }
-HEAT = ("specific_friction_work", "peak_specific_friction_power", "heat_flywheel", "heat_pressure_plate",
-        "heat_driven_plate", "bulk_temperature_rise", "engagements_to_limit")
+HEAT = (
+    "specific_friction_work",
+    "peak_specific_friction_power",
+    "heat_flywheel",
+    "heat_pressure_plate",
+    "heat_driven_plate",
+    "bulk_temperature_rise",
+    "engagements_to_limit",
+)
 
 
 # per-scenario model (variable ``model``): code, and what it is
 MODEL = {"closed_form": 0, "rigid_events": 1, "compliant_events": 2}
-MODEL_TEXT = {"closed_form": "rigid two-inertia, closed form",
-              "rigid_events": "rigid two-inertia, DOPRI5 with exact events",
-              "compliant_events": "compliant driveline (damper springs): linear phases in closed form, nonlinear "
-                                  "ones by DOPRI5, exact events"}
+MODEL_TEXT = {
+    "closed_form": "rigid two-inertia, closed form",
+    "rigid_events": "rigid two-inertia, DOPRI5 with exact events",
+    "compliant_events": "compliant driveline (damper springs): linear phases in closed form, nonlinear "
+    "ones by DOPRI5, exact events",
+}
 # solver statistics stored per scenario (0 for the closed form): simulate's key -> long_name
-SOLVER_STATS = {"n_steps": "integrator steps taken (accepted)", "n_rejected": "integrator steps rejected",
-                "n_locate": "events located (stick, slip, lock-up)"}
+SOLVER_STATS = {
+    "n_steps": "integrator steps taken (accepted)",
+    "n_rejected": "integrator steps rejected",
+    "n_locate": "events located (stick, slip, lock-up)",
+}
 
 
 def bearing_force(p, pts, points=41):
@@ -140,14 +249,27 @@ def bearing_force(p, pts, points=41):
 def capacity(p, options, with_points=False):
     """Clamp load at the spring's operating point (eq. 10), peak kinetic capacity (eqs. 13-14) and
     the spring status (and the characteristic points), for flat parameter arrays ``p``."""
-    pts = diaphragm.characteristic_points(**spring_geometry(p), operating_point_factor=p["operating_point_factor"])
+    pts = diaphragm.characteristic_points(
+        **spring_geometry(p), operating_point_factor=p["operating_point_factor"]
+    )
     force = pts["load_B"]
     if options["capacity_formula"] == "eq14_as_printed":
-        cap = friction.torque_capacity_eq14_as_printed(force, p["friction_coefficient"], p["stack_mass"],
-                                                       p["lining_outer_radius"], p["lining_inner_radius"])
+        cap = friction.torque_capacity_eq14_as_printed(
+            force,
+            p["friction_coefficient"],
+            p["stack_mass"],
+            p["lining_outer_radius"],
+            p["lining_inner_radius"],
+        )
     else:
-        cap = friction.torque_capacity(force, p["friction_coefficient"], p["lining_outer_radius"],
-                                       p["lining_inner_radius"], faces=p["friction_faces"], stack_mass=p["stack_mass"])
+        cap = friction.torque_capacity(
+            force,
+            p["friction_coefficient"],
+            p["lining_outer_radius"],
+            p["lining_inner_radius"],
+            faces=p["friction_faces"],
+            stack_mass=p["stack_mass"],
+        )
     spring_bad = pts["status"] == st.CODE["invalid_geometry"]
     out = force, np.where(spring_bad | ~np.isfinite(cap), 0.0, cap), spring_bad
     return out + (pts,) if with_points else out
@@ -165,33 +287,55 @@ def _friction_table(p, options):
     table = options.get("friction_table")
     if table is None:
         return None
-    return (np.asarray(table["slip_speed"]),
-            np.asarray(table["friction_coefficient"]) / float(np.asarray(p["friction_coefficient"]).flat[0]))
+    return (
+        np.asarray(table["slip_speed"]),
+        np.asarray(table["friction_coefficient"])
+        / float(np.asarray(p["friction_coefficient"]).flat[0]),
+    )
 
 
 def _solver_inputs(p, cap, options):
     """Keyword arguments of :func:`clutchlab.engagement.simulate` shared by the study and its traces."""
     rigid = options["driveline"] == "rigid"
     rtol, atol = tolerances(options["accuracy"])
-    return dict(engine_speed=p["engine_speed"], engine_inertia=p["engine_inertia"], engine_torque=p["engine_torque"],
-                driven_inertia=p["driven_inertia"], load_torque=p["load_torque"], peak_capacity=cap,
-                ramp_time=p["ramp_time"], profile=options["profile"], static_ratio=p["static_ratio"],
-                t_end=p["end_time"], stribeck_speed=p["stribeck_speed"], aero_coefficient=p["aero_coefficient"],
-                compliant=not rigid, hub_fraction=p["hub_fraction"], damper_stiffness=p["damper_stiffness"],
-                damping_ratio=p["damping_ratio"], rtol=rtol, atol=atol, power_history=True,
-                release_ratio=(p["air_gap"] + p["cushion_travel"]) / p["cushion_travel"],
-                friction_table=_friction_table(p, options), **_fade_inputs(p))
+    return dict(
+        engine_speed=p["engine_speed"],
+        engine_inertia=p["engine_inertia"],
+        engine_torque=p["engine_torque"],
+        driven_inertia=p["driven_inertia"],
+        load_torque=p["load_torque"],
+        peak_capacity=cap,
+        ramp_time=p["ramp_time"],
+        profile=options["profile"],
+        static_ratio=p["static_ratio"],
+        t_end=p["end_time"],
+        stribeck_speed=p["stribeck_speed"],
+        aero_coefficient=p["aero_coefficient"],
+        compliant=not rigid,
+        hub_fraction=p["hub_fraction"],
+        damper_stiffness=p["damper_stiffness"],
+        damping_ratio=p["damping_ratio"],
+        rtol=rtol,
+        atol=atol,
+        power_history=True,
+        release_ratio=(p["air_gap"] + p["cushion_travel"]) / p["cushion_travel"],
+        friction_table=_friction_table(p, options),
+        **_fade_inputs(p),
+    )
 
 
 def _fade_inputs(p):
     """simulate's fade arguments (zero where fade is off, so that nothing of it is screened there)."""
     on = p["fade_coefficient"] > 0
     with np.errstate(invalid="ignore"):
-        factor = heat.face_temperature_rise(1.0, p["lining_outer_radius"], p["lining_inner_radius"],
-                                            p["friction_faces"])
-    return dict(fade_coefficient=p["fade_coefficient"],
-                fade_onset=np.where(on, p["fade_onset_temperature"] - p["ambient_temperature"], 0.0),
-                face_temperature_factor=np.where(on, factor, 0.0))
+        factor = heat.face_temperature_rise(
+            1.0, p["lining_outer_radius"], p["lining_inner_radius"], p["friction_faces"]
+        )
+    return dict(
+        fade_coefficient=p["fade_coefficient"],
+        fade_onset=np.where(on, p["fade_onset_temperature"] - p["ambient_temperature"], 0.0),
+        face_temperature_factor=np.where(on, factor, 0.0),
+    )
 
 
 def check_config(section):
@@ -199,6 +343,7 @@ def check_config(section):
     engagements_to_limit would mean nothing): refuse the config where the lowest limit is not above
     the highest ambient. A friction table replaces the Stribeck law and is read relative to a fixed
     friction_coefficient: refuse it with a Stribeck speed or a friction coefficient factor."""
+
     def bounds(name):
         if name in section["fixed"]:
             return section["fixed"][name], section["fixed"][name]
@@ -208,30 +353,52 @@ def check_config(section):
 
     limit, ambient = bounds("temperature_limit"), bounds("ambient_temperature")
     if not limit[0] > ambient[1]:
-        return ("engagement.parameters.temperature_limit",
-                f"the material limit ({limit[0]:g} K) must lie above the ambient temperature ({ambient[1]:g} K)")
+        return (
+            "engagement.parameters.temperature_limit",
+            f"the material limit ({limit[0]:g} K) must lie above the ambient temperature ({ambient[1]:g} K)",
+        )
     onset = bounds("fade_onset_temperature")
     if bounds("fade_coefficient")[1] > 0 and not onset[0] >= ambient[1]:
-        return ("engagement.parameters.fade_onset_temperature",
-                f"fade must begin at or above the ambient temperature ({onset[0]:g} K < {ambient[1]:g} K)")
+        return (
+            "engagement.parameters.fade_onset_temperature",
+            f"fade must begin at or above the ambient temperature ({onset[0]:g} K < {ambient[1]:g} K)",
+        )
     if "friction_table" in section["options"]:
         if "friction_coefficient" in section["factors"]:
-            return ("engagement.parameters.friction_coefficient",
-                    "must be fixed with a friction_table (the table's mu is read relative to it: mu_k of the "
-                    "capacity and of static_ratio)")
+            return (
+                "engagement.parameters.friction_coefficient",
+                "must be fixed with a friction_table (the table's mu is read relative to it: mu_k of the "
+                "capacity and of static_ratio)",
+            )
         if bounds("stribeck_speed")[0] < np.inf:
-            return ("engagement.parameters.stribeck_speed",
-                    "a friction_table replaces the Stribeck law: leave stribeck_speed at inf")
+            return (
+                "engagement.parameters.stribeck_speed",
+                "a friction_table replaces the Stribeck law: leave stribeck_speed at inf",
+            )
     return None
 
 
 def _heat(p, slip_work, peak_slip_power):
     """clutchlab.heat.engagement_heat of the scenarios (NaN where the slip work is NaN)."""
     return heat.engagement_heat(
-        slip_work, peak_slip_power, p["lining_outer_radius"], p["lining_inner_radius"], p["friction_faces"],
+        slip_work,
+        peak_slip_power,
+        p["lining_outer_radius"],
+        p["lining_inner_radius"],
+        p["friction_faces"],
         temperature_margin=p["temperature_limit"] - p["ambient_temperature"],
-        **{k: p[k] for k in ("flywheel_mass", "pressure_plate_mass", "driven_plate_mass", "heat_transfer_coefficient",
-                             "cooling_area", "engagement_interval")})
+        **{
+            k: p[k]
+            for k in (
+                "flywheel_mass",
+                "pressure_plate_mass",
+                "driven_plate_mass",
+                "heat_transfer_coefficient",
+                "cooling_area",
+                "engagement_interval",
+            )
+        },
+    )
 
 
 def compute(inputs, options=None) -> xr.Dataset:
@@ -242,28 +409,60 @@ def compute(inputs, options=None) -> xr.Dataset:
     # the cheapest exact model per scenario (issue 16 item 2): the closed form where the rigid model
     # has a held engine, no drag, constant mu (no Stribeck law, friction table or fade) and no air
     # gap; the event solver elsewhere
-    closed = rigid & ~np.isfinite(p["engine_inertia"]) & (p["aero_coefficient"] == 0) \
-        & ~np.isfinite(p["stribeck_speed"]) & (p["air_gap"] == 0) & (p["fade_coefficient"] == 0) \
+    closed = (
+        rigid
+        & ~np.isfinite(p["engine_inertia"])
+        & (p["aero_coefficient"] == 0)
+        & ~np.isfinite(p["stribeck_speed"])
+        & (p["air_gap"] == 0)
+        & (p["fade_coefficient"] == 0)
         & ("friction_table" not in options)
-    model = np.where(closed, MODEL["closed_form"], MODEL["rigid_events" if rigid else "compliant_events"])
+    )
+    model = np.where(
+        closed, MODEL["closed_form"], MODEL["rigid_events" if rigid else "compliant_events"]
+    )
     kw = _solver_inputs(p, cap, options)
     res = {}
     for mask, closed_form in ((closed, True), (~closed, False)):
-        if not mask.any() and (mask.size or closed_form):  # (an empty chunk runs the solver on nothing)
+        if not mask.any() and (
+            mask.size or closed_form
+        ):  # (an empty chunk runs the solver on nothing)
             continue
-        sub = {k: (v[mask] if isinstance(v, np.ndarray) and v.shape == mask.shape else v) for k, v in kw.items()}
+        sub = {
+            k: (v[mask] if isinstance(v, np.ndarray) and v.shape == mask.shape else v)
+            for k, v in kw.items()
+        }
         if closed_form:
-            part = engagement.closed_form(**{k: sub[k] for k in (
-                "engine_speed", "engine_inertia", "engine_torque", "driven_inertia", "load_torque", "peak_capacity",
-                "ramp_time", "profile", "static_ratio", "t_end")}, power_history=True)
+            part = engagement.closed_form(
+                **{
+                    k: sub[k]
+                    for k in (
+                        "engine_speed",
+                        "engine_inertia",
+                        "engine_torque",
+                        "driven_inertia",
+                        "load_torque",
+                        "peak_capacity",
+                        "ramp_time",
+                        "profile",
+                        "static_ratio",
+                        "t_end",
+                    )
+                },
+                power_history=True,
+            )
             part["peak_jerk"] = part.pop("slip_jerk")
         else:
             part = engagement.simulate(**sub)
         for k in (*OUTPUTS, "status", "capacity_at_lockup", "flash_peak", *SOLVER_STATS):
             if k in part:
-                res.setdefault(k, np.zeros(mask.size, dtype=np.asarray(part[k]).dtype))[mask] = part[k]
+                res.setdefault(k, np.zeros(mask.size, dtype=np.asarray(part[k]).dtype))[mask] = (
+                    part[k]
+                )
     with np.errstate(invalid="ignore", divide="ignore"):
-        res["clamp_force_at_lockup"] = np.where(cap > 0, res["capacity_at_lockup"] / cap * force, np.nan)
+        res["clamp_force_at_lockup"] = np.where(
+            cap > 0, res["capacity_at_lockup"] / cap * force, np.nan
+        )
     res["clamp_load"], res["peak_capacity"] = force, cap
     with np.errstate(invalid="ignore"):
         res["peak_bearing_force"] = np.max(bearing_force(p, pts), axis=1)
@@ -273,21 +472,49 @@ def compute(inputs, options=None) -> xr.Dataset:
     # samples, or the closed form's exact slip power sampled on its pieces)
     flash = np.where(hot["status"] != 0, np.nan, res.get("flash_peak", np.full(model.size, np.nan)))
     res["peak_surface_temperature"] = p["ambient_temperature"] + heat.face_temperature_rise(
-        flash, p["lining_outer_radius"], p["lining_inner_radius"], p["friction_faces"])
+        flash, p["lining_outer_radius"], p["lining_inner_radius"], p["friction_faces"]
+    )
     code = np.where(spring_bad, st.CODE["invalid_geometry"], res["status"]).astype(st.DTYPE)
-    data = {k: ("run", np.where(spring_bad, np.nan, res[k]), {"units": u, "long_name": ln}) for k, (u, ln) in OUTPUTS.items()}
-    data["hottest_part"] = ("run", hot["hottest_part"], {
-        "long_name": "part with the largest bulk temperature rise", "units": "1",
-        "flag_values": np.arange(len(heat.PARTS), dtype=np.int8), "flag_meanings": " ".join(heat.PARTS)})
-    data["model"] = ("run", model.astype(np.int8), {
-        "long_name": "model that computed the scenario (the cheapest exact one for its inputs)", "units": "1",
-        "flag_values": np.array(sorted(MODEL.values()), np.int8), "flag_meanings": " ".join(MODEL)})
+    data = {
+        k: ("run", np.where(spring_bad, np.nan, res[k]), {"units": u, "long_name": ln})
+        for k, (u, ln) in OUTPUTS.items()
+    }
+    data["hottest_part"] = (
+        "run",
+        hot["hottest_part"],
+        {
+            "long_name": "part with the largest bulk temperature rise",
+            "units": "1",
+            "flag_values": np.arange(len(heat.PARTS), dtype=np.int8),
+            "flag_meanings": " ".join(heat.PARTS),
+        },
+    )
+    data["model"] = (
+        "run",
+        model.astype(np.int8),
+        {
+            "long_name": "model that computed the scenario (the cheapest exact one for its inputs)",
+            "units": "1",
+            "flag_values": np.array(sorted(MODEL.values()), np.int8),
+            "flag_meanings": " ".join(MODEL),
+        },
+    )
     for k, ln in SOLVER_STATS.items():
-        data[k] = ("run", res.get(k, np.zeros(model.size)).astype(np.int32), {"long_name": ln, "units": "1"})
-    data["status"] = ("run", code, st.attrs("invalid_geometry: spring load points off the spring; "
-                                            "never_locked: slipping at end_time; not_converged: step limit; "
-                                            "truncated: an event after end_time (break-away, the output "
-                                            "stopping) would change the metrics: raise end_time"))
+        data[k] = (
+            "run",
+            res.get(k, np.zeros(model.size)).astype(np.int32),
+            {"long_name": ln, "units": "1"},
+        )
+    data["status"] = (
+        "run",
+        code,
+        st.attrs(
+            "invalid_geometry: spring load points off the spring; "
+            "never_locked: slipping at end_time; not_converged: step limit; "
+            "truncated: an event after end_time (break-away, the output "
+            "stopping) would change the metrics: raise end_time"
+        ),
+    )
     ds = xr.Dataset(data)
     ds.attrs["model_used"] = "; ".join(MODEL_TEXT[m] for m in MODEL if (model == MODEL[m]).any())
     rtol, atol = tolerances(options["accuracy"])
@@ -310,16 +537,32 @@ def seed_traces(inputs, options) -> xr.Dataset:
     res = engagement.simulate(**_solver_inputs(p, cap, options), trace_times=times)
     tr = {k: v[0] for k, v in res["trace"].items()}
     dim = "trace_time"
-    meta = {"engine_speed": ("rad/s", "engine speed"), "hub_speed": ("rad/s", "driven plate (hub) speed"),
-            "output_speed": ("rad/s", "output speed (after the damper springs)"),
-            "friction_torque": ("N m", "transmitted clutch torque"), "slip_work": ("J", "slip work so far (eq. 11)"),
-            "jerk": ("rad/s^3", "output jerk (eq. 12)")}
-    data = {f"trace_{k}": (dim, tr[k], {"units": u, "long_name": f"{ln} (seed design)"}) for k, (u, ln) in meta.items()}
-    data["trace_clamp_force"] = (dim, tr["capacity"] / cap[0] * force[0], {
-        "units": "N", "long_name": "clamp force (seed design; its rise follows the ramp profile)"})
-    data["trace_lockup_time"] = ((), float(res["lockup_time"][0]), {"units": "s", "long_name": "lock-up time (seed)"})
+    meta = {
+        "engine_speed": ("rad/s", "engine speed"),
+        "hub_speed": ("rad/s", "driven plate (hub) speed"),
+        "output_speed": ("rad/s", "output speed (after the damper springs)"),
+        "friction_torque": ("N m", "transmitted clutch torque"),
+        "slip_work": ("J", "slip work so far (eq. 11)"),
+        "jerk": ("rad/s^3", "output jerk (eq. 12)"),
+    }
+    data = {
+        f"trace_{k}": (dim, tr[k], {"units": u, "long_name": f"{ln} (seed design)"})
+        for k, (u, ln) in meta.items()
+    }
+    data["trace_clamp_force"] = (
+        dim,
+        tr["capacity"] / cap[0] * force[0],
+        {"units": "N", "long_name": "clamp force (seed design; its rise follows the ramp profile)"},
+    )
+    data["trace_lockup_time"] = (
+        (),
+        float(res["lockup_time"][0]),
+        {"units": "s", "long_name": "lock-up time (seed)"},
+    )
     data.update(_trace_temperatures(p, times, tr, dim))
-    return xr.Dataset(data, coords={dim: (dim, times, {"units": "s", "long_name": "time (seed design traces)"})})
+    return xr.Dataset(
+        data, coords={dim: (dim, times, {"units": "s", "long_name": "time (seed design traces)"})}
+    )
 
 
 def _trace_temperatures(p, times, tr, dim) -> dict:
@@ -329,55 +572,113 @@ def _trace_temperatures(p, times, tr, dim) -> dict:
     own trace, not a second run); its bulk temperature, ambient + its share of the slip work so far
     over m c."""
     power = np.nan_to_num(tr["friction_torque"] * (tr["engine_speed"] - tr["hub_speed"]))
-    area = float(heat.lining_area(p["lining_outer_radius"][0], p["lining_inner_radius"][0]) * p["friction_faces"][0])
+    area = float(
+        heat.lining_area(p["lining_outer_radius"][0], p["lining_inner_radius"][0])
+        * p["friction_faces"][0]
+    )
     e_fw, e_pp, e_lining = heat.part_effusivities()
     gamma = e_pp / (e_pp + e_lining)
     ambient = float(p["ambient_temperature"][0])
     surface = ambient + heat.duhamel_surface_temperature(times, gamma * power / area, e_pp)
     bulk = ambient + 0.5 * gamma * np.nan_to_num(tr["slip_work"]) / (
-        float(p["pressure_plate_mass"][0]) * heat.MATERIALS["cast_iron"]["specific_heat"])
+        float(p["pressure_plate_mass"][0]) * heat.MATERIALS["cast_iron"]["specific_heat"]
+    )
     where = "(seed design; pressure plate)"
     # engagements in a row, engagement_interval apart, the hottest part cooling between them
-    hot = _heat({k: v[:1] for k, v in p.items()}, np.nan_to_num(tr["slip_work"][-1:]),
-                np.array([power.max()]))
+    hot = _heat(
+        {k: v[:1] for k, v in p.items()},
+        np.nan_to_num(tr["slip_work"][-1:]),
+        np.array([power.max()]),
+    )
     part = heat.PARTS[int(hot["hottest_part"][0])]
-    capacity = float(p[f"{part}_mass"][0]) * heat.MATERIALS[heat.BULK_MATERIAL[part]]["specific_heat"]
+    capacity = (
+        float(p[f"{part}_mass"][0]) * heat.MATERIALS[heat.BULK_MATERIAL[part]]["specific_heat"]
+    )
     tau = capacity / float(p["heat_transfer_coefficient"][0] * p["cooling_area"][0])
-    seq = ambient + heat.sequence_temperatures(hot["bulk_temperature_rise"][0], float(p["engagement_interval"][0]),
-                                               tau, SEQUENCE_ENGAGEMENTS)
+    seq = ambient + heat.sequence_temperatures(
+        hot["bulk_temperature_rise"][0],
+        float(p["engagement_interval"][0]),
+        tau,
+        SEQUENCE_ENGAGEMENTS,
+    )
     return {
-        "trace_sequence_temperature": ("engagement_number", seq, {
-            "units": "K", "long_name": f"bulk temperature of the {part.replace('_', ' ')} just after each engagement "
-                                       "in a row (seed design)"}),
-        "engagement_number": ("engagement_number", np.arange(1, SEQUENCE_ENGAGEMENTS + 1), {
-            "units": "1", "long_name": "engagement in a row (engagement_interval apart)"}),
+        "trace_sequence_temperature": (
+            "engagement_number",
+            seq,
+            {
+                "units": "K",
+                "long_name": f"bulk temperature of the {part.replace('_', ' ')} just after each engagement "
+                "in a row (seed design)",
+            },
+        ),
+        "engagement_number": (
+            "engagement_number",
+            np.arange(1, SEQUENCE_ENGAGEMENTS + 1),
+            {"units": "1", "long_name": "engagement in a row (engagement_interval apart)"},
+        ),
         "trace_slip_power": (dim, power, {"units": "W", "long_name": "slip power (seed design)"}),
-        "trace_surface_temperature": (dim, surface, {"units": "K", "long_name": f"friction-face temperature {where}"}),
-        "trace_bulk_temperature": (dim, bulk, {"units": "K", "long_name": f"bulk temperature {where}"}),
-        "trace_peak_surface_temperature": ((), float(surface.max()), {
-            "units": "K", "long_name": f"peak friction-face temperature {where}"})}
+        "trace_surface_temperature": (
+            dim,
+            surface,
+            {"units": "K", "long_name": f"friction-face temperature {where}"},
+        ),
+        "trace_bulk_temperature": (
+            dim,
+            bulk,
+            {"units": "K", "long_name": f"bulk temperature {where}"},
+        ),
+        "trace_peak_surface_temperature": (
+            (),
+            float(surface.max()),
+            {"units": "K", "long_name": f"peak friction-face temperature {where}"},
+        ),
+    }
 
 
-STUDY = register(Study(
-    name="engagement",
-    output="diaphragm/engagement.h5",
-    description="Diaphragm-spring clutch engagement: lock-up, slip work, jerk (seed 000)",
-    parameters=PARAMETERS,
-    compute=compute,
-    traces=seed_traces,
-    model="chosen by options (see model_used): closed form, or DOPRI5 with exact stick-slip events",
-    options=OPTIONS,
-    outputs={"lockup_time": "s", "slip_work": "J", "peak_slip_power": "W", "peak_friction_torque": "N m",
-             "specific_friction_work": "J/m^2", "peak_specific_friction_power": "W/m^2", "bulk_temperature_rise": "K",
-             "peak_surface_temperature": "K",
-             "accel_jump": "rad/s^2", "peak_jerk": "rad/s^3", "peak_bearing_force": "N", "clamp_load": "N"},
-    # seed 000: a cool (little slip work) and smooth (little jerk) engagement, locked within 0.5 s
-    conditions=("engine_speed", "engine_inertia", "engine_torque", "driven_inertia", "load_torque", "aero_coefficient"),
-    model_options=("driveline", "capacity_formula"),
-    tables={"friction_table": (("slip_speed", "rad/s"), ("friction_coefficient", "1"),
-                               "measured kinetic friction coefficient over slip speed (replaces the Stribeck law)")},
-    objectives=("slip_work:min", "peak_jerk:min"),
-    constraints={"lockup_time": ("max", 0.5)},
-    accuracy=ACCURACY,
-    check_config=check_config,
-))
+STUDY = register(
+    Study(
+        name="engagement",
+        output="diaphragm/engagement.h5",
+        description="Diaphragm-spring clutch engagement: lock-up, slip work, jerk (seed 000)",
+        parameters=PARAMETERS,
+        compute=compute,
+        traces=seed_traces,
+        model="chosen by options (see model_used): closed form, or DOPRI5 with exact stick-slip events",
+        options=OPTIONS,
+        outputs={
+            "lockup_time": "s",
+            "slip_work": "J",
+            "peak_slip_power": "W",
+            "peak_friction_torque": "N m",
+            "specific_friction_work": "J/m^2",
+            "peak_specific_friction_power": "W/m^2",
+            "bulk_temperature_rise": "K",
+            "peak_surface_temperature": "K",
+            "accel_jump": "rad/s^2",
+            "peak_jerk": "rad/s^3",
+            "peak_bearing_force": "N",
+            "clamp_load": "N",
+        },
+        # seed 000: a cool (little slip work) and smooth (little jerk) engagement, locked within 0.5 s
+        conditions=(
+            "engine_speed",
+            "engine_inertia",
+            "engine_torque",
+            "driven_inertia",
+            "load_torque",
+            "aero_coefficient",
+        ),
+        model_options=("driveline", "capacity_formula"),
+        tables={
+            "friction_table": (
+                ("slip_speed", "rad/s"),
+                ("friction_coefficient", "1"),
+                "measured kinetic friction coefficient over slip speed (replaces the Stribeck law)",
+            )
+        },
+        objectives=("slip_work:min", "peak_jerk:min"),
+        constraints={"lockup_time": ("max", 0.5)},
+        accuracy=ACCURACY,
+        check_config=check_config,
+    )
+)

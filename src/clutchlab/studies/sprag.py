@@ -15,6 +15,7 @@ Assumed, not printed in the paper: steel E = 206 GPa, ν = 0.3 for all parts; im
 P₀ = 100 kW, C chosen so that √(P₀C) = 267.5 N m (the rated torque), J so that T₀ = 750 N m at
 t₀ = 0.1 s from rest.
 """
+
 from __future__ import annotations
 
 import functools
@@ -29,32 +30,75 @@ from . import Parameter, Study, flat_inputs, register, seed_design
 MM = 1e-3
 _G = sp.SEED_GEOMETRY
 P0, TE, T0, RISE = 100e3, 267.5, 750.0, 0.1
-C0 = TE ** 2 / P0
+C0 = TE**2 / P0
 J0 = float(sp.inertia_for_peak(peak=T0, rise_time=RISE, power=P0, damping=C0))
 
 PARAMETERS = (
     Parameter("torque", "N m", "torque transmitted by the clutch", 750.0),
-    Parameter("sprags", "1", "number of sprags n", _G["sprags"], minimum=1.0, minimum_inclusive=True, integer=True),
+    Parameter(
+        "sprags",
+        "1",
+        "number of sprags n",
+        _G["sprags"],
+        minimum=1.0,
+        minimum_inclusive=True,
+        integer=True,
+    ),
     Parameter("sprag_length", "m", "sprag (contact) length l", _G["sprag_length"]),
-    Parameter("centre_distance", "m", "distance Z between the centres of the sprag's arcs", _G["centre_distance"]),
-    Parameter("sprag_inner_radius", "m", "radius r_i of the sprag's inner arc", _G["sprag_inner_radius"]),
-    Parameter("sprag_outer_radius", "m", "radius r_o of the sprag's outer arc", _G["sprag_outer_radius"]),
-    Parameter("inner_bore_radius", "m", "bore radius R_id of the inner shaft", _G["inner_bore_radius"],
-              minimum_inclusive=True),
+    Parameter(
+        "centre_distance",
+        "m",
+        "distance Z between the centres of the sprag's arcs",
+        _G["centre_distance"],
+    ),
+    Parameter(
+        "sprag_inner_radius", "m", "radius r_i of the sprag's inner arc", _G["sprag_inner_radius"]
+    ),
+    Parameter(
+        "sprag_outer_radius", "m", "radius r_o of the sprag's outer arc", _G["sprag_outer_radius"]
+    ),
+    Parameter(
+        "inner_bore_radius",
+        "m",
+        "bore radius R_id of the inner shaft",
+        _G["inner_bore_radius"],
+        minimum_inclusive=True,
+    ),
     Parameter("inner_race_radius", "m", "inner race radius R_i", _G["inner_race_radius"]),
     Parameter("outer_race_radius", "m", "outer race radius R_o", _G["outer_race_radius"]),
-    Parameter("outer_rim_radius", "m", "outer radius R_od of the outer race", _G["outer_rim_radius"]),
+    Parameter(
+        "outer_rim_radius", "m", "outer radius R_od of the outer race", _G["outer_rim_radius"]
+    ),
     Parameter("youngs_modulus", "Pa", "Young's modulus of races and sprags (assumed)", 206e9),
-    Parameter("poisson_ratio", "1", "Poisson's ratio of races and sprags (assumed)", 0.3, maximum=0.5,
-              maximum_inclusive=False),
-    Parameter("compliance_factor", "1", "deflection multiplier (1 physical; fitted to Table 2: 1.72)", 1.0),
+    Parameter(
+        "poisson_ratio",
+        "1",
+        "Poisson's ratio of races and sprags (assumed)",
+        0.3,
+        maximum=0.5,
+        maximum_inclusive=False,
+    ),
+    Parameter(
+        "compliance_factor", "1", "deflection multiplier (1 physical; fitted to Table 2: 1.72)", 1.0
+    ),
     Parameter("contact_allowable", "Pa", "allowable Hertz contact stress", 3400e6),
     Parameter("shaft_allowable", "Pa", "allowable shaft von Mises stress", 793e6),
-    Parameter("gripping_angle_allowable", "rad", "allowable gripping angle V (pop-out beyond)", np.deg2rad(5.0),
-              maximum=np.pi / 2, maximum_inclusive=False),
+    Parameter(
+        "gripping_angle_allowable",
+        "rad",
+        "allowable gripping angle V (pop-out beyond)",
+        np.deg2rad(5.0),
+        maximum=np.pi / 2,
+        maximum_inclusive=False,
+    ),
     Parameter("impact_power", "W", "constant input power P0 of the starter turbine (assumed)", P0),
     Parameter("output_inertia", "kg m^2", "output-side inertia J_r (assumed)", J0),
-    Parameter("impact_damping", "N m s^2", "output quadratic damping C_t (assumed: sqrt(P0 C) = 267.5 N m)", C0),
+    Parameter(
+        "impact_damping",
+        "N m s^2",
+        "output quadratic damping C_t (assumed: sqrt(P0 C) = 267.5 N m)",
+        C0,
+    ),
     Parameter("initial_speed", "rad/s", "output initial speed w0", 0.0, minimum_inclusive=True),
     Parameter("rise_time", "s", "torque rise time t0 of the impact", RISE),
 )
@@ -89,44 +133,85 @@ GRIP_TOL = 1e-12  # rad: clutchlab.sprag.gripping_angle's bracket width at conve
 def compute(inputs, options=None) -> xr.Dataset:
     options = {k: v[0] for k, v in OPTIONS.items()} | (options or {})
     p = flat_inputs(inputs)
-    c = np.full_like(p["torque"], seed_compliance()) if options["compliance"] == "seed002_fit" \
+    c = (
+        np.full_like(p["torque"], seed_compliance())
+        if options["compliance"] == "seed002_fit"
         else p["compliance_factor"]
+    )
     if options["torque_source"] == "impact_peak":
         torque = sp.peak_torque(rise_time=p["rise_time"], **{_k(k): p[k] for k in _IMPACT})
     else:
         torque = p["torque"]
-    res = sp.statics(torque, compliance_factor=c, contact_allowable=p["contact_allowable"],
-                     shaft_allowable=p["shaft_allowable"], gripping_angle_allowable=p["gripping_angle_allowable"],
-                     **{k: p[k] for k in _GEOMETRY})
+    res = sp.statics(
+        torque,
+        compliance_factor=c,
+        contact_allowable=p["contact_allowable"],
+        shaft_allowable=p["shaft_allowable"],
+        gripping_angle_allowable=p["gripping_angle_allowable"],
+        **{k: p[k] for k in _GEOMETRY},
+    )
     res["torque_applied"] = torque
     names = {"gripping_angle": "V", "gripping_angle_outer": "W", "central_angle": "psi"}
-    data = {k: ("run", res[names.get(k, k)], {"units": u, "long_name": ln}) for k, (u, ln) in OUTPUTS.items()}
+    data = {
+        k: ("run", res[names.get(k, k)], {"units": u, "long_name": ln})
+        for k, (u, ln) in OUTPUTS.items()
+    }
     passed = np.ones(torque.shape, bool)
     for name in CHECKS:
         label = name.replace("_", " ")
-        data[f"margin_{name}"] = ("run", res[f"margin_{name}"], {
-            "units": "1", "long_name": f"margin of safety {label}: allowable/value - 1"})
+        data[f"margin_{name}"] = (
+            "run",
+            res[f"margin_{name}"],
+            {"units": "1", "long_name": f"margin of safety {label}: allowable/value - 1"},
+        )
         ok = res[f"margin_{name}"] >= 0
-        data[f"pass_{name}"] = ("run", ok.astype(np.int8), {"units": "1", "long_name": f"{label} check passed (1) or not (0)"})
+        data[f"pass_{name}"] = (
+            "run",
+            ok.astype(np.int8),
+            {"units": "1", "long_name": f"{label} check passed (1) or not (0)"},
+        )
         passed &= ok
-    data["passes_all"] = ("run", passed.astype(np.int8), {
-        "units": "1", "long_name": "1 if every allowable (contact, shaft, gripping angle) is met"})
-    data["compliance_factor_used"] = ("run", np.broadcast_to(c, torque.shape).copy(), {
-        "units": "1", "long_name": "deflection multiplier used (1 physical)"})
-    data["status"] = ("run", res["status"], st.attrs(
-        "invalid_geometry: the sprag does not span the races; roll_over: loaded races open past the sprag's "
-        "reach; pop_out_risk: V above its allowable; above_allowable: a stress above its allowable"))
-    data["n_iterations"] = ("run", np.asarray(res["n_iterations"], np.int32), {
-        "units": "1", "long_name": "fixed-point bracketing steps taken (Illinois regula falsi; 0: not solved)"})
+    data["passes_all"] = (
+        "run",
+        passed.astype(np.int8),
+        {"units": "1", "long_name": "1 if every allowable (contact, shaft, gripping angle) is met"},
+    )
+    data["compliance_factor_used"] = (
+        "run",
+        np.broadcast_to(c, torque.shape).copy(),
+        {"units": "1", "long_name": "deflection multiplier used (1 physical)"},
+    )
+    data["status"] = (
+        "run",
+        res["status"],
+        st.attrs(
+            "invalid_geometry: the sprag does not span the races; roll_over: loaded races open past the sprag's "
+            "reach; pop_out_risk: V above its allowable; above_allowable: a stress above its allowable"
+        ),
+    )
+    data["n_iterations"] = (
+        "run",
+        np.asarray(res["n_iterations"], np.int32),
+        {
+            "units": "1",
+            "long_name": "fixed-point bracketing steps taken (Illinois regula falsi; 0: not solved)",
+        },
+    )
     ds = xr.Dataset(data)
-    ds.attrs.update(fixed_point_tolerance=GRIP_TOL, fixed_point_tolerance_units="rad (final bracket width of V)")
-    ds.attrs["model_used"] = (f"closed-form statics with deflection fixed point (compliance {options['compliance']}); "
-                              f"torque {options['torque_source']}")
+    ds.attrs.update(
+        fixed_point_tolerance=GRIP_TOL, fixed_point_tolerance_units="rad (final bracket width of V)"
+    )
+    ds.attrs["model_used"] = (
+        f"closed-form statics with deflection fixed point (compliance {options['compliance']}); "
+        f"torque {options['torque_source']}"
+    )
     return ds
 
 
 def _k(name):
-    return {"impact_power": "power", "output_inertia": "inertia", "impact_damping": "damping"}.get(name, name)
+    return {"impact_power": "power", "output_inertia": "inertia", "impact_damping": "damping"}.get(
+        name, name
+    )
 
 
 def impact_curves(inputs, options=None) -> xr.Dataset:
@@ -138,19 +223,45 @@ def impact_curves(inputs, options=None) -> xr.Dataset:
     te = float(sp.steady_torque(power=imp["power"], damping=imp["damping"]))
     w_ss = imp["power"] / te
     t = t0 + np.linspace(0.0, 3.0, 151) * imp["inertia"] / (2 * imp["damping"])
-    coords = {"impact_time": ("impact_time", t, {"units": "s", "long_name": "time after the start of the impact"})}
-    data = {"impact_torque": ("impact_time", sp.impact_torque(t, **imp), {
-        "units": "N m", "long_name": "clutch torque T(t) after the rise time (nominal impact, eqs. 4-5)"}),
-        "impact_steady_torque": ((), te, {"units": "N m", "long_name": "steady torque sqrt(P0 C)"})}
-    sweeps = {"impact_power": (np.linspace(0.5, 1.5, 21) * imp["power"], "W"),
-              "output_inertia": (np.linspace(0.5, 1.5, 21) * imp["inertia"], "kg m^2"),
-              "impact_damping": (np.linspace(0.5, 1.5, 21) * imp["damping"], "N m s^2"),
-              "initial_speed": (np.linspace(0.0, 0.8, 21) * w_ss, "rad/s")}
+    coords = {
+        "impact_time": (
+            "impact_time",
+            t,
+            {"units": "s", "long_name": "time after the start of the impact"},
+        )
+    }
+    data = {
+        "impact_torque": (
+            "impact_time",
+            sp.impact_torque(t, **imp),
+            {
+                "units": "N m",
+                "long_name": "clutch torque T(t) after the rise time (nominal impact, eqs. 4-5)",
+            },
+        ),
+        "impact_steady_torque": ((), te, {"units": "N m", "long_name": "steady torque sqrt(P0 C)"}),
+    }
+    sweeps = {
+        "impact_power": (np.linspace(0.5, 1.5, 21) * imp["power"], "W"),
+        "output_inertia": (np.linspace(0.5, 1.5, 21) * imp["inertia"], "kg m^2"),
+        "impact_damping": (np.linspace(0.5, 1.5, 21) * imp["damping"], "N m s^2"),
+        "initial_speed": (np.linspace(0.0, 0.8, 21) * w_ss, "rad/s"),
+    }
     for name, (values, units) in sweeps.items():
         dim = f"sweep_{name}"
-        coords[dim] = (dim, values, {"units": units, "long_name": f"{name.replace('_', ' ')} (sweep, others nominal)"})
-        data[f"peak_torque_vs_{name}"] = (dim, sp.peak_torque(rise_time=t0, **{**imp, _k(name): values}), {
-            "units": "N m", "long_name": f"peak torque T0 = T(t0) against {name.replace('_', ' ')} (Fig. 4)"})
+        coords[dim] = (
+            dim,
+            values,
+            {"units": units, "long_name": f"{name.replace('_', ' ')} (sweep, others nominal)"},
+        )
+        data[f"peak_torque_vs_{name}"] = (
+            dim,
+            sp.peak_torque(rise_time=t0, **{**imp, _k(name): values}),
+            {
+                "units": "N m",
+                "long_name": f"peak torque T0 = T(t0) against {name.replace('_', ' ')} (Fig. 4)",
+            },
+        )
     return xr.Dataset(data, coords=coords)
 
 
@@ -160,10 +271,17 @@ def validation():
     from ..validation import Row, to_dataset
 
     seed, src = "002", "Table 2 (theory)"
-    table = {750.0: dict(V=5.097, ci=3482, co=2928, si=673.8, so=582.0),
-             267.5: dict(V=4.093, ci=2314, co=1945, si=295.2, so=255.4)}
-    labels = dict(V="gripping angle V", ci="contact stress inner", co="contact stress outer",
-                  si="shaft von Mises inner", so="shaft von Mises outer")
+    table = {
+        750.0: dict(V=5.097, ci=3482, co=2928, si=673.8, so=582.0),
+        267.5: dict(V=4.093, ci=2314, co=1945, si=295.2, so=255.4),
+    }
+    labels = dict(
+        V="gripping angle V",
+        ci="contact stress inner",
+        co="contact stress outer",
+        si="shaft von Mises inner",
+        so="shaft von Mises outer",
+    )
     fit = seed_compliance()
     rows = []
     for t, pub in table.items():
@@ -172,13 +290,31 @@ def validation():
         ci, co = sp.contact_stress(t, V=v, W=w, **_G, **sp.STEEL)
         vm = sp.shaft_stress(t, V=v, W=w, **_G)
         for key, val in dict(ci=ci, co=co, si=vm["inner"], so=vm["outer"]).items():
-            rows.append(Row(seed, f"{labels[key]} at {t:g} N m, fed the published V", src, pub[key],
-                            float(val) / 1e6, "MPa", 0.03, "eqs. 7-8 on rest radii with V from the table"))
-    for c, tag, tol in ((1.0, "physical deflection", 0.15), (fit, f"compliance fitted at 750 N m ({fit:.4f})", 0.01)):
+            rows.append(
+                Row(
+                    seed,
+                    f"{labels[key]} at {t:g} N m, fed the published V",
+                    src,
+                    pub[key],
+                    float(val) / 1e6,
+                    "MPa",
+                    0.03,
+                    "eqs. 7-8 on rest radii with V from the table",
+                )
+            )
+    for c, tag, tol in (
+        (1.0, "physical deflection", 0.15),
+        (fit, f"compliance fitted at 750 N m ({fit:.4f})", 0.01),
+    ):
         for t, pub in table.items():
             r = sp.statics(t, compliance_factor=c)
-            comp = dict(V=np.rad2deg(r["V"]), ci=r["contact_stress_inner"] / 1e6, co=r["contact_stress_outer"] / 1e6,
-                        si=r["vm_stress_inner"] / 1e6, so=r["vm_stress_outer"] / 1e6)
+            comp = dict(
+                V=np.rad2deg(r["V"]),
+                ci=r["contact_stress_inner"] / 1e6,
+                co=r["contact_stress_outer"] / 1e6,
+                si=r["vm_stress_inner"] / 1e6,
+                so=r["vm_stress_outer"] / 1e6,
+            )
             for key in labels:
                 note = ""
                 tol_k = tol
@@ -187,27 +323,55 @@ def validation():
                 if c != 1.0 and key == "V":
                     note = "the fit target" if t == 750.0 else "prediction; tolerance 0.05 deg"
                     tol_k = 1e-9 if t == 750.0 else 0.05 / pub["V"]
-                rows.append(Row(seed, f"{labels[key]} at {t:g} N m, {tag}", src, pub[key], float(comp[key]),
-                                "deg" if key == "V" else "MPa", tol_k, note))
+                rows.append(
+                    Row(
+                        seed,
+                        f"{labels[key]} at {t:g} N m, {tag}",
+                        src,
+                        pub[key],
+                        float(comp[key]),
+                        "deg" if key == "V" else "MPa",
+                        tol_k,
+                        note,
+                    )
+                )
     return to_dataset(rows, "seed 002: sprag clutch statics (Table 2)")
 
 
-STUDY = register(Study(
-    name="sprag",
-    output="sprag/sprag.h5",
-    description="Sprag clutch: gripping angle with deflection, contact and shaft stresses, impact torque (seed 002)",
-    parameters=PARAMETERS,
-    compute=compute,
-    traces=impact_curves,
-    model="closed-form statics (eqs. 6-8) with a vectorised deflection fixed point; impact torque eqs. 1-5 closed form",
-    validation=validation,
-    outputs={"margin_contact_inner": "1", "margin_contact_outer": "1", "margin_vm_inner": "1", "margin_vm_outer": "1",
-             "margin_gripping_angle": "1", "gripping_angle": "rad", "contact_stress_inner": "Pa"},
-    # seed 002 Table 2: every allowable met (margins >= 0); the largest contact and grip margins
-    conditions=("torque", "impact_power", "output_inertia", "impact_damping", "initial_speed", "rise_time"),
-    model_options=("compliance", "torque_source"),
-    objectives=("margin_contact_inner:max", "margin_gripping_angle:max"),
-    constraints={f"margin_{c}": ("min", 0.0) for c in ("contact_inner", "contact_outer", "vm_inner", "vm_outer",
-                                                        "gripping_angle")},
-    options=OPTIONS,
-))
+STUDY = register(
+    Study(
+        name="sprag",
+        output="sprag/sprag.h5",
+        description="Sprag clutch: gripping angle with deflection, contact and shaft stresses, impact torque (seed 002)",
+        parameters=PARAMETERS,
+        compute=compute,
+        traces=impact_curves,
+        model="closed-form statics (eqs. 6-8) with a vectorised deflection fixed point; impact torque eqs. 1-5 closed form",
+        validation=validation,
+        outputs={
+            "margin_contact_inner": "1",
+            "margin_contact_outer": "1",
+            "margin_vm_inner": "1",
+            "margin_vm_outer": "1",
+            "margin_gripping_angle": "1",
+            "gripping_angle": "rad",
+            "contact_stress_inner": "Pa",
+        },
+        # seed 002 Table 2: every allowable met (margins >= 0); the largest contact and grip margins
+        conditions=(
+            "torque",
+            "impact_power",
+            "output_inertia",
+            "impact_damping",
+            "initial_speed",
+            "rise_time",
+        ),
+        model_options=("compliance", "torque_source"),
+        objectives=("margin_contact_inner:max", "margin_gripping_angle:max"),
+        constraints={
+            f"margin_{c}": ("min", 0.0)
+            for c in ("contact_inner", "contact_outer", "vm_inner", "vm_outer", "gripping_angle")
+        },
+        options=OPTIONS,
+    )
+)
