@@ -1,0 +1,91 @@
+"""Plausible magnitudes of the quantities a clutch model takes, by SI unit.
+
+One table for the config (a value outside is refused, naming the key) and for the public physics
+functions (a scenario with a value outside gets status ``invalid_input``): a number outside these
+bounds is a typing or unit slip (``2.3 Mm`` for a sheet thickness, ``1e20`` shoes), never a
+helicopter or UAV drivetrain clutch, and feeding it to a solver gives overflow, a hang or a
+number that looks valid. The bounds are wide on purpose: they catch absurd magnitudes, not
+unusual designs. A parameter may narrow them (its own ``minimum``/``maximum`` in the study table).
+
+A zero is judged by the parameter's own minimum (an air gap of 0 m is fine); the lower bound here
+applies to the magnitude of a non-zero value.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["RANGES", "COUNT_MAX", "bounds", "within"]
+
+#: SI unit -> (smallest non-zero magnitude, largest magnitude), with the reason
+RANGES: dict[str, tuple[float, float]] = {
+    # 0.1 µm (a penetration depth, a deflection) to 10 m (past any rotor-drive clutch)
+    "m": (1e-7, 10.0),
+    "m^2": (1e-10, 100.0),
+    # a fraction of a gram (a sprag, a roller) to 10 t (a whole drivetrain)
+    "kg": (1e-6, 1e4),
+    # a wedge ring (1e-5) to a large rotor referred to the clutch shaft
+    "kg m^2": (1e-9, 1e5),
+    # a UAV servo clutch to a heavy helicopter's main rotor shaft (~1e5 N m)
+    "N m": (1e-6, 1e7),
+    "N": (1e-6, 1e9),
+    # rubber (1e6 Pa) to diamond (1.2e12 Pa): moduli and allowable stresses
+    "Pa": (1e5, 1.2e12),
+    # 1e5 rad/s is 955 000 rpm: past any turbine shaft
+    "rad/s": (1e-6, 1e5),
+    # a nanosecond to a day (engagement intervals, start-up times)
+    "s": (1e-9, 86_400.0),
+    # angles of a clutch's geometry: at most a turn
+    "rad": (1e-9, 2 * np.pi),
+    # absolute temperatures: 1 K to 3 000 K (past the melting point of steel)
+    "K": (1.0, 3000.0),
+    "1/K": (1e-9, 10.0),
+    "W/(m^2*K)": (1e-3, 1e6),
+    "N m s^2": (1e-12, 1e6),
+    "N m/rad": (1e-3, 1e9),
+    "N s/m": (1e-6, 1e10),
+    "W": (1e-3, 1e9),
+    "kg/m^3": (1.0, 1e5),
+    # dimensionless parameters: ratios and coefficients; narrower per parameter (a friction
+    # coefficient <= 2, a count <= COUNT_MAX)
+    "1": (1e-12, 1e6),
+}
+
+#: the most elements a count may have (sprags, rollers, shoes, friction faces)
+COUNT_MAX = 1000
+
+
+def bounds(unit: str) -> tuple[float, float]:
+    """Smallest non-zero and largest plausible magnitude of a quantity in SI ``unit``.
+
+    Parameters
+    ----------
+    unit : str
+        SI unit as the study tables spell it (``"m"``, ``"N m"``, ``"rad/s"``, ``"1"``).
+
+    Returns
+    -------
+    (float, float)
+        The bounds; ``(0, inf)`` for a unit without a stated range.
+    """
+    return RANGES.get(unit, (0.0, np.inf))
+
+
+def within(x, unit: str):
+    """True where ``x`` is zero or finite with a magnitude within :func:`bounds` of ``unit``.
+
+    Parameters
+    ----------
+    x : array_like
+        Values in SI ``unit``.
+    unit : str
+        SI unit as the study tables spell it.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+    """
+    lo, hi = bounds(unit)
+    a = np.abs(np.asarray(x, dtype=float))
+    with np.errstate(invalid="ignore"):
+        return (a == 0) | (np.isfinite(a) & (a >= lo) & (a <= hi))
