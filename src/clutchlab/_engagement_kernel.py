@@ -867,6 +867,17 @@ def _record_peaks(t, y, q, locked, parked, s, compliant, prof, d, aux, pk):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
+def _jerk_before(t, y, q, locked, parked, s, compliant, prof, dm, pk):
+    """The output jerk's limit from the left at t (the state is continuous there, dC/dt need not
+    be); recorded in the running maximum pk[2] and returned."""
+    t_l = np.nextafter(t, -np.inf)
+    aux = _forces(t_l, y, q, locked, parked, s, compliant, prof, dm)
+    jk = _jerk(t_l, y, q, locked, parked, s, compliant, prof, dm, aux)
+    pk[2] = max(pk[2], abs(jk))
+    return jk
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _jerk_torque(t, y, q, locked, parked, s, compliant, prof, dm):
     """Output jerk and clutch torque at a state (dm: scratch for the derivatives)."""
     aux = _forces(t, y, q, locked, parked, s, compliant, prof, dm)
@@ -888,16 +899,35 @@ def _vertex(v0, vm, v1, peak):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _refine_peak(slot, th_v, t, h, rc, q, locked, parked, s, compliant, prof, pk, yb, dm):
+def _refine_peak(
+    slot,
+    th_v,
+    th_max,
+    t,
+    h,
+    rc,
+    q,
+    locked,
+    parked,
+    s,
+    compliant,
+    prof,
+    pk,
+    yb,
+    dm,
+    width=0.25,
+    iterations=40,
+):
     """A maximum of |jerk| (slot 2) or |clutch torque| (slot 1) inside an integrated step near the
     fraction th_v (:func:`_vertex`), so that a peak does not depend on where the steps fall: golden
-    section on the step's continuous extension (order 4: the state to the tolerance)."""
-    lo, hi = max(0.0, th_v - 0.25), min(1.0, th_v + 0.25)
+    section on the step's continuous extension (order 4: the state to the tolerance) over
+    [th_v − width, th_v + width] within [0, th_max] (1: the whole step; less: before an event)."""
+    lo, hi = max(0.0, th_v - width), min(th_max, th_v + width)
     gr = 0.5 * (math.sqrt(5.0) - 1.0)
     x1, x2 = hi - gr * (hi - lo), lo + gr * (hi - lo)
     f1 = _peak_value(slot, x1, t, h, rc, q, locked, parked, s, compliant, prof, yb, dm)
     f2 = _peak_value(slot, x2, t, h, rc, q, locked, parked, s, compliant, prof, yb, dm)
-    for _ in range(40):
+    for _ in range(iterations):
         if f1 >= f2:
             hi, x2, f2 = x2, x1, f1
             x1 = hi - gr * (hi - lo)
@@ -907,6 +937,92 @@ def _refine_peak(slot, th_v, t, h, rc, q, locked, parked, s, compliant, prof, pk
             x2 = lo + gr * (hi - lo)
             f2 = _peak_value(slot, x2, t, h, rc, q, locked, parked, s, compliant, prof, yb, dm)
     pk[slot] = max(pk[slot], f1, f2)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _jerk_varies(q):
+    """Whether a rigid slip jerk depends on the state (a Stribeck law, a friction table, fade or
+    rotor drag): then its maximum may lie inside a step. Without them it is dC/dt/J_v, a function of
+    t whose maxima are step nodes (the profile's steepest point and its end are breakpoints)."""
+    return q[VS] < np.inf or q[FTAB] > 0.0 or q[FADE] > 0.0 or q[KA] > 0.0
+
+
+JERK_SCAN_MAX = 32  # samples of the rigid slip jerk in a step, at most (:func:`_scan_jerk`)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _scan_value(k, m, frac, t, h, rc, q, locked, parked, s, compliant, prof, yb, dm):
+    """|jerk| at the sample k of m of :func:`_scan_jerk` (the last one: its limit from the left,
+    for a step that ends where dC/dt jumps)."""
+    th = frac * k / m
+    _dense(rc, th, yb)
+    te = t + th * h
+    if k == m:
+        te = np.nextafter(te, -np.inf)
+    aux = _forces(te, yb, q, locked, parked, s, compliant, prof, dm)
+    return abs(_jerk(te, yb, q, locked, parked, s, compliant, prof, dm, aux))
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _scan_jerk(t, h, frac, slip0, slip1, rc, q, locked, parked, s, compliant, prof, pk, yb, dm):
+    """The largest |jerk| of a rigid slipping step [t, t + frac·h] (frac < 1: the part before an
+    event): |jerk| sampled on the step's continuous extension, then golden section around the
+    vertex of the parabola through the largest sample and its neighbours. A Stribeck law's term
+    C·f'(Δω)·Δω' peaks within a few v_s of slip, where a step may be longer than the peak is wide:
+    there the samples are spaced v_s/4 in slip (at most JERK_SCAN_MAX), elsewhere three."""
+    m = 2
+    if q[VS] < np.inf:
+        near = 4.0 * q[VS]
+        lo, hi = min(abs(slip0), abs(slip1)), max(abs(slip0), abs(slip1))
+        if lo < near:
+            m = max(m, min(JERK_SCAN_MAX, int(math.ceil(4.0 * (min(hi, near) - lo) / q[VS])) + 2))
+    # the largest sample, and its two neighbours on each side as they come (no storage)
+    best, kb, bm2, bm1, bp1, bp2, p2, p1 = -1.0, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    for k in range(m + 1):
+        v = _scan_value(k, m, frac, t, h, rc, q, locked, parked, s, compliant, prof, yb, dm)
+        if v > best:
+            best, kb, bm2, bm1 = v, k, p2, p1
+        elif k == kb + 1:
+            bp1 = v
+        elif k == kb + 2:
+            bp2 = v
+        p2, p1 = p1, v
+    pk[2] = max(pk[2], best)
+    if best < 0.9 * pk[2]:
+        return
+    # the parabola through the largest sample and its neighbours (the three nearest at an end),
+    # its vertex (a maximum: concave) also up to half the triple past either end, where the
+    # samples of a peak close to a step's end all rise (the golden section keeps to the step)
+    if kb == 0:
+        a, v0, v1, v2 = 0, best, bp1, bp2
+    elif kb == m:
+        a, v0, v1, v2 = m - 2, bm2, bm1, best
+    else:
+        a, v0, v1, v2 = kb - 1, bm1, best, bp1
+    curv = 2.0 * (v0 - 2.0 * v1 + v2)
+    if curv < 0.0:
+        th = (3.0 * v0 - 4.0 * v1 + v2) / (2.0 * curv)
+        if -0.5 < th < 1.5:
+            th_v = min(frac, max(0.0, frac * (a + 2.0 * th) / m))
+            _refine_peak(
+                2,
+                th_v,
+                frac,
+                t,
+                h,
+                rc,
+                q,
+                locked,
+                parked,
+                s,
+                compliant,
+                prof,
+                pk,
+                yb,
+                dm,
+                frac / m,
+                30,
+            )
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -1750,6 +1866,10 @@ def _simulate_one(
     t_slip = 0.0  # start of the current slip phase (power sample spacing)
     n_steps = 0
     t_stop, past = q[TEND], False
+    # rigid driveline: the clamp profile's steepest point (x = 1/2 of the cubic and quintic steps)
+    # is a breakpoint, so that the slip jerk dC/dt/J_v, largest there, is taken at a step node
+    # (the cushion touch TCON, where a later steepest point is, is one already)
+    t_rate = 0.5 * q[TR] if (prof != 0 and not compliant) else -1.0
     while n_steps < max_steps:
         if t >= t_stop:
             if past:
@@ -1774,7 +1894,7 @@ def _simulate_one(
             t_stop = max(t, out[LOCKUP_TIME] + math.log(1e6) / decay)
             continue
         nb = t_stop
-        for b in (q[TR], q[TSTEP], q[TCON]):
+        for b in (q[TR], q[TSTEP], q[TCON], t_rate):
             if t < b < nb:
                 nb = b
         for b in tt:
@@ -2003,6 +2123,24 @@ def _simulate_one(
                         ym,
                         dm,
                     )
+                if not (compliant or locked or parked) and _jerk_varies(q):
+                    _scan_jerk(
+                        t,
+                        h_try,
+                        best_tau / h_try,
+                        y[E] - y[H],
+                        y_best[E] - y_best[H],
+                        rc,
+                        q,
+                        locked,
+                        parked,
+                        s,
+                        compliant,
+                        prof,
+                        pk,
+                        yb,
+                        dm,
+                    )
                 if locked:
                     _decay_modes(y_best, q, best_tau)
                 t = t + best_tau
@@ -2041,6 +2179,30 @@ def _simulate_one(
         # no event: take the step as it was, with the peaks inside it (compliant: the output jerk and
         # the clutch torque oscillate; their maxima must not depend on where the steps fall)
         jk = _record_peaks(t_right, y1, q, locked, parked, s, compliant, prof, d1, aux1, pk)
+        if not (compliant or locked or parked) and _jerk_varies(q):
+            # a rigid slip jerk that depends on the state: the largest inside the step, and its
+            # value from the left at a breakpoint (the profile's end, where dC/dt jumps)
+            if hit:
+                _jerk_before(t_right, y1, q, locked, parked, s, compliant, prof, dm, pk)
+            if not fired:
+                _dense_coefficients(y, y1, kk, h_try, rc)
+            _scan_jerk(
+                t,
+                h_try,
+                1.0,
+                y[E] - y[H],
+                y1[E] - y1[H],
+                rc,
+                q,
+                locked,
+                parked,
+                s,
+                compliant,
+                prof,
+                pk,
+                yb,
+                dm,
+            )
         if compliant:
             th_j = _vertex(j_left, jm, jk, pk[2])
             th_t = _vertex(tc_left, tcm, aux1[1], pk[1])
@@ -2049,11 +2211,39 @@ def _simulate_one(
                     _dense_coefficients(y, y1, kk, h_try, rc)
                 if th_j > 0.0:
                     _refine_peak(
-                        2, th_j, t, h_try, rc, q, locked, parked, s, compliant, prof, pk, yb, dm
+                        2,
+                        th_j,
+                        1.0,
+                        t,
+                        h_try,
+                        rc,
+                        q,
+                        locked,
+                        parked,
+                        s,
+                        compliant,
+                        prof,
+                        pk,
+                        yb,
+                        dm,
                     )
                 if th_t > 0.0:
                     _refine_peak(
-                        1, th_t, t, h_try, rc, q, locked, parked, s, compliant, prof, pk, yb, dm
+                        1,
+                        th_t,
+                        1.0,
+                        t,
+                        h_try,
+                        rc,
+                        q,
+                        locked,
+                        parked,
+                        s,
+                        compliant,
+                        prof,
+                        pk,
+                        yb,
+                        dm,
                     )
         j_left, tc_left = jk, aux1[1]
         if with_hist and not past:

@@ -107,6 +107,7 @@ def _invert_profile(q, kind):
     c, dc = _P[kind], np.polynomial.polynomial.polyder(_P[kind])
     lo, hi = np.zeros_like(q), np.ones_like(q)
     x = q.copy()
+    done = np.zeros(q.shape, bool)  # per scenario: a converged x is frozen (batch-independent)
     for _ in range(60):
         f = _polyval(c, x) - q
         lo = np.where(f < 0, x, lo)
@@ -116,10 +117,11 @@ def _invert_profile(q, kind):
             xn = x - f / d
         bad = ~((xn > lo) & (xn < hi))
         xn = np.where(bad, 0.5 * (lo + hi), xn)
-        if np.all(np.abs(xn - x) <= 4e-16):
-            x = xn
+        now = np.abs(xn - x) <= 4e-16
+        x = np.where(done, x, xn)
+        done = done | now
+        if done.all():
             break
-        x = xn
     return x
 
 
@@ -307,10 +309,9 @@ def _closed_form_flat(flat, profile, power_history=False):
     def cap_icap(t):
         x = np.minimum(t * inv_tr, 1.0)
         if not any_step:
-            if (
-                profile == "ramp"
-            ):  # p = x, P = x²/2 (the common case, without the general Horner loop)
-                return cmax * x, cmax * (trs * 0.5 * x * x + np.maximum(t - tr, 0.0))
+            if profile == "ramp":  # p = x, P = x²/2 without the general Horner loop; rounded
+                # as _polyval rounds it, so that a batch with a step gives the same numbers
+                return cmax * x, cmax * (trs * (0.5 * x * x) + np.maximum(t - tr, 0.0))
             return cmax * _polyval(pc, x), cmax * (
                 trs * _polyval(big_p, x) + np.maximum(t - tr, 0.0)
             )
@@ -465,7 +466,7 @@ def _closed_form_flat(flat, profile, power_history=False):
         "peak_friction_torque": c_lock,
         "capacity_at_lockup": c_lock * nan,
         "accel_jump": (acc_after - acc_before) * nan,
-        "slip_jerk": _peak_rate(t0, t_stop, cmax, tr, profile) * inv_jv,
+        "slip_jerk": _slip_jerk(t0, t_p, t_stop, parks_later, cmax, tr, profile) * inv_jv,
         "status": code,
     }
     if power_history:
@@ -547,12 +548,26 @@ def _peak_rate(a, b, c_max, t_r, kind):
     return np.where((t_r > 0) & (xb > xa), c_max * cand / tr, np.where(t_r > 0, 0.0, np.inf))
 
 
+def _slip_jerk(t0, t_p, t_stop, parks_later, c_max, t_r, kind):
+    """max of dC/dt while the driven side moves [N m/s]: from t0 to the stop, and for a driven side
+    that first decelerates to rest (it parks at t_p) over [0, t_p] too."""
+    rate = _peak_rate(t0, t_stop, c_max, t_r, kind)
+    if np.any(parks_later):
+        early = _peak_rate(
+            np.zeros_like(t0), np.where(parks_later, np.minimum(t_p, t_stop), 0.0), c_max, t_r, kind
+        )
+        rate = np.where(parks_later, np.maximum(rate, early), rate)
+    return rate
+
+
 def _newton_bracketed(fun, lo, hi, x, mask):
     """Root of fun on [lo, hi] where fun(lo) > 0 ≥ fun(hi): Newton safeguarded by bisection.
 
     ``fun(x)`` returns (value, derivative); vectorised, to round-off.
     """
     lo, hi = lo.copy(), hi.copy()
+    done = ~mask  # per scenario: a converged x is frozen, so that a scenario's root does not
+    # depend on how long the other scenarios of its batch take to converge
     for _ in range(100):
         f, d = fun(x)
         lo = np.where(f > 0, x, lo)
@@ -561,9 +576,10 @@ def _newton_bracketed(fun, lo, hi, x, mask):
             xn = x - f / d
         bad = ~((xn >= lo) & (xn <= hi)) | ~np.isfinite(xn)
         xn = np.where(bad, 0.5 * (lo + hi), xn)
-        done = (np.abs(xn - x) <= 2e-16 * np.abs(x)) | (hi - lo <= 4e-16 * np.abs(hi)) | ~mask
-        x = xn
-        if np.all(done):
+        now = (np.abs(xn - x) <= 2e-16 * np.abs(x)) | (hi - lo <= 4e-16 * np.abs(hi))
+        x = np.where(done, x, xn)
+        done = done | now
+        if done.all():
             break
     return x
 
@@ -839,8 +855,11 @@ def simulate(
         The metrics of :func:`closed_form` over [0, t_end] (``lockup_time`` is the last
         lock-up; NaN if slipping at t_end), plus ``breakaway_time`` (first re-slip after a
         lock-up), ``damping_work`` [J], ``peak_jerk`` [rad/s³] (output side, from the model
-        equations at every step node and event; the Dirac jerk of a rigid lock-up is reported as
-        ``accel_jump``), solver counts ``n_steps`` (attempted), ``n_rejected``, ``n_locate`` (event
+        equations at every step node and event and inside the steps: the compliant model's
+        peaks on each step's continuous extension; the rigid model's steepest point of a smooth
+        clamp profile, t_r/2, as a breakpoint, and with a Stribeck law, friction table, fade or
+        rotor drag each slipping step scanned and refined on its continuous extension; the
+        Dirac jerk of a rigid lock-up is reported as ``accel_jump``), solver counts ``n_steps`` (attempted), ``n_rejected``, ``n_locate`` (event
         locations), ``n_false_alarms`` (candidates the solution did not confirm),
         ``n_event_steps`` (re-integrations spent locating events: one per event when the first
         correction is accepted); with ``power_history``, ``flash_peak`` [W s^0.5]: max over t of

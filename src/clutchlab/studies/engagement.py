@@ -160,6 +160,7 @@ PARAMETERS = SPRING_PARAMETERS + (
     ),
 )
 
+PARAMETER_DEFAULTS = {q.name: q.default for q in PARAMETERS}
 ACCURACY = 1e-6  # default relative accuracy of lock-up time, slip work and peak jerk
 
 OPTIONS = {
@@ -401,16 +402,21 @@ def _heat(p, slip_work, peak_slip_power):
     )
 
 
-def compute(inputs, options=None) -> xr.Dataset:
-    options = {k: v[0] for k, v in OPTIONS.items()} | {"accuracy": ACCURACY} | (options or {})
-    p = flat_inputs(inputs)
-    force, cap, spring_bad, pts = capacity(p, options, with_points=True)
-    rigid = options["driveline"] == "rigid"
-    # the cheapest exact model per scenario (issue 16 item 2): the closed form where the rigid model
-    # has a held engine, no drag, constant mu (no Stribeck law, friction table or fade) and no air
-    # gap; the event solver elsewhere
-    closed = (
-        rigid
+# the inputs that decide between the closed form and the event solver of a rigid driveline
+_MODEL_INPUTS = (
+    "engine_inertia",
+    "aero_coefficient",
+    "stribeck_speed",
+    "air_gap",
+    "fade_coefficient",
+)
+
+
+def _closed_form_applies(p, options):
+    """Where the cheapest exact model is the closed form (issue 16 item 2): a rigid driveline with
+    a held engine, no drag, constant mu (no Stribeck law, friction table or fade) and no air gap."""
+    return (
+        (options["driveline"] == "rigid")
         & ~np.isfinite(p["engine_inertia"])
         & (p["aero_coefficient"] == 0)
         & ~np.isfinite(p["stribeck_speed"])
@@ -418,6 +424,30 @@ def compute(inputs, options=None) -> xr.Dataset:
         & (p["fade_coefficient"] == 0)
         & ("friction_table" not in options)
     )
+
+
+def _model_used(inputs, options) -> str:
+    """The ``model_used`` attribute: the models this study's inputs can run, from the options and
+    the fixed inputs only (the same text in every chunk, whichever scenarios it holds; the
+    per-scenario choice is the variable ``model``)."""
+    if options["driveline"] != "rigid":
+        return MODEL_TEXT["compliant_events"]
+    given = {k: v for k, v in inputs.items() if k in _MODEL_INPUTS}
+    if all(np.ndim(v) == 0 for v in given.values()):
+        p = {k: np.atleast_1d(given.get(k, PARAMETER_DEFAULTS[k])) for k in _MODEL_INPUTS}
+        closed = bool(_closed_form_applies(p, options)[0])
+        return MODEL_TEXT["closed_form" if closed else "rigid_events"]
+    return "per scenario (variable model): " + "; ".join(
+        MODEL_TEXT[m] for m in ("closed_form", "rigid_events")
+    )
+
+
+def compute(inputs, options=None) -> xr.Dataset:
+    options = {k: v[0] for k, v in OPTIONS.items()} | {"accuracy": ACCURACY} | (options or {})
+    p = flat_inputs(inputs)
+    force, cap, spring_bad, pts = capacity(p, options, with_points=True)
+    rigid = options["driveline"] == "rigid"
+    closed = _closed_form_applies(p, options)
     model = np.where(
         closed, MODEL["closed_form"], MODEL["rigid_events" if rigid else "compliant_events"]
     )
@@ -516,7 +546,7 @@ def compute(inputs, options=None) -> xr.Dataset:
         ),
     )
     ds = xr.Dataset(data)
-    ds.attrs["model_used"] = "; ".join(MODEL_TEXT[m] for m in MODEL if (model == MODEL[m]).any())
+    ds.attrs["model_used"] = _model_used(inputs, options)
     rtol, atol = tolerances(options["accuracy"])
     ds.attrs.update(accuracy=options["accuracy"], rtol=rtol, atol=atol)
     return ds
