@@ -859,8 +859,9 @@ def simulate(
         peaks on each step's continuous extension; the rigid model's steepest point of a smooth
         clamp profile, t_r/2, as a breakpoint, and with a Stribeck law, friction table, fade or
         rotor drag each slipping step scanned and refined on its continuous extension; the
-        Dirac jerk of a rigid lock-up is reported as ``accel_jump``), solver counts ``n_steps`` (attempted), ``n_rejected``, ``n_locate`` (event
-        locations), ``n_false_alarms`` (candidates the solution did not confirm),
+        Dirac jerk of a rigid lock-up is reported as ``accel_jump``), solver counts
+        ``n_steps`` (attempted), ``n_rejected``, ``n_locate`` (event locations),
+        ``n_false_alarms`` (candidates the solution did not confirm),
         ``n_event_steps`` (re-integrations spent locating events: one per event when the first
         correction is accepted); with ``power_history``, ``flash_peak`` [W s^0.5]: max over t of
         Duhamel's integral ∫ P(τ)/√(t − τ) dτ of the slip power history (sampled while slipping
