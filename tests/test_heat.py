@@ -320,3 +320,93 @@ def test_flash_peak_of_random_compliant_designs_against_dense_breakpoints(profil
         ]
     )
     assert np.abs(got["flash_peak"] / ref - 1).max() < 6e-4
+
+
+@pytest.mark.parametrize("faces", [2, 4, 6, 8])
+def test_heat_of_a_stack_of_n_faces(faces):
+    """A dry clutch of n faces (n/2 driven plates lined on both sides, n/2 − 1 intermediate plates):
+    every face takes W/n, its metal γ of that (γ = e_m/(e_m + e_lining)), so the flywheel and the
+    pressure plate take γW/n, each intermediate plate 2γW/n and each driven plate 2(1 − γ)W/n; the
+    parts' heats sum to W (to rounding); two faces give face_shares' single-plate partition
+    exactly. The hottest part: the pressure plate with two faces, an intermediate plate (both its
+    faces heated, the pressure plate's mass) with more."""
+    e_iron, _, e_lining = heat.part_effusivities()
+    g = e_iron / (e_iron + e_lining)
+    w = np.array([1000.0, 6146.0])
+    out = heat.engagement_heat(w, 5.6e4 * np.ones(2), 0.1125, 0.075, faces)
+    assert np.all(out["status"] == 0)
+    np.testing.assert_allclose(out["heat_flywheel"], g * w / faces, rtol=1e-15)
+    np.testing.assert_allclose(out["heat_pressure_plate"], g * w / faces, rtol=1e-15)
+    np.testing.assert_allclose(out["heat_driven_plate"], 2 * (1 - g) * w / faces, rtol=1e-15)
+    np.testing.assert_allclose(
+        out["heat_intermediate_plate"], (2 * g * w / faces) if faces > 2 else 0.0, rtol=1e-15
+    )
+    total = (
+        out["heat_flywheel"]
+        + out["heat_pressure_plate"]
+        + (faces / 2 - 1) * out["heat_intermediate_plate"]
+        + faces / 2 * out["heat_driven_plate"]
+    )
+    np.testing.assert_allclose(total, w, rtol=1e-14)
+    area = faces * math.pi * (0.1125**2 - 0.075**2)
+    np.testing.assert_allclose(out["specific_friction_work"], w / area, rtol=1e-15)
+    hottest = "pressure_plate" if faces == 2 else "intermediate_plate"
+    assert {heat.PARTS[k] for k in out["hottest_part"]} == {hottest}
+    if faces == 2:
+        fw, pp, dp = heat.face_shares(e_iron, e_iron, e_lining)
+        np.testing.assert_array_equal(out["heat_flywheel"], fw * w)
+        np.testing.assert_array_equal(out["heat_driven_plate"], dp * w)
+
+
+def test_an_odd_face_count_is_no_clutch_stack():
+    """An odd count of friction faces has no stack of double-lined driven plates: status
+    invalid_input and NaN heat (in the engagement study: status invalid_input, never NaN with ok;
+    its config refuses it, tests/malformed/friction_faces_odd_engagement.yaml)."""
+    out = heat.engagement_heat(np.full(3, 6146.0), np.full(3, 5.6e4), 0.1125, 0.075, [2, 3, 4])
+    np.testing.assert_array_equal(out["status"], [0, 14, 0])
+    assert np.isnan(out["heat_flywheel"][1]) and np.isfinite(out["heat_flywheel"][[0, 2]]).all()
+    from clutchlab.studies import engagement as es
+
+    inputs = {q.name: q.default for q in es.PARAMETERS}
+    ds = es.compute({**inputs, "friction_faces": np.array([2.0, 3.0, 4.0])})
+    np.testing.assert_array_equal(ds["status"].values, [0, 14, 0])
+    for name in es.HEAT:
+        if ds[name].dtype.kind == "f":
+            assert np.isfinite(ds[name].values[[0, 2]]).all() or name == "engagements_to_limit"
+
+
+def test_a_four_face_engagement_study_has_its_heat():
+    """Issue 30 item 9: friction_faces: 4 was accepted and gave NaN heat with status ok. A
+    twin-plate clutch (four faces) of the seed spring: double the capacity, so an earlier lock-up
+    and less slip work; every heat output finite with status ok, the parts' heats summing to the
+    slip work, and the friction-face peak from the same flux per face (P/n on A/n)."""
+    from clutchlab import config, pipeline
+
+    sec = config.resolve(
+        {
+            "studies": ["engagement"],
+            "engagement": {
+                "design": "factorial",
+                "parameters": {
+                    "friction_faces": {"values": [2, 4]},
+                    "ramp_time": {"values": ["0.1 s", "0.3 s"]},
+                },
+            },
+        }
+    )["engagement"]
+    ds = pipeline.run_study(sec)
+    assert (ds["status"] == 0).all()
+    for name in (*heat.PARTS, "bulk_temperature_rise", "peak_surface_temperature"):
+        var = f"heat_{name}" if name in heat.PARTS else name
+        assert np.isfinite(ds[var].values).all(), var
+    two, four = ds.sel(friction_faces=2.0), ds.sel(friction_faces=4.0)
+    np.testing.assert_allclose(four["peak_capacity"], 2 * two["peak_capacity"], rtol=1e-12)
+    assert (four["slip_work"] < two["slip_work"]).all()
+    total = (
+        four["heat_flywheel"]
+        + four["heat_pressure_plate"]
+        + four["heat_intermediate_plate"]
+        + 2 * four["heat_driven_plate"]
+    )
+    np.testing.assert_allclose(total, four["slip_work"], rtol=1e-13)
+    assert list(np.unique(four["hottest_part"])) == [heat.PARTS.index("intermediate_plate")]

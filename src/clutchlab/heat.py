@@ -2,19 +2,28 @@
 between the parts, their bulk temperature rise, the flash temperature of the friction face, and a
 sequence of engagements with cooling between them.
 
-Every slip joule is heat at the two friction faces of a single-plate clutch (seed 000: flywheel |
-lining | driven plate | lining | pressure plate; eq. 11's slip work W). Both faces carry the same
-clamp force and slip, so each takes W/2. At a face the heat divides between the metal part and the
-lining so that both surfaces reach the same temperature; for two semi-infinite bodies heated
-together this gives the share of each body in proportion to its thermal effusivity
-e = √(ρck) (Blok's partition; e.g. Limpert, *Brake Design and Safety*, ch. 3, for the brake
-rotor/pad pair). The shares of the three parts sum to one by construction, so the heat into the
-parts equals the slip work to rounding.
+Every slip joule is heat at the friction faces (eq. 11's slip work W). A single-plate clutch
+(seed 000) has two: flywheel | lining | driven plate | lining | pressure plate. A multi-plate dry
+clutch of n faces (n even) stacks n/2 driven plates, each lined on both sides, with n/2 − 1
+intermediate (centre) plates between them: flywheel | driven | intermediate | driven | … |
+pressure plate, so the flywheel and the pressure plate each carry one face (the outer ones), every
+intermediate plate two and every driven plate two (n = 2 + 2(n/2 − 1)). Every face carries the
+same clamp force (the stack is in series) and the same slip (driven plates on the output hub,
+intermediate plates on the flywheel), so each takes W/n. At a face the heat divides between the
+metal part and the lining so that both surfaces reach the same temperature; for two
+semi-infinite bodies heated together this gives the share of each body in proportion to its
+thermal effusivity e = √(ρck) (Blok's partition; e.g. Limpert, *Brake Design and Safety*, ch. 3,
+for the brake rotor/pad pair): the metal takes γ = e_m/(e_m + e_lining) of its face's W/n. So the
+flywheel and the pressure plate take γW/n each, every intermediate plate 2γW/n and every driven
+plate 2(1 − γ)W/n (:func:`plate_shares`; n = 2: γW/2, γW/2 and (1 − γ)W). The shares sum to one
+by construction, so the heat into the parts equals the slip work to rounding.
 
 - **bulk temperature rise** (lumped): ΔT_i = Q_i/(m_i c_i), the part's mass and specific heat;
 - **flash (surface) temperature** of the friction face: the metal face as a semi-infinite body
-  under the heat flux q(t) = γ P(t)/(2A) [W/m²] (P the slip power, A one face's area, γ the metal's
-  share), by Duhamel's integral ΔT(t) = 1/(e√π) ∫₀ᵗ q(τ)/√(t−τ) dτ. Constant flux: ΔT = 2q√(t/(πρck));
+  under the heat flux q(t) = γ P(t)/(nA) [W/m²] (P the slip power, A one face's area, γ the metal's
+  share; the same on every metal face of the stack, the intermediate plates' too, while the heat
+  has not crossed half their thickness), by Duhamel's integral
+  ΔT(t) = 1/(e√π) ∫₀ᵗ q(τ)/√(t−τ) dτ. Constant flux: ΔT = 2q√(t/(πρck));
   a ramp q = bt: ΔT = (4/3)·b·t^{3/2}/(e√π). :func:`duhamel_surface_temperature` integrates q
   piecewise linear between its samples exactly against the kernel (exact for constant and
   ramp flux; second order in the sample spacing for a smooth flux);
@@ -36,6 +45,7 @@ __all__ = [
     "MATERIALS",
     "effusivity",
     "face_shares",
+    "plate_shares",
     "lining_area",
     "specific_loading",
     "bulk_rise",
@@ -77,6 +87,24 @@ def face_shares(flywheel_effusivity, pressure_plate_effusivity, lining_effusivit
     g_fw = flywheel_effusivity / (flywheel_effusivity + lining_effusivity)
     g_pp = pressure_plate_effusivity / (pressure_plate_effusivity + lining_effusivity)
     return 0.5 * g_fw, 0.5 * g_pp, 0.5 * (1.0 - g_fw) + 0.5 * (1.0 - g_pp)
+
+
+def plate_shares(faces, metal_effusivity, lining_effusivity):
+    """Shares of the slip work into each part of a dry clutch of ``faces`` friction faces (even,
+    ≥ 2): a dict with the share of the flywheel, the pressure plate, each intermediate plate (0 with
+    two faces) and each driven plate, and ``intermediate_plates`` (n/2 − 1), ``driven_plates``
+    (n/2) [1]. Each face takes 1/n; its metal γ = e_m/(e_m + e_lining), its lining the rest (module
+    docstring): γ/n, γ/n, 2γ/n and 2(1 − γ)/n. Every metal face of one material (cast iron)."""
+    n = np.asarray(faces, dtype=float)
+    g = metal_effusivity / (metal_effusivity + lining_effusivity)
+    return {
+        "flywheel": g / n,
+        "pressure_plate": g / n,
+        "intermediate_plate": np.where(n > 2, 2.0 * g / n, 0.0),
+        "driven_plate": 2.0 * (1.0 - g) / n,
+        "intermediate_plates": 0.5 * n - 1.0,
+        "driven_plates": 0.5 * n,
+    }
 
 
 def _loading(slip_work, peak_slip_power, outer_radius, inner_radius, faces):
@@ -213,20 +241,30 @@ def engagements_to_limit(rise, interval, time_constant, margin):
     return np.where(np.isfinite(rise) & (rise >= 0) & np.isfinite(margin), n, np.nan)
 
 
-# the three parts of a single-plate clutch that take the friction heat, and their materials
-# (driven plate: its faces are the linings; its heat capacity mostly the steel carrier's)
-PARTS = ("flywheel", "pressure_plate", "driven_plate")
+# the parts of a dry clutch that take the friction heat (codes of ``hottest_part``: append only),
+# and their materials (driven plate: its faces are the linings; its heat capacity mostly the steel
+# carrier's; intermediate plates of a multi-plate clutch: cast iron, like the pressure plate)
+PARTS = ("flywheel", "pressure_plate", "driven_plate", "intermediate_plate")
 FACE_MATERIAL = {
     "flywheel": "cast_iron",
     "pressure_plate": "cast_iron",
     "driven_plate": "organic_lining",
+    "intermediate_plate": "cast_iron",
 }
-BULK_MATERIAL = {"flywheel": "cast_iron", "pressure_plate": "cast_iron", "driven_plate": "steel"}
+BULK_MATERIAL = {
+    "flywheel": "cast_iron",
+    "pressure_plate": "cast_iron",
+    "driven_plate": "steel",
+    "intermediate_plate": "cast_iron",
+}
 
 
 def part_effusivities() -> tuple[float, float, float]:
     """Effusivities of the flywheel, pressure plate and driven-plate faces (:data:`MATERIALS`)."""
-    return tuple(float(effusivity(**MATERIALS[FACE_MATERIAL[p]])) for p in PARTS)
+    return tuple(
+        float(effusivity(**MATERIALS[FACE_MATERIAL[p]]))
+        for p in ("flywheel", "pressure_plate", "driven_plate")
+    )
 
 
 def _engagement_heat(
@@ -242,22 +280,26 @@ def _engagement_heat(
     cooling_area,
     engagement_interval,
     temperature_margin,
+    intermediate_plate_mass,
 ):
     out = _loading(slip_work, peak_slip_power, outer_radius, inner_radius, faces)
-    shares = face_shares(*part_effusivities())
+    e_metal, _, e_lining = part_effusivities()
+    shares = plate_shares(faces, e_metal, e_lining)
     masses = {
         "flywheel": flywheel_mass,
         "pressure_plate": pressure_plate_mass,
         "driven_plate": driven_plate_mass,
+        "intermediate_plate": intermediate_plate_mass,
     }
-    rises = []
-    for part, share in zip(PARTS, shares):
-        out[f"heat_{part}"] = share * slip_work
+    rises, capacities = [], []
+    for part in PARTS:  # heat into each plate of the kind, and its bulk rise
+        out[f"heat_{part}"] = shares[part] * slip_work
         capacity = masses[part] * MATERIALS[BULK_MATERIAL[part]]["specific_heat"]
-        rises.append((out[f"heat_{part}"] / capacity, capacity))
-    rise = np.stack([r for r, _ in rises])
+        rises.append(out[f"heat_{part}"] / capacity)
+        capacities.append(capacity * np.ones_like(slip_work))
+    rise = np.stack(rises)
     hottest = np.argmax(rise, axis=0)
-    capacity = np.choose(hottest, [c * np.ones_like(slip_work) for _, c in rises])
+    capacity = np.choose(hottest, capacities)
     out["bulk_temperature_rise"] = np.take_along_axis(rise, hottest[None], 0)[0]
     out["hottest_part"] = hottest.astype(np.int8)
     out["engagements_to_limit"] = engagements_to_limit(
@@ -283,14 +325,17 @@ def engagement_heat(
     cooling_area=0.1,
     engagement_interval=60.0,
     temperature_margin=210.0,
+    intermediate_plate_mass=2.5,
 ):
-    """Heat of one engagement of a single-plate dry clutch and of a sequence of them.
+    """Heat of one engagement of a dry clutch of ``faces`` friction faces and of a sequence of them.
 
     Returns per scenario: ``friction_area`` [m²], ``specific_friction_work`` [J/m²],
     ``peak_specific_friction_power`` [W/m²] (:func:`specific_loading`); ``heat_flywheel``,
-    ``heat_pressure_plate``, ``heat_driven_plate`` [J] (:func:`face_shares` of the slip work; they
-    sum to it); ``bulk_temperature_rise`` [K] of the hottest part (``hottest_part``: index into
-    :data:`PARTS`); ``engagements_to_limit``: engagements in a row, ``engagement_interval`` [s]
+    ``heat_pressure_plate``, ``heat_driven_plate`` (each driven plate, n/2 of them),
+    ``heat_intermediate_plate`` (each intermediate plate, n/2 − 1 of them; 0 with two faces) [J]
+    (:func:`plate_shares` of the slip work: the flywheel's, the pressure plate's and all plates'
+    heats sum to it); ``bulk_temperature_rise`` [K] of the hottest part (``hottest_part``: index
+    into :data:`PARTS`); ``engagements_to_limit``: engagements in a row, ``engagement_interval`` [s]
     apart, after which that part's bulk temperature first exceeds ambient by ``temperature_margin``
     [K] (material limit minus ambient), cooling by Newton's law with time constant
     m c/(h A) (h ``heat_transfer_coefficient`` [W/(m² K)], A ``cooling_area`` [m²]); inf if never.
@@ -299,9 +344,10 @@ def engagement_heat(
     1.9 kg); h = 40 W/(m² K) (assumed: air moved by the spinning parts in a closed bell housing),
     A = 0.1 m² (assumed: both sides and the rim of a 225 mm plate), 60 s between engagements
     (assumed: a retried start), margin 210 K (assumed: 250 °C, the upper service temperature of
-    organic linings in Limpert ch. 3, over 40 °C in the housing). Two friction faces only (the
-    partition is a single plate's): another face count gives status ``invalid_input``, as do
-    non-finite or non-positive inputs.
+    organic linings in Limpert ch. 3, over 40 °C in the housing); intermediate plates 2.5 kg each
+    (assumed: the pressure plate's mass; unused with two faces). ``faces`` must be even (n/2
+    driven plates lined on both sides, module docstring): an odd count gives status
+    ``invalid_input``, as do non-finite or non-positive inputs.
     """
     from . import status as st
 
@@ -310,7 +356,7 @@ def engagement_heat(
         "peak_slip_power": st.nonnegative,
         "inner_radius": st.positive,
         "outer_radius": st.positive,
-        "faces": lambda x: x == 2,
+        "faces": lambda x: st.whole(2)(x) & (x % 2 == 0),
         None: lambda a: a["outer_radius"] > a["inner_radius"],
     }
     for name in (
@@ -321,6 +367,7 @@ def engagement_heat(
         "cooling_area",
         "engagement_interval",
         "temperature_margin",
+        "intermediate_plate_mass",
     ):
         domain[name] = st.positive
     inputs = dict(
@@ -336,6 +383,7 @@ def engagement_heat(
         cooling_area=cooling_area,
         engagement_interval=engagement_interval,
         temperature_margin=temperature_margin,
+        intermediate_plate_mass=intermediate_plate_mass,
     )
     return st.screened(_engagement_heat, inputs, domain)
 
@@ -362,9 +410,10 @@ def kernel_modes(cut=4000.0, span=10.0, ratio=2.5, top=4.0):
 
 def face_temperature_rise(duhamel_integral, outer_radius, inner_radius, faces=2):
     """Friction-face (flash) temperature rise of the cast-iron faces (flywheel and pressure plate take
-    the same share γ = e_m/(e_m + e_lining) of their face's heat) from the solver's Duhamel integral
-    of the slip power, I = ∫ P(τ)/√(t − τ) dτ [W s^0.5]: ΔT = γ·I/(A·e_m·√π), A the friction area of
-    all faces (each face takes P/2 on A/2) [K]."""
+    the same share γ = e_m/(e_m + e_lining) of their face's heat, as do the intermediate plates'
+    faces of a multi-plate clutch) from the solver's Duhamel integral of the slip power,
+    I = ∫ P(τ)/√(t − τ) dτ [W s^0.5]: ΔT = γ·I/(A·e_m·√π), A the friction area of all faces (each
+    of the n faces takes P/n on A/n) [K]."""
     e_fw, e_pp, e_lining = part_effusivities()
     gamma = e_pp / (e_pp + e_lining)
     area = faces * lining_area(outer_radius, inner_radius)

@@ -116,6 +116,13 @@ PARAMETERS = SPRING_PARAMETERS + (
     Parameter("pressure_plate_mass", "kg", "pressure plate mass (seed 000 Table 3)", 2.5),
     Parameter("driven_plate_mass", "kg", "driven plate mass (seed 000 Table 3)", 1.9),
     Parameter(
+        "intermediate_plate_mass",
+        "kg",
+        "mass of each intermediate (centre) plate of a multi-plate clutch, friction_faces > 2 "
+        "(assumed: the pressure plate's 2.5 kg)",
+        2.5,
+    ),
+    Parameter(
         "heat_transfer_coefficient",
         "W/(m^2*K)",
         "convective heat transfer coefficient between engagements (assumed)",
@@ -195,7 +202,15 @@ OUTPUTS = {
     "peak_specific_friction_power": ("W/m^2", "peak slip power per friction area (all faces)"),
     "heat_flywheel": ("J", "friction heat into the flywheel (effusivity partition)"),
     "heat_pressure_plate": ("J", "friction heat into the pressure plate (effusivity partition)"),
-    "heat_driven_plate": ("J", "friction heat into the driven plate (its linings)"),
+    "heat_driven_plate": (
+        "J",
+        "friction heat into each driven plate (its linings; friction_faces/2 plates)",
+    ),
+    "heat_intermediate_plate": (
+        "J",
+        "friction heat into each intermediate plate (friction_faces/2 - 1 plates; 0 with two "
+        "faces)",
+    ),
     "bulk_temperature_rise": ("K", "lumped temperature rise of the hottest part in one engagement"),
     "peak_surface_temperature": (
         "K",
@@ -214,6 +229,7 @@ HEAT = (
     "heat_flywheel",
     "heat_pressure_plate",
     "heat_driven_plate",
+    "heat_intermediate_plate",
     "bulk_temperature_rise",
     "engagements_to_limit",
 )
@@ -352,6 +368,18 @@ def check_config(section):
         vals = spec["values"] if "values" in spec else (spec["min"], spec["max"])
         return min(vals), max(vals)
 
+    faces = (
+        [section["fixed"]["friction_faces"]]
+        if "friction_faces" in section["fixed"]
+        else section["factors"]["friction_faces"].get("values")
+    )
+    if faces is None or any(f % 2 for f in faces):
+        return (
+            "engagement.parameters.friction_faces",
+            "the heat of the engagement needs an even count (n/2 driven plates lined on both sides "
+            "between flywheel, intermediate plates and pressure plate): give it as a value or a "
+            f"list of even values, got {faces or section['factors']['friction_faces']}",
+        )
     limit, ambient = bounds("temperature_limit"), bounds("ambient_temperature")
     if not limit[0] > ambient[1]:
         return (
@@ -397,6 +425,7 @@ def _heat(p, slip_work, peak_slip_power):
                 "heat_transfer_coefficient",
                 "cooling_area",
                 "engagement_interval",
+                "intermediate_plate_mass",
             )
         },
     )
@@ -505,6 +534,8 @@ def compute(inputs, options=None) -> xr.Dataset:
         flash, p["lining_outer_radius"], p["lining_inner_radius"], p["friction_faces"]
     )
     code = np.where(spring_bad, st.CODE["invalid_geometry"], res["status"]).astype(st.DTYPE)
+    # a scenario the heat model cannot take (an odd face count, a mass <= 0) is not ok with NaN heat
+    code[(code == st.CODE["ok"]) & (hot["status"] != st.CODE["ok"])] = st.CODE["invalid_input"]
     data = {
         k: ("run", np.where(spring_bad, np.nan, res[k]), {"units": u, "long_name": ln})
         for k, (u, ln) in OUTPUTS.items()
@@ -607,10 +638,11 @@ def _trace_temperatures(p, times, tr, dim) -> dict:
         * p["friction_faces"][0]
     )
     e_fw, e_pp, e_lining = heat.part_effusivities()
+    faces = float(p["friction_faces"][0])
     gamma = e_pp / (e_pp + e_lining)
     ambient = float(p["ambient_temperature"][0])
     surface = ambient + heat.duhamel_surface_temperature(times, gamma * power / area, e_pp)
-    bulk = ambient + 0.5 * gamma * np.nan_to_num(tr["slip_work"]) / (
+    bulk = ambient + gamma / faces * np.nan_to_num(tr["slip_work"]) / (
         float(p["pressure_plate_mass"][0]) * heat.MATERIALS["cast_iron"]["specific_heat"]
     )
     where = "(seed design; pressure plate)"
