@@ -62,10 +62,11 @@ def test_feasible_and_margins():
         ds, {"slip_work": ("max", 6500.0), "reserve_factor": ("min", 1.2)}
     )
     assert ok.tolist() == [True, False, False, False]
-    assert margins["slip_work"][0] == pytest.approx(1500 / 6500) and np.isnan(
+    # capacity over demand minus one: 6500/5000 − 1 under a maximum, 1.1/1.2 − 1 over a minimum
+    assert margins["slip_work"][0] == pytest.approx(6500 / 5000 - 1) and np.isnan(
         margins["slip_work"][2]
     )
-    assert margins["reserve_factor"][3] == pytest.approx(-0.1 / 1.2)
+    assert margins["reserve_factor"][3] == pytest.approx(1.1 / 1.2 - 1)
     assert ds["status"].values[2] == st.CODE["never_locked"]
 
 
@@ -427,3 +428,64 @@ def test_best_compromise_is_the_front_design_nearest_the_ideal_point():
     assert explore.best_compromise(ds2) == 2
     none = explore.annotate(ds.assign(status=ds.status * 0 + 4), ["a:min", "b:min"], {})
     assert explore.best_compromise(none) is None
+
+
+def test_a_constraint_margin_is_capacity_over_demand_minus_one():
+    """Every margin of clutchlab means the same: capacity over demand minus one, >= 0 where met. A
+    constraint on a value against a positive limit gives the study's own margin of that check (the
+    roller's contact_stress <= allowable is its contact_stress_margin); on a margin output >= 0,
+    that margin; a zero or negative limit keeps the sign right."""
+    v = np.array([0.5, 1.0, 2.0, 0.0, -1.0, np.nan])
+    np.testing.assert_allclose(
+        explore.constraint_margin(v, "max", 1.0), [1.0, 0.0, -0.5, np.inf, np.inf, np.nan]
+    )
+    np.testing.assert_allclose(
+        explore.constraint_margin(v, "min", 2.0), [-0.75, -0.5, 0.0, -1.0, -1.5, np.nan]
+    )
+    np.testing.assert_allclose(explore.constraint_margin(v, "min", 0.0), v)
+    for op in ("max", "min"):
+        for limit in (-2.0, 0.0, 1.5):
+            m = explore.constraint_margin(v[:5], op, limit)
+            met = v[:5] <= limit if op == "max" else v[:5] >= limit
+            np.testing.assert_array_equal(m >= 0, met)
+    from clutchlab import config, pipeline
+
+    sec = config.resolve(
+        {
+            "studies": ["roller"],
+            "roller": {
+                "design": "factorial",
+                "parameters": {"rollers": {"values": [6, 8, 12]}},
+            },
+        }
+    )["roller"]
+    ds = pipeline.run_study(sec)
+    np.testing.assert_allclose(
+        ds["constraint_margin"].sel(constraint="contact_stress"),
+        ds["contact_stress_margin"],
+        rtol=1e-12,
+    )
+    np.testing.assert_array_equal(
+        ds["constraint_margin"].sel(constraint="self_locking_margin"), ds["self_locking_margin"]
+    )
+
+
+@pytest.mark.parametrize(
+    "name", ["diaphragm_spring", "engagement", "centrifugal", "sprag", "roller"]
+)
+def test_every_default_constraint_can_bind(name):
+    """Issue 30 item 9: the roller's default constraint self_locking_margin >= 0 could never bind
+    (the output was the ratio mu/tan(alpha/2), locking above 1). Over the default study's design
+    (config/config.yaml), every default constraint of every study is violated by some design and
+    met by another, on designs whose output is a number."""
+    from pathlib import Path
+
+    from clutchlab import config, pipeline, studies
+
+    sec = config.load(Path(__file__).parents[1] / "config" / "config.yaml")[name]
+    default = studies.get(name).constraints
+    assert {k: tuple(v) for k, v in sec["constraints"].items()} == dict(default)
+    ds = pipeline.run_study(sec)
+    for output in sec["constraints"]:
+        m = ds["constraint_margin"].sel(constraint=output).values
+        assert (m < 0).any() and (m >= 0).any(), output

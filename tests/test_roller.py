@@ -72,7 +72,8 @@ def test_seed003_spring_and_self_locking():
     assert rl.roller_mass(roller_diameter=0.01, roller_length=0.015) == pytest.approx(
         9.25e-3, rel=2e-3
     )
-    assert rl.self_locking_margin(
+    # seed 003 section 2.1: mu/tan(alpha/2) = 1.25 at 11 deg (rounded); the margin is that minus one
+    assert 1.0 + rl.self_locking_margin(
         wedge_angle=np.deg2rad(11), friction_coefficient=0.12
     ) == pytest.approx(1.25, rel=5e-3)
     assert np.rad2deg(rl.limit_wedge_angle(0.12)) == pytest.approx(13.69, abs=5e-3)

@@ -255,9 +255,9 @@ def _cdq_ranks(c):
 def feasible(ds, constraints: dict) -> tuple[np.ndarray, dict]:
     """Feasibility of every scenario of a study Dataset.
 
-    ``constraints`` maps an output to ("max" or "min", limit in the output's SI units). The margin
-    is (limit − value)/|limit| for "max", (value − limit)/|limit| for "min" (|limit| read as 1 for
-    a zero limit): ≥ 0 where met, NaN where the output is NaN. A scenario is feasible where its
+    ``constraints`` maps an output to ("max" or "min", limit in the output's SI units). The
+    margin is what every margin of clutchlab is, capacity over demand minus one, ≥ 0 where met
+    (:func:`constraint_margin`), NaN where the output is NaN. A scenario is feasible where its
     status is ok and every margin is ≥ 0. Returns (feasible, {output: margin}), arrays shaped like
     ``status``.
     """
@@ -265,12 +265,28 @@ def feasible(ds, constraints: dict) -> tuple[np.ndarray, dict]:
     margins = {}
     for output, (op, limit) in constraints.items():
         v = np.broadcast_to(ds[output].values, ok.shape).astype(float)
-        scale = abs(limit) if limit != 0 else 1.0
-        m = (limit - v) / scale if op == "max" else (v - limit) / scale
+        m = constraint_margin(v, op, limit)
         margins[output] = m
         with np.errstate(invalid="ignore"):
             ok = ok & (m >= 0)
     return ok, margins
+
+
+def constraint_margin(value, op, limit):
+    """Margin of ``value`` against a limit [1]: capacity over demand minus one, as every margin
+    output of the studies (a sprag's allowable/stress − 1, a roller's μ/tan(α/2) − 1, ...): for a
+    positive limit, limit/value − 1 under a maximum (inf for a value ≤ 0: nothing to carry) and
+    value/limit − 1 over a minimum. A zero limit (a margin output ≥ 0) gives the value itself
+    (−value under a maximum), a negative one (limit − value)/|limit| or (value − limit)/|limit|.
+    ≥ 0 exactly where the constraint is met; NaN where the value is NaN."""
+    v = np.asarray(value, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if limit > 0:
+            m = np.where(v > 0, limit / v - 1.0, np.inf) if op == "max" else v / limit - 1.0
+            return np.where(np.isnan(v), np.nan, m)
+        if limit == 0:
+            return -v if op == "max" else v + 0.0
+        return (limit - v) / -limit if op == "max" else (v - limit) / -limit
 
 
 def condition_factors(ds) -> tuple[list[str], list[str]]:
@@ -360,8 +376,9 @@ def annotate(ds, objectives, constraints, within=None):
             np.stack([margins[k] for k in names]),
             dims=("constraint",) + dims,
             attrs={
-                "long_name": "relative constraint margin: (limit - value)/|limit| for a max, "
-                "(value - limit)/|limit| for a min; >= 0 where met",
+                "long_name": "constraint margin, capacity over demand minus one: limit/value - 1 "
+                "for a max, value/limit - 1 for a min (a zero limit: the value's distance); "
+                ">= 0 where met",
                 "units": "1",
             },
         )

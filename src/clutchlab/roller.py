@@ -135,9 +135,13 @@ def spring_preload(*, roller_mass, contact_radius, friction_coefficient, speed, 
 
 
 def self_locking_margin(*, wedge_angle, friction_coefficient):
-    """μ / tan(α/2) [1]: the roller locks without slipping at its contacts only if > 1 (seed 003
-    section 1.1 step 4: tan(α/2) < μ at every contact; 11°, μ 0.12: 1.25)."""
-    return np.asarray(friction_coefficient, float) / np.tan(0.5 * np.asarray(wedge_angle, float))
+    """Self-locking margin μ/tan(α/2) − 1 [1]: the roller locks without slipping at its contacts
+    only if tan(α/2) < μ (seed 003 section 1.1 step 4), i.e. where the margin is > 0. A margin in
+    clutchlab is capacity over demand minus one (here the friction μ a contact can carry over the
+    tan(α/2) the wedge asks of it), ≥ 0 where met; 11°, μ 0.12: 0.246 (the paper's ratio 1.25)."""
+    return (
+        np.asarray(friction_coefficient, float) / np.tan(0.5 * np.asarray(wedge_angle, float)) - 1.0
+    )
 
 
 def limit_wedge_angle(friction_coefficient):

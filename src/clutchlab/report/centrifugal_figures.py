@@ -127,7 +127,7 @@ def release_map(ds):
             axes[0],
             "release_margin",
             "RdBu",
-            "release margin T_p - M' at rated [N m]\n"
+            "release margin T_p / M' - 1 at rated [-]\n"
             "(> 0: the clutch lets go when the engine dies)",
         ),
         (
@@ -138,8 +138,8 @@ def release_map(ds):
         ),
     ):
         z = np.where(code == st.CODE["jammed"], np.nan, sub[name].values)
-        if name == "release_margin":
-            lim = np.nanmax(np.abs(z)) if np.isfinite(z).any() else 1.0
+        if name == "release_margin":  # (inf where M' = 0: not scaling the colours)
+            lim = np.nanmax(np.abs(z[np.isfinite(z)])) if np.isfinite(z).any() else 1.0
             m = ax.pcolormesh(a, f, z, shading="nearest", cmap=cmap, vmin=-lim, vmax=lim)
             contour_level(ax, a, f, z, 0.0, colors="k", linewidths=1.5)
         else:

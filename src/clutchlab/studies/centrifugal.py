@@ -2,8 +2,8 @@
 
 Per scenario (closed form, no ODE): engagement speed, forward and reverse capacity at rated
 speed and as curves over engine speed, reserve factor against the engine torque, release margin
-(passive engine torque minus reverse capacity at rated speed), and the release speed and time
-after an engine failure at rated speed. For the seed design (the parameters' defaults, with the
+(passive engine torque over reverse capacity at rated speed, minus one), and the release speed
+and time after an engine failure at rated speed. For the seed design (the parameters' defaults, with the
 config's fixed values) the start-up and engine-failure speed traces are integrated once (DOP853
 with the lock-up / release as events) for the report.
 
@@ -91,7 +91,10 @@ OUTPUTS = {
     "capacity_forward": ("N m", "forward torque capacity M at rated speed (eq. 1)"),
     "capacity_reverse": ("N m", "reverse torque capacity M' at rated speed (eq. 2)"),
     "reserve_factor": ("1", "M at rated speed over engine torque"),
-    "release_margin": ("N m", "passive engine torque minus M' at rated speed (> 0: lets go)"),
+    "release_margin": (
+        "1",
+        "release margin: passive engine torque / M' at rated speed - 1 (> 0: lets go)",
+    ),
     "idle_capacity": ("N m", "forward capacity at idle speed (0: disengaged)"),
     "linkage_factor": ("1", "f tan(alpha) (1: forward linkage jams)"),
     "release_speed": (
@@ -138,6 +141,10 @@ def compute(inputs, options=None) -> xr.Dataset:
         rated_speed=p["rated_speed"],
         static_fraction=p["static_fraction"],
     )
+    # a margin is capacity over demand minus one: the passive torque that pulls the dead engine's
+    # side back over the reverse capacity M' that must slip (inf where M' = 0: nothing holds)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        release_margin = passive / rev - 1.0
     values = {
         "engagement_speed": cf.engagement_speed(
             shoe_mass=p["shoe_mass"], shoe_radius=p["shoe_radius"], spring_force=p["spring_force"]
@@ -145,7 +152,7 @@ def compute(inputs, options=None) -> xr.Dataset:
         "capacity_forward": fwd,
         "capacity_reverse": rev,
         "reserve_factor": fwd / p["engine_torque"],
-        "release_margin": passive - rev,
+        "release_margin": release_margin,
         "idle_capacity": idle,
         "linkage_factor": p["friction_coefficient"] * np.tan(p["pressure_angle"]),
         "release_speed": rel["release_speed"],
@@ -378,7 +385,7 @@ STUDY = register(
         validation=validation,
         outputs={
             "reserve_factor": "1",
-            "release_margin": "N m",
+            "release_margin": "1",
             "release_time": "s",
             "engagement_speed": "rad/s",
             "capacity_forward": "N m",

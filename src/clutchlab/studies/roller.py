@@ -111,15 +111,15 @@ OUTPUTS = {
     "computed_torque": ("N m", "computed torque T_c = K3 (K1 + K2) T_i (eq. 1)"),
     "normal_force": ("N", "normal force per loaded roller N_A (eq. 2)"),
     "contact_stress": ("Pa", "Hertz contact stress roller / flat at T_c (eq. 3)"),
-    "contact_stress_margin": ("1", "allowable / contact stress - 1"),
-    "self_locking_margin": ("1", "mu / tan(alpha/2) (self-locks if > 1)"),
+    "contact_stress_margin": ("1", "contact stress margin: allowable / contact stress - 1"),
+    "self_locking_margin": ("1", "self-locking margin: mu / tan(alpha/2) - 1 (self-locks if > 0)"),
     "limit_wedge_angle": ("rad", "largest self-locking wedge angle 2 atan(mu)"),
     "roller_mass": ("kg", "mass of a solid roller"),
     "spring_preload": (
         "N",
         "spring force needed against friction of the roller's centrifugal force (eq. 4)",
     ),
-    "spring_margin": ("1", "F_T / needed spring force - 1"),
+    "spring_margin": ("1", "spring margin: F_T / needed spring force - 1"),
     "engagement_time": ("s", "wedging time: driven ring from rest to the engagement speed"),
     "backlash_angle": ("rad", "total backlash: driving minus driven ring rotation at engagement"),
     "backlash_angle_slip": ("rad", "driving-ring / wedge-ring part of the backlash"),
@@ -241,7 +241,7 @@ def compute(inputs, options=None) -> xr.Dataset:
     s = statics(p, options["stress_reading"])
     n = p["rollers"].size
     code = np.full(n, st.CODE["ok"], st.DTYPE)
-    locks = s["self_locking_margin"] > 1.0
+    locks = s["self_locking_margin"] > 0.0
     engages = rl.engages(options["mode"], np.sign(p["drive_direction"]))
     run = locks & engages
     dyn = {k: np.full(n, np.nan) for k in _DYNAMIC}
@@ -303,7 +303,7 @@ def seed_trace(inputs, options) -> xr.Dataset:
     """Engagement (and release) trace of the seed design, like seed 003 Figs. 7 and 9."""
     p = {k: np.atleast_1d(v) for k, v in seed_design(PARAMETERS, inputs).items()}
     s = statics(p, options["stress_reading"])
-    if s["self_locking_margin"][0] <= 1.0:
+    if s["self_locking_margin"][0] <= 0.0:
         return xr.Dataset()
     sim = rl.simulate(trace_index=0, max_step=2e-6, **dynamics_inputs(p, s))
     tr = sim["trace"]
@@ -432,10 +432,10 @@ def validation():
         ),
         Row(
             seed,
-            "self-locking margin mu / tan(alpha/2) at 11 deg",
+            "self-locking ratio mu / tan(alpha/2) at 11 deg (self_locking_margin + 1)",
             "section 2.1",
             1.25,
-            float(one["self_locking_margin"][0]),
+            1.0 + float(one["self_locking_margin"][0]),
             "1",
             5e-3,
             "published value rounded to 1.25",
