@@ -3,9 +3,9 @@
 Per scenario (closed form, no ODE): engagement speed, forward and reverse capacity at rated
 speed and as curves over engine speed, reserve factor against the engine torque, release margin
 (passive engine torque over reverse capacity at rated speed, minus one), and the release speed
-and time after an engine failure at rated speed. For the seed design (the parameters' defaults, with the
-config's fixed values) the start-up and engine-failure speed traces are integrated once (DOP853
-with the lock-up / release as events) for the report.
+and time after an engine failure at rated speed. For the seed design (the parameters' defaults,
+with the config's fixed values) the start-up and engine-failure speed traces are integrated once
+(DOP853 with the lock-up / release as events) for the report.
 
 Assumed, not printed in the paper: passive-torque shape (30 % friction, rest ∝ ω²), inertias
 J_e = 0.02 kg m² and J_r = 0.5 kg m² (rotor referred to the clutch), rotor drag 55 N m at rated
