@@ -5,16 +5,39 @@ flat numpy array (one entry per scenario of the chunk, or a scalar for a fixed v
 units and returns an :class:`xarray.Dataset` whose scenario dimension is ``run``; extra
 dimensions (e.g. points of a curve) are allowed. :mod:`clutchlab.doe` builds the design,
 :mod:`clutchlab.pipeline` runs and merges its chunks.
+
+Which numbers a scenario of each status keeps (the status rule): every per-scenario output says
+under which statuses it is valid, in its attribute ``valid_statuses`` (status names separated by
+spaces, or ``all``), from the study's table :attr:`Study.valid_statuses`; elsewhere it is NaN (an
+integer output: −1). A float output not in the table is valid under ``ok`` only; an integer one
+(counts, flags, solver statistics) under every status. :func:`register` applies the table to
+every study's ``compute`` (:func:`apply_valid_statuses`), so every path to a result — the
+pipeline, a notebook, a test — gets it.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 
-__all__ = ["Parameter", "Study", "REGISTRY", "get", "flat_inputs", "seed_design"]
+from .. import status as st
+
+__all__ = [
+    "Parameter",
+    "Study",
+    "REGISTRY",
+    "get",
+    "flat_inputs",
+    "seed_design",
+    "apply_valid_statuses",
+    "ALL_STATUSES",
+]
+
+ALL_STATUSES = "all"  # an output valid under every status (valid_statuses)
 
 
 @dataclass(frozen=True)
@@ -94,6 +117,9 @@ class Study:
     # measured tables a study section may give (config key -> ((x name, x units), (y name, y units),
     # description)); resolved to SI lists and passed to compute as options[key]
     tables: dict = field(default_factory=dict)
+    # the status rule (module docstring): output -> the statuses under which its value means what
+    # its long_name says (tuple of status names, or ALL_STATUSES); a float output not listed: ok
+    valid_statuses: dict = field(default_factory=dict)
 
     def parameter(self, name: str) -> Parameter:
         for p in self.parameters:
@@ -134,7 +160,47 @@ def seed_design(parameters, inputs) -> dict:
 REGISTRY: dict[str, Study] = {}
 
 
+def apply_valid_statuses(ds, table: dict):
+    """``ds`` (a study's compute result, scenario dimension ``run``) with every per-scenario output
+    NaN (an integer one −1) where its scenario's status is not one of its valid statuses
+    (``table``: output -> status names or :data:`ALL_STATUSES`; a float output not listed: ``ok``
+    only, an integer one: every status), each carrying the attribute ``valid_statuses``. Valid
+    values are not touched (bit-identical)."""
+    code = np.asarray(ds["status"].values)
+    for name, var in ds.data_vars.items():
+        if name == "status" or "run" not in var.dims:
+            continue
+        floating = var.dtype.kind == "f"
+        valid = table.get(name, ("ok",) if floating else ALL_STATUSES)
+        if valid == ALL_STATUSES:
+            var.attrs["valid_statuses"] = ALL_STATUSES
+            continue
+        unknown = set(valid) - set(st.CODE)
+        if unknown:
+            raise KeyError(f"valid_statuses of {name!r}: unknown statuses {sorted(unknown)}")
+        keep = np.isin(code, [st.CODE[s] for s in valid])
+        if not keep.all():
+            values = np.moveaxis(var.values.copy(), var.dims.index("run"), 0)
+            values[~keep] = np.nan if floating else -1
+            var.values = np.moveaxis(values, 0, var.dims.index("run"))
+        var.attrs["valid_statuses"] = " ".join(valid)
+    return ds
+
+
+def _with_valid_statuses(compute: Callable, table: dict) -> Callable:
+    @functools.wraps(compute)
+    def valid_compute(inputs, options=None):
+        return apply_valid_statuses(compute(inputs, options), table)
+
+    return valid_compute
+
+
 def register(study: Study) -> Study:
+    """Register ``study``, its ``compute`` wrapped so that every result follows the status rule
+    (:func:`apply_valid_statuses` with the study's :attr:`Study.valid_statuses`)."""
+    study = dataclasses.replace(
+        study, compute=_with_valid_statuses(study.compute, study.valid_statuses)
+    )
     REGISTRY[study.name] = study
     return study
 

@@ -104,6 +104,32 @@ OUTPUTS = {
     "release_time": ("s", "time from engine failure to release"),
 }
 
+# the status rule (clutchlab.studies): near_jam works and its numbers are exact (flagged: a
+# friction rise within the scatter jams it); a jammed linkage (f tan(alpha) >= 1) has no forward
+# capacity (M ∝ 1/(1 − f tan(alpha)) is no number), so nothing that needs it — reserve, idle and
+# forward capacity, its curve, the release after a failure — but its reverse capacity, release
+# margin, engagement speed and linkage factor are what they are; a clutch not engaged at rated
+# speed (springs beat the centrifugal force, or M below the rotor load) keeps those and its
+# capacity at idle and over speed; the torque curves of the engine hold for every status
+_WORKS = ("ok", "near_jam")
+_EVERY = ("ok", "near_jam", "jammed", "not_engaged")
+VALID_STATUSES = {
+    **{
+        k: _EVERY
+        for k in (
+            "engagement_speed",
+            "linkage_factor",
+            "capacity_reverse",
+            "release_margin",
+            "capacity_reverse_curve",
+            "engine_torque_curve",
+            "passive_torque_curve",
+        )
+    },
+    **{k: _WORKS + ("not_engaged",) for k in ("idle_capacity", "capacity_forward_curve")},
+    **{k: _WORKS for k in ("capacity_forward", "reserve_factor", "release_speed", "release_time")},
+}
+
 _CAP = (
     "shoes",
     "friction_coefficient",
@@ -158,24 +184,12 @@ def compute(inputs, options=None) -> xr.Dataset:
         "release_speed": rel["release_speed"],
         "release_time": rel["release_time"],
     }
-    bad = (code != st.CODE["ok"]) & (
-        code != st.CODE["near_jam"]
-    )  # near_jam: exact numbers, flagged
-    keep_when_bad = {
-        "engagement_speed",
-        "linkage_factor",
-        "capacity_reverse",
-        "release_margin",
-        "idle_capacity",
-    }
-    data = {
-        k: (
-            "run",
-            np.where(bad & (k not in keep_when_bad), np.nan, v),
-            {"units": OUTPUTS[k][0], "long_name": OUTPUTS[k][1]},
-        )
-        for k, v in values.items()
-    }
+    # (which of them a jammed or not engaged scenario keeps: VALID_STATUSES, applied on return)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        data = {
+            k: ("run", np.asarray(v, float), {"units": OUTPUTS[k][0], "long_name": OUTPUTS[k][1]})
+            for k, v in values.items()
+        }
     data["status"] = (
         "run",
         code,
@@ -190,10 +204,9 @@ def compute(inputs, options=None) -> xr.Dataset:
     w = SPEEDS[None, :]
     cw = {k: v[:, None] for k, v in cap.items()}
     fc, rc = cf.capacity(speed=w, **cw)
-    jam = (code == st.CODE["jammed"])[:, None]
     data["capacity_forward_curve"] = (
         ("run", "speed"),
-        np.where(jam, np.nan, fc),
+        fc,
         {"units": "N m", "long_name": "forward capacity M(n)"},
     )
     data["capacity_reverse_curve"] = (
@@ -405,5 +418,7 @@ STUDY = register(
         ),
         objectives=("reserve_factor:max", "release_time:min"),
         constraints={"reserve_factor": ("min", 1.2), "release_margin": ("min", 0.0)},
+        valid_statuses=VALID_STATUSES,
     )
 )
+compute = STUDY.compute  # the status rule applied (clutchlab.studies.apply_valid_statuses)

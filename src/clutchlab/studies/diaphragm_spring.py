@@ -195,6 +195,34 @@ def compute(inputs, options=None) -> xr.Dataset:
     return ds
 
 
+# the status rule (clutchlab.studies): a spring without a hump (H/h <= sqrt(2)) has no A and no D
+# but its flat point C, operating point B and curve; a snap-through spring (valley load <= 0) is a
+# design that fails the check, its points exact (like a stress above its allowable); the geometry
+# it was given is what it is; load points off the spring or a lining R1 >= R2: nothing
+_SPRING = ("ok", "monotone_no_hump", "snap_through")
+VALID_STATUSES = {
+    **{
+        k: _SPRING
+        for k in (
+            "clamp_load",
+            "deflection_operating",
+            "load_flat",
+            "deflection_flat",
+            "torque_capacity",
+            "reserve_factor",
+            "curve_deflection",
+            "curve_load",
+        )
+    },
+    **{
+        k: ("ok", "snap_through")
+        for k in ("load_peak", "deflection_peak", "load_valley", "deflection_valley")
+    },
+    "cone_height": "all",
+    "inner_radius": "all",
+}
+
+
 # --- seed-000 validation rows (statics) ------------------------------------------------------
 
 SEED = "000"
@@ -415,5 +443,7 @@ STUDY = register(
         objectives=("reserve_factor:max", "load_peak:min"),
         constraints={"reserve_factor": ("min", 1.2)},
         options=OPTIONS,
+        valid_statuses=VALID_STATUSES,
     )
 )
+compute = STUDY.compute  # the status rule applied (clutchlab.studies.apply_valid_statuses)

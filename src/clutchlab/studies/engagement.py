@@ -235,6 +235,41 @@ HEAT = (
 )
 
 
+# the status rule (clutchlab.studies): what a scenario of each status keeps. The spring's statics
+# hold wherever the spring is valid; a never_locked scenario (slipping at end_time) keeps what it
+# did in the window — slip work up to end_time (PHYSICS.md's hard case), its heat, the largest
+# slip power and clutch torque so far, the window's energy balance — and nothing of a lock-up that
+# did not happen (lock-up time and speed, clamp force there, acceleration jump), nor a peak jerk
+# (the compliant model's largest jerk follows the lock-up) or a count of engagements to the limit
+# (an engagement that never ends); truncated (an event after end_time would change them) and
+# not_converged: only the statics
+_STATICS = ("ok", "never_locked", "not_converged", "truncated")
+_WINDOW = ("ok", "never_locked")
+VALID_STATUSES = {
+    **{k: _STATICS for k in ("clamp_load", "peak_capacity", "peak_bearing_force")},
+    **{
+        k: _WINDOW
+        for k in (
+            "slip_work",
+            "peak_slip_power",
+            "peak_friction_torque",
+            "energy_residual",
+            "specific_friction_work",
+            "peak_specific_friction_power",
+            "heat_flywheel",
+            "heat_pressure_plate",
+            "heat_driven_plate",
+            "heat_intermediate_plate",
+            "bulk_temperature_rise",
+            "peak_surface_temperature",
+            "hottest_part",
+        )
+    },
+    # ok only: lockup_time, lockup_speed, clamp_force_at_lockup, accel_jump, peak_jerk,
+    # engagements_to_limit (the default of a float output); model and solver counts: every status
+}
+
+
 # per-scenario model (variable ``model``): code, and what it is
 MODEL = {"closed_form": 0, "rigid_events": 1, "compliant_events": 2}
 MODEL_TEXT = {
@@ -546,8 +581,8 @@ def compute(inputs, options=None) -> xr.Dataset:
         {
             "long_name": "part with the largest bulk temperature rise",
             "units": "1",
-            "flag_values": np.arange(len(heat.PARTS), dtype=np.int8),
-            "flag_meanings": " ".join(heat.PARTS),
+            "flag_values": np.arange(-1, len(heat.PARTS), dtype=np.int8),
+            "flag_meanings": " ".join(("none",) + heat.PARTS),  # none: no valid heat (-1)
         },
     )
     data["model"] = (
@@ -742,5 +777,7 @@ STUDY = register(
         constraints={"lockup_time": ("max", 0.5)},
         accuracy=ACCURACY,
         check_config=check_config,
+        valid_statuses=VALID_STATUSES,
     )
 )
+compute = STUDY.compute  # the status rule applied (clutchlab.studies.apply_valid_statuses)

@@ -138,6 +138,26 @@ _DYNAMIC = (
     "release_time",
 )
 
+# the status rule (clutchlab.studies): the statics (eqs. 1-4) hold for every design, whether it
+# self-locks, overruns in the commanded mode or its static stress is above the allowable; the
+# wedging's numbers only for an engagement that happened (ok; above_allowable: the static stress
+# check fails, the dynamics are exact). A wedging that never engaged (never_locked: not at the
+# engagement speed before the control ring stopped or end_time) has no engagement time, backlash,
+# dynamic factor or release of an engaged clutch, and its contact force peak over the window is
+# not the peak of an engagement: NaN; not_converged: none
+_STATICS = (
+    "ok",
+    "above_allowable",
+    "never_locked",
+    "not_converged",
+    "not_self_locking",
+    "overrunning",
+)
+VALID_STATUSES = {
+    **{k: _STATICS for k in OUTPUTS if k not in _DYNAMIC},
+    **{k: ("ok", "above_allowable") for k in _DYNAMIC},
+}
+
 
 def check_config(section):
     """The one-flank reading loads z/2 rollers per direction: refuse an odd count for it."""
@@ -532,5 +552,7 @@ STUDY = register(
             "engagement_time": ("max", 1e-3),
         },
         check_config=check_config,
+        valid_statuses=VALID_STATUSES,
     )
 )
+compute = STUDY.compute  # the status rule applied (clutchlab.studies.apply_valid_statuses)

@@ -119,6 +119,17 @@ OUTPUTS = {
     "vm_stress_outer": ("Pa", "maximum von Mises stress of the outer race (eq. 8)"),
 }
 CHECKS = ("contact_inner", "contact_outer", "vm_inner", "vm_outer", "gripping_angle")
+# the status rule (clutchlab.studies): a design above an allowable (above_allowable, pop_out_risk)
+# has exact angles, stresses and margins — the margin says by how much it fails; a sprag that does
+# not span the races, rolls over or whose fixed point did not converge has none; the torque applied
+# and the compliance used are what they are; the pass flags (integers) say 0 where not passed
+_CHECKED = ("ok", "above_allowable", "pop_out_risk")
+VALID_STATUSES = {
+    **{k: _CHECKED for k in OUTPUTS if k != "torque_applied"},
+    **{f"margin_{c}": _CHECKED for c in CHECKS},
+    "torque_applied": "all",
+    "compliance_factor_used": "all",
+}
 
 
 @functools.lru_cache(maxsize=1)
@@ -373,5 +384,7 @@ STUDY = register(
             for c in ("contact_inner", "contact_outer", "vm_inner", "vm_outer", "gripping_angle")
         },
         options=OPTIONS,
+        valid_statuses=VALID_STATUSES,
     )
 )
+compute = STUDY.compute  # the status rule applied (clutchlab.studies.apply_valid_statuses)
