@@ -339,6 +339,9 @@ def _friction_table(p, options):
     table = options.get("friction_table")
     if table is None:
         return None
+    mu = np.asarray(p["friction_coefficient"])
+    if mu.size and np.any(mu != mu.flat[0]):  # (the config refuses it: a per-scenario reading)
+        raise ValueError("a friction_table is read relative to one fixed friction_coefficient")
     return (
         np.asarray(table["slip_speed"]),
         np.asarray(table["friction_coefficient"])
