@@ -964,12 +964,13 @@ def _scan_value(k, m, frac, t, h, rc, q, locked, parked, s, compliant, prof, yb,
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _scan_jerk(t, h, frac, slip0, slip1, rc, q, locked, parked, s, compliant, prof, pk, yb, dm):
+def _scan_jerk(t, h, frac, slip0, slip1, j0, rc, q, locked, parked, s, compliant, prof, pk, yb, dm):
     """The largest |jerk| of a rigid slipping step [t, t + frac·h] (frac < 1: the part before an
-    event): |jerk| sampled on the step's continuous extension, then golden section around the
-    vertex of the parabola through the largest sample and its neighbours. A Stribeck law's term
-    C·f'(Δω)·Δω' peaks within a few v_s of slip, where a step may be longer than the peak is wide:
-    there the samples are spaced v_s/4 in slip (at most JERK_SCAN_MAX), elsewhere three."""
+    event): |jerk| sampled on the step's continuous extension (j0: the jerk at t, known), then
+    golden section around the vertex of the parabola through the largest sample and its
+    neighbours. A Stribeck law's term C·f'(Δω)·Δω'
+    peaks within a few v_s of slip, where a step may be longer than the peak is wide: there the
+    samples are spaced v_s/4 in slip (at most JERK_SCAN_MAX), elsewhere three."""
     m = 2
     if q[VS] < np.inf:
         near = 4.0 * q[VS]
@@ -979,7 +980,11 @@ def _scan_jerk(t, h, frac, slip0, slip1, rc, q, locked, parked, s, compliant, pr
     # the largest sample, and its two neighbours on each side as they come (no storage)
     best, kb, bm2, bm1, bp1, bp2, p2, p1 = -1.0, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     for k in range(m + 1):
-        v = _scan_value(k, m, frac, t, h, rc, q, locked, parked, s, compliant, prof, yb, dm)
+        v = (
+            abs(j0)
+            if k == 0
+            else _scan_value(k, m, frac, t, h, rc, q, locked, parked, s, compliant, prof, yb, dm)
+        )
         if v > best:
             best, kb, bm2, bm1 = v, k, p2, p1
         elif k == kb + 1:
@@ -1001,7 +1006,8 @@ def _scan_jerk(t, h, frac, slip0, slip1, rc, q, locked, parked, s, compliant, pr
         a, v0, v1, v2 = kb - 1, bm1, best, bp1
     curv = 2.0 * (v0 - 2.0 * v1 + v2)
     if curv < 0.0:
-        th = (3.0 * v0 - 4.0 * v1 + v2) / (2.0 * curv)
+        b = -3.0 * v0 + 4.0 * v1 - v2
+        th = -b / (2.0 * curv)
         if -0.5 < th < 1.5:
             th_v = min(frac, max(0.0, frac * (a + 2.0 * th) / m))
             _refine_peak(
@@ -1021,7 +1027,7 @@ def _scan_jerk(t, h, frac, slip0, slip1, rc, q, locked, parked, s, compliant, pr
                 yb,
                 dm,
                 frac / m,
-                30,
+                24,
             )
 
 
@@ -2130,6 +2136,7 @@ def _simulate_one(
                         best_tau / h_try,
                         y[E] - y[H],
                         y_best[E] - y_best[H],
+                        j_left,
                         rc,
                         q,
                         locked,
@@ -2192,6 +2199,7 @@ def _simulate_one(
                 1.0,
                 y[E] - y[H],
                 y1[E] - y1[H],
+                j_left,
                 rc,
                 q,
                 locked,
