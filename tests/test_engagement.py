@@ -649,3 +649,44 @@ def test_event_solver_is_computed_per_scenario(compliant):
         alone = eng.simulate(**{k: v[i : i + 1] for k, v in d.items()}, **kw, atol=1e-9)
         for name, v in alone.items():
             np.testing.assert_array_equal(batch[name][i : i + 1], v, err_msg=f"{name} row {i}")
+
+
+def test_rigid_held_engine_study_peak_jerk_to_its_accuracy():
+    """The case the issue measured: a rigid held-engine engagement study with an air gap (so the
+    event solver runs, not the closed form), cubic and quintic profiles drawn per scenario, at the
+    default accuracy 1e-6: every ok row's peak jerk is the profile's exact peak slip jerk."""
+    from clutchlab import config, pipeline
+
+    sec = config.resolve(
+        {
+            "studies": ["engagement"],
+            "engagement": {
+                "design": "lhs",
+                "samples": 48,
+                "seed": 3,
+                "options": {"driveline": "rigid", "profile": {"values": ["cubic", "quintic"]}},
+                "parameters": {
+                    "ramp_time": {"min": "0.05 s", "max": "0.3 s"},
+                    "air_gap": {"min": "0.05 mm", "max": "0.6 mm"},
+                    "load_torque": {"min": "20 N*m", "max": "80 N*m"},
+                    "driven_inertia": {"min": "0.021 kg*m^2", "max": "0.05 kg*m^2"},
+                    "engine_inertia": "inf",
+                },
+            },
+        }
+    )["engagement"]
+    ds = pipeline.run_study(sec)
+    ok = ds["status"].values == st.CODE["ok"]
+    assert ok.all() and (ds["model"].values == 1).all()  # rigid event solver everywhere
+    flags = ds["profile"].attrs["flag_meanings"].split()
+    for code, profile in enumerate(flags):
+        sel = ds["profile"].values == code
+        d = {
+            "peak_capacity": ds["peak_capacity"].values[sel],
+            "release_ratio": 1.0 + ds["air_gap"].values[sel] / 0.6e-3,  # (g + c)/c, c = 0.6 mm
+            "load_torque": ds["load_torque"].values[sel],
+            "ramp_time": ds["ramp_time"].values[sel],
+            "driven_inertia": ds["driven_inertia"].values[sel],
+        }
+        want = _exact_slip_jerk(d, profile, ds["lockup_time"].values[sel])
+        assert np.max(np.abs(ds["peak_jerk"].values[sel] / want - 1.0)) <= 1e-6, profile
