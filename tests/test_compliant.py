@@ -250,12 +250,12 @@ def test_stiff_damper_locks_like_the_rigid_driveline(scale, load_torque, damping
     kg m², T_m 5 N m, C 300 N m, ramp 0.2 s, K 1e14 N m/rad; here scaled by 1e-5 in inertia,
     torques and stiffness (K 1e9 N m/rad), which leaves every speed and time as it is, so that
     the spring lies inside its plausible range). The output speed after unparking is round-off
-    for a while (zero speed and acceleration); a park armed on a positive round-off value fired 1e-19 s later, and
-    the output stayed parked for good: never_locked (or, at other stiffnesses, park and unpark
-    repeated at one instant for ever). Critical damping (ζ = 1, the free response's ω_d² a
-    round-off either side of 0) lost 8 digits of the output speed in e^((b−a)τ) − e^(−(a+b)τ) and
-    parked it the same way. The compliance changes the lock-up by O(1/ω₀²) relative: ~1e-14
-    here; tolerance 1e-10."""
+    for a while (zero speed and acceleration); a park armed on a positive round-off value fired
+    1e-19 s later, and the output stayed parked for good: never_locked (or, at other
+    stiffnesses, park and unpark repeated at one instant for ever). Critical damping (ζ = 1, the
+    free response's ω_d² a round-off either side of 0) lost 8 digits of the output speed in
+    e^((b−a)τ) − e^(−(a+b)τ) and parked it the same way. The compliance changes the lock-up by
+    O(1/ω₀²) relative: ~1e-14 here; tolerance 1e-10."""
     rigid = dict(
         engine_speed=5500 * np.pi / 30,
         engine_inertia=np.inf,
