@@ -98,6 +98,19 @@ def spring_geometry(p) -> dict:
     )
 
 
+def _capacity_status(code, capacity, reserve, p):
+    """The spring's status, and where the spring has numbers (ok, monotone_no_hump, snap_through)
+    but the capacity or reserve factor has none: ``invalid_geometry`` for swapped lining radii,
+    ``invalid_input`` for inputs the friction model refuses (μ, faces, stack mass, engine torque
+    out of range) — never a NaN under a status that promises numbers."""
+    numbers = np.isin(code, [st.CODE[k] for k in ("ok", "monotone_no_hump", "snap_through")])
+    lining_bad = ~(p["lining_inner_radius"] < p["lining_outer_radius"])
+    missing = ~np.isfinite(capacity) | ~np.isfinite(reserve)
+    code = np.where(numbers & lining_bad, st.CODE["invalid_geometry"], code)
+    code = np.where(numbers & ~lining_bad & missing, st.CODE["invalid_input"], code)
+    return code.astype(st.DTYPE)
+
+
 def compute(inputs, options=None) -> xr.Dataset:
     """Compute the statics of a chunk of scenarios (see module docstring)."""
     options = options or {}
@@ -118,11 +131,8 @@ def compute(inputs, options=None) -> xr.Dataset:
         assumption=assumption,
         stack_mass=p["stack_mass"],
     )
-    lining_bad = ~(p["lining_inner_radius"] < p["lining_outer_radius"])
-    capacity = np.where(lining_bad, np.nan, capacity)
-    code = np.where(lining_bad & (code == st.CODE["ok"]), st.CODE["invalid_geometry"], code).astype(
-        st.DTYPE
-    )
+    reserve = friction.reserve_factor(capacity, p["max_engine_torque"])
+    code = _capacity_status(code, capacity, reserve, p)
 
     lam_curve = pts["deflection_C"][:, None] * CURVE_POINTS[None, :]
     load_curve = diaphragm.almen_laszlo_load(
@@ -160,7 +170,7 @@ def compute(inputs, options=None) -> xr.Dataset:
         ),
         "reserve_factor": (
             run,
-            friction.reserve_factor(capacity, p["max_engine_torque"]),
+            reserve,
             _attrs("reserve factor: capacity over engine maximum torque", "1"),
         ),
         "curve_deflection": (
