@@ -154,7 +154,7 @@ def test_release_at_once_when_needed_torque_beats_reverse_capacity():
     """With the engine alone on the clutch (J_r >> J_e, no rotor drag) the passive 65.5 N m beats
     M' = 65.0 N m: the paper's 'immediate release'."""
     r = cf.release_after_failure(
-        rated_speed=5500 * RPM, **{**SEED, **DYN, "rotor_inertia": 1e6, "rotor_load_torque": 0.0}
+        rated_speed=5500 * RPM, **{**SEED, **DYN, "rotor_inertia": 1e5, "rotor_load_torque": 0.0}
     )
     assert r["released_at_once"] and r["release_time"] == 0.0 and r["release_speed"] == 5500 * RPM
 

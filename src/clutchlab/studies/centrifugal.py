@@ -112,6 +112,19 @@ _CAP = (
 )
 
 
+def _status(p, code, rel):
+    """design_status's code, then, where it has numbers (ok, near_jam): the release's own
+    screening (inertias, passive torque), an idle speed ≥ 0 below the rated speed and a plausible
+    engine torque > 0 (the reserve factor's denominator); invalid_input where one fails."""
+    live = np.isin(code, [st.CODE["ok"], st.CODE["near_jam"]])
+    code = np.where(live & (rel["status"] != st.CODE["ok"]), rel["status"], code)
+    with np.errstate(invalid="ignore"):
+        idle_ok = st.nonnegative_in("rad/s")(p["idle_speed"]) & (p["idle_speed"] < p["rated_speed"])
+        torque_ok = st.positive_in("N m")(p["engine_torque"])
+    live = np.isin(code, [st.CODE["ok"], st.CODE["near_jam"]])
+    return np.where(live & ~(idle_ok & torque_ok), st.CODE["invalid_input"], code).astype(st.DTYPE)
+
+
 def compute(inputs, options=None) -> xr.Dataset:
     p = flat_inputs(inputs)
     cap = {k: p[k] for k in _CAP}
@@ -138,6 +151,7 @@ def compute(inputs, options=None) -> xr.Dataset:
         rated_speed=p["rated_speed"],
         static_fraction=p["static_fraction"],
     )
+    code = _status(p, code, rel)
     values = {
         "engagement_speed": cf.engagement_speed(
             shoe_mass=p["shoe_mass"], shoe_radius=p["shoe_radius"], spring_force=p["spring_force"]
@@ -154,6 +168,8 @@ def compute(inputs, options=None) -> xr.Dataset:
     bad = (code != st.CODE["ok"]) & (
         code != st.CODE["near_jam"]
     )  # near_jam: exact numbers, flagged
+    # an input the models refuse: no number at all
+    refused = np.isin(code, [st.CODE["invalid_input"], st.CODE["invalid_geometry"]])
     keep_when_bad = {
         "engagement_speed",
         "linkage_factor",
@@ -164,7 +180,7 @@ def compute(inputs, options=None) -> xr.Dataset:
     data = {
         k: (
             "run",
-            np.where(bad & (k not in keep_when_bad), np.nan, v),
+            np.where((bad & (k not in keep_when_bad)) | refused, np.nan, v),
             {"units": OUTPUTS[k][0], "long_name": OUTPUTS[k][1]},
         )
         for k, v in values.items()
@@ -176,7 +192,9 @@ def compute(inputs, options=None) -> xr.Dataset:
             "jammed: f tan(alpha) >= 1 (forward linkage self-locks); not_engaged: "
             "springs beat the centrifugal force at rated speed, or M < rotor load; "
             "near_jam: works, but (1 + friction_scatter) f tan(alpha) >= 1: a "
-            "friction rise within the scatter jams it (outputs kept, exact)"
+            "friction rise within the scatter jams it (outputs kept, exact); "
+            "invalid_geometry: shoe centroid radius not inside the drum; invalid_input: an "
+            "input not physical or implausible, or idle speed not below rated speed"
         ),
     )
     # capacity curves over engine speed (Fig. 5), per scenario
@@ -184,24 +202,26 @@ def compute(inputs, options=None) -> xr.Dataset:
     cw = {k: v[:, None] for k, v in cap.items()}
     fc, rc = cf.capacity(speed=w, **cw)
     jam = (code == st.CODE["jammed"])[:, None]
+    refused = refused[:, None]
     data["capacity_forward_curve"] = (
         ("run", "speed"),
-        np.where(jam, np.nan, fc),
+        np.where(jam | refused, np.nan, fc),
         {"units": "N m", "long_name": "forward capacity M(n)"},
     )
     data["capacity_reverse_curve"] = (
         ("run", "speed"),
-        rc,
+        np.where(refused, np.nan, rc),
         {"units": "N m", "long_name": "reverse capacity M'(n)"},
     )
     data["engine_torque_curve"] = (
         ("run", "speed"),
-        p["engine_torque"][:, None] * np.interp(w, *ENGINE_TORQUE_SHAPE),
+        np.where(refused, np.nan, p["engine_torque"][:, None] * np.interp(w, *ENGINE_TORQUE_SHAPE)),
         {"units": "N m", "long_name": "engine torque (illustrative shape through the rated value)"},
     )
     data["passive_torque_curve"] = (
         ("run", "speed"),
-        cf.passive_torque(
+        np.where(refused, np.nan, 1.0)
+        * cf.passive_torque(
             w,
             rated_passive_torque=p["rated_passive_torque"][:, None],
             rated_speed=p["rated_speed"][:, None],
@@ -234,6 +254,8 @@ def seed_traces(inputs, options=None) -> xr.Dataset:
         return xr.Dataset()
     fail = cf.engine_failure_trace(p, t_end=4.0)
     up = cf.startup_trace(p, idle_speed=2000 * RPM, startup_time=p["startup_time"])
+    if fail["status"] != st.CODE["ok"] or up["status"] != st.CODE["ok"]:
+        return xr.Dataset()  # (no traces of a seed design its models refuse)
     for prefix, tr, dim in (
         ("failure", fail, "failure_time"),
         ("startup", up, "startup_time_axis"),
