@@ -235,15 +235,46 @@ SOLVER_STATS = {
 }
 
 
+# statics every scenario must have numbers for (helpers give NaN where an input is invalid)
+_STATICS = (
+    "computed_torque",
+    "normal_force",
+    "contact_stress",
+    "self_locking_margin",
+    "limit_wedge_angle",
+    "roller_mass",
+    "spring_preload",
+)
+
+
+def _refused(p, s):
+    """Status per scenario where the models refuse it, else ok: invalid_input where a static
+    quantity has no number (an input not physical, finite or plausible); invalid_geometry where the
+    rollers do not fit around the contact circle (z·d ≥ 2π·R_C) or the penetration depth of full
+    damping is not below the roller diameter."""
+    code = np.full(p["rollers"].size, st.CODE["ok"], st.DTYPE)
+    with np.errstate(invalid="ignore"):
+        fits = (p["rollers"] * p["roller_diameter"] < 2.0 * np.pi * p["contact_radius"]) & (
+            p["penetration_depth"] < p["roller_diameter"]
+        )
+    code[~fits] = st.CODE["invalid_geometry"]
+    missing = np.zeros(code.shape, bool)
+    for k in _STATICS:
+        missing |= ~np.isfinite(s[k])
+    code[missing] = st.CODE["invalid_input"]
+    return code
+
+
 def compute(inputs, options=None) -> xr.Dataset:
     options = {k: v[0] for k, v in OPTIONS.items()} | (options or {})
     p = flat_inputs(inputs)
     s = statics(p, options["stress_reading"])
+    refused = _refused(p, s)
     n = p["rollers"].size
     code = np.full(n, st.CODE["ok"], st.DTYPE)
     locks = s["self_locking_margin"] > 1.0
     engages = rl.engages(options["mode"], np.sign(p["drive_direction"]))
-    run = locks & engages
+    run = locks & engages & (refused == st.CODE["ok"])
     dyn = {k: np.full(n, np.nan) for k in _DYNAMIC}
     stats = {k: np.zeros(n, np.int32) for k in SOLVER_STATS}  # 0 where not simulated
     if run.any():
@@ -270,9 +301,15 @@ def compute(inputs, options=None) -> xr.Dataset:
     code[(code == st.CODE["ok"]) & (s["contact_stress_margin"] < 0)] = st.CODE["above_allowable"]
     code[locks & ~engages] = st.CODE["overrunning"]
     code[~locks] = st.CODE["not_self_locking"]
+    bad = refused != st.CODE["ok"]
+    code[bad] = refused[bad]
     values = {**{k: s[k] for k in OUTPUTS if k in s}, **dyn}
     data = {
-        k: ("run", np.asarray(values[k], float), {"units": u, "long_name": ln})
+        k: (
+            "run",
+            np.where(bad, np.nan, np.asarray(values[k], float)),
+            {"units": u, "long_name": ln},
+        )
         for k, (u, ln) in OUTPUTS.items()
     }
     data["status"] = (
@@ -281,7 +318,10 @@ def compute(inputs, options=None) -> xr.Dataset:
         st.attrs(
             "not_self_locking: tan(alpha/2) >= mu, never simulated; overrunning: the working mode lets this direction "
             "overrun (no engagement); above_allowable: static contact stress above the allowable; never_locked: "
-            "not engaged before the control ring is stopped (control_stop_time) or by end_time"
+            "not engaged before the control ring is stopped (control_stop_time) or by end_time; "
+            "invalid_geometry: the rollers do not fit around the contact circle (z d >= 2 pi R_C) "
+            "or the penetration depth is not below the roller diameter; invalid_input: an input "
+            "not physical or implausible"
         ),
     )
     for k, ln in SOLVER_STATS.items():
