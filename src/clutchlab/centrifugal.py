@@ -495,8 +495,9 @@ _TRACE_KEYS = (
     "rated_passive_torque",
     "static_fraction",
 )
-#: right-hand-side evaluations a trace may spend (DOP853: 12 a step); beyond, not_converged
-TRACE_MAX_EVALUATIONS = 2_000_000
+#: right-hand-side evaluations an integration of a trace may spend (the seed traces take 1 200 and
+#: 3 400; DOP853 takes 12 a step); beyond, not_converged
+TRACE_MAX_EVALUATIONS = 100_000
 
 
 class _OutOfWork(Exception):
@@ -566,7 +567,8 @@ def engine_failure_trace(p, *, t_end=3.0, n=301, rtol=1e-10, atol=1e-10):
     -------
     dict
         ``time`` [s], ``engine_speed``, ``rotor_speed`` [rad/s], ``clutch_torque`` [N m]
-        (positive forward), ``release_time`` [s], ``release_speed`` [rad/s], ``status``: ok;
+        (positive forward), ``release_time`` [s] (inf: still held at ``t_end``),
+        ``release_speed`` [rad/s] (NaN then), ``status``: ok;
         invalid_input / invalid_geometry (NaN) where ``p`` fails the screening of
         :func:`release_after_failure`; not_converged (NaN) where the integration spends more than
         :data:`TRACE_MAX_EVALUATIONS` evaluations. ``t_end`` [s] a plausible time, ``n`` points
@@ -649,11 +651,13 @@ def _engine_failure_trace(p, times, rtol, atol):
         )
         t_stop = s2.t[-1]
         moving = after <= t_stop
-        yy = s2.sol(after[moving])
         sel = np.flatnonzero(times > t_rel)
-        we[sel[moving]], wr[sel[moving]] = yy[0], yy[1]
+        if np.any(moving):
+            yy = s2.sol(after[moving])
+            we[sel[moving]], wr[sel[moving]] = yy[0], yy[1]
         if np.any(~moving):  # engine at rest: the rotor runs down free
-            w_stop = s2.sol(t_stop)[1]
+            # (the stop at once: no step, no dense output)
+            w_stop = s2.sol(t_stop)[1] if s2.t.size > 1 else s2.y[1, -1]
             tt = after[~moving] - t_stop
             we[sel[~moving]] = 0.0
             wr[sel[~moving]] = w_stop / (1.0 + k * w_stop * tt / jr)
@@ -674,7 +678,7 @@ def startup_trace(p, *, idle_speed, startup_time, t_end=None, n=301, rtol=1e-10,
     the rotor (drag k·ω²) picked up by the forward capacity M(ω_e): slipping while
     J_r·ω_r' = M(ω_e) − k·ω_r² keeps ω_r < ω_e, then turning with the engine. DOP853 with the
     lock-up as an event. Returns ``time``, ``engine_speed``, ``rotor_speed``, ``clutch_torque``,
-    ``lockup_time``, ``lockup_speed``, ``status``: ok; invalid_input / invalid_geometry (NaN)
+    ``lockup_time`` (inf: not locked by ``t_end``), ``lockup_speed``, ``status``: ok; invalid_input / invalid_geometry (NaN)
     where ``p`` fails the screening of :func:`release_after_failure`, the idle speed [rad/s] is
     not ≥ 0 and below the rated speed, or the start-up time [s] is not a plausible time > 0;
     not_converged (NaN) beyond :data:`TRACE_MAX_EVALUATIONS` evaluations. Options as
