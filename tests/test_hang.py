@@ -285,7 +285,8 @@ def _run(kind, name, conn):
 def _within_time(kind, name):
     ctx = mp.get_context("fork")
     parent, child = ctx.Pipe()
-    proc = ctx.Process(target=_run, args=(kind, name, child))
+    target, args = (_run_study, (name, child)) if kind == "study" else (_run, (kind, name, child))
+    proc = ctx.Process(target=target, args=args)
     proc.start()
     deadline, running, seen = time.monotonic() + SOLVER_TIMEOUT, None, {}
     try:
@@ -365,3 +366,39 @@ def test_a_stiff_undamped_damper_ends_within_its_work_budget():
     )
     assert out["status"][0] == st.CODE["not_converged"] and np.isnan(out["lockup_time"][0])
     assert time.perf_counter() - t0 < 5.0
+
+
+STUDIES = ("diaphragm_spring", "engagement", "centrifugal", "sprag", "roller")
+
+
+def _run_study(name, conn):
+    """In the child: study ``name``'s compute with each parameter at EXTREMES in turn."""
+    from clutchlab.studies import get
+
+    try:
+        study = get(name)
+        options = study.full_options()
+        for param in study.parameters:
+            if param.choices is not None:  # (a choice: the config refuses anything else)
+                continue
+            conn.send(("start", param.name))
+            ds = study.compute({**study.defaults, param.name: EXTREMES}, options)
+            code = ds["status"].values
+            assert np.isin(code, list(st.FLAGS)).all(), (name, param.name, code)
+            for out in study.outputs:
+                v = ds[out].values
+                assert not np.isfinite(v[np.isin(code, REFUSED)]).any(), (param.name, out, v)
+            conn.send(("done", param.name, [int(c) for c in code]))
+        conn.send(("end", None))
+    except BaseException:
+        conn.send(("error", traceback.format_exc()))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", STUDIES)
+def test_every_study_passes_its_statuses_through(name):
+    """A study's compute with one parameter at a time at EXTREMES ends in bounded time; every
+    scenario has a status, and a refused one (invalid_input, invalid_geometry: here or in any
+    model the study runs) no number in the study's answer outputs."""
+    seen = _within_time("study", name)
+    assert seen

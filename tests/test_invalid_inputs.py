@@ -738,3 +738,37 @@ def test_an_odd_count_loads_no_half_roller():
         and roller.loaded_rollers(12, "one_flank") == 6.0
     )
     assert roller.loaded_rollers(13, "all") == 13.0 and np.isnan(roller.loaded_rollers(12.5, "all"))
+
+
+@pytest.mark.parametrize(
+    "study, param, bad, want",
+    [
+        # lining radii swapped: was ok with lock-up and slip work but NaN heat
+        ("engagement", "lining_inner_radius", 0.12, "invalid_geometry"),
+        ("diaphragm_spring", "lining_inner_radius", 0.12, "invalid_geometry"),
+        ("centrifugal", "idle_speed", 6000 * RPM, "invalid_input"),  # idle above rated
+        ("centrifugal", "shoe_radius", 0.045, "invalid_geometry"),  # at the drum
+        ("centrifugal", "shoe_radius", 0.05, "invalid_geometry"),  # beyond it
+        ("sprag", "inner_bore_radius", 0.03, "invalid_geometry"),  # bore outside the inner race
+        ("sprag", "outer_rim_radius", 0.03, "invalid_geometry"),  # rim inside the outer race
+        ("roller", "roller_diameter", 0.08, "invalid_geometry"),  # 12 rollers do not fit
+        ("roller", "penetration_depth", 0.02, "invalid_geometry"),  # deeper than the roller
+        ("diaphragm_spring", "friction_coefficient", 20.0, "invalid_input"),  # implausible mu
+    ],
+)
+def test_studies_pass_relations_and_refusals_through(study, param, bad, want):
+    """A relation between inputs that a model assumes is checked per scenario and said by the
+    study's status, with no number in its outputs; the other scenario of the batch is untouched."""
+    from clutchlab.studies import get
+
+    s = get(study)
+    good = s.defaults[param]
+    ds = s.compute({**s.defaults, param: np.array([good, bad])}, s.full_options())
+    alone = s.compute({**s.defaults, param: np.array([good])}, s.full_options())
+    assert [st.FLAGS[int(c)] for c in ds["status"].values] == [
+        st.FLAGS[int(alone["status"].values[0])],
+        want,
+    ]
+    for out in s.outputs:
+        assert np.isnan(ds[out].values[1]), out
+        assert np.array_equal(ds[out].values[:1], alone[out].values, equal_nan=True), out

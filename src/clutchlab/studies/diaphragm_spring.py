@@ -139,6 +139,13 @@ def compute(inputs, options=None) -> xr.Dataset:
         lam_curve, **{k: v[:, None] for k, v in spring.items()}
     )
 
+    # a scenario a model refuses has no numbers (the spring's too: one result, one status)
+    refused = np.isin(code, [st.CODE["invalid_input"], st.CODE["invalid_geometry"]])
+    pts = {k: (np.where(refused, np.nan, v) if k != "status" else v) for k, v in pts.items()}
+    capacity, reserve = np.where(refused, np.nan, capacity), np.where(refused, np.nan, reserve)
+    lam_curve = np.where(refused[:, None], np.nan, lam_curve)
+    load_curve = np.where(refused[:, None], np.nan, load_curve)
+
     run = "run"
     data = {
         "clamp_load": (run, pts["load_B"], _attrs("clamp load at operating point B (eq. 10)", "N")),

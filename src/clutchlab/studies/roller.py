@@ -301,8 +301,9 @@ def compute(inputs, options=None) -> xr.Dataset:
     code[(code == st.CODE["ok"]) & (s["contact_stress_margin"] < 0)] = st.CODE["above_allowable"]
     code[locks & ~engages] = st.CODE["overrunning"]
     code[~locks] = st.CODE["not_self_locking"]
-    bad = refused != st.CODE["ok"]
-    code[bad] = refused[bad]
+    code = np.where(refused != st.CODE["ok"], refused, code).astype(st.DTYPE)
+    # a scenario a model refuses (here, or the wedging simulation) has no numbers
+    bad = np.isin(code, [st.CODE["invalid_input"], st.CODE["invalid_geometry"]])
     values = {**{k: s[k] for k in OUTPUTS if k in s}, **dyn}
     data = {
         k: (
