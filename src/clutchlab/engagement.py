@@ -830,6 +830,15 @@ _TRUNCATED_NAN = [
 ]
 
 
+# the result columns that are metrics (not solver counts or flags)
+_METRIC_COLUMNS = np.array(
+    [
+        not (n.startswith("n_") or n in ("final_locked", "hit_step_limit", "truncated"))
+        for n in _k.RESULTS
+    ]
+)
+
+
 def simulate(
     *,
     engine_speed,
@@ -929,6 +938,10 @@ def simulate(
         Largest step [s] (bounds the node spacing of peak metrics).
     first_step : float or None
         First step [s]; None estimates it from the tolerance (as after every mode switch).
+    max_steps : int
+        Work budget of one scenario (a whole number in [1, 1e9]): integrator steps attempted, mode
+        switches and the passes of the exact linear phases' root search all count; a scenario
+        that spends it ends ``not_converged`` with NaN metrics (its solver counts kept).
     trace_times : array_like or None
         Times [s] at which to record the state (they become breakpoints, so no interpolation).
     power_history : bool
@@ -1041,6 +1054,8 @@ def _simulate(
     )
     truncated = res[:, _k.TRUNCATED] > 0
     res[truncated[:, None] & np.isin(np.arange(_k.N_RESULTS), _TRUNCATED_NAN)[None, :]] = np.nan
+    # out of work: every metric is partial (the solver counts say how far it got)
+    res[(res[:, _k.HIT_STEP_LIMIT] > 0)[:, None] & _METRIC_COLUMNS[None, :]] = np.nan
     out = {
         name: res[:, i].reshape(shape)
         for i, name in enumerate(_k.RESULTS)
