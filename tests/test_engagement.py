@@ -517,3 +517,34 @@ def test_event_solver_peaks_include_the_lockup_instant():
     np.testing.assert_allclose(sim["peak_jerk"], ref["slip_jerk"], rtol=1e-9)
     np.testing.assert_allclose(sim["peak_slip_power"], ref["peak_slip_power"], rtol=1e-9)
     assert ref["peak_friction_torque"][2] == pytest.approx(167.1496, rel=1e-6)
+
+
+@pytest.mark.parametrize(
+    "option, value",
+    [
+        ("rtol", 0.0),
+        ("rtol", np.nan),
+        ("atol", -1e-9),
+        ("max_step", 0.0),
+        ("first_step", np.inf),
+        ("max_steps", 1e300),
+        ("max_steps", 2.5),
+        ("trace_times", [0.1, np.nan]),
+        ("engine_torque_table", ([0.0, 600.0], [50.0, 1e300])),
+    ],
+)
+def test_solver_options_that_cannot_be_meant_are_refused(option, value):
+    """Options shared by every scenario are refused naming them (a work budget of 1e300 steps
+    overflowed the kernel's integer; rtol 0 left the step control no tolerance)."""
+    kw = dict(
+        engine_speed=570.0,
+        engine_inertia=np.inf,
+        engine_torque=0.0,
+        driven_inertia=0.021,
+        load_torque=44.0,
+        peak_capacity=200.0,
+        ramp_time=0.15,
+    )
+    name = option.split("_table")[0] if option.endswith("_table") else option
+    with pytest.raises(ValueError, match=name):
+        eng.simulate(**kw, **{option: value})

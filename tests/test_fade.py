@@ -273,6 +273,8 @@ def test_a_flat_table_is_constant_mu():
         (([0.0, 10.0], [1.0, 0.0]), "> 0"),
         (([0.0, np.nan], [1.0, 1.0]), "finite"),
         (([], []), "non-zero"),
+        (([0.0, 10.0], [1.0, 1e300]), "implausible"),
+        (([0.0, 1e300], [1.0, 1.1]), "implausible"),
     ],
 )
 def test_a_malformed_friction_table_is_refused(table, match):

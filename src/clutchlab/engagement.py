@@ -694,7 +694,8 @@ EVENT_TIME_TOL = _k.EVENT_TIME_TOL
 
 def _check_table(table, name, x_name, y_name, y_positive):
     """(x, y) arrays of a shared table: at least one point, finite, x increasing (≥ 0 for the
-    friction table), y > 0 where asked; else ValueError naming it."""
+    friction table), y > 0 where asked, every value of a plausible magnitude (speeds [rad/s];
+    torques [N m], or friction ratios μ/μ_k ≤ MAX_STATIC_RATIO); else ValueError naming it."""
     try:
         tx, ty = (np.asarray(a, dtype=float).ravel() for a in table)
     except (TypeError, ValueError):
@@ -713,6 +714,9 @@ def _check_table(table, name, x_name, y_name, y_positive):
         raise ValueError(f"{name}: {x_name} must increase")
     if y_positive and (tx[0] < 0 or np.any(ty <= 0)):
         raise ValueError(f"{name}: {x_name} must be >= 0 and {y_name} > 0")
+    y_rule = st.plausible("1", hi=MAX_STATIC_RATIO) if y_positive else st.plausible("N m")
+    if not (np.all(st.plausible("rad/s")(tx)) and np.all(y_rule(ty))):
+        raise ValueError(f"{name}: {x_name} or {y_name} of an implausible magnitude")
     return tx, ty
 
 
