@@ -82,9 +82,10 @@ def pareto_rank(values, include=None, groups=None):
 
     Notes
     -----
-    The sorting is ``moocore.pareto_rank`` (López-Ibáñez et al., moocore; Jensen 2003's
-    O(N log N) sweep for two objectives, one front at a time above), called on the rows that
-    take part only: moocore itself ranks a row with a NaN objective as dominating.
+    The sorting is ``moocore.pareto_rank`` (López-Ibáñez et al., moocore): Jensen's (2003)
+    O(N log N) sweep for two objectives; for three or more it takes off one front at a time
+    (O(N² log N) at worst for three). It is called on the rows that take part only: moocore
+    itself ranks a row with a NaN objective as dominating.
     """
     if hasattr(values, "data_vars"):  # a study Dataset
         return _dataset_rank(values, include, groups)
