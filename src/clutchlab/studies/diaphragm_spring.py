@@ -202,6 +202,7 @@ T_EMAX = 173.0  # N m, Table 1
 #: τ and G of the damper springs are not printed in seed 000; 65Mn values assumed here.
 DAMPER_ALLOWABLE_SHEAR = 400e6  # Pa
 DAMPER_SHEAR_MODULUS = 79e9  # Pa
+LINING_RO, LINING_RI = 112.5 * MM, 75 * MM  # lining radii, Table 2: D = 225 mm, d = 150 mm
 
 
 def seed_spring() -> dict:
@@ -231,9 +232,8 @@ def validation() -> xr.Dataset:
 
 
 def _statics_rows() -> list[Row]:
-    """Lining, damper, spline, capacity and clamp-load rows (Tables 1-2, eqs. 3-14, Fig. 7)."""
+    """Lining and damper rows (Tables 1-2, eqs. 3-9), then the spline, capacity and clamp load."""
     pub = DIAPHRAGM_CLUTCH
-    pts = diaphragm.characteristic_points(**seed_spring(), operating_point_factor=0.9)
     Tj = driven_plate.damper_design_torque(T_EMAX)
     p_total = driven_plate.damper_total_force(Tj, 52 * MM)
     c_a = driven_plate.damper_angular_stiffness(Tj)
@@ -242,14 +242,10 @@ def _statics_rows() -> list[Row]:
         driven_plate.damper_spring_force(p_total, 4), 15 * MM, DAMPER_ALLOWABLE_SHEAR
     )
     coils = driven_plate.damper_coil_count(DAMPER_SHEAR_MODULUS, d1, 15 * MM, rate)
-    spline = dict(
-        teeth=10, outer_diameter=35 * MM, inner_diameter=28 * MM, tooth_width=4 * MM, length=35 * MM
-    )
-    bearing, _ = driven_plate.spline_stresses(T_EMAX, **spline)
-    _, shear = driven_plate.spline_stresses(Tj, **spline)
-    ro, ri = 112.5 * MM, 75 * MM
     return [
-        Row.against(pub["lining_constant"], friction.lining_coefficient(T_EMAX, 2 * ro), 1e-3),
+        Row.against(
+            pub["lining_constant"], friction.lining_coefficient(T_EMAX, 2 * LINING_RO), 1e-3
+        ),
         Row.against(
             pub["damper_total_force"],
             p_total,
@@ -269,6 +265,20 @@ def _statics_rows() -> list[Row]:
             0.05,
             "tau = 400 MPa, G = 79 GPa assumed (not printed); eq. 6 with cube root (erratum)",
         ),
+    ] + _spline_capacity_rows()
+
+
+def _spline_capacity_rows() -> list[Row]:
+    """Spline (section 3.2.2), capacity (eqs. 13-14) and clamp-load (eq. 10, Fig. 7) rows."""
+    pub = DIAPHRAGM_CLUTCH
+    spline = dict(
+        teeth=10, outer_diameter=35 * MM, inner_diameter=28 * MM, tooth_width=4 * MM, length=35 * MM
+    )
+    bearing, _ = driven_plate.spline_stresses(T_EMAX, **spline)
+    _, shear = driven_plate.spline_stresses(driven_plate.damper_design_torque(T_EMAX), **spline)
+    ro, ri = LINING_RO, LINING_RI
+    pts = diaphragm.characteristic_points(**seed_spring(), operating_point_factor=0.9)
+    return [
         Row.against(pub["spline_bearing_stress"], bearing, 0.01),
         Row.against(
             pub["spline_shear_stress"],
