@@ -315,7 +315,7 @@ def file_checksum_problem(path) -> str | None:
     """:func:`checksum_problem` of a stored file, read a block at a time (a result of a million
     scenarios is hashed without holding it in memory); a file that cannot be read says so."""
     try:
-        with open(path) as ds:
+        with open(path, indexes=False) as ds:
             return checksum_problem(ds)
     except Exception as exc:  # h5py/netCDF raise several types for a cut or damaged file
         return _unreadable(exc)
@@ -332,7 +332,7 @@ def seal(path) -> str:
     piecewise (:func:`clutchlab.pipeline.merge_to_file`) before it is renamed into place."""
     import h5netcdf
 
-    with open(path) as ds:
+    with open(path, indexes=False) as ds:
         attrs = checksum_attrs(ds)
     with h5netcdf.File(str(path), "a") as f:
         for key, value in attrs.items():
@@ -390,9 +390,11 @@ def write(ds: xr.Dataset, path, *, complevel: int = 4, with_checksum: bool = Fal
     return Path(path)
 
 
-def open(path) -> xr.Dataset:  # noqa: A001 - mirrors xr.open_dataset
-    """Open a stored study lazily (``xr.open_dataset(path, engine="h5netcdf")``)."""
-    return xr.open_dataset(path, engine=ENGINE)
+def open(path, *, indexes: bool = True) -> xr.Dataset:  # noqa: A001 - mirrors xr.open_dataset
+    """Open a stored study lazily (``xr.open_dataset(path, engine="h5netcdf")``); ``indexes``
+    False: without pandas indexes (xarray would otherwise read every dimension coordinate, e.g. a
+    million-scenario ``run``, to build one)."""
+    return xr.open_dataset(path, engine=ENGINE, create_default_indexes=indexes)
 
 
 def load(path) -> xr.Dataset:

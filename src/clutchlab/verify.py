@@ -203,7 +203,7 @@ def _chunk_place_problems(path: Path, attrs: dict, design) -> list[str]:
     if named and int(named.group(1)) != index:
         problems.append(f"holds chunk {index + 1} of {count}, not the chunk its name says")
     if design is not None:
-        with store.open(path) as ds:
+        with store.open(path, indexes=False) as ds:
             run = ds["run"].values if "run" in ds.variables else np.zeros(0, np.int64)
         n = pipeline.n_scenarios(design)
         want = pipeline.chunk_slice(n, count, index) if 0 <= index < count else slice(0, -1)
@@ -229,8 +229,9 @@ def file_problems(path, *, config=None, source=None, design=None) -> list[str]:
         The study config text it must come from (:func:`clutchlab.config.study_config_text`).
     source : str or None
         The package source hash it must have been computed by.
-    design : xarray.Dataset, str, path or None
-        The design it must come from (a Dataset or its file).
+    design : xarray.Dataset, str, path, None or False
+        The design it must come from (a Dataset or its file); None: the design file of the
+        workflow's layout if present; False: none.
 
     Returns
     -------
@@ -241,46 +242,77 @@ def file_problems(path, *, config=None, source=None, design=None) -> list[str]:
     problem = store.file_checksum_problem(path)
     if problem:
         return [problem]
-    with store.open(path) as ds:
-        attrs = dict(ds.attrs)
-    if "study" not in attrs and "chunk_index" not in attrs:
+    with store.open(path, indexes=False) as ds:
+        attrs, kind = dict(ds.attrs), _kind(ds)
+    if kind is None:
         return []  # a file without a study of its own (sensitivity indices): its checksum only
-    if design is None:
-        design = _design_beside(path, attrs)
-    if design is not None and not hasattr(design, "attrs"):
-        design = store.load(design)
-    problems = provenance_problems(
+    if kind == "design":
+        return provenance_problems(
+            attrs, config=config, source=source, required=("config", "clutchlab_source")
+        )
+    design, problems = _the_design(path, attrs, design)
+    problems += provenance_problems(
         attrs,
         config=config,
         source=source,
         design_hash=store.checksum(design) if design is not None else None,
     )
-    if "chunk_index" in attrs and "chunk_count" in attrs:
+    if kind == "chunk":
         problems += _chunk_place_problems(path, attrs, design)
     return problems
 
 
+def _kind(ds) -> str | None:
+    """The kind of a stored file: ``chunk``, ``result`` (scenario results: a ``status``
+    variable), ``design`` (a study's file without them) or None (e.g. sensitivity indices)."""
+    if "chunk_index" in ds.attrs:
+        return "chunk"
+    if "status" in ds.variables:
+        return "result"
+    return "design" if "study" in ds.attrs else None
+
+
+def _the_design(path: Path, attrs: dict, design) -> tuple:
+    """(the design Dataset to compare with or None, [problem]): ``design`` as given (a Dataset
+    or a file), None: the workflow layout's design file if present, False: none. A design file
+    is read against its own checksum."""
+    if design is False:
+        return None, []
+    if design is None:
+        design = _design_beside(path, attrs)
+    if design is None or hasattr(design, "attrs"):
+        return design, []
+    problem = store.file_checksum_problem(design)
+    if problem and problem != "has no checksum":  # a design written by an older clutchlab
+        return None, [f"cannot be compared with its design {design}, which {problem}"]
+    return store.load(design), []
+
+
 def require(expected: dict, *, action="delete it and run snakemake again to recompute it") -> None:
-    """Raise :class:`ProvenanceError` unless every file passes :func:`file_problems`.
+    """Raise :class:`ProvenanceError` unless every file passes :func:`file_problems`; its message
+    has one line per failing file: the file, what differs, what to do.
 
     Parameters
     ----------
     expected : dict
-        Path -> keyword arguments of :func:`file_problems` (``config``, ``source``, ``design``).
+        Path -> keyword arguments of :func:`file_problems` (``config``, ``source``, ``design``),
+        and optionally ``action``: what to do with that file if it fails.
     action : str
-        What the message tells the user to do with a failing file.
+        What the message tells the user to do with a failing file (unless its own is given).
     """
     lines = []
-    for path, kwargs in expected.items():
+    for path, spec in expected.items():
+        kwargs = dict(spec)
+        todo = kwargs.pop("action", action)
         problems = file_problems(path, **kwargs)
         if problems:
-            lines.append(f"{path} {'; '.join(problems)}; {action}")
+            lines.append(f"{path} {'; '.join(problems)}; {todo}")
     if lines:
         raise ProvenanceError("\n".join(lines))
 
 
 def _describe(path: Path) -> str:
-    with store.open(path) as ds:
+    with store.open(path, indexes=False) as ds:
         a = ds.attrs
         parts = [f"study {_text(a['study'])}"] if "study" in a else []
         if "chunk_index" in a and "chunk_count" in a:
@@ -309,7 +341,7 @@ def _check_one(path: Path, args) -> str:
     kwargs = {"design": args.design}
     try:
         if args.config is not None and path.exists():
-            with store.open(path) as ds:
+            with store.open(path, indexes=False) as ds:
                 study = _text(ds.attrs.get("study"))
             kwargs.update(_expected_from_config(args.config, study))
         problems = file_problems(path, **kwargs)

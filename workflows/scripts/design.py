@@ -2,4 +2,7 @@
 
 from clutchlab import doe, store
 
-store.write(doe.build_design(snakemake.params.study), snakemake.output[0])  # noqa: F821
+sm = snakemake  # noqa: F821
+# with its checksum: the chunk and merge jobs read it verified, so a design changed after it was
+# written is found (not computed from)
+store.write(doe.build_design(sm.params.study), sm.output[0], with_checksum=True)
