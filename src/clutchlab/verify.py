@@ -340,9 +340,11 @@ def _check_one(path: Path, args) -> str:
     """One line about one file: ``PATH: ok (...)`` or ``PATH: FAILED: ...``."""
     kwargs = {"design": args.design}
     try:
+        study = None
         if args.config is not None and path.exists():
             with store.open(path, indexes=False) as ds:
                 study = _text(ds.attrs.get("study"))
+        if study is not None:  # (a file without a study, e.g. sensitivity indices: checksum only)
             kwargs.update(_expected_from_config(args.config, study))
         problems = file_problems(path, **kwargs)
     except Exception as exc:  # a config that is refused, a design that cannot be read
