@@ -304,6 +304,27 @@ def merge(
     (its ``clutchlab_design_hash``), its config (``config``: the current study config text, by
     default the design's) and ``source`` (default: the current :func:`clutchlab.source_hash`), and
     be chunk k of ``len(parts)`` in order (:mod:`clutchlab.verify`).
+
+    Parameters
+    ----------
+    design : xarray.Dataset
+        The study's design (:func:`clutchlab.doe.build_design`).
+    parts : list of xarray.Dataset
+        Every chunk (:func:`run_chunk`), in chunk order.
+    config : str or None
+        The study config text the design and chunks must come from
+        (:func:`clutchlab.config.study_config_text`); None: the design's.
+    source : str or None
+        The package source hash that must have computed them; None: the current one.
+
+    Raises
+    ------
+    clutchlab.store.ForeignChunk
+        A part from another design, config or source (the message says what differs).
+    clutchlab.verify.ProvenanceError
+        The design is not from ``config`` or ``source``.
+    ValueError
+        Parts missing, duplicated or out of order.
     """
     design_hash = _design_hash(design, config, source)
     for k, p in enumerate(parts):
@@ -390,7 +411,26 @@ def merge_to_file(
     everything (:func:`clutchlab.store.seal`, read back a block at a time); the sensitivity
     indices likewise (``sensitivity_path``, with its checksum). Peak memory: one chunk plus a few
     per-scenario columns. The same values as :func:`merge` followed by
-    :func:`~clutchlab.explore.annotate` (tested)."""
+    :func:`~clutchlab.explore.annotate` (tested).
+
+    Parameters
+    ----------
+    design : xarray.Dataset
+        The study's design.
+    chunk_paths : list of path
+        Every chunk file, in chunk order.
+    path : path
+        The result file (written atomically).
+    objectives, constraints
+        The study's (:func:`clutchlab.explore.annotate`).
+    sensitivity_path : path or None
+        Where to write the sensitivity indices (factorial and saltelli designs).
+    config : str or None
+        The current study config text (:func:`clutchlab.config.study_config_text`); None: the
+        design's.
+    source : str or None
+        The current package source hash; None: :func:`clutchlab.source_hash`.
+    """
     from . import explore, store
 
     constraints = dict(constraints or {})
