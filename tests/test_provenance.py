@@ -295,7 +295,7 @@ def test_the_console_script_and_the_module(result, tmp_path):
     assert proc.returncode == 1, proc.stderr
     lines = proc.stdout.splitlines()
     assert lines[0].startswith(f"{result}: ok") and lines[1].startswith(
-        f"{missing}: FAILED: cannot be read"
+        f"{missing}: FAILED: does not exist"
     )
 
 

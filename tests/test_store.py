@@ -283,3 +283,9 @@ def test_a_chunk_with_an_edited_attribute_is_named_and_removed(chunk):
     ):
         store.load_verified(chunk)
     assert not chunk.exists()
+
+
+def test_a_missing_chunk_is_named(tmp_path):
+    with pytest.raises(store.CorruptChunk, match="chunk_0003.h5 does not exist; run snakemake"):
+        store.load_verified(tmp_path / "chunk_0003.h5")
+    assert store.file_checksum_problem(tmp_path / "chunk_0003.h5") == "does not exist"

@@ -314,6 +314,8 @@ def checksum_problem(ds: xr.Dataset) -> str | None:
 def file_checksum_problem(path) -> str | None:
     """:func:`checksum_problem` of a stored file, read a block at a time (a result of a million
     scenarios is hashed without holding it in memory); a file that cannot be read says so."""
+    if not Path(path).exists():
+        return "does not exist"
     try:
         with open(path, indexes=False) as ds:
             return checksum_problem(ds)
@@ -359,6 +361,8 @@ def load_verified(path) -> xr.Dataset:
     Dataset no longer carries the checksum attributes.
     """
     path = Path(path)
+    if not path.exists():
+        raise CorruptChunk(f"{path} does not exist; run snakemake again to compute it")
     try:
         ds = load(path)
         problem = checksum_problem(ds)
