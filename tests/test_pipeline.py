@@ -387,6 +387,30 @@ def test_a_changed_chunk_is_found_by_the_merge_and_recomputed(small_run):
     xr.testing.assert_identical(xr.load_dataset(result, engine="h5netcdf"), before)
 
 
+def test_every_file_of_a_run_verifies_against_its_config(small_run):
+    """Item 8: `clutchlab verify --config` on every study result, sensitivity file, design and
+    chunk a run wrote: each matches its checksum, its study config and this source (one ok line
+    each, exit 0)."""
+    res = small_run / "results"
+    files = sorted(
+        str(p.relative_to(small_run))
+        for p in res.rglob("*.h5")
+        if p.parent.name not in ("validation", "numerics")  # (seed numbers, solver runs)
+    )
+    assert len([f for f in files if "chunk_" in f]) == 8 and len(files) > 16, files
+    proc = subprocess.run(
+        [sys.executable, "-m", "clutchlab.verify", "--config", "config/small.yaml", *files],
+        cwd=small_run,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    lines = proc.stdout.splitlines()
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert [line.split(": ")[0] for line in lines] == files
+    assert all(line.split(": ")[1].startswith("ok") for line in lines), lines
+
+
 def test_every_report_page_keeps_its_text_on_the_page(small_run, tmp_path, monkeypatch):
     """Issue 18 item 3: the summary page names each study's best design and its pages; no text of
     any page (titles, labels, legends, tables, notes) runs off the page."""

@@ -46,6 +46,7 @@ rule report:
         title=RESOLVED["report"]["title"],
         dpi=RESOLVED["report"]["dpi"],
         source=SOURCE,
+        configs={s: study_config(s) for s in STUDIES},  # each result is verified against its own
         version=clutchlab.__version__,
         work=WORK,
         chunks={s: RESOLVED[s]["chunks"] for s in STUDIES},
