@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import status as st
+from .published import SPRAG_CLUTCH, SPRAG_TABLE2
 
 __all__ = [
     "impact_speed",
@@ -750,18 +751,23 @@ def _shaft_stress(
     return out
 
 
+#: The allowables of seed 002 Table 2 [Pa, Pa, rad] (:data:`clutchlab.published.SPRAG_CLUTCH`).
 ALLOWABLES = dict(
-    contact_allowable=3400e6, shaft_allowable=793e6, gripping_angle_allowable=np.deg2rad(5.0)
+    contact_allowable=SPRAG_CLUTCH["contact_allowable"].value * 1e6,
+    shaft_allowable=SPRAG_CLUTCH["shaft_allowable"].value * 1e6,
+    gripping_angle_allowable=np.deg2rad(SPRAG_CLUTCH["gripping_angle_allowable"].value),
 )
+_PEAK = SPRAG_TABLE2[750.0]  # seed 002 Table 2, theory column, at the peak torque
+_PEAK_V = float(np.deg2rad(_PEAK.gripping_angle))  # [rad]
 
 
 def statics(
     torque,
     *,
     compliance_factor=1.0,
-    contact_allowable=3400e6,
-    shaft_allowable=793e6,
-    gripping_angle_allowable=np.deg2rad(5.0),
+    contact_allowable=ALLOWABLES["contact_allowable"],
+    shaft_allowable=ALLOWABLES["shaft_allowable"],
+    gripping_angle_allowable=ALLOWABLES["gripping_angle_allowable"],
     **geometry,
 ):
     """Gripping angle, contact and shaft stresses, margins and checks for a torque (seed 002).
@@ -849,7 +855,7 @@ def _statics(
     return out
 
 
-def fit_compliance_factor(*, torque=750.0, gripping_angle_target=np.deg2rad(5.097), **geometry):
+def fit_compliance_factor(*, torque=_PEAK.torque, gripping_angle_target=_PEAK_V, **geometry):
     """The compliance factor for which :func:`gripping_angle` gives ``gripping_angle_target`` at
     ``torque`` (default seed 002 Table 2 theory column at 750 N m: 5.097°) [1].
 
