@@ -8,6 +8,7 @@ import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap
 
 from .. import status as st
+from ..published import ROLLER_CLUTCH
 from ..studies.roller import PARAMETERS, RPM
 from .common import (
     A4_LANDSCAPE,
@@ -20,7 +21,10 @@ from .common import (
 )
 
 SEED = {p.name: p.default for p in PARAMETERS}
-BAND = (3041.0, 3247.0)  # MPa, seed 003 section 2.2 (10^6 wedging cycles)
+BAND = (  # MPa, seed 003 section 2.2 (10^6 wedging cycles)
+    ROLLER_CLUTCH["contact_allowable_min"].value,
+    ROLLER_CLUTCH["contact_allowable_max"].value,
+)
 
 
 def _needs(ds, dims):
@@ -33,7 +37,8 @@ def _needs(ds, dims):
 
 def _stress_time_axes(axes):
     """Contact stress (with the allowable band) and engagement time against the roller count."""
-    axes[0].axhspan(*BAND, color="r", alpha=0.2, label="allowable 3041-3247 MPa (10^6 cycles)")
+    band = f"allowable {BAND[0]:g}-{BAND[1]:g} MPa (10^6 cycles)"
+    axes[0].axhspan(*BAND, color="r", alpha=0.2, label=band)
     axes[0].set_yscale("log")
     axes[0].set_ylabel("contact stress [MPa]")
     axes[1].set_ylabel("engagement time [ms]")
