@@ -475,7 +475,8 @@ def _statics_rows(d):
             pub["self_locking_margin"],
             1.0 + float(one["self_locking_margin"][0]),
             5e-3,
-            "published value rounded to 1.25; clutchlab's self_locking_margin is this ratio minus one",
+            "published value rounded to 1.25; clutchlab's self_locking_margin is this ratio "
+            "minus one",
             quantity="self-locking ratio mu / tan(alpha/2) at 11 deg (self_locking_margin + 1)",
         ),
         Row.against(pub["limit_wedge_angle"], float(np.rad2deg(one["limit_wedge_angle"][0])), 1e-3),
