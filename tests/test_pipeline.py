@@ -22,7 +22,7 @@ from conftest import snakemake_workdir as _workdir  # noqa: E402
 
 def test_outputs_exist_and_open(small_run):
     for f in (
-        "results/diaphragm/spring.h5",
+        "results/diaphragm_spring/diaphragm_spring.h5",
         "results/report/report.pdf",
         "results/report/validation.csv",
         "results/report/diaphragm_spring_load_curves.png",
@@ -49,7 +49,7 @@ def test_outputs_exist_and_open(small_run):
         rows = list(csv.DictReader(fh))
     assert {r["study"] for r in rows} == {"diaphragm_spring", "centrifugal", "sprag", "roller"}
     assert all(r["passed"] == "1" and r["right_answer"] and r["source"] for r in rows)
-    with xr.open_dataset(small_run / "results/diaphragm/spring.h5", engine="h5netcdf") as ds:
+    with xr.open_dataset(small_run / "results/diaphragm_spring/diaphragm_spring.h5", engine="h5netcdf") as ds:
         for name, var in {**ds.coords, **ds.data_vars}.items():
             assert var.attrs.get("units") is not None and var.attrs.get("long_name"), name
         assert ds["clamp_load"].dims == (
@@ -96,7 +96,7 @@ def test_outputs_exist_and_open(small_run):
         assert 0.1e-3 < float(seed["engagement_time"]) < 0.3e-3
     assert "yes" in (small_run / "results/report/validation.csv").read_text()
     for f in (
-        "diaphragm/spring.h5",
+        "diaphragm_spring/diaphragm_spring.h5",
         "centrifugal/centrifugal.h5",
         "sprag/sprag.h5",
         "roller/roller.h5",
@@ -124,7 +124,7 @@ def test_outputs_exist_and_open(small_run):
 
 
 def test_bad_config_fails_before_any_job(small_run):
-    target = small_run / "results/diaphragm/spring.h5"
+    target = small_run / "results/diaphragm_spring/diaphragm_spring.h5"
     before = (target.read_bytes(), target.stat().st_mtime_ns)
     bad = small_run / "bad.yaml"
     bad.write_text(
@@ -196,8 +196,8 @@ def test_same_config_twice_gives_identical_files(small_run, tmp_path):
     wd = _workdir(tmp_path)
     _snakemake(wd, "--configfile", "config/small.yaml")
     for f in (
-        "results/diaphragm/spring.h5",
-        "results/validation/diaphragm_spring.h5",
+        "results/diaphragm_spring/diaphragm_spring.h5",
+        "results/diaphragm_spring/validation.h5",
         "results/report/validation.csv",
         "results/report/diaphragm_spring_reserve_map.png",
     ):
@@ -347,7 +347,7 @@ def test_editing_the_physics_reruns_the_studies(small_run, tmp_path):
     import clutchlab
     from clutchlab import store
 
-    ds = store.load(small_run / "results/diaphragm/spring.h5")
+    ds = store.load(small_run / "results/diaphragm_spring/diaphragm_spring.h5")
     assert ds.attrs["clutchlab_source"] == clutchlab.source_hash()
     same = _snakemake(small_run, "--configfile", "config/small.yaml", "--dry-run")
     assert "Nothing to be done" in same.stdout + same.stderr
@@ -398,7 +398,7 @@ def test_every_report_page_keeps_its_text_on_the_page(small_run, tmp_path, monke
     monkeypatch.setattr(report.plt, "close", figures.append)
     report.build(
         {n: res / studies.get(n).output for n in names},
-        sorted(glob.glob(str(res / "validation/*.h5"))),
+        sorted(glob.glob(str(res / "*/validation.h5"))),
         tmp_path,
         hard_cases_file=res / "numerics/hard_cases.h5",
         numerics_dir=res / "numerics",

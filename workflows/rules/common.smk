@@ -30,7 +30,7 @@ ALL_CORES = _all_cores()
 
 
 def results(study):
-    """Merged HDF5 result of a study, e.g. results/diaphragm/spring.h5."""
+    """Merged HDF5 result of a study, e.g. results/diaphragm_spring/diaphragm_spring.h5."""
     return f"{RESULTS}/{_studies.get(study).output}"
 
 

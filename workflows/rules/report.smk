@@ -29,7 +29,7 @@ rule report:
     input:
         studies=[results(s) for s in STUDIES],
         sensitivity=[f for s in STUDIES for f in sensitivity_files(s)],
-        validation=[f"{RESULTS}/validation/{s}.h5" for s in VALIDATED],
+        validation=[f"{RESULTS}/{s}/validation.h5" for s in VALIDATED],
         benchmark=[f"{RESULTS}/benchmark/engagement_benchmark.csv"] if BENCHMARK_PAGE else [],
         refined=[refine_source(s) for s in REFINED],
         hard_cases=[f"{RESULTS}/numerics/hard_cases.h5"] if HARD_CASES else [],

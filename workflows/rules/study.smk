@@ -62,7 +62,7 @@ for _study in STUDIES:
 
 rule validation:
     output:
-        f"{RESULTS}/validation/{{study}}.h5",
+        f"{RESULTS}/{{study}}/validation.h5",
     params:
         source=SOURCE,
     resources:

@@ -638,7 +638,7 @@ def _trace_temperatures(p, times, tr, dim) -> dict:
 STUDY = register(
     Study(
         name="engagement",
-        output="diaphragm/engagement.h5",
+        output="engagement/engagement.h5",
         description="Diaphragm-spring clutch engagement: lock-up, slip work, jerk (seed 000)",
         parameters=PARAMETERS,
         compute=compute,
