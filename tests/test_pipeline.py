@@ -49,7 +49,9 @@ def test_outputs_exist_and_open(small_run):
         rows = list(csv.DictReader(fh))
     assert {r["study"] for r in rows} == {"diaphragm_spring", "centrifugal", "sprag", "roller"}
     assert all(r["passed"] == "1" and r["right_answer"] and r["source"] for r in rows)
-    with xr.open_dataset(small_run / "results/diaphragm_spring/diaphragm_spring.h5", engine="h5netcdf") as ds:
+    with xr.open_dataset(
+        small_run / "results/diaphragm_spring/diaphragm_spring.h5", engine="h5netcdf"
+    ) as ds:
         for name, var in {**ds.coords, **ds.data_vars}.items():
             assert var.attrs.get("units") is not None and var.attrs.get("long_name"), name
         assert ds["clamp_load"].dims == (

@@ -12,6 +12,8 @@ RESULTS = RESOLVED["results"]  # top-level key results (default "results")
 WORK = f"{RESULTS}/work"
 VALIDATED = [s for s in STUDIES if _studies.get(s).validation is not None]
 REFINED = [s for s in STUDIES if RESOLVED[s]["design"] == "refine"]
+# studies with trace pages: the traces of the design the pages show, after the merge
+TRACED = [s for s in STUDIES if _studies.get(s).traces is not None]
 
 
 def _all_cores():

@@ -314,7 +314,8 @@ def compute(inputs, options=None) -> xr.Dataset:
 
 
 def seed_trace(inputs, options) -> xr.Dataset:
-    """Engagement (and release) trace of the seed design, like seed 003 Figs. 7 and 9."""
+    """Engagement (and release) trace of one design (the scalar ``inputs`` over the defaults: the
+    design a run's pages show), like seed 003 Figs. 7 and 9."""
     p = {k: np.atleast_1d(v) for k, v in seed_design(PARAMETERS, inputs).items()}
     s = statics(p, options["stress_reading"])
     if s["self_locking_margin"][0] <= 1.0:
@@ -322,7 +323,7 @@ def seed_trace(inputs, options) -> xr.Dataset:
     sim = rl.simulate(trace_index=0, max_step=2e-6, **dynamics_inputs(p, s))
     tr = sim["trace"]
     dim = "trace_time"
-    coords = {dim: (dim, tr[:, 0], {"units": "s", "long_name": "time (seed design trace)"})}
+    coords = {dim: (dim, tr[:, 0], {"units": "s", "long_name": "time (trace of the design shown)"})}
     data = {}
     for j, (name, ln) in enumerate(
         (("driving", "driving ring"), ("wedge", "wedge ring"), ("driven", "driven ring")), start=1
@@ -330,12 +331,12 @@ def seed_trace(inputs, options) -> xr.Dataset:
         data[f"trace_{name}_speed"] = (
             dim,
             tr[:, j],
-            {"units": "rad/s", "long_name": f"{ln} speed (seed design)"},
+            {"units": "rad/s", "long_name": f"{ln} speed (design shown)"},
         )
     data["trace_contact_force"] = (
         dim,
         tr[:, 4],
-        {"units": "N", "long_name": "contact force per loaded roller (seed)"},
+        {"units": "N", "long_name": "contact force per loaded roller (design shown)"},
     )
     for k, name in (
         ("stick_time", "trace_stick_time"),
@@ -345,12 +346,12 @@ def seed_trace(inputs, options) -> xr.Dataset:
         data[name] = (
             (),
             float(sim[k][0]),
-            {"units": "s", "long_name": name.replace("_", " ") + " (seed design)"},
+            {"units": "s", "long_name": name.replace("_", " ") + " (design shown)"},
         )
     data["trace_control_stop_time"] = (
         (),
         float(p["control_stop_time"][0]),
-        {"units": "s", "long_name": "control ring stopped at (seed design)"},
+        {"units": "s", "long_name": "control ring stopped at (design shown)"},
     )
     return xr.Dataset(data, coords=coords)
 
