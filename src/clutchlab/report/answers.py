@@ -317,19 +317,25 @@ def _front_table(ax, ds):
         c.set_height(header_share if i == 0 else (1.0 - header_share) / len(rows))
 
 
-def _marks(ds) -> list:
-    """The designs marked on the front panels: the run's best design (the one its trace pages
-    show), and the source paper's design where it is one of the run's scenarios."""
-    from ..explore import best_compromise
-    from ..traces import is_paper_design
+def _marks(ds, slice_only=False) -> list:
+    """The designs marked on a page: the design the run's pages show (its best design; without a
+    feasible one, the design nearest the ideal point, :func:`clutchlab.traces.shown_design`) and,
+    unless the page is a slice through that design (``slice_only``), the source paper's design
+    where it is one of the run's scenarios. [(flat index, label, face colour)]"""
+    from ..traces import is_paper_design, shown_design
 
+    if "shown_index" in ds.attrs:
+        i, reason = int(ds.attrs["shown_index"]), ds.attrs.get("shown_reason", "")
+    else:
+        i, reason = shown_design(ds)
     marks = []
-    best = best_compromise(ds)
-    if best is not None:
-        paper = is_paper_design(ds, best)
-        marks.append((best, "best design" + (" (the source paper's)" if paper else ""), "gold"))
-    paper = _paper_index(ds)
-    if paper is not None and paper != best:
+    if i is not None and i >= 0:
+        label = "best design" if reason.startswith("the run's best") else "design shown"
+        if is_paper_design(ds, i):
+            label += ", the source paper's"
+        marks.append((i, label, "gold"))
+    paper = None if slice_only else _paper_index(ds)
+    if paper is not None and paper != i:
         marks.append((paper, "the source paper's design", "w"))
     return marks
 

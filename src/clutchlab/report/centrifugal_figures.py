@@ -188,7 +188,7 @@ def release_map(ds):
                 lw=1.0,
                 label=f"near_jam above: {1 + scatter:g} f tan(alpha) >= 1",
             )
-        for i, name, colour in _marks(ds) if "pareto_rank" in ds else ():
+        for i, name, colour in _marks(ds, slice_only=True):
             ax.plot(
                 np.rad2deg(flat(ds, "pressure_angle")[i]),
                 flat(ds, "friction_coefficient")[i],
@@ -205,7 +205,7 @@ def release_map(ds):
     fixed = fixed_text(sub, [d for d in ds.dims if d not in keep])
     fig.suptitle(
         "Release margin and forward reserve over (alpha, f)"
-        + (f"\n(the other factors at the best design's: {fixed})" if fixed else "")
+        + (f"\n(other factors at the design shown: {fixed})" if fixed else "")
     )
     return fig
 

@@ -126,6 +126,8 @@ def _study_lines(name, ds, numbers, job_seconds, model=True) -> list[str]:
     from .answers import best_text, edge_notes
 
     dims = " x ".join(f"{d} ({ds.sizes[d]})" for d in ds["status"].dims)
+    if list(ds["status"].dims) == ["run"]:  # a sampled design: its factors
+        dims = ", ".join(ds.attrs.get("factors", "").split()) or "run"
     n = int(np.prod([ds.sizes[d] for d in ds["status"].dims])) if ds["status"].dims else 1
     jobs = (
         f"; {job_seconds[name][0]} jobs, {job_seconds[name][1]:.1f} s of job time"
@@ -140,6 +142,8 @@ def _study_lines(name, ds, numbers, job_seconds, model=True) -> list[str]:
     ]
     if "pareto_rank" in ds:
         lines.append("best compromise: " + best_text(ds))
+        if not ds.attrs.get("shown_reason", "the run's best").startswith("the run's best"):
+            lines.append("trace pages: " + shown_name(ds))
         notes = edge_notes(ds, short=True)
         if notes:
             lines.append("at the edge of its range (widen it): " + "; ".join(notes))
@@ -180,7 +184,7 @@ def title_page(title, version, results, validations, numbers=None, job_seconds=N
     avail = (top - 0.05) - 0.07
     for size, model in ((9.5, True), (9.0, True), (8.5, True), (8.0, True), (8.0, False)):
         blocks = [_study_lines(n, ds, numbers, job_seconds, model) for n, ds in results.items()]
-        chars = int(0.9 * A4_LANDSCAPE[0] * 72 / (0.6 * size))
+        chars = int(0.9 * A4_LANDSCAPE[0] * 72 / (0.53 * size))
         wrapped = [
             [w for line in b for w in textwrap.wrap(line, chars, subsequent_indent="    ")]
             for b in blocks + tail
@@ -258,7 +262,7 @@ class Table:
         """The table on A4 landscape pages (the PDF)."""
         n = self.n_pages
         return [
-            self._draw(self.title + (f" (page {k + 1} of {n})" if n > 1 else ""), chunk, None)
+            self._draw(f"{self.title} (page {k + 1} of {n})", chunk, None)
             for k, chunk in enumerate(self.chunks)
         ]
 
@@ -462,6 +466,19 @@ def texts_outside(fig) -> list[str]:
         if bb.x0 < -1 or bb.y0 < -1 or bb.x1 > width + 1 or bb.y1 > height + 1:
             out.append(t.get_text())
     return out
+
+
+def texts_too_small(fig, minimum=8.0) -> list[tuple[str, float]]:
+    """The visible texts of a figure (tick labels included) set below ``minimum`` points: a page is
+    A4 at 100 %, so a font size in points is the size on paper."""
+    from matplotlib.text import Text
+
+    fig.canvas.draw()
+    return [
+        (t.get_text(), t.get_fontsize())
+        for t in fig.findobj(Text)
+        if t.get_visible() and t.get_text().strip() and t.get_fontsize() < minimum - 1e-9
+    ]
 
 
 def status_categories(status, categories: dict, other: int) -> np.ndarray:

@@ -76,7 +76,7 @@ def tradeoff(ds):
                 else None,
             )
     w_all, j_all = _flat(ds, "slip_work") / 1e3, _flat(ds, "peak_jerk")
-    for i, label, colour in _marks(ds) if "pareto_rank" in ds else ():
+    for i, label, colour in _marks(ds):
         if np.isfinite(w_all[i]) and np.isfinite(j_all[i]):
             ax.plot(w_all[i], j_all[i], "*", ms=18, mfc=colour, mec="k", label=label)
     ax.set_yscale("log")
@@ -143,7 +143,7 @@ def maps(ds):
     fixed = fixed_text(sub, list(others))
     fig.suptitle(
         "Slip work and lock-up time over ramp time and clamp force"
-        + (f"\n(at the best design's {fixed})" if fixed else "")
+        + (f"\n(other factors at the design shown: {fixed})" if fixed else "")
     )
     return fig
 

@@ -156,7 +156,7 @@ def stress_engagement(ds):
     fixed = fixed_text(sub, [d for d in ds.dims if d not in keep])
     fig.suptitle(
         "Roller count: contact stress and engagement time"
-        + (f" at the best design's {fixed}" if fixed else ""),
+        + (f"; other factors at the design shown: {fixed}" if fixed else ""),
         fontsize=10,
     )
     _note(fig, ds)
@@ -252,7 +252,7 @@ def feasible_region(ds):
     fig.subplots_adjust(right=0.72)
     ax.set_title(
         textwrap.fill(
-            "Feasible region (numbers: engagement time in ms) at the best design's "
+            "Feasible region (numbers: engagement time in ms); other factors at the design shown: "
             + fixed_text(sub, [d for d in ds.dims if d not in ("rollers", "wedge_angle")]),
             110,
         ),
@@ -264,7 +264,7 @@ def feasible_region(ds):
 
 def _mark(ax, ds):
     """The run's best design (and the source paper's where it is a scenario of the run)."""
-    for i, label, colour in _marks(ds) if "pareto_rank" in ds else ():
+    for i, label, colour in _marks(ds, slice_only="run" not in ds.dims):
         ax.plot(
             flat(ds, "rollers")[i],
             np.rad2deg(flat(ds, "wedge_angle")[i]),

@@ -104,11 +104,7 @@ def stress_vs_torque(ds):
         "\n".join(
             textwrap.wrap(
                 "Stresses and gripping angle against torque: "
-                + (
-                    "the source paper's geometry"
-                    if paper
-                    else "the geometry of the run's best design"
-                )
+                + ("the source paper's geometry" if paper else "the geometry of the design shown")
                 + f" ({fixed_text(sub, [d for d in ds.dims if d != 'torque']) or 'fixed'})",
                 130,
             )
@@ -276,8 +272,9 @@ def pass_map(ds):
 
 
 def _mark(ax, ds, x, y, scale):
-    """The run's best design (and the source paper's where it is a scenario of the run)."""
-    for i, label, colour in _marks(ds) if "pareto_rank" in ds else ():
+    """The design the run shows (and, on a map of every design, the source paper's where it is a
+    scenario of the run)."""
+    for i, label, colour in _marks(ds, slice_only="run" not in ds.dims):
         ax.plot(
             flat(ds, x)[i] * scale[x][0],
             flat(ds, y)[i] * scale[y][0],
