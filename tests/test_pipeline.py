@@ -97,6 +97,10 @@ def test_outputs_exist_and_open(small_run):
         assert abs(float(seed["contact_stress"]) / 1e6 - 2865.5) < 3  # seed 003 section 2.2
         assert 0.1e-3 < float(seed["engagement_time"]) < 0.3e-3
     assert "yes" in (small_run / "results/report/validation.csv").read_text()
+    # the traces of the design each study's pages show, computed after the merge
+    for study in ("centrifugal", "sprag", "roller"):
+        with xr.open_dataset(small_run / f"results/{study}/traces.h5", engine="h5netcdf") as tr:
+            assert int(tr.attrs["shown_index"]) >= 0 and tr.attrs["shown_design"], study
     for f in (
         "diaphragm_spring/diaphragm_spring.h5",
         "centrifugal/centrifugal.h5",
@@ -392,7 +396,7 @@ def test_every_report_page_keeps_its_text_on_the_page(small_run, tmp_path, monke
     import glob
 
     from clutchlab import report, store, studies
-    from clutchlab.report.common import texts_outside
+    from clutchlab.report.common import texts_outside, texts_too_small
 
     res = small_run / "results"
     names = ["diaphragm_spring", "centrifugal", "sprag", "roller"]
@@ -404,18 +408,21 @@ def test_every_report_page_keeps_its_text_on_the_page(small_run, tmp_path, monke
         tmp_path,
         hard_cases_file=res / "numerics/hard_cases.h5",
         numerics_dir=res / "numerics",
+        traces_files={n: res / n / "traces.h5" for n in names if (res / n / "traces.h5").exists()},
     )
     assert len(figures) >= 20
     for fig in figures:
         assert not texts_outside(fig), texts_outside(fig)
-    summary = " ".join(t.get_text() for t in figures[0].texts)
-    assert summary.count("best compromise: ") == len(names) and "roller_answers" in summary
+        assert not texts_too_small(fig), texts_too_small(fig)[:5]
+    summary = " ".join(" ".join(t.get_text() for t in figures[0].texts).split())
+    assert summary.count("best compromise: ") == len(names)
+    assert "stress_engagement, feasible_region, engagement_trace, answers" in summary
     from clutchlab.report.common import title_page
 
     page = title_page(
         "t", "v", {"sprag": store.load(res / "sprag/sprag.h5")}, [], None, {"sprag": (3, 12.5)}
     )
-    assert "computed by 3 jobs in 12.5 s of job time" in " ".join(t.get_text() for t in page.texts)
+    assert "3 jobs, 12.5 s of job time" in " ".join(t.get_text() for t in page.texts)
 
 
 def test_snakemakes_own_report_holds_every_page_with_its_caption(small_run):
@@ -444,6 +451,8 @@ def test_snakemakes_own_report_holds_every_page_with_its_caption(small_run):
         )  # its caption (non-ASCII is escaped)
     assert clutchlab.__version__ in html and clutchlab.source_hash() in html
     assert "Studies run: diaphragm_spring, centrifugal, sprag, roller" in html
+    # it opens on a description of the run pointing to its own results folder, not a config dump
+    assert "Start with the summary page" in html and "results/report/report.pdf" in html
     import zipfile
 
     _snakemake(small_run, "--configfile", "config/small.yaml", "--report", "results/report.zip")

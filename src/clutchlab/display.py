@@ -156,7 +156,7 @@ def text(v, u: Unit, fmt: str = ".4g", typeset: bool = True) -> str:
 
 
 def _si_spelling(units: str) -> str:
-    """A UDUNITS exponent spelling as the table's: "rad s-1" -> "rad/s", "N m rad-1" -> "N m/rad"."""
+    """A UDUNITS exponent spelling as the table's: "rad s-1" as "rad/s", "N m-1" as "N/m"."""
     words = str(units).split()
     num = [w for w in words if not w.endswith("-1")]
     den = [w[:-2] for w in words if w.endswith("-1")]

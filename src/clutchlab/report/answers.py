@@ -65,7 +65,7 @@ def front_rows(ds, typeset=False) -> tuple[list[str], list[list]]:
         margins = ds["constraint_margin"].transpose("constraint", *ds["status"].dims).values
         margins = margins.reshape(margins.shape[0], -1)
         header += [f"{c}_constraint_margin [-]" for c in ds["constraint"].values]
-        rows = [r + [float(m) for m in margins[:, i]] for r, i in zip(rows, front)]
+        rows = [r + [float(m) for m in margins[:, i]] for r, i in zip(rows, front, strict=True)]
     return header, rows
 
 

@@ -112,7 +112,7 @@ def page_ranges(numbers, stems) -> str:
     """ "pages 6-11, 27" of the stems' PDF pages (``numbers``: stem -> (first, last))."""
     pages = sorted({k for s in stems for k in range(numbers[s][0], numbers[s][1] + 1)})
     runs, start = [], None
-    for k, nxt in zip(pages, pages[1:] + [None]):
+    for k, nxt in zip(pages, pages[1:] + [None], strict=True):
         start = k if start is None else start
         if nxt != k + 1:
             runs.append(f"{start}" if start == k else f"{start}-{k}")
@@ -163,7 +163,7 @@ def title_page(title, version, results, validations, numbers=None, job_seconds=N
     Text 8 pt or more, inside the page."""
     numbers = numbers or {}
     fig = plt.figure(figsize=A4_LANDSCAPE)
-    # the title is the user's text: drawn as it is written ("$" is not mathtext), wrapped to the page
+    # the title is the user's text: drawn as written ("$" is not mathtext), wrapped to the page
     head = textwrap.wrap(title, 70)
     fig.text(0.05, 0.96, "\n".join(head), fontsize=20, weight="bold", va="top", parse_math=False)
     top = 0.96 - len(head) * 0.045
@@ -229,11 +229,11 @@ class Table:
         self.rows = [
             [
                 "\n".join(textwrap.wrap(str(c), n, break_long_words=True)) or ""
-                for c, n in zip(r, chars)
+                for c, n in zip(r, chars, strict=True)
             ]
             for r in rows
         ]
-        self.header = ["\n".join(textwrap.wrap(c, n)) for c, n in zip(cols, chars)]
+        self.header = ["\n".join(textwrap.wrap(c, n)) for c, n in zip(cols, chars, strict=True)]
         per_page = A4_LANDSCAPE[1] - _TOP_IN - _BOTTOM_IN - self._height(self.header)
         self.chunks, chunk, used = [], [], 0.0
         for r in self.rows:
