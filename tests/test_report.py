@@ -40,7 +40,14 @@ def test_report_pages(tmp_path, design):
     cfg = resolve({"studies": ["diaphragm_spring"], "diaphragm_spring": sec})
     spring = store.write(pipeline.run_study(cfg["diaphragm_spring"]), tmp_path / "spring.h5")
     val = store.write(diaphragm_spring.validation(), tmp_path / "val.h5")
+    # pages of another config's earlier run into the same folder are removed, other files kept
+    (tmp_path / "report").mkdir()
+    for stale in ("engagement_heat.png", "engagement_pareto.csv", "notes.txt"):
+        (tmp_path / "report" / stale).write_text("an earlier run")
     written = report.build({"diaphragm_spring": spring}, [val], tmp_path / "report")
+    left = sorted(p.name for p in (tmp_path / "report").iterdir())
+    assert "engagement_heat.png" not in left and "engagement_pareto.csv" not in left
+    assert "notes.txt" in left and "diaphragm_spring_pareto.csv" in left
     stems = sorted(p.stem for p in written if p.suffix == ".png")
     assert stems == sorted(report.figure_stems(["diaphragm_spring"]))
     pdf = (tmp_path / "report" / "report.pdf").read_bytes()
