@@ -17,7 +17,15 @@ import xarray as xr
 
 from . import display, explore, studies
 
-__all__ = ["shown_design", "design_inputs", "design_text", "is_paper_design", "compute", "attach"]
+__all__ = [
+    "shown_design",
+    "best_design",
+    "design_inputs",
+    "design_text",
+    "is_paper_design",
+    "compute",
+    "attach",
+]
 
 #: attributes of a traces Dataset (and of a result the traces were attached to) naming the design
 ATTRS = ("shown_index", "shown_design", "shown_reason", "shown_is_paper")
@@ -74,6 +82,17 @@ def shown_design(ds) -> tuple[int | None, str]:
     if ok.size:
         return int(ok[0]), "no design with finite objectives: the first design with status ok"
     return None, "no design of this run has status ok"
+
+
+def best_design(ds) -> int | None:
+    """Flat index of the run's best design (the design :func:`shown_design` shows where the run
+    has a feasible front; the one the summary and the answers page call best), else None. Read
+    from the attributes a result carries once its traces are attached, computed otherwise."""
+    if "shown_index" in ds.attrs:
+        i, reason = int(ds.attrs["shown_index"]), ds.attrs.get("shown_reason", "")
+    else:
+        i, reason = shown_design(ds)
+    return i if i is not None and i >= 0 and reason.startswith("the run's best") else None
 
 
 def _nearest_ideal(ds, objectives, candidates) -> int:

@@ -79,11 +79,11 @@ def _value_text(ds, name, v) -> str:
 
 
 def best_text(ds) -> str:
-    """The best compromise design (:func:`clutchlab.explore.best_compromise`) in one line: its
-    factors, then its objectives, in the units engineers read."""
-    from ..explore import best_compromise
+    """The best design (:func:`clutchlab.traces.best_design`: today the best compromise) in one
+    line: its factors, then its objectives, in the units engineers read."""
+    from ..traces import best_design
 
-    i = best_compromise(ds)
+    i = best_design(ds)
     if i is None:
         return "no feasible design on a Pareto front"
     objectives, _ = _outputs(ds)
@@ -102,9 +102,10 @@ def edge_notes(ds, short=False) -> list[str]:
     run gave it (its smallest or largest value; within 2 % of the range for a sampled factor): the
     answer may lie beyond, so the range should be widened. Operating conditions and options drawn
     per scenario are not design choices and get none. ``short``: "sprags (upper, 22)"."""
-    from ..explore import best_compromise, condition_factors
+    from ..explore import condition_factors
+    from ..traces import best_design
 
-    i = best_compromise(ds)
+    i = best_design(ds)
     if i is None:
         return []
     conditions = set(sum(condition_factors(ds), [])) | set(studies.get(name_of(ds)).conditions)
