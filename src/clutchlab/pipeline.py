@@ -238,7 +238,7 @@ def merge(design: xr.Dataset, parts: list[xr.Dataset]) -> xr.Dataset:
     design's fixed values are stored as 0-d input variables.
     """
     curves = [n for n, v in parts[0].data_vars.items() if "curve_run" in v.dims]
-    # variables without a run dimension (if a study returns any) come from the chunk holding scenario 0
+    # variables without a run dimension (if a study gives any) come from the chunk of scenario 0
     first = next((p for p in parts if p.sizes.get("run", 0) and int(p["run"][0]) == 0), parts[0])
     seed = [
         n for n, v in first.data_vars.items() if "run" not in v.dims and "curve_run" not in v.dims
