@@ -22,7 +22,7 @@ def test_every_display_unit_reads_back_as_a_config_would(si):
 
 
 def test_engineering_units_of_the_issue():
-    """What the user read in SI (0.0028 m, 1.806e+09 Pa, 473.15 K, 1.004 rad) in engineers' units."""
+    """What the user read in SI (0.0028 m, 1.806e+09 Pa, 473.15 K) as engineers read it."""
     assert display.text(0.0028, display.unit("m")) == "2.8 mm"
     assert display.text(1.806e9, display.unit("Pa")) == "1806 MPa"
     assert display.text(473.15, display.unit("K", "peak_surface_temperature")) == "200 °C"
