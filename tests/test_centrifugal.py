@@ -6,6 +6,7 @@ from scipy.integrate import quad, solve_ivp
 
 from clutchlab import centrifugal as cf
 from clutchlab import status as st
+from clutchlab.published import CENTRIFUGAL_CLUTCH as PUB
 from clutchlab.studies import centrifugal as study
 
 RPM = np.pi / 30
@@ -31,16 +32,16 @@ DYN = dict(
 def test_seed001_capacities():
     """Seed 001 section 2.3: M = 127.84 N m, M' = 65.0 N m at 5500 rpm (tol 0.1 %), reserve 1.88."""
     m, m_rev = cf.capacity(speed=5500 * RPM, **SEED)
-    assert m == pytest.approx(127.84, rel=1e-3)
-    assert m_rev == pytest.approx(65.0, rel=1e-3)
-    assert m / 68.0 == pytest.approx(1.88, rel=1e-3)
+    assert m == pytest.approx(PUB["forward_capacity"].value, rel=1e-3)
+    assert m_rev == pytest.approx(PUB["reverse_capacity"].value, rel=1e-3)
+    assert m / PUB["engine_torque"].value == pytest.approx(PUB["reserve_factor"].value, rel=1e-3)
 
 
 def test_seed001_engagement_speed_and_idle():
     """Engagement about 2545 rpm (tol 0.5 %); idle 1900-2100 rpm fully disengaged (seed 001 requirements)."""
     w0 = cf.engagement_speed(shoe_mass=0.178, shoe_radius=0.034, spring_force=430.0)
-    assert w0 / RPM == pytest.approx(2545, rel=5e-3)
-    idle = np.linspace(1900, 2100, 21) * RPM
+    assert w0 / RPM == pytest.approx(PUB["engagement_speed"].value, rel=5e-3)
+    idle = np.linspace(PUB["idle_speed_min"].value, PUB["idle_speed_max"].value, 21) * RPM
     fwd, rev = cf.capacity(speed=idle, **SEED)
     assert np.all(fwd == 0) and np.all(rev == 0)
     fwd, _ = cf.capacity(speed=w0 * (1 + 1e-9), **SEED)
@@ -50,11 +51,12 @@ def test_seed001_engagement_speed_and_idle():
 def test_design_inverse():
     """Eq. 1 / eq. 2 with M = 127.84, M' = 65 N m gives f tan(alpha) = 0.32587 (section 2.3), and
     the capacities rebuilt from it match the targets."""
-    x = cf.linkage_factor_from_targets(127.84, 65.0)
-    assert x == pytest.approx(0.32587, rel=1e-4)
+    m_pub, m_rev_pub = PUB["forward_capacity"].value, PUB["reverse_capacity"].value
+    x = cf.linkage_factor_from_targets(m_pub, m_rev_pub)
+    assert x == pytest.approx(PUB["linkage_factor"].value, rel=1e-4)
     f = 0.4046
     m, m_rev = cf.capacity(speed=5500 * RPM, **{**SEED, "pressure_angle": np.arctan(x / f)})
-    assert m / m_rev == pytest.approx(127.84 / 65.0, rel=1e-12)
+    assert m / m_rev == pytest.approx(m_pub / m_rev_pub, rel=1e-12)
 
 
 def test_jam_and_weak_springs_are_flagged():
@@ -154,7 +156,7 @@ def test_release_at_once_when_needed_torque_beats_reverse_capacity():
     """With the engine alone on the clutch (J_r >> J_e, no rotor drag) the passive 65.5 N m beats
     M' = 65.0 N m: the paper's 'immediate release'."""
     r = cf.release_after_failure(
-        rated_speed=5500 * RPM, **{**SEED, **DYN, "rotor_inertia": 1e6, "rotor_load_torque": 0.0}
+        rated_speed=5500 * RPM, **{**SEED, **DYN, "rotor_inertia": 1e5, "rotor_load_torque": 0.0}
     )
     assert r["released_at_once"] and r["release_time"] == 0.0 and r["release_speed"] == 5500 * RPM
 
@@ -193,14 +195,9 @@ def test_startup_trace_locks_and_engages_above_idle():
 
 def test_study_validation_rows():
     v = study.validation()
-    rows = dict(zip(v.quantity.values, v.passed.values))
-    for q in (
-        "forward capacity M at 5500 rpm (eq. 1)",
-        "reverse capacity M' at 5500 rpm (eq. 2)",
-        "engagement speed",
-        "capacity at idle 1900-2100 rpm (disengaged)",
-    ):
-        assert rows[q] == 1
+    rows = dict(zip(v.quantity.values, v.passed.values, strict=True))
+    for key in ("forward_capacity", "reverse_capacity", "engagement_speed", "idle_capacity"):
+        assert rows[PUB[key].quantity] == 1
 
 
 def test_near_jam_is_flagged_and_keeps_its_exact_numbers():

@@ -102,7 +102,8 @@ def test_breakaway_and_relock_in_the_locked_phase():
 
 def test_seed_design_exact_and_integrated_agree():
     """Seed 000 design on the compliant driveline: the closed-form phases and the DOPRI5 path
-    (forced by a Stribeck speed so large that μ is constant: static ratio 1) at rtol 1e-12."""
+    (forced by a finite Stribeck speed: with static ratio 1 μ is constant whatever v_s) at rtol
+    1e-12."""
     kw = dict(
         engine_speed=570.0,
         engine_inertia=np.inf,
@@ -117,7 +118,7 @@ def test_seed_design_exact_and_integrated_agree():
         t_end=0.6,
     )
     exact = eng.simulate(**kw)
-    integ = eng.simulate(**kw, stribeck_speed=1e12, rtol=1e-12, atol=1e-12)
+    integ = eng.simulate(**kw, stribeck_speed=100.0, rtol=1e-12, atol=1e-12)
     assert exact["n_steps"] == 0 and integ["n_steps"] > 500
     for k in ("lockup_time", "slip_work", "peak_slip_power"):
         assert exact[k] == pytest.approx(integ[k], rel=1e-10)
@@ -233,6 +234,52 @@ def test_restart_at_an_event_does_not_fire_at_once():
     assert res["status"] == st.CODE["ok"]
     ref = reference.compliant(p, rtol=1e-13, atol=1e-13)
     assert res["lockup_time"] == pytest.approx(ref["lockup_time"], rel=1e-10)
+
+
+@pytest.mark.parametrize(
+    "scale, load_torque, damping_ratio, t_end",
+    [
+        (1e-5, 5e-5, 0.0, 0.5),
+        (1e-5, 5e-5, 0.1, 0.5),
+        (1e-5, 5e-5, 1.0, 0.5),
+        (1e-7, 1e-6, 1.0, 1.0),
+    ],
+)
+def test_stiff_damper_locks_like_the_rigid_driveline(scale, load_torque, damping_ratio, t_end):
+    """A damper whose period (0.2 µs) is far below every time of the engagement is a rigid
+    driveline: the lock-up time is the closed form's (seed 000 engine held at 5 500 rpm, J_v 0.2
+    kg m², T_m 5 N m, C 300 N m, ramp 0.2 s, K 1e14 N m/rad; here scaled by 1e-5 in inertia,
+    torques and stiffness (K 1e9 N m/rad), which leaves every speed and time as it is, so that
+    the spring lies inside its plausible range). The output speed after unparking is round-off
+    for a while (zero speed and acceleration); a park armed on a positive round-off value fired
+    1e-19 s later, and the output stayed parked for good: never_locked (or, at other
+    stiffnesses, park and unpark repeated at one instant for ever). Critical damping (ζ = 1, the
+    free response's ω_d² a round-off either side of 0) lost 8 digits of the output speed in
+    e^((b−a)τ) − e^(−(a+b)τ) and parked it the same way. The compliance changes the lock-up by
+    O(1/ω₀²) relative: ~1e-14 here; tolerance 1e-10."""
+    rigid = dict(
+        engine_speed=5500 * np.pi / 30,
+        engine_inertia=np.inf,
+        engine_torque=0.0,
+        driven_inertia=0.2 * scale,
+        load_torque=load_torque,
+        peak_capacity=300.0 * scale,
+        ramp_time=0.2,
+    )
+    exact = eng.closed_form(**rigid, t_end=t_end)
+    res = eng.simulate(
+        **rigid,
+        compliant=True,
+        damper_stiffness=1e9,
+        damping_ratio=damping_ratio,
+        t_end=t_end,
+        max_steps=1000,
+    )
+    assert res["status"] == st.CODE["ok"] == exact["status"]
+    if scale == 1e-5:
+        assert float(exact["lockup_time"]) == pytest.approx(0.4921471094857, rel=1e-12)
+    assert res["lockup_time"] == pytest.approx(float(exact["lockup_time"]), rel=1e-10)
+    assert res["slip_work"] == pytest.approx(float(exact["slip_work"]), rel=1e-8)
 
 
 def test_undamped_locked_phase_settles_after_one_period():

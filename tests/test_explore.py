@@ -1,5 +1,8 @@
-"""Design answers (issue 15): Pareto ranks against brute force, feasibility, the grid's exact
-variance decomposition against analytic examples."""
+"""Design answers (issue 15): Pareto ranks and hypervolume against brute force (O(N^2) peeling,
+inclusion-exclusion), feasibility, the grid's exact variance decomposition against analytic
+examples."""
+
+import itertools
 
 import numpy as np
 import pytest
@@ -27,15 +30,125 @@ def _brute_ranks(f, include):
 
 @pytest.mark.parametrize("m", [1, 2, 3, 4, 5])
 def test_pareto_rank_equals_brute_force(m):
-    """Random integer objectives (many ties and duplicate rows), NaN rows and excluded rows."""
+    """Random integer objectives (many ties and duplicate rows), NaN and ±inf rows and excluded
+    rows: every rank equal to the O(N^2) peeling."""
     rng = np.random.default_rng(m)
     for _ in range(150):
         n = int(rng.integers(1, 70))
         f = rng.integers(0, 5, (n, m)).astype(float)
         if rng.random() < 0.5:
             f[rng.integers(0, n), rng.integers(0, m)] = np.nan
+        if rng.random() < 0.3:
+            f[rng.integers(0, n), rng.integers(0, m)] = rng.choice([np.inf, -np.inf])
         include = rng.random(n) < 0.85
         assert (explore.pareto_rank(f, include) == _brute_ranks(f, include)).all()
+
+
+def test_a_nan_row_neither_dominates_nor_is_ranked():
+    """moocore alone ranks a NaN row as dominating (the rows it would dominate fall to rank 1);
+    the wrapper leaves it out: −1, and the other rows keep their front. -inf is no better."""
+    f = np.array([[1.0, 2.0], [np.nan, 0.0], [0.5, 3.0], [-np.inf, -np.inf]])
+    assert explore.pareto_rank(f).tolist() == [0, -1, 0, -1]
+
+
+@pytest.mark.parametrize("m", [2, 3, 4, 5])
+def test_grouped_ranks_with_ties_and_nan_equal_brute_force(m):
+    """Groups (ints, floats with a NaN label, strings): each group ranked on its own, equal to the
+    peeling of that group alone; a row with a NaN group label belongs to no group (−1)."""
+    rng = np.random.default_rng(20 + m)
+    f = rng.integers(0, 4, size=(300, m)).astype(float)
+    f[rng.integers(0, 300, 10), rng.integers(0, m, 10)] = np.nan
+    include = rng.random(300) > 0.1
+    codes = rng.integers(0, 5, size=300)
+    for labels in (codes, codes * 0.5, np.array(list("abcde"))[codes]):
+        got = explore.pareto_rank(f, include, labels)
+        for g in np.unique(labels):
+            sel = labels == g
+            assert (got[sel] == _brute_ranks(f[sel], include[sel])).all()
+    floats = np.where(codes == 4, np.nan, codes * 1.0)
+    got = explore.pareto_rank(f, include, floats)
+    assert (got[codes == 4] == -1).all()
+    assert (got[codes == 0] == _brute_ranks(f[codes == 0], include[codes == 0])).all()
+
+
+def test_pareto_rank_refuses_misshaped_inputs():
+    f = np.zeros((4, 2))
+    with pytest.raises(ValueError, match=r"\(designs, objectives\)"):
+        explore.pareto_rank(np.zeros(4))
+    with pytest.raises(ValueError, match="include must have one entry per row of values"):
+        explore.pareto_rank(f, include=[True])
+    with pytest.raises(ValueError, match="groups must have one entry per row of values"):
+        explore.pareto_rank(f, groups=[0, 1, 2])
+
+
+def test_dataset_form_maximises_and_minimises():
+    """ "name:max" ranks the negated column: the ranks of the array form on (a, −b), within each
+    value of the condition c, over the rows with status ok."""
+    rng = np.random.default_rng(4)
+    a, b = rng.integers(0, 4, 60).astype(float), rng.integers(0, 4, 60).astype(float)
+    c = rng.integers(0, 2, 60).astype(float)
+    status = np.where(rng.random(60) < 0.2, st.CODE["invalid_input"], st.CODE["ok"])
+    ds = xr.Dataset(
+        {
+            "a": ("run", a, {"units": "1", "long_name": "a"}),
+            "b": ("run", b, {"units": "1", "long_name": "b"}),
+            "c": ("run", c, {"units": "1", "long_name": "c"}),
+            "status": ("run", status.astype(np.int8), {"units": "1", "long_name": "status"}),
+        }
+    )
+    got = explore.pareto_rank(ds, ["a:min", "b:max"], ["c"]).values
+    ok = status == st.CODE["ok"]
+    f = np.stack([a, -b], axis=1)
+    for k in (0.0, 1.0):
+        sel = c == k
+        assert (got[sel] == _brute_ranks(f[sel], ok[sel])).all()
+
+
+def _inclusion_exclusion(points, ref):
+    """Hypervolume by inclusion-exclusion over every subset of the points (exact, 2^N terms)."""
+    p = np.asarray(points, dtype=float)
+    total = 0.0
+    for k in range(1, len(p) + 1):
+        for subset in itertools.combinations(range(len(p)), k):
+            corner = p[list(subset)].max(axis=0)
+            total += (-1) ** (k + 1) * np.prod(np.clip(ref - corner, 0.0, None))
+    return total
+
+
+@pytest.mark.parametrize("m", [1, 2, 3, 4, 5])
+def test_hypervolume_equals_inclusion_exclusion(m):
+    """Continuous points with ties in a coordinate, repeated and dominated points and points
+    beyond the reference in one objective, 1 to 5 objectives: relative 1e-12."""
+    rng = np.random.default_rng(30 + m)
+    ref = rng.uniform(1.0, 2.0, m)
+    for _ in range(25):
+        n = int(rng.integers(1, 11))
+        p = rng.random((n, m)) * 1.3
+        p[rng.random((n, m)) < 0.15] = 0.5  # ties
+        if n > 2:
+            p[-1] = p[0]  # a repeated point
+        exact = _inclusion_exclusion(p, ref)
+        assert explore.hypervolume(p, ref) == pytest.approx(exact, rel=1e-12, abs=1e-15)
+
+
+def test_hypervolume_refuses_what_it_cannot_measure():
+    """Points of another width than the reference (ValueError naming both widths; no silent
+    reshape), non-finite points or reference; an empty set is 0."""
+    with pytest.raises(ValueError, match="reference's 2 objectives, got 3 objectives"):
+        explore.hypervolume(np.zeros((2, 3)), [1.0, 1.0])
+    with pytest.raises(ValueError, match="reference's 3 objectives, got 2 objectives"):
+        explore.hypervolume(np.zeros((3, 2)), [1.0, 1.0, 1.0])
+    with pytest.raises(ValueError, match="got shape"):
+        explore.hypervolume(np.zeros(6), [1.0, 1.0])
+    with pytest.raises(
+        ValueError, match=r"2 of 3 points have a non-finite objective \(first: row 1"
+    ):
+        explore.hypervolume([[0.5, 0.5], [np.inf, 0.1], [0.2, np.nan]], [1.0, 1.0])
+    with pytest.raises(ValueError, match="reference must be a finite point"):
+        explore.hypervolume([[0.5, 0.5]], [1.0, np.nan])
+    with pytest.raises(ValueError, match="overflows"):
+        explore.hypervolume([[-1e200, -1e200]], [1e200, 1e200])
+    assert explore.hypervolume(np.empty((0, 4)), np.ones(4)) == 0.0
 
 
 @pytest.mark.parametrize("m", [2, 3, 4, 5])
@@ -245,6 +358,10 @@ def test_benchmark_runs_small(tmp_path):
     assert (
         all(r["equal_to_reference"] for r in rows) and (tmp_path / "pareto_benchmark.csv").exists()
     )
+    hv = benchmark_pareto.run_hypervolume(tmp_path, 200)
+    assert [r["points"] for r in hv] == [20, 200]
+    assert all(r["equal_to_reference"] and r["within_bound"] for r in hv)
+    assert (tmp_path / "hypervolume_benchmark.csv").exists()
 
 
 def test_grid_decomposition_leaves_failed_cells_out():

@@ -5,32 +5,35 @@ import pytest
 from scipy.integrate import quad
 
 from clutchlab import friction
+from clutchlab.published import DIAPHRAGM_CLUTCH as PUB
 
 RO, RI = 0.1125, 0.075  # seed 000 Table 2: D = 225 mm, d = 150 mm
 
 
 def test_lining_constant_A():
     """Seed 000 eq. (3): D = 225 mm with T_emax = 173 N m (Table 1) <=> A = 34.17 (tol 1e-3)."""
-    assert friction.lining_coefficient(173.0, 0.225) == pytest.approx(34.17, rel=1e-3)
+    a = PUB["lining_constant"].value
+    assert friction.lining_coefficient(173.0, 0.225) == pytest.approx(a, rel=1e-3)
     assert friction.lining_outer_diameter(173.0, 34.17284) == pytest.approx(0.225, rel=1e-6)
 
 
 def test_capacity_two_faces_uniform_pressure():
     """Corrected eqs. (13)-(14): 2 faces, mu = 0.4, F = 2500 N -> 190.0 N m (tol 1e-3)."""
-    assert friction.torque_capacity(2500.0, 0.4, RO, RI) == pytest.approx(190.0, rel=1e-3)
+    want = PUB["capacity_two_faces"].value
+    assert friction.torque_capacity(2500.0, 0.4, RO, RI) == pytest.approx(want, rel=1e-3)
 
 
 def test_capacity_with_stack_weight():
     """Same with the 4.757 kg stack weight (Table 3: 0.357 + 1.9 + 2.5 kg) -> 193.5 N m (tol 1e-3)."""
     assert friction.torque_capacity(2500.0, 0.4, RO, RI, stack_mass=4.757) == pytest.approx(
-        193.5, rel=1e-3
+        PUB["capacity_two_faces_stack_weight"].value, rel=1e-3
     )
 
 
 def test_eq14_as_printed_reproduces_paper():
     """Eq. (14) as printed (one face, mu on the weight only) -> 239.3 N m, the paper's value (tol 1e-3)."""
     assert friction.torque_capacity_eq14_as_printed(2500.0, 0.4, 4.757, RO, RI) == pytest.approx(
-        239.3, rel=1e-3
+        PUB["capacity_eq14_as_printed"].value, rel=1e-3
     )
 
 

@@ -12,6 +12,8 @@ import pytest
 import numpy as np
 import xarray as xr
 
+from clutchlab.published import CENTRIFUGAL_CLUTCH, ROLLER_CLUTCH, SPRAG_TABLE2
+
 ROOT = Path(__file__).resolve().parents[1]
 pytestmark = pytest.mark.slow
 
@@ -74,7 +76,8 @@ def test_outputs_exist_and_open(small_run):
         seed = ds.sel(
             pressure_angle=np.deg2rad(38.84), friction_coefficient=0.4046, method="nearest"
         )
-        assert abs(float(seed["capacity_forward"]) - 127.84) < 0.2  # seed 001 section 2.3
+        m = CENTRIFUGAL_CLUTCH["forward_capacity"].value  # seed 001 section 2.3
+        assert abs(float(seed["capacity_forward"]) - m) < 0.2
         assert (
             ds["status"].sel(pressure_angle=np.deg2rad(65)).values[-2:] == 5
         ).all()  # f tan(alpha) >= 1: jammed
@@ -82,9 +85,8 @@ def test_outputs_exist_and_open(small_run):
         for name, var in {**ds.coords, **ds.data_vars}.items():
             assert var.attrs.get("units") is not None and var.attrs.get("long_name"), name
         seed = ds.sel(torque=750.0, sprags=18, sprag_length=16.891e-3)
-        assert (
-            abs(np.rad2deg(float(seed["gripping_angle"])) - 5.097) < 1e-6
-        )  # seed 002 Table 2, the fit target
+        v = SPRAG_TABLE2[750.0].gripping_angle  # seed 002 Table 2, the fit target
+        assert abs(np.rad2deg(float(seed["gripping_angle"])) - v) < 1e-6
         assert int(seed["status"]) == 10  # pop_out_risk: V above 5 deg (seed 002 section 2.2)
     with xr.open_dataset(small_run / "results/roller/roller.h5", engine="h5netcdf") as ds:
         for name, var in {**ds.coords, **ds.data_vars}.items():
@@ -94,7 +96,8 @@ def test_outputs_exist_and_open(small_run):
             ds["status"].sel(wedge_angle=np.deg2rad(15)).values == 11
         ).all()  # tan 7.5 deg > 0.12: not self-locking
         seed = ds.sel(rollers=12, wedge_angle=np.deg2rad(11))
-        assert abs(float(seed["contact_stress"]) / 1e6 - 2865.5) < 3  # seed 003 section 2.2
+        sigma = ROLLER_CLUTCH["contact_stress"].value  # seed 003 section 2.2 [MPa]
+        assert abs(float(seed["contact_stress"]) / 1e6 - sigma) < 3
         assert 0.1e-3 < float(seed["engagement_time"]) < 0.3e-3
     assert "yes" in (small_run / "results/report/validation.csv").read_text()
     # the traces of the design each study's pages show, computed after the merge
@@ -392,6 +395,30 @@ def test_a_changed_chunk_is_found_by_the_merge_and_recomputed(small_run):
     assert not chunk.exists()
     _snakemake(small_run, "--configfile", "config/small.yaml")
     xr.testing.assert_identical(xr.load_dataset(result, engine="h5netcdf"), before)
+
+
+def test_every_file_of_a_run_verifies_against_its_config(small_run):
+    """Item 8: `clutchlab verify --config` on every study result, sensitivity file, design and
+    chunk a run wrote: each matches its checksum, its study config and this source (one ok line
+    each, exit 0)."""
+    res = small_run / "results"
+    files = sorted(
+        str(p.relative_to(small_run))
+        for p in res.rglob("*.h5")
+        if p.parent.name not in ("validation", "numerics")  # (seed numbers, solver runs)
+    )
+    assert len([f for f in files if "chunk_" in f]) == 8 and len(files) > 16, files
+    proc = subprocess.run(
+        [sys.executable, "-m", "clutchlab.verify", "--config", "config/small.yaml", *files],
+        cwd=small_run,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    lines = proc.stdout.splitlines()
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert [line.split(": ")[0] for line in lines] == files
+    assert all(line.split(": ")[1].startswith("ok") for line in lines), lines
 
 
 def test_every_report_page_keeps_its_text_on_the_page(small_run, tmp_path, monkeypatch):

@@ -40,7 +40,10 @@ def test_hypervolume_of_known_fronts():
     assert explore.hypervolume([[0.5, 0.5, 0.5]], [1, 1, 1]) == pytest.approx(0.125)
     assert explore.hypervolume([[5, 5]], [4, 4]) == 0.0  # beyond the reference: nothing
     assert explore.hypervolume(np.empty((0, 2)), [1, 1]) == 0.0
-    assert explore.hypervolume([[np.nan, 0.0], [0.5, 0.5]], [1, 1]) == pytest.approx(0.25)
+    # a non-finite point (a failed design) is refused, not dropped: the volume would look valid
+    with pytest.raises(ValueError, match="1 of 2 points have a non-finite objective"):
+        explore.hypervolume([[np.nan, 0.0], [0.5, 0.5]], [1, 1])
+    assert explore.hypervolume([[0.5, 0.5]], [1, 1]) == pytest.approx(0.25)
 
 
 def _first_stage(folder: Path, section: dict | None = None) -> Path:

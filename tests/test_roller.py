@@ -9,6 +9,7 @@ from clutchlab import contact
 from clutchlab import roller as rl
 from clutchlab import status as st
 from clutchlab.bench import roller as bench
+from clutchlab.published import ROLLER_CLUTCH as PUB
 from clutchlab.studies import roller as study
 
 K = contact.hertz_stiffness(roller_diameter=0.010)
@@ -36,20 +37,20 @@ def test_seed003_statics():
     """Seed 003 section 2.2 / Table 1 (tolerance 0.1 %): T_c 1848 N m, N_A 8555.6 N (z = 12 as
     printed), sigma_H 2865.5 MPa with one flank loaded (z/2), contact stiffness 3.375e5 N/mm^1.5."""
     tc = rl.computed_torque(800.0)
-    assert tc == pytest.approx(1848.0, rel=1e-3)
+    assert tc == pytest.approx(PUB["computed_torque"].value, rel=1e-3)
     assert rl.normal_force(
         tc, contact_radius=0.15, friction_coefficient=0.12, rollers=12
-    ) == pytest.approx(8555.6, rel=1e-3)
+    ) == pytest.approx(PUB["normal_force"].value, rel=1e-3)
     n6 = rl.normal_force(
         tc, contact_radius=0.15, friction_coefficient=0.12, rollers=rl.loaded_rollers(12)
     )
     sigma = rl.contact_stress(n6, roller_length=0.015, radius=rl.equivalent_radius(0.010))
-    assert sigma / 1e6 == pytest.approx(2865.5, rel=1e-3)
+    assert sigma / 1e6 == pytest.approx(PUB["contact_stress"].value, rel=1e-3)
     every = rl.contact_stress(0.5 * n6, roller_length=0.015, radius=rl.equivalent_radius(0.010))
     assert sigma / every == pytest.approx(
         np.sqrt(2), rel=1e-9
     )  # the factor 2 under the root (PHYSICS.md)
-    assert K * 1e-3**1.5 == pytest.approx(3.375e5, rel=1e-3)
+    assert K * 1e-3**1.5 == pytest.approx(PUB["contact_stiffness"].value, rel=1e-3)  # N mm^-1.5
     assert rl.equivalent_radius(0.010, 0.050) == pytest.approx(0.5 * 0.05 * 0.01 / 0.04)
 
 
@@ -64,7 +65,7 @@ def test_seed003_spring_and_self_locking():
         formula="eq4",
     )
     assert per_kg == pytest.approx(800.0, rel=1e-12)
-    assert 3.7 / per_kg == pytest.approx(4.625e-3, rel=1e-9)
+    assert PUB["spring_preload"].value / per_kg == pytest.approx(4.625e-3, rel=1e-9)
     exact = rl.spring_preload(
         roller_mass=1.0, contact_radius=0.15, friction_coefficient=0.12, speed=2000 * rl.RPM
     )
@@ -74,8 +75,9 @@ def test_seed003_spring_and_self_locking():
     )
     assert rl.self_locking_margin(
         wedge_angle=np.deg2rad(11), friction_coefficient=0.12
-    ) == pytest.approx(1.25, rel=5e-3)
-    assert np.rad2deg(rl.limit_wedge_angle(0.12)) == pytest.approx(13.69, abs=5e-3)
+    ) == pytest.approx(PUB["self_locking_margin"].value, rel=5e-3)
+    limit = PUB["limit_wedge_angle"].value
+    assert np.rad2deg(rl.limit_wedge_angle(0.12)) == pytest.approx(limit, abs=5e-3)
 
 
 # ------------------------------------------------------------------ contact law
@@ -128,8 +130,10 @@ def test_seed_engagement_of_published_order():
     wedge's static value T / (z R_C tan(alpha/2))."""
     r = rl.simulate(**SEED)
     assert r["status"] == st.CODE["ok"]
-    assert 0.197e-3 / 1.5 < r["engagement_time"] < 1.5 * 0.197e-3
-    assert 1.12 / 1.5 < np.rad2deg(r["backlash"]) < 1.5 * 1.12
+    t_pub = PUB["engagement_time"].value * 1e-3  # ms -> s
+    assert t_pub / 1.5 < r["engagement_time"] < 1.5 * t_pub
+    backlash = PUB["backlash"].value  # deg
+    assert backlash / 1.5 < np.rad2deg(r["backlash"]) < 1.5 * backlash
     assert 0 < r["slip_backlash"] < r["backlash"]
     assert r["stick_time"] < r["engagement_time"]
     static = 1848.0 / (6 * 0.15 * np.tan(np.deg2rad(5.5)))

@@ -10,25 +10,25 @@ from scipy.optimize import brentq
 
 from clutchlab import sprag as sp
 from clutchlab import status as st
+from clutchlab.published import SPRAG_CLUTCH, SPRAG_TABLE2
 from clutchlab.studies import sprag as study
 
 G = sp.SEED_GEOMETRY
-# seed 002 Table 2, theory column: T [N m] -> V [deg], sigma_ci, sigma_co, sigma_si, sigma_so [MPa]
-TABLE2 = {750.0: (5.097, 3482, 2928, 673.8, 582.0), 267.5: (4.093, 2314, 1945, 295.2, 255.4)}
+# seed 002 Table 2, theory column (clutchlab.published): V [deg] and the four stresses [MPa]
+STRESSES = ("contact_stress_inner", "contact_stress_outer", "vm_stress_inner", "vm_stress_outer")
 IMPACT = dict(power=100e3, inertia=1.05, damping=0.7156)
 
 
-def _numbers(res):
-    return np.array(
-        [
-            np.rad2deg(res["V"]),
-            res["contact_stress_inner"] / 1e6,
-            res["contact_stress_outer"] / 1e6,
-            res["vm_stress_inner"] / 1e6,
-            res["vm_stress_outer"] / 1e6,
-        ],
-        dtype=float,
-    )
+def _numbers(res) -> dict:
+    """The Table 2 quantities of a statics result by field of SpragTheory, in the table's units."""
+    return {"gripping_angle": float(np.rad2deg(res["V"]))} | {
+        k: float(res[k]) / 1e6 for k in STRESSES
+    }
+
+
+def _published(torque) -> dict:
+    """Seed 002 Table 2 (theory) at ``torque``, by the same fields as :func:`_numbers`."""
+    return {k: getattr(SPRAG_TABLE2[torque], k) for k in ("gripping_angle",) + STRESSES}
 
 
 # ------------------------------------------------------------------ impact torque
@@ -95,7 +95,8 @@ def test_rest_geometry():
     assert G["inner_race_radius"] * np.sin(r["V"]) == pytest.approx(
         G["outer_race_radius"] * np.sin(r["W"]), rel=1e-12
     )
-    assert float(sp.gripping_angle(1e-9)["V"]) == pytest.approx(float(r["V"]), abs=1e-9)
+    # (the smallest plausible torque, 1e-6 N m: the rest geometry to 1e-8 rad)
+    assert float(sp.gripping_angle(1e-6)["V"]) == pytest.approx(float(r["V"]), abs=1e-8)
 
 
 def test_fixed_point_against_scalar_brent():
@@ -119,7 +120,8 @@ def test_monotone_in_torque(t, k):
     a, b = sp.statics(t, compliance_factor=1.0), sp.statics(t * k, compliance_factor=1.0)
     if a["status"] in (st.CODE["roll_over"],) or b["status"] == st.CODE["roll_over"]:
         return
-    assert np.all(_numbers(b) > _numbers(a))
+    more, less = _numbers(b), _numbers(a)
+    assert all(more[k] > less[k] for k in more)
 
 
 def test_shaft_stress_pure_torsion():
@@ -135,25 +137,34 @@ def test_shaft_stress_pure_torsion():
 # ------------------------------------------------------------------ seed 002 Table 2
 
 
-@pytest.mark.parametrize("torque", list(TABLE2))
+@pytest.mark.parametrize("torque", list(SPRAG_TABLE2))
 def test_table2_fed_published_angle(torque):
     """Eqs. 7-8 fed the published V (rest radii) reproduce Table 2's theory stresses within 3 %
     (measured: 0.2-2.2 %)."""
-    v = np.deg2rad(TABLE2[torque][0])
+    pub = SPRAG_TABLE2[torque]
+    v = np.deg2rad(pub.gripping_angle)
     w = np.arcsin(G["inner_race_radius"] * np.sin(v) / G["outer_race_radius"])
     ci, co = sp.contact_stress(torque, V=v, W=w, **G)
     vm = sp.shaft_stress(torque, V=v, W=w, **G)
-    got = np.array([ci, co, vm["inner"], vm["outer"]]) / 1e6
-    np.testing.assert_allclose(got, TABLE2[torque][1:], rtol=0.03)
+    got = dict(
+        contact_stress_inner=ci,
+        contact_stress_outer=co,
+        vm_stress_inner=vm["inner"],
+        vm_stress_outer=vm["outer"],
+    )
+    for k in STRESSES:
+        assert float(got[k]) / 1e6 == pytest.approx(getattr(pub, k), rel=0.03), k
 
 
-@pytest.mark.parametrize("torque", list(TABLE2))
+@pytest.mark.parametrize("torque", list(SPRAG_TABLE2))
 def test_table2_physical_deflection(torque):
     """Uncalibrated (compliance 1): V and every stress within 15 % of Table 2 (measured: V 11 % low,
     stresses 6-12 % high)."""
-    got = _numbers(sp.statics(torque, compliance_factor=1.0))
-    np.testing.assert_allclose(got, TABLE2[torque], rtol=0.15)
-    assert got[0] < TABLE2[torque][0] and np.all(got[1:] > TABLE2[torque][1:])
+    got, pub = _numbers(sp.statics(torque, compliance_factor=1.0)), _published(torque)
+    for k in pub:
+        assert got[k] == pytest.approx(pub[k], rel=0.15), k
+    assert got["gripping_angle"] < pub["gripping_angle"]
+    assert all(got[k] > pub[k] for k in STRESSES)
 
 
 def test_table2_fitted_compliance():
@@ -164,11 +175,12 @@ def test_table2_fitted_compliance():
     # difference is where the contact point sits (the undeformed surface here, half-way through
     # the Hertz approach there), not the approach law
     assert 1.5 < c < 2.0
-    for torque, pub in TABLE2.items():
-        got = _numbers(sp.statics(torque, compliance_factor=c))
-        np.testing.assert_allclose(got, pub, rtol=0.01)
+    for torque in SPRAG_TABLE2:
+        got, pub = _numbers(sp.statics(torque, compliance_factor=c)), _published(torque)
+        for k in pub:
+            assert got[k] == pytest.approx(pub[k], rel=0.01), (torque, k)
     v267 = np.rad2deg(sp.statics(267.5, compliance_factor=c)["V"])
-    assert abs(v267 - 4.093) < 0.05
+    assert abs(v267 - SPRAG_TABLE2[267.5].gripping_angle) < 0.05
 
 
 def test_fitted_seed_at_peak_flags_pop_out():
@@ -179,6 +191,10 @@ def test_fitted_seed_at_peak_flags_pop_out():
     assert peak["status"] == st.CODE["pop_out_risk"]
     assert peak["margin_contact_inner"] < 0 < peak["margin_vm_inner"]
     assert rated["status"] == st.CODE["ok"]
+    allow = SPRAG_CLUTCH  # Table 2's allowables, the statics' defaults
+    assert np.rad2deg(peak["V"]) > allow["gripping_angle_allowable"].value
+    assert peak["contact_stress_inner"] / 1e6 > allow["contact_allowable"].value
+    assert peak["vm_stress_inner"] / 1e6 < allow["shaft_allowable"].value
 
 
 # ------------------------------------------------------------------ hard cases

@@ -193,3 +193,99 @@ def test_a_truncated_chunk_is_named_and_removed(chunk):
     with pytest.raises(store.CorruptChunk, match="chunk_0000.h5 cannot be read"):
         store.load_verified(chunk)
     assert not chunk.exists()
+
+
+def _edits(ds: xr.Dataset) -> dict:
+    """One small change of each kind the checksum must see."""
+    first = ds.copy(deep=True)
+    first["clamp_load"].values[0, 0] = np.nextafter(first["clamp_load"].values[0, 0], np.inf)
+    units = ds.copy(deep=True)
+    units["clamp_load"].attrs["units"] = "kN"
+    extra = ds.copy(deep=True)
+    extra["clamp_load"].attrs["comment"] = "edited"
+    glob = ds.copy(deep=True)
+    glob.attrs["config"] = glob.attrs["config"].replace("206000000000.0", "200000000000.0")
+    thickness = ds["sheet_thickness"]
+    coord = ds.assign_coords(sheet_thickness=thickness.copy(data=thickness.values + [1e-6, 0.0]))
+    renamed = ds.rename({"clamp_load": "clamp_force"})
+    dropped = ds.drop_vars("reserve_factor")
+    as_coord = ds.set_coords("reserve_factor")
+    return {
+        "a value by one ulp": first,
+        "a unit": units,
+        "a new attribute": extra,
+        "a global attribute": glob,
+        "a coordinate value": coord,
+        "a variable's name": renamed,
+        "a variable removed": dropped,
+        "a data variable made a coordinate": as_coord,
+    }
+
+
+def test_the_checksum_covers_values_and_attributes(result):
+    """Item 8: the checksum used to cover values only (a unit edited in a chunk was carried into
+    the result); it covers every variable's values, attributes, name and role, and the global
+    attributes but the checksum's own. It does not depend on how a NaN is spelled in memory, on a
+    scalar attribute stored as a one-element list, or on the checksum attributes themselves."""
+    base = store.checksum(result)
+    digests = {what: store.checksum(ds) for what, ds in _edits(result).items()}
+    assert base not in digests.values()
+    assert len(set(digests.values())) == len(digests)
+    neg_nan = result.copy(deep=True)
+    values = neg_nan["load_peak"].values  # NaN where the spring has no hump (H/h = 1.3)
+    assert np.isnan(values).any()
+    values[...] = np.where(np.isnan(values), -np.nan, values)  # another NaN bit pattern
+    assert np.signbit(values[np.isnan(values)]).all()
+    one = result.copy(deep=True)
+    one["clamp_load"].attrs["scale"] = [2.0]
+    scalar = result.copy(deep=True)
+    scalar["clamp_load"].attrs["scale"] = 2.0
+    assert store.checksum(neg_nan) == base
+    assert store.checksum(one) == store.checksum(scalar) != base
+    assert store.checksum(result.assign_attrs(store.checksum_attrs(result))) == base
+
+
+def test_a_stored_file_is_hashed_block_by_block_as_in_memory(result, tmp_path, monkeypatch):
+    """The checksum of a file read lazily a block of rows at a time (blocks far smaller than a
+    variable here) is the in-memory one; a change is named by variable."""
+    import h5py
+
+    path = store.write(result, tmp_path / "r.h5", with_checksum=True)
+    monkeypatch.setattr(store, "BLOCK_VALUES", 5)
+    assert store.seal(path) == store.checksum(result)
+    assert store.file_checksum_problem(path) is None
+    with h5py.File(path, "r+") as f:
+        f["clamp_load"].attrs["units"] = "kN"
+        f["reserve_factor"][1, 2] = 0.5
+        f.attrs["title"] = "edited"
+    assert store.file_checksum_problem(path) == (
+        "does not match its checksum (changed after it was written: clamp_load attributes, "
+        "reserve_factor values)"
+    )
+    with h5py.File(path, "r+") as f:
+        f["clamp_load"].attrs["units"] = "N"
+        f["reserve_factor"][1, 2] = result["reserve_factor"].values[1, 2]
+    assert store.file_checksum_problem(path) == (
+        "does not match its checksum (changed after it was written: global attributes)"
+    )
+
+
+def test_a_chunk_with_an_edited_attribute_is_named_and_removed(chunk):
+    """Item 8: a unit attribute edited in a chunk is found like a changed value."""
+    import h5py
+
+    with h5py.File(chunk, "r+") as f:
+        f["contact_stress"].attrs["units"] = "MPa"
+    with pytest.raises(
+        store.CorruptChunk,
+        match=r"chunk_0000.h5 does not match its checksum \(changed after it was written: "
+        r"contact_stress attributes\); it has been removed",
+    ):
+        store.load_verified(chunk)
+    assert not chunk.exists()
+
+
+def test_a_missing_chunk_is_named(tmp_path):
+    with pytest.raises(store.CorruptChunk, match="chunk_0003.h5 does not exist; run snakemake"):
+        store.load_verified(tmp_path / "chunk_0003.h5")
+    assert store.file_checksum_problem(tmp_path / "chunk_0003.h5") == "does not exist"

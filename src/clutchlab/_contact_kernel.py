@@ -472,8 +472,9 @@ SWITCHING = np.array([EV_STICK, EV_RELEASE, EV_BREAKAWAY, EV_STOP])
 
 # ----------------------------------------------------------------------------------- drivers
 @njit(cache=True, error_model="numpy")
-def impact(p, v, rtol, atol, h0):
-    """Hertz impact of a mass on a wall: (max penetration, its time, contact time, restitution, f evals)."""
+def impact(p, v, rtol, atol, h0, max_steps):
+    """Hertz impact of a mass on a wall: (max penetration, its time, contact time, restitution, f evals).
+    At most ``max_steps`` step attempts (accepted, rejected or failed): NaN results beyond."""
     y = np.array([0.0, v])
     y_new = np.zeros(2)
     y_ev = np.zeros(2)
@@ -481,7 +482,7 @@ def impact(p, v, rtol, atol, h0):
     t, h = 0.0, h0
     dmax_pen, t_max = 0.0, 0.0
     nfev = 0
-    while True:
+    for _ in range(max_steps):
         ok, err, nf = sdirk4_step(IMPACT, t, y, h, p, 0, rtol, atol, y_new, work)
         nfev += nf
         if not ok or err > 1.0:
@@ -536,6 +537,7 @@ def impact(p, v, rtol, atol, h0):
         t += h
         y[:] = y_new
         h = new_step(h, err)
+    return np.nan, np.nan, np.nan, np.nan, nfev
 
 
 @njit(cache=True, error_model="numpy")
@@ -586,7 +588,7 @@ def _roller_one(p, rtol, max_steps, res, trace, n_trace):
     steps, nfev, n_rej, n_fail = 0, 0, 0, 0
     status = ST_OK
     while t < p[TEND]:
-        if steps >= max_steps:
+        if steps + n_rej + n_fail >= max_steps:  # work: every attempt, accepted or not
             status = ST_FAIL
             break
         nb = p[TEND]

@@ -125,6 +125,8 @@ N_WORK = 31  # rows of the per-scenario scratch array (see _simulate_one)
 # events (falling through zero from > 0)
 LOCK, BREAK, UNPARK, PARK, PEAK = range(5)
 N_EVENTS = 5
+OUT_OF_WORK = -2  # a linear segment that ran out of its work budget (not an event)
+FOLLOW_SETTLED, FOLLOW_EVENT, FOLLOW_OUT_OF_WORK = range(3)
 EVENT_TIME_TOL = 1e-13  # s: bracket width at which an event time is final (Illinois method)
 # result columns
 (
@@ -1046,14 +1048,17 @@ def _monotone(ft, fd, i, lo, hi, rh, rd, rate, osc):
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _linear_segment(
-    t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, ft, pw, tq, osc, armed
+    t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, ft, pw, tq, osc, armed, budget
 ):
     """Advance a linear phase of the compliant model exactly from t to the first event in (t, t_b]
-    or to t_b (``t_b`` may be inf with ``follow``). Returns (time, event kind or −1, settled):
-    y holds the state there (works updated unless ``follow``), pk the peaks inside the segment.
-    With ``follow`` (after the window) the segment ends, settled, once no armed event can fire and
+    or to t_b (``t_b`` may be inf with ``follow``). Returns (time, event kind or −1, settled,
+    work): y holds the state there (works updated unless ``follow``), pk the peaks inside the
+    segment, work the passes of the root search it took (grid intervals and skips). With
+    ``follow`` (after the window) the segment ends, settled, once no armed event can fire and
     no peak can grow any more (bounds of the decaying free response); unsettled after 10⁵ grid
-    intervals. The load is the static load at ``t_load``."""
+    intervals. The load is the static load at ``t_load``. After ``budget`` passes the segment
+    ends where it is, with kind OUT_OF_WORK (a free response far faster than the phase, e.g. a
+    damper spring so stiff that its period is below the time's round-off, would take forever)."""
     held = q[HELD] > 0.0
     k, c, jr, jh = q[K], q[CD], q[JR], q[JH]
     tm = _load_static(t_load, q)
@@ -1207,12 +1212,17 @@ def _linear_segment(
         if armed[i] == 1.0:
             r = 3 * i
             scale = abs(ft[r, 0]) + abs(ft[r + 1, 0] * hA) + abs(ft[r + 2, 0] * hdA)
-            if not _lp.fvald(ft, fd, i, 0.0, hA, hdA) > 64.0 * _lp._EPS * scale:
+            noise = 64.0 * _lp._EPS * scale
+            if not _lp.fvald(ft, fd, i, 0.0, hA, hdA) > noise:
                 armed[i] = 3.0
+                # (above its round-off, not merely > 0: an output speed that starts at zero after
+                # unparking with zero acceleration is round-off for a while; armed on a positive
+                # round-off value it fired at once, 1e-19 s later, and the restart unparked again:
+                # a stiff damper chattered park/unpark forever, or stayed parked for good)
                 for kexp in range(40, -1, -1):
                     ta = dg * 2.0 ** (-kexp)
                     hT, hdT = _lp.hh(ta, a, w2, h0, h1)
-                    if _lp.fvald(ft, fd, i, ta, hT, hdT) > 0.0:
+                    if _lp.fvald(ft, fd, i, ta, hT, hdT) > noise:
                         armed[i], t_arm[i] = 1.0, ta
                         break
     t_lo, n_int, settled = 0.0, 0, False
@@ -1224,7 +1234,13 @@ def _linear_segment(
         mode[i], quiet_until[i] = 0.0, -1.0
     hL, hdL = hA, hdA
     tau_ev, kind_ev = np.inf, -1
+    n_pass = 0
     while True:
+        n_pass += 1
+        if n_pass > budget:  # out of work: end here (the caller reports not_converged)
+            t_end = t_lo
+            kind_ev = OUT_OF_WORK
+            break
         if not math.isfinite(T):
             # after the window: forms that can never fire (events) or grow (peaks) again are disarmed
             n_armed = 0
@@ -1428,7 +1444,9 @@ def _linear_segment(
         kind = UNPARK
     elif kind_ev == _lp.F_BRK_P or kind_ev == _lp.F_BRK_M:
         kind = BREAK
-    return t + tau, kind, settled
+    elif kind_ev == OUT_OF_WORK:
+        kind = OUT_OF_WORK
+    return t + tau, kind, settled, n_pass
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -1480,23 +1498,44 @@ def _apply_event(kind, t, y, q, locked, parked, s, compliant, prof, d, dm, g, pk
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _follow_linear(t, y, q, parked, s, prof, pk, ft, pw, tq, osc, armed):
+def _follow_linear(t, y, q, parked, s, prof, pk, ft, pw, tq, osc, armed, budget):
     """After the window: follow a linear locked phase of the compliant model exactly to t = ∞
-    (through the rest of the clamp profile) for its peaks and for any event. Returns True when it
-    settles with no event (the metrics are final), False when an event (break-away, park, unpark)
-    would change them, or the response does not settle."""
+    (through the rest of the clamp profile) for its peaks and for any event. Returns (outcome,
+    work): outcome FOLLOW_SETTLED when it settles with no event (the metrics are final),
+    FOLLOW_EVENT when an event (break-away, park, unpark) would change them or the response does
+    not settle, FOLLOW_OUT_OF_WORK when ``budget`` passes of the root search did not decide."""
+    used = 0
     while True:
         nb = np.inf
         for b in (q[TR], q[TCON]):
             if t < b < nb:
                 nb = b
-        t, kind, settled = _linear_segment(
-            t, nb, q[TEND], y, q, True, parked, s, prof, True, pk, ft, pw, tq, osc, armed
+        t, kind, settled, n = _linear_segment(
+            t,
+            nb,
+            q[TEND],
+            y,
+            q,
+            True,
+            parked,
+            s,
+            prof,
+            True,
+            pk,
+            ft,
+            pw,
+            tq,
+            osc,
+            armed,
+            budget - used,
         )
+        used += n
+        if kind == OUT_OF_WORK:
+            return FOLLOW_OUT_OF_WORK, used
         if kind >= 0:
-            return False
+            return FOLLOW_EVENT, used
         if nb == np.inf:
-            return settled
+            return (FOLLOW_SETTLED if settled else FOLLOW_EVENT), used
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -1749,8 +1788,13 @@ def _simulate_one(
     n_hist = _hist_add(hist, 0, 0.0, 0.0 if locked else aux[1] * aux[5])
     t_slip = 0.0  # start of the current slip phase (power sample spacing)
     n_steps = 0
+    # the work budget (max_steps): integrator steps attempted, mode switches and the linear phases'
+    # root-search passes all count, so that no input (a damper spring whose period is below the
+    # time's round-off, events that repeat at one instant) can keep a scenario running for ever
+    effort = 0
+    out_of_work = False
     t_stop, past = q[TEND], False
-    while n_steps < max_steps:
+    while effort < max_steps:
         if t >= t_stop:
             if past:
                 break
@@ -1761,7 +1805,13 @@ def _simulate_one(
             if parked and held and y[E] == 0.0 and y[H] == 0.0:
                 break  # a held engine at rest, hub locked to it, output parked: nothing moves again
             if _is_linear(q, True):
-                if not _follow_linear(t, y, q, parked, s, prof, pk, ft, pw, tq, osc, armed):
+                outcome, used = _follow_linear(
+                    t, y, q, parked, s, prof, pk, ft, pw, tq, osc, armed, max_steps - effort
+                )
+                effort += used
+                if outcome == FOLLOW_OUT_OF_WORK:
+                    out_of_work = True
+                elif outcome == FOLLOW_EVENT:
                     out[TRUNCATED] = 1.0
                 break
             jd = q[JR] / (
@@ -1782,9 +1832,26 @@ def _simulate_one(
                 nb = b
         if compliant and _is_linear(q, locked):
             out[N_LINEAR] += 1
-            t_new, kind, _ = _linear_segment(
-                t, nb, t, y, q, locked, parked, s, prof, False, pk, ft, pw, tq, osc, armed
+            t_new, kind, _, used = _linear_segment(
+                t,
+                nb,
+                t,
+                y,
+                q,
+                locked,
+                parked,
+                s,
+                prof,
+                False,
+                pk,
+                ft,
+                pw,
+                tq,
+                osc,
+                armed,
+                max_steps - effort,
             )
+            effort += used
             _decay_modes(y, q, t_new - t)  # (a linear phase with fade is a locked one)
             if with_hist and not past:
                 n_hist = (
@@ -1795,7 +1862,11 @@ def _simulate_one(
                     )
                 )
             t = t_new
+            if kind == OUT_OF_WORK:
+                out_of_work = True
+                break
             if kind >= 0:
+                effort += 1  # a mode switch (a restart at an event)
                 if past:
                     out[TRUNCATED] = 1.0
                     break
@@ -1836,6 +1907,7 @@ def _simulate_one(
         _dopri(t, y, h_try, q, locked, parked, s, compliant, prof, d, kk, yi, y1, err)
         norm = _err_norm(y, y1, err, rtol, atol, _n_active(q, compliant, locked), compliant)
         n_steps += 1
+        effort += 1
         # step-size control: Gustafsson's predictive controller (as in radau5.f): the smaller of the
         # elementary and the predicted step, factors in [0.2, 10], safety 0.9, no growth after a rejection
         fac11 = norm**0.2 if norm > 1e-6 else 0.0  # (below, growth is capped at 10 anyway)
@@ -2096,7 +2168,7 @@ def _simulate_one(
     )
     out[N_STEPS] = n_steps
     out[FINAL_LOCKED] = 1.0 if locked else 0.0
-    out[HIT_STEP_LIMIT] = 1.0 if (n_steps >= max_steps and t < t_stop) else 0.0
+    out[HIT_STEP_LIMIT] = 1.0 if (out_of_work or (effort >= max_steps and t < t_stop)) else 0.0
     if past:
         _copy(y, y_end)
     if not locked:

@@ -150,10 +150,15 @@ def hh(tau, a, w2, h0, h1):
         sf = e * math.sin(w * tau) / w
     elif w2 < 0.0:
         b = math.sqrt(-w2)
-        e1 = math.exp((b - a) * tau)
-        e2 = math.exp(-(a + b) * tau)
-        cf = 0.5 * (e1 + e2)
-        sf = 0.5 * (e1 - e2) / b
+        if b * tau < 1.0:  # near critical damping: sinh(bτ)/b without the cancellation of e1 − e2
+            e = math.exp(-a * tau)  # (which lost digits as 1/(bτ): 8 of them at ζ = 1 ± round-off)
+            cf = e * math.cosh(b * tau)
+            sf = e * math.sinh(b * tau) / b
+        else:
+            e1 = math.exp((b - a) * tau)
+            e2 = math.exp(-(a + b) * tau)
+            cf = 0.5 * (e1 + e2)
+            sf = 0.5 * (e1 - e2) / b
     else:
         e = math.exp(-a * tau)
         cf = e

@@ -50,13 +50,30 @@ __all__ = [
 ]
 
 
+MAX_FRICTION_COEFFICIENT = 2.0  # shoe-drum dry friction is below about 1
+MAX_FRICTION_SCATTER = 10.0  # relative rise of f a design must survive
+
+
 def centrifugal_force(*, shoe_mass, shoe_radius, speed):
-    """F_r = m·ω²·r [N] per shoe (seed 001 text; the printed ω²r omits m)."""
+    """F_r = m·ω²·r [N] per shoe (seed 001 text; the printed ω²r omits m), m [kg], r [m], ω
+    [rad/s]; NaN where m, r ≤ 0, ω < 0, or one is not finite or plausible
+    (:mod:`clutchlab.plausible`)."""
+    inputs = dict(shoe_mass=shoe_mass, shoe_radius=shoe_radius, speed=speed)
+    return st.nan_screened(_centrifugal_force, inputs, _domain(inputs))
+
+
+def _centrifugal_force(*, shoe_mass, shoe_radius, speed):
     return shoe_mass * np.square(speed) * shoe_radius
 
 
 def engagement_speed(*, shoe_mass, shoe_radius, spring_force):
-    """ω₀ = √(F_s/(m·r)) [rad/s], where the centrifugal force equals the spring resultant."""
+    """ω₀ = √(F_s/(m·r)) [rad/s], where the centrifugal force equals the spring resultant F_s [N]
+    (m [kg], r [m]); NaN where m, r ≤ 0, F_s < 0, or one is not finite or plausible."""
+    inputs = dict(shoe_mass=shoe_mass, shoe_radius=shoe_radius, spring_force=spring_force)
+    return st.nan_screened(_engagement_speed, inputs, _domain(inputs))
+
+
+def _engagement_speed(*, shoe_mass, shoe_radius, spring_force):
     return np.sqrt(spring_force / (shoe_mass * shoe_radius))
 
 
@@ -90,11 +107,39 @@ def capacity(
     -------
     forward, reverse : numpy.ndarray
         M and M′ [N m]; zero below the engagement speed; NaN where f·tanα ≥ 1 (jammed forward
-        linkage, see :func:`status`).
+        linkage, see :func:`design_status`); both NaN where an input is not finite or not physical
+        (ω, F_s < 0; z not a whole number in [1, 1000]; f outside (0, 2]; α outside [0, π/2); m,
+        r, R ≤ 0), of an implausible magnitude (:mod:`clutchlab.plausible`), or where the shoe's
+        centroid radius r is not inside the drum (r < R).
     """
+    inputs = dict(
+        speed=speed,
+        shoes=shoes,
+        friction_coefficient=friction_coefficient,
+        pressure_angle=pressure_angle,
+        shoe_mass=shoe_mass,
+        shoe_radius=shoe_radius,
+        drum_radius=drum_radius,
+        spring_force=spring_force,
+    )
+    return st.nan_screened(_capacity, inputs, {**_domain(inputs), **_GEOMETRY})
+
+
+def _capacity(
+    *,
+    speed,
+    shoes,
+    friction_coefficient,
+    pressure_angle,
+    shoe_mass,
+    shoe_radius,
+    drum_radius,
+    spring_force,
+):
     x = friction_coefficient * np.tan(pressure_angle)
     excess = np.maximum(
-        centrifugal_force(shoe_mass=shoe_mass, shoe_radius=shoe_radius, speed=speed) - spring_force,
+        _centrifugal_force(shoe_mass=shoe_mass, shoe_radius=shoe_radius, speed=speed)
+        - spring_force,
         0.0,
     )
     base = shoes * friction_coefficient * drum_radius * excess
@@ -113,23 +158,59 @@ def _jammed(x):
 
 
 def linkage_factor_from_targets(forward_torque, reverse_torque):
-    """f·tanα from the forward and reverse capacity targets M, M′ (eq. 1 over eq. 2):
-    M/M′ = (1 + f·tanα)/(1 − f·tanα) ⇒ f·tanα = (M − M′)/(M + M′) [-]."""
+    """f·tanα from the forward and reverse capacity targets M, M′ [N m] (eq. 1 over eq. 2):
+    M/M′ = (1 + f·tanα)/(1 − f·tanα) ⇒ f·tanα = (M − M′)/(M + M′) [-]; NaN unless
+    M ≥ M′ > 0, finite and plausible (a reverse target above the forward one has no linkage)."""
+    inputs = dict(forward_torque=forward_torque, reverse_torque=reverse_torque)
+    return st.nan_screened(
+        _linkage_factor_from_targets,
+        inputs,
+        {**_domain(inputs), None: lambda a: a["forward_torque"] >= a["reverse_torque"]},
+    )
+
+
+def _linkage_factor_from_targets(*, forward_torque, reverse_torque):
     return (forward_torque - reverse_torque) / (forward_torque + reverse_torque)
 
 
 def passive_torque(speed, *, rated_passive_torque, rated_speed, static_fraction):
-    """Engine drag when back-driven, T_p(ω) = T_pr·[c₀ + (1 − c₀)(ω/ω_r)²] [N m].
+    """Engine drag when back-driven, T_p(ω) = T_pr·[c₀ + (1 − c₀)(ω/ω_r)²] [N m] at speed ω ≥ 0
+    [rad/s] (T_pr ≥ 0 [N m] at ω_r > 0 [rad/s], c₀ ∈ [0, 1]; NaN where not, or not plausible).
 
     The paper gives only T_pr = 65.5 N m at 5500 rpm (Fig. 5 curve not tabulated); the shape
     (friction part c₀, pumping part ∝ ω²) is an assumption.
     """
+    inputs = dict(
+        speed=speed,
+        rated_passive_torque=rated_passive_torque,
+        rated_speed=rated_speed,
+        static_fraction=static_fraction,
+    )
+    return st.nan_screened(_passive_torque, inputs, _domain(inputs))
+
+
+def _passive_torque(*, speed, rated_passive_torque, rated_speed, static_fraction):
     u = np.asarray(speed, dtype=float) / rated_speed
     return rated_passive_torque * (static_fraction + (1.0 - static_fraction) * u * u)
 
 
 def needed_reverse_torque(speed, *, engine_inertia, rotor_inertia, rotor_drag, p0, p2):
-    """Torque the rotor must send back through a held clutch to carry the dead engine [N m]."""
+    """Torque the rotor must send back through a held clutch to carry the dead engine [N m]:
+    speed ω ≥ 0 [rad/s], inertias J_e, J_r > 0 [kg m²], rotor drag k ≥ 0 [N m s²] of k·ω², passive
+    torque T_p = p₀ + p₂·ω² (p₀ ≥ 0 [N m], p₂ ≥ 0 [N m s²]); NaN where an input is not so, or not
+    finite or plausible."""
+    inputs = dict(
+        speed=speed,
+        engine_inertia=engine_inertia,
+        rotor_inertia=rotor_inertia,
+        rotor_drag=rotor_drag,
+        p0=p0,
+        p2=p2,
+    )
+    return st.nan_screened(_needed_reverse_torque, inputs, _domain(inputs))
+
+
+def _needed_reverse_torque(*, speed, engine_inertia, rotor_inertia, rotor_drag, p0, p2):
     w2 = np.square(speed)
     return (rotor_inertia * (p0 + p2 * w2) - engine_inertia * rotor_drag * w2) / (
         engine_inertia + rotor_inertia
@@ -147,22 +228,31 @@ def _drag_coefficients(rated_speed, rotor_load_torque, rated_passive_torque, sta
     )
 
 
+# per-input rules: sign, finite, plausible magnitude (clutchlab.plausible)
 _DOMAIN = {
-    "rated_speed": st.positive,
-    "shoes": st.whole(1),
-    "friction_coefficient": st.positive,
+    "speed": st.nonnegative_in("rad/s"),
+    "rated_speed": st.positive_in("rad/s"),
+    "shoes": st.count(1),
+    "friction_coefficient": st.positive_in("1", hi=MAX_FRICTION_COEFFICIENT),
     "pressure_angle": st.between(0.0, np.pi / 2, hi_open=True),
-    "shoe_mass": st.positive,
-    "shoe_radius": st.positive,
-    "drum_radius": st.positive,
-    "spring_force": st.nonnegative,
-    "rotor_load_torque": st.nonnegative,
-    "engine_inertia": st.positive,
-    "rotor_inertia": st.positive,
-    "rated_passive_torque": st.nonnegative,
+    "shoe_mass": st.positive_in("kg"),
+    "shoe_radius": st.positive_in("m"),
+    "drum_radius": st.positive_in("m"),
+    "spring_force": st.nonnegative_in("N"),
+    "rotor_load_torque": st.nonnegative_in("N m"),
+    "engine_inertia": st.positive_in("kg m^2"),
+    "rotor_inertia": st.positive_in("kg m^2"),
+    "rated_passive_torque": st.nonnegative_in("N m"),
     "static_fraction": st.between(0.0, 1.0),
-    "friction_scatter": st.nonnegative,
+    "friction_scatter": st.nonnegative_in("1", hi=MAX_FRICTION_SCATTER),
+    "forward_torque": st.positive_in("N m"),
+    "reverse_torque": st.positive_in("N m"),
+    "rotor_drag": st.nonnegative_in("N m s^2"),
+    "p0": st.nonnegative_in("N m"),
+    "p2": st.nonnegative_in("N m s^2"),
 }
+# the shoe's centroid lies inside the drum it is pulled onto
+_GEOMETRY = {None: lambda a: a["shoe_radius"] < a["drum_radius"]}
 
 
 def _domain(names):
@@ -205,7 +295,9 @@ def release_after_failure(
         ``release_speed`` [rad/s] (engine = rotor speed when the clutch lets go), ``release_time``
         [s] after the failure (0: at once), ``released_at_once`` (bool), ``status`` (ok, or
         ``invalid_input`` with NaN where an input is not finite or not physical: a negative
-        passive torque or drag, a static fraction outside [0, 1], a count that is not whole, ...).
+        passive torque or drag, a static fraction outside [0, 1], a count that is not whole, ...,
+        or of an implausible magnitude (:mod:`clutchlab.plausible`); ``invalid_geometry`` where
+        the shoe's centroid radius is not inside the drum).
     """
     inputs = dict(
         rated_speed=rated_speed,
@@ -222,7 +314,7 @@ def release_after_failure(
         rated_passive_torque=rated_passive_torque,
         static_fraction=static_fraction,
     )
-    return st.screened(_release_after_failure, inputs, _domain(inputs))
+    return st.screened(_release_after_failure, inputs, _domain(inputs), geometry=_GEOMETRY)
 
 
 def _release_after_failure(
@@ -251,7 +343,7 @@ def _release_after_failure(
         * drum_radius
         / (1.0 + friction_coefficient * np.tan(pressure_angle))
     )
-    w0 = engagement_speed(shoe_mass=shoe_mass, shoe_radius=shoe_radius, spring_force=spring_force)
+    w0 = _engagement_speed(shoe_mass=shoe_mass, shoe_radius=shoe_radius, spring_force=spring_force)
     # g(ω) = T_need(ω) − M′(ω) = c2·ω² + c0 on ω ≥ ω₀ (release where g ≥ 0)
     c2 = (rotor_inertia * p2 - engine_inertia * k) / j - a_rev * shoe_mass * shoe_radius
     c0 = rotor_inertia * p0 / j + a_rev * spring_force
@@ -303,7 +395,9 @@ def design_status(
     rotor load; ``near_jam`` where the design works but a friction coefficient higher by the
     relative ``friction_scatter`` would jam it, (1 + scatter)·f·tanα ≥ 1: its forward capacity
     M ∝ 1/(1 − f·tanα) is near-singular there (exact, but a few percent more friction multiplies
-    it); ``invalid_input`` where an input is not finite or not physical; else ``ok``."""
+    it); ``invalid_input`` where an input is not finite or not physical or of an implausible
+    magnitude (:mod:`clutchlab.plausible`); ``invalid_geometry`` where the shoe's centroid radius
+    is not inside the drum; else ``ok``."""
     inputs = dict(
         rated_speed=rated_speed,
         shoes=shoes,
@@ -316,7 +410,7 @@ def design_status(
         rotor_load_torque=rotor_load_torque,
         friction_scatter=friction_scatter,
     )
-    return st.screened(_design_status, inputs, _domain(inputs))["status"]
+    return st.screened(_design_status, inputs, _domain(inputs), geometry=_GEOMETRY)["status"]
 
 
 def _design_status(
@@ -332,7 +426,7 @@ def _design_status(
     rotor_load_torque,
     friction_scatter,
 ):
-    fwd, _ = capacity(
+    fwd, _ = _capacity(
         speed=rated_speed,
         shoes=shoes,
         friction_coefficient=friction_coefficient,
@@ -343,7 +437,7 @@ def _design_status(
         spring_force=spring_force,
     )
     weak = (
-        centrifugal_force(shoe_mass=shoe_mass, shoe_radius=shoe_radius, speed=rated_speed)
+        _centrifugal_force(shoe_mass=shoe_mass, shoe_radius=shoe_radius, speed=rated_speed)
         <= spring_force
     ) | (fwd < rotor_load_torque)
     x = friction_coefficient * np.tan(pressure_angle)
@@ -366,7 +460,7 @@ def _params(p):
     )
 
     def caps(we):
-        return capacity(
+        return _capacity(
             speed=we,
             **{
                 n: p[n]
@@ -385,6 +479,82 @@ def _params(p):
     return k, p0, p2, caps
 
 
+# what each trace reads of a scenario dict
+_TRACE_KEYS = (
+    "rated_speed",
+    "shoes",
+    "friction_coefficient",
+    "pressure_angle",
+    "shoe_mass",
+    "shoe_radius",
+    "drum_radius",
+    "spring_force",
+    "engine_inertia",
+    "rotor_inertia",
+    "rotor_load_torque",
+    "rated_passive_torque",
+    "static_fraction",
+)
+#: right-hand-side evaluations an integration of a trace may spend (the seed traces take 1 200 and
+#: 3 400; DOP853 takes 12 a step); beyond, not_converged
+TRACE_MAX_EVALUATIONS = 100_000
+
+
+class _OutOfWork(Exception):
+    pass
+
+
+def _counted(f):
+    """``f`` that raises :class:`_OutOfWork` after :data:`TRACE_MAX_EVALUATIONS` calls."""
+    calls = [0]
+
+    def g(*args):
+        calls[0] += 1
+        if calls[0] > TRACE_MAX_EVALUATIONS:
+            raise _OutOfWork
+        return f(*args)
+
+    return g
+
+
+def _trace_status(p, extra=None, relations=None):
+    """Status code of a trace's scalar scenario ``p`` (plus ``extra`` inputs with their rules):
+    invalid_input, invalid_geometry or ok."""
+    extra = extra or {}
+    missing = [k for k in _TRACE_KEYS if k not in p]
+    if missing:
+        raise KeyError(f"the scenario lacks {', '.join(missing)}")
+    inputs = {k: p[k] for k in _TRACE_KEYS} | {k: v for k, (v, _) in extra.items()}
+    rules = _domain(_TRACE_KEYS) | {k: r for k, (_, r) in extra.items()} | (relations or {})
+    _, ok = st.admissible(inputs, rules)
+    if not ok:
+        return st.CODE["invalid_input"]
+    _, fits = st.admissible(inputs, _GEOMETRY)
+    return st.CODE["ok"] if fits else st.CODE["invalid_geometry"]
+
+
+def _check_trace_options(t_end, n, rtol, atol):
+    if not (np.isscalar(t_end) and st.positive_in("s")(np.asarray(t_end, float))):
+        raise ValueError(f"t_end must be a plausible time > 0 s, got {t_end!r}")
+    if not (np.isscalar(n) and 2 <= n <= 1e6 and n == int(n)):
+        raise ValueError(f"n must be a whole number in [2, 1e6], got {n!r}")
+    for name, v in (("rtol", rtol), ("atol", atol)):
+        if not (np.isscalar(v) and np.isfinite(v) and 0 < v < 1):
+            raise ValueError(f"{name} must be a number in (0, 1), got {v!r}")
+
+
+def _failed_trace(times, code, scalars):
+    nan = np.full(times.size, np.nan)
+    return {
+        "time": times,
+        "engine_speed": nan,
+        "rotor_speed": nan.copy(),
+        "clutch_torque": nan.copy(),
+        **{k: np.nan for k in scalars},
+        "status": code,
+    }
+
+
 def engine_failure_trace(p, *, t_end=3.0, n=301, rtol=1e-10, atol=1e-10):
     """Speeds after an engine failure at rated speed for one scenario (seed 001 Fig. 8).
 
@@ -397,22 +567,39 @@ def engine_failure_trace(p, *, t_end=3.0, n=301, rtol=1e-10, atol=1e-10):
     -------
     dict
         ``time`` [s], ``engine_speed``, ``rotor_speed`` [rad/s], ``clutch_torque`` [N m]
-        (positive forward), ``release_time`` [s], ``release_speed`` [rad/s].
+        (positive forward), ``release_time`` [s] (inf: still held at ``t_end``),
+        ``release_speed`` [rad/s] (NaN then), ``status``: ok;
+        invalid_input / invalid_geometry (NaN) where ``p`` fails the screening of
+        :func:`release_after_failure`; not_converged (NaN) where the integration spends more than
+        :data:`TRACE_MAX_EVALUATIONS` evaluations. ``t_end`` [s] a plausible time, ``n`` points
+        in [2, 1e6], rtol and atol in (0, 1): ValueError otherwise.
     """
+    _check_trace_options(t_end, n, rtol, atol)
+    times = np.linspace(0.0, t_end, int(n))
+    code = _trace_status(p)
+    if code == st.CODE["ok"]:
+        try:
+            return _engine_failure_trace(p, times, rtol, atol)
+        except _OutOfWork:
+            code = st.CODE["not_converged"]
+    return _failed_trace(times, code, ("release_time", "release_speed"))
+
+
+def _engine_failure_trace(p, times, rtol, atol):
     from scipy.integrate import solve_ivp
 
+    t_end, n = float(times[-1]), times.size
     k, p0, p2, caps = _params(p)
     je, jr = p["engine_inertia"], p["rotor_inertia"]
 
     def need_minus_cap(w):
         return (
-            needed_reverse_torque(
-                w, engine_inertia=je, rotor_inertia=jr, rotor_drag=k, p0=p0, p2=p2
+            _needed_reverse_torque(
+                speed=w, engine_inertia=je, rotor_inertia=jr, rotor_drag=k, p0=p0, p2=p2
             )
             - caps(w)[1]
         )
 
-    times = np.linspace(0.0, t_end, n)
     w_r = p["rated_speed"]
     if need_minus_cap(w_r) >= 0:
         t_rel, w_rel = 0.0, w_r
@@ -420,7 +607,7 @@ def engine_failure_trace(p, *, t_end=3.0, n=301, rtol=1e-10, atol=1e-10):
         ev = lambda t, y: need_minus_cap(y[0])  # noqa: E731
         ev.terminal, ev.direction = True, 1
         sol = solve_ivp(
-            lambda t, y: [-(p0 + (p2 + k) * y[0] ** 2) / (je + jr)],
+            _counted(lambda t, y: [-(p0 + (p2 + k) * y[0] ** 2) / (je + jr)]),
             (0.0, t_end),
             [w_r],
             method="DOP853",
@@ -438,8 +625,8 @@ def engine_failure_trace(p, *, t_end=3.0, n=301, rtol=1e-10, atol=1e-10):
     if np.any(held) and t_rel > 0:
         yy = sol.sol(times[held])[0]
         we[held] = wr[held] = yy
-        tc[held] = -needed_reverse_torque(
-            yy, engine_inertia=je, rotor_inertia=jr, rotor_drag=k, p0=p0, p2=p2
+        tc[held] = -_needed_reverse_torque(
+            speed=yy, engine_inertia=je, rotor_inertia=jr, rotor_drag=k, p0=p0, p2=p2
         )
     if np.isfinite(t_rel):
 
@@ -453,7 +640,7 @@ def engine_failure_trace(p, *, t_end=3.0, n=301, rtol=1e-10, atol=1e-10):
         stop.terminal, stop.direction = True, -1
         after = times[times > t_rel]
         s2 = solve_ivp(
-            free,
+            _counted(free),
             (t_rel, t_end),
             [w_rel, w_rel],
             method="DOP853",
@@ -464,11 +651,13 @@ def engine_failure_trace(p, *, t_end=3.0, n=301, rtol=1e-10, atol=1e-10):
         )
         t_stop = s2.t[-1]
         moving = after <= t_stop
-        yy = s2.sol(after[moving])
         sel = np.flatnonzero(times > t_rel)
-        we[sel[moving]], wr[sel[moving]] = yy[0], yy[1]
+        if np.any(moving):
+            yy = s2.sol(after[moving])
+            we[sel[moving]], wr[sel[moving]] = yy[0], yy[1]
         if np.any(~moving):  # engine at rest: the rotor runs down free
-            w_stop = s2.sol(t_stop)[1]
+            # (the stop at once: no step, no dense output)
+            w_stop = s2.sol(t_stop)[1] if s2.t.size > 1 else s2.y[1, -1]
             tt = after[~moving] - t_stop
             we[sel[~moving]] = 0.0
             wr[sel[~moving]] = w_stop / (1.0 + k * w_stop * tt / jr)
@@ -480,6 +669,7 @@ def engine_failure_trace(p, *, t_end=3.0, n=301, rtol=1e-10, atol=1e-10):
         "clutch_torque": tc,
         "release_time": t_rel,
         "release_speed": w_rel,
+        "status": st.CODE["ok"],
     }
 
 
@@ -488,18 +678,42 @@ def startup_trace(p, *, idle_speed, startup_time, t_end=None, n=301, rtol=1e-10,
     the rotor (drag k·ω²) picked up by the forward capacity M(ω_e): slipping while
     J_r·ω_r' = M(ω_e) − k·ω_r² keeps ω_r < ω_e, then turning with the engine. DOP853 with the
     lock-up as an event. Returns ``time``, ``engine_speed``, ``rotor_speed``, ``clutch_torque``,
-    ``lockup_time``, ``lockup_speed``.
+    ``lockup_time`` (inf: not locked by ``t_end``), ``lockup_speed``, ``status``: ok; invalid_input / invalid_geometry (NaN)
+    where ``p`` fails the screening of :func:`release_after_failure`, the idle speed [rad/s] is
+    not ≥ 0 and below the rated speed, or the start-up time [s] is not a plausible time > 0;
+    not_converged (NaN) beyond :data:`TRACE_MAX_EVALUATIONS` evaluations. Options as
+    :func:`engine_failure_trace` (``t_end`` default 1.5·``startup_time``).
     """
+    extra = {
+        "idle_speed": (idle_speed, _DOMAIN["speed"]),
+        "startup_time": (startup_time, st.positive_in("s")),
+    }
+    below = {None: lambda a: a["idle_speed"] < a["rated_speed"]}
+    code = _trace_status(p, extra, below)
+    if t_end is None:  # (1 s for a start-up time that is no time: its trace is NaN anyway)
+        t_end = 1.5 * startup_time if code == st.CODE["ok"] else 1.0
+    _check_trace_options(t_end, n, rtol, atol)
+    times = np.linspace(0.0, t_end, int(n))
+    if code == st.CODE["ok"]:
+        try:
+            return _startup_trace(p, idle_speed, startup_time, times, rtol, atol)
+        except _OutOfWork:
+            code = st.CODE["not_converged"]
+    return _failed_trace(times, code, ("lockup_time", "lockup_speed"))
+
+
+def _startup_trace(p, idle_speed, startup_time, times, rtol, atol):
     from scipy.integrate import solve_ivp
 
     k, _, _, caps = _params(p)
     jr, w_r = p["rotor_inertia"], p["rated_speed"]
-    t_end = 1.5 * startup_time if t_end is None else t_end
+    t_end = float(times[-1])
     rate = (w_r - idle_speed) / startup_time
 
     def w_e(t):
         return np.minimum(idle_speed + rate * t, w_r)
 
+    @_counted
     def rhs(t, y):
         return [(caps(w_e(t))[0] - k * y[0] ** 2) / jr]
 
@@ -530,7 +744,6 @@ def startup_trace(p, *, idle_speed, startup_time, t_end=None, n=301, rtol=1e-10,
         t_lock = float(s2.t_events[0][0]) if s2.t_events[0].size else np.inf
     else:
         s2, t_lock = None, float(sol.t_events[0][0])
-    times = np.linspace(0.0, t_end, n)
     we = w_e(times)
     wr = np.where(times >= t_lock, we, np.nan)
     slip = times < t_lock
@@ -547,4 +760,5 @@ def startup_trace(p, *, idle_speed, startup_time, t_end=None, n=301, rtol=1e-10,
         "clutch_torque": tc,
         "lockup_time": t_lock,
         "lockup_speed": float(w_e(t_lock)) if np.isfinite(t_lock) else np.nan,
+        "status": st.CODE["ok"],
     }

@@ -19,18 +19,51 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
 from . import _contact_kernel as _kernel
+from . import status as st
 
 __all__ = ["impact_force", "hertz_stiffness", "hertz_impact", "HERTZ_CONTACT_TIME_FACTOR"]
 
 #: contact time of the undamped Hertz impact (e = 3/2) in units of δ_max / v:
 #: 2·∫₀¹ dx/√(1−x^(5/2)) = (4/5)·B(2/5, 1/2) = 2.94328
 HERTZ_CONTACT_TIME_FACTOR = 0.8 * math.gamma(0.4) * math.gamma(0.5) / math.gamma(0.9)
+MAX_EXPONENT = 10.0  # of k·δ^e (Hertz: 1.5; ADAMS models use 1 to about 3)
+#: step attempts :func:`hertz_impact` may spend (a seed impact takes ~100)
+IMPACT_MAX_STEPS = 1_000_000
+
+# per-input rules (sign, finite, plausible magnitude: clutchlab.plausible); a penetration and its
+# rate are states: any size near zero, finite and not absurd
+_RULES = {
+    "roller_diameter": st.positive_in("m"),
+    "youngs_modulus": st.positive_in("Pa"),
+    "poisson_ratio": st.between(-1.0, 0.5, lo_open=True, hi_open=True),
+    "penetration": st.finite_in("m", lo=0.0),
+    "rate": st.finite_in("m/s", lo=0.0, hi=1e5),
+    "stiffness": st.positive_in("N/m^1.5"),
+    "exponent": st.all_of(st.at_least(1.0), st.plausible("1", hi=MAX_EXPONENT)),
+    "damping": st.nonnegative_in("N s/m"),
+    "depth": st.positive_in("m"),
+    "mass": st.positive_in("kg"),
+    "speed": st.positive_in("m/s", lo=1e-9, hi=1e5),
+}
+
+
+def _domain(inputs):
+    return {k: _RULES[k] for k in inputs}
 
 
 def hertz_stiffness(*, roller_diameter, youngs_modulus=206e9, poisson_ratio=0.3):
     """k = (4/3)·E*·√(d/2) of a cylinder on a flat of the same steel (E* = E/(2(1−ν²))) [N/m^1.5];
-    3.375e5 N/mm^1.5 for the 10 mm rollers of seed 003."""
+    3.375e5 N/mm^1.5 for the 10 mm rollers of seed 003. Roller diameter d [m], E [Pa]; NaN where
+    d or E is not positive, finite and plausible or ν lies outside (−1, 0.5)."""
+    inputs = dict(
+        roller_diameter=roller_diameter, youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio
+    )
+    return st.nan_screened(_hertz_stiffness, inputs, _domain(inputs))
+
+
+def _hertz_stiffness(*, roller_diameter, youngs_modulus, poisson_ratio):
     e_star = youngs_modulus / (2.0 * (1.0 - np.square(poisson_ratio)))
     return 4.0 / 3.0 * e_star * np.sqrt(0.5 * np.asarray(roller_diameter, float))
 
@@ -43,7 +76,22 @@ def impact_force(penetration, rate, *, stiffness, exponent=1.5, damping=0.0, dep
     penetration : array_like [m]   δ (> 0 in contact)
     rate : array_like [m/s]   dδ/dt
     stiffness : [N/m^exponent]; exponent : [1]; damping : [N s/m] (c_max); depth : [m] (d_max)
+
+    Returns NaN where k or d_max is not positive, c_max < 0, e outside [1, 10], or an input is not
+    finite or plausible (:mod:`clutchlab.plausible`).
     """
+    inputs = dict(
+        penetration=penetration,
+        rate=rate,
+        stiffness=stiffness,
+        exponent=exponent,
+        damping=damping,
+        depth=depth,
+    )
+    return st.nan_screened(_impact_force, inputs, _domain(inputs))
+
+
+def _impact_force(*, penetration, rate, stiffness, exponent, damping, depth):
     d = np.asarray(penetration, float)
     x = np.clip(d / depth, 0.0, 1.0)
     step = x * x * (3.0 - 2.0 * x)
@@ -53,10 +101,28 @@ def impact_force(penetration, rate, *, stiffness, exponent=1.5, damping=0.0, dep
 
 def hertz_impact(*, mass, speed, stiffness, exponent=1.5, damping=0.0, depth=1e-5, rtol=1e-10):
     """A mass hitting a rigid wall through the contact law, integrated with the compiled SDIRK4
-    (events located by re-stepping). Returns dict: ``max_penetration`` [m], ``time_of_max`` [s],
-    ``contact_time`` [s], ``restitution`` [1] (exit over entry speed), ``nfev``."""
+    (events located by re-stepping). Mass [kg], impact speed [m/s] > 0, the law's parameters as
+    :func:`impact_force`, rtol in (0, 1) (ValueError otherwise).
+
+    Returns dict: ``max_penetration`` [m], ``time_of_max`` [s], ``contact_time`` [s],
+    ``restitution`` [1] (exit over entry speed), ``nfev``, ``status``: ok; invalid_input (NaN, no
+    integration) where an input is not physical, finite or plausible; not_converged (NaN) after
+    :data:`IMPACT_MAX_STEPS` step attempts.
+    """
+    if not (np.isscalar(rtol) and np.isfinite(rtol) and 0 < rtol < 1):
+        raise ValueError(f"rtol must be a number in (0, 1), got {rtol!r}")
+    inputs = dict(
+        mass=mass, speed=speed, stiffness=stiffness, exponent=exponent, damping=damping, depth=depth
+    )
+    _, ok = st.admissible(inputs, _domain(inputs))
+    names = ("max_penetration", "time_of_max", "contact_time", "restitution", "nfev")
+    if ok.ndim:
+        raise ValueError("hertz_impact takes one scenario (scalars)")
+    if not ok:
+        return {**dict.fromkeys(names, np.nan), "status": st.CODE["invalid_input"]}
     p = np.array([mass, stiffness, exponent, damping, depth], float)
     d_ref = (5 * mass * speed**2 / (4 * stiffness)) ** (1 / (exponent + 1))
     atol = np.array([rtol * d_ref, rtol * speed])
-    out = _kernel.impact(p, float(speed), rtol, atol, 1e-3 * d_ref / speed)
-    return dict(zip(("max_penetration", "time_of_max", "contact_time", "restitution", "nfev"), out))
+    out = _kernel.impact(p, float(speed), rtol, atol, 1e-3 * d_ref / speed, IMPACT_MAX_STEPS)
+    code = st.CODE["ok"] if np.isfinite(out[2]) else st.CODE["not_converged"]
+    return {**dict(zip(names, out, strict=True)), "status": code}

@@ -26,8 +26,52 @@ __all__ = [
 SQRT2 = np.sqrt(2.0)
 
 
+MAX_OPERATING_POINT_FACTOR = 10.0  # λ_B/λ_C (0.8 to 1.0 in [1])
+
+_RADIUS = st.positive_in("m")
+_RULES = {
+    "youngs_modulus": st.positive_in("Pa"),
+    "poisson_ratio": st.between(-1.0, 0.5, lo_open=True, hi_open=True),
+    "sheet_thickness": st.positive_in("m"),
+    "cone_height": st.positive_in("m"),
+    "outer_radius": _RADIUS,
+    "inner_radius": _RADIUS,
+    "load_radius_outer": _RADIUS,
+    "load_radius_inner": _RADIUS,
+    "operating_point_factor": st.positive_in("1", lo=1e-3, hi=MAX_OPERATING_POINT_FACTOR),
+    "deflection": st.finite_in("m"),
+}
+
+
+def _in_order(a):
+    """0 < r ≤ r₁ < R₁ ≤ R: the load points on the spring, inside out."""
+    return (
+        (a["inner_radius"] <= a["load_radius_inner"])
+        & (a["load_radius_inner"] < a["load_radius_outer"])
+        & (a["load_radius_outer"] <= a["outer_radius"])
+    )
+
+
+def _domain(inputs, order=True):
+    rules = {k: _RULES[k] for k in inputs}
+    if order:
+        rules[None] = _in_order
+    return rules
+
+
 def radius_ratio_k(outer_radius, inner_radius, load_radius_outer, load_radius_inner):
-    """Lever ratio k = (R − r)/(R₁ − r₁) of eq. (10) in [1] [-]."""
+    """Lever ratio k = (R − r)/(R₁ − r₁) of eq. (10) in [1] [-] (radii [m]); NaN unless
+    0 < r ≤ r₁ < R₁ ≤ R, finite and plausible (:mod:`clutchlab.plausible`)."""
+    inputs = dict(
+        outer_radius=outer_radius,
+        inner_radius=inner_radius,
+        load_radius_outer=load_radius_outer,
+        load_radius_inner=load_radius_inner,
+    )
+    return st.nan_screened(_radius_ratio_k, inputs, _domain(inputs))
+
+
+def _radius_ratio_k(*, outer_radius, inner_radius, load_radius_outer, load_radius_inner):
     return (outer_radius - inner_radius) / (load_radius_outer - load_radius_inner)
 
 
@@ -43,8 +87,31 @@ def spring_constant(
 ):
     """Leading factor c of eq. (10) in [1]: F = c·λ·[(H − kλ)(H − kλ/2) + h²]  [N/m³].
 
-    c = π·E·h / (6(1 − μ²)) · ln(R/r) / (R₁ − r₁)².
+    c = π·E·h / (6(1 − μ²)) · ln(R/r) / (R₁ − r₁)², E [Pa], h and the radii [m]; NaN unless
+    ν ∈ (−1, 0.5), 0 < r ≤ r₁ < R₁ ≤ R and every input finite, positive and plausible.
     """
+    inputs = dict(
+        youngs_modulus=youngs_modulus,
+        poisson_ratio=poisson_ratio,
+        sheet_thickness=sheet_thickness,
+        outer_radius=outer_radius,
+        inner_radius=inner_radius,
+        load_radius_outer=load_radius_outer,
+        load_radius_inner=load_radius_inner,
+    )
+    return st.nan_screened(_spring_constant, inputs, _domain(inputs))
+
+
+def _spring_constant(
+    *,
+    youngs_modulus,
+    poisson_ratio,
+    sheet_thickness,
+    outer_radius,
+    inner_radius,
+    load_radius_outer,
+    load_radius_inner,
+):
     return (
         np.pi
         * youngs_modulus
@@ -89,13 +156,41 @@ def almen_laszlo_load(
     Returns
     -------
     numpy.ndarray
-        Load F [N].
+        Load F [N]; NaN where an input is not finite or not physical (E, h, H ≤ 0; ν outside
+        (−1, 0.5); radii not 0 < r ≤ r₁ < R₁ ≤ R) or of an implausible magnitude
+        (:mod:`clutchlab.plausible`).
 
     References
     ----------
     Eq. (10) of seed 000 ([1] in the module docstring).
     """
-    c = spring_constant(
+    inputs = dict(
+        deflection=deflection,
+        youngs_modulus=youngs_modulus,
+        poisson_ratio=poisson_ratio,
+        sheet_thickness=sheet_thickness,
+        cone_height=cone_height,
+        outer_radius=outer_radius,
+        inner_radius=inner_radius,
+        load_radius_outer=load_radius_outer,
+        load_radius_inner=load_radius_inner,
+    )
+    return st.nan_screened(_almen_laszlo_load, inputs, _domain(inputs))
+
+
+def _almen_laszlo_load(
+    *,
+    deflection,
+    youngs_modulus,
+    poisson_ratio,
+    sheet_thickness,
+    cone_height,
+    outer_radius,
+    inner_radius,
+    load_radius_outer,
+    load_radius_inner,
+):
+    c = _spring_constant(
         youngs_modulus=youngs_modulus,
         poisson_ratio=poisson_ratio,
         sheet_thickness=sheet_thickness,
@@ -104,7 +199,12 @@ def almen_laszlo_load(
         load_radius_outer=load_radius_outer,
         load_radius_inner=load_radius_inner,
     )
-    k = radius_ratio_k(outer_radius, inner_radius, load_radius_outer, load_radius_inner)
+    k = _radius_ratio_k(
+        outer_radius=outer_radius,
+        inner_radius=inner_radius,
+        load_radius_outer=load_radius_outer,
+        load_radius_inner=load_radius_inner,
+    )
     lam = np.asarray(deflection, dtype=float)
     H, h = cone_height, sheet_thickness
     return c * lam * ((H - k * lam) * (H - 0.5 * k * lam) + h**2)
@@ -119,28 +219,21 @@ def geometry_is_valid(
     load_radius_outer,
     load_radius_inner,
 ):
-    """True where 0 < r ≤ r₁ < R₁ ≤ R and h, H > 0 (load points on the spring)."""
-    return (
-        (inner_radius > 0)
-        & (inner_radius <= load_radius_inner)
-        & (load_radius_inner < load_radius_outer)
-        & (load_radius_outer <= outer_radius)
-        & (sheet_thickness > 0)
-        & (cone_height > 0)
+    """True where 0 < r ≤ r₁ < R₁ ≤ R and h, H > 0 (load points on the spring), every length [m]
+    finite and of a plausible magnitude (:mod:`clutchlab.plausible`)."""
+    inputs = dict(
+        sheet_thickness=sheet_thickness,
+        cone_height=cone_height,
+        outer_radius=outer_radius,
+        inner_radius=inner_radius,
+        load_radius_outer=load_radius_outer,
+        load_radius_inner=load_radius_inner,
     )
+    _, ok = st.admissible(inputs, _domain(inputs))
+    return ok
 
 
-_DOMAIN = {
-    "youngs_modulus": st.positive,
-    "poisson_ratio": st.between(-1.0, 0.5, lo_open=True, hi_open=True),
-    "sheet_thickness": st.positive,
-    "cone_height": st.positive,
-    "outer_radius": st.positive,
-    "inner_radius": st.positive,
-    "load_radius_outer": st.positive,
-    "load_radius_inner": st.positive,
-    "operating_point_factor": st.positive,
-}
+_DOMAIN = {k: v for k, v in _RULES.items() if k != "deflection"}
 
 
 def characteristic_points(
@@ -170,9 +263,11 @@ def characteristic_points(
         ``deflection_A/C/D/B`` [m], ``load_A/C/D/B`` [N] and ``status`` (int8, see
         :mod:`clutchlab.status`): ``monotone_no_hump`` where H/h ≤ √2 (A and D are NaN, B is
         still given since the flat position C exists), ``snap_through`` where the valley load
-        F_D ≤ 0 (H/h ≥ 2√2: the spring would not spring back), ``invalid_geometry`` (all NaN) and
-        ``invalid_input`` (all NaN) where an input is not finite or not physical (E, h, H, radii,
-        operating-point factor ≤ 0; ν outside (−1, 0.5)).
+        F_D ≤ 0 (H/h ≥ 2√2: the spring would not spring back), ``invalid_geometry`` (all NaN)
+        where the load points are not on the spring (0 < r ≤ r₁ < R₁ ≤ R) and ``invalid_input``
+        (all NaN) where an input is not finite or not physical (E, h, H, radii, operating-point
+        factor ≤ 0; ν outside (−1, 0.5)) or of an implausible magnitude
+        (:mod:`clutchlab.plausible`; the operating-point factor at most 10).
     """
     return st.screened(
         _characteristic_points,
@@ -188,6 +283,7 @@ def characteristic_points(
             operating_point_factor=operating_point_factor,
         ),
         _DOMAIN,
+        geometry={None: _in_order},
     )
 
 
@@ -213,23 +309,26 @@ def _characteristic_points(
         load_radius_outer=load_radius_outer,
         load_radius_inner=load_radius_inner,
     )
-    geom = dict(args)
-    del geom["youngs_modulus"], geom["poisson_ratio"]
-    valid = geometry_is_valid(**geom)
+    # (screened: every input admissible, the load points on the spring)
     shape = np.broadcast_shapes(
         *(np.shape(v) for v in args.values()), np.shape(operating_point_factor)
     )
-    valid = np.broadcast_to(valid, shape)
     with np.errstate(invalid="ignore", divide="ignore"):
         H = np.broadcast_to(cone_height, shape).astype(float)
         h = np.broadcast_to(sheet_thickness, shape).astype(float)
         k = np.broadcast_to(
-            radius_ratio_k(outer_radius, inner_radius, load_radius_outer, load_radius_inner), shape
+            _radius_ratio_k(
+                outer_radius=outer_radius,
+                inner_radius=inner_radius,
+                load_radius_outer=load_radius_outer,
+                load_radius_inner=load_radius_inner,
+            ),
+            shape,
         )
         disc = (H**2 - 2.0 * h**2) / 3.0
-        hump = valid & (disc > 0)
+        hump = disc > 0
         root = np.sqrt(np.where(hump, disc, np.nan))
-        lam_C = np.where(valid, H / k, np.nan)
+        lam_C = H / k
         lam_A = (H - root) / k
         lam_D = (H + root) / k
         lam_B = np.broadcast_to(operating_point_factor, shape) * lam_C
@@ -240,10 +339,9 @@ def _characteristic_points(
             "deflection_B": lam_B,
         }
         for p in "ACDB":
-            out[f"load_{p}"] = almen_laszlo_load(out[f"deflection_{p}"], **args)
+            out[f"load_{p}"] = _almen_laszlo_load(deflection=out[f"deflection_{p}"], **args)
     code = np.full(shape, st.CODE["ok"], dtype=st.DTYPE)
     code[~hump] = st.CODE["monotone_no_hump"]
     code[hump & ~(out["load_D"] > 0)] = st.CODE["snap_through"]
-    code[~valid] = st.CODE["invalid_geometry"]
     out["status"] = code
     return out

@@ -1,5 +1,9 @@
 """Driven-plate hub: torsional damper springs (eqs. 4–9) and the hub spline check of seed 000.
 
+Every function returns NaN where an input is not finite, not physical (a negative torque, a
+count that is not a whole number in [1, 1000], a non-positive length or modulus) or of an
+implausible magnitude (:mod:`clutchlab.plausible`).
+
 References
 ----------
 .. [1] Zhao P. (2026), seed 000, section 3.2.2 (spline) and eqs. (4)–(9) (damper springs).
@@ -8,6 +12,8 @@ References
 from __future__ import annotations
 
 import numpy as np
+
+from . import status as st
 
 __all__ = [
     "damper_design_torque",
@@ -20,33 +26,83 @@ __all__ = [
     "spline_stresses",
 ]
 
+MAX_FACTOR = 1e3  # the empirical factors of eqs. (4) and (7) (2 and 13 in [1])
+
+# per-input rules (sign, finite, plausible magnitude)
+_RULES = {
+    "max_engine_torque": st.nonnegative_in("N m"),
+    "design_torque": st.nonnegative_in("N m"),
+    "torque": st.nonnegative_in("N m"),
+    "factor": st.positive_in("1", hi=MAX_FACTOR),
+    "spring_radius": st.positive_in("m"),
+    "total_force": st.nonnegative_in("N"),
+    "spring_force": st.nonnegative_in("N"),
+    "spring_count": st.count(1),
+    "teeth": st.count(1),
+    "coil_diameter": st.positive_in("m"),
+    "wire_diameter": st.positive_in("m"),
+    "allowable_shear_stress": st.positive_in("Pa"),
+    "shear_modulus": st.positive_in("Pa"),
+    "angular_stiffness": st.nonnegative_in("N m/rad"),
+    "spring_rate": st.positive_in("N/m"),
+    "outer_diameter": st.positive_in("m"),
+    "inner_diameter": st.positive_in("m"),
+    "tooth_width": st.positive_in("m"),
+    "length": st.positive_in("m"),
+}
+
+
+def _screened(compute, relations=None, **inputs):
+    return st.nan_screened(compute, inputs, {**{k: _RULES[k] for k in inputs}, **(relations or {})})
+
 
 def damper_design_torque(max_engine_torque, factor=2.0):
     """Maximum damper torque T_j = factor·T_emax [N·m] (the paper takes factor = 2)."""
-    return factor * np.asarray(max_engine_torque, dtype=float)
+    return _screened(
+        lambda max_engine_torque, factor: factor * np.asarray(max_engine_torque, dtype=float),
+        max_engine_torque=max_engine_torque,
+        factor=factor,
+    )
 
 
 def damper_total_force(design_torque, spring_radius):
-    """Total force on all damper springs P_total = T_j / R₁, eq. (4) of [1] [N].
+    """Total force on all damper springs P_total = T_j / R₁, eq. (4) of [1] [N] (T_j [N·m], R₁ [m]).
 
     Erratum: Table 2 of [1] labels this value (6654 N) "single spring working pressure";
     it is the total over all springs (eq. 4). R₁ is not printed; 6654 N implies R₁ = 52.0 mm.
     """
-    return np.asarray(design_torque, dtype=float) / spring_radius
+    return _screened(
+        lambda design_torque, spring_radius: np.asarray(design_torque, dtype=float) / spring_radius,
+        design_torque=design_torque,
+        spring_radius=spring_radius,
+    )
 
 
 def damper_spring_force(total_force, spring_count):
     """Force on one damper spring P = P_total / z, eq. (5) of [1] [N]."""
-    return np.asarray(total_force, dtype=float) / spring_count
+    return _screened(
+        lambda total_force, spring_count: np.asarray(total_force, dtype=float) / spring_count,
+        total_force=total_force,
+        spring_count=spring_count,
+    )
 
 
 def damper_wire_diameter(spring_force, coil_diameter, allowable_shear_stress):
-    """Wire diameter d₁ = ∛(8·P·D_c / (π·τ)), eq. (6) of [1] corrected [m].
+    """Wire diameter d₁ = ∛(8·P·D_c / (π·τ)), eq. (6) of [1] corrected [m] (P [N], D_c [m], τ [Pa]).
 
     Erratum: eq. (6) is printed with a square root, which is dimensionally wrong; the torsion
     stress of a helical spring τ = 8·P·D_c/(π·d³) gives the cube root used here (no Wahl factor,
     as in the paper).
     """
+    return _screened(
+        _wire_diameter,
+        spring_force=spring_force,
+        coil_diameter=coil_diameter,
+        allowable_shear_stress=allowable_shear_stress,
+    )
+
+
+def _wire_diameter(spring_force, coil_diameter, allowable_shear_stress):
     return np.cbrt(
         8.0
         * np.asarray(spring_force, dtype=float)
@@ -60,22 +116,45 @@ def damper_angular_stiffness(design_torque, factor=13.0):
 
     The rule is empirical: T_j in N·m gives C_a in N·m/rad.
     """
-    return factor * np.asarray(design_torque, dtype=float)
+    return _screened(
+        lambda design_torque, factor: factor * np.asarray(design_torque, dtype=float),
+        design_torque=design_torque,
+        factor=factor,
+    )
 
 
 def damper_spring_rate(angular_stiffness, spring_radius, spring_count):
-    """Linear rate of one damper spring C = C_a / (R₁²·z), eq. (8) of [1] in SI [N/m].
+    """Linear rate of one damper spring C = C_a / (R₁²·z), eq. (8) of [1] in SI [N/m]
+    (C_a [N·m/rad], R₁ [m]).
 
     Erratum: eq. (8) is printed as C = C_a / (1000·R₁²·z) with R₁ in mm, and Table 2 gives the
     result (416) as "N/m"; in consistent units the value is 415.9 N/mm = 4.159e5 N/m.
     """
-    return np.asarray(angular_stiffness, dtype=float) / (
-        np.asarray(spring_radius) ** 2 * spring_count
+    return _screened(
+        lambda angular_stiffness, spring_radius, spring_count: (
+            np.asarray(angular_stiffness, dtype=float)
+            / (np.asarray(spring_radius) ** 2 * spring_count)
+        ),
+        angular_stiffness=angular_stiffness,
+        spring_radius=spring_radius,
+        spring_count=spring_count,
     )
 
 
 def damper_coil_count(shear_modulus, wire_diameter, coil_diameter, spring_rate):
-    """Active coils i = G·d₁⁴ / (8·D_c³·C), eq. (9) of [1] [-] (D₂ there is the coil diameter D_c)."""
+    """Active coils i = G·d₁⁴ / (8·D_c³·C), eq. (9) of [1] [-] (D₂ there is the coil diameter D_c;
+    G [Pa], d₁ and D_c [m], C [N/m]; the wire thinner than the coil, d₁ < D_c)."""
+    return _screened(
+        _coil_count,
+        {None: lambda a: a["wire_diameter"] < a["coil_diameter"]},
+        shear_modulus=shear_modulus,
+        wire_diameter=wire_diameter,
+        coil_diameter=coil_diameter,
+        spring_rate=spring_rate,
+    )
+
+
+def _coil_count(shear_modulus, wire_diameter, coil_diameter, spring_rate):
     return (
         np.asarray(shear_modulus, dtype=float)
         * np.asarray(wire_diameter) ** 4
@@ -92,11 +171,33 @@ def spline_stresses(torque, *, teeth, outer_diameter, inner_diameter, tooth_widt
     15 MPa shear, which this formula reaches only with twice that torque (15.7 MPa at
     T_j = 346 N·m, the damper design torque); the paper does not say which torque it used.
 
+    Parameters
+    ----------
+    torque : array_like
+        T ≥ 0 [N·m].
+    teeth : array_like
+        n, a whole number in [1, 1000].
+    outer_diameter, inner_diameter, tooth_width, length : array_like
+        D > d > 0, t, l > 0 [m].
+
     Returns
     -------
     tuple of numpy.ndarray
-        (bearing stress, shear stress) [Pa].
+        (bearing stress, shear stress) [Pa]; NaN where an input is invalid.
     """
+    return _screened(
+        _spline_stresses,
+        {None: lambda a: a["outer_diameter"] > a["inner_diameter"]},
+        torque=torque,
+        teeth=teeth,
+        outer_diameter=outer_diameter,
+        inner_diameter=inner_diameter,
+        tooth_width=tooth_width,
+        length=length,
+    )
+
+
+def _spline_stresses(torque, teeth, outer_diameter, inner_diameter, tooth_width, length):
     d_m = 0.5 * (np.asarray(outer_diameter) + inner_diameter)
     tooth_height = 0.5 * (np.asarray(outer_diameter) - inner_diameter)
     force = 2.0 * np.asarray(torque, dtype=float) / d_m

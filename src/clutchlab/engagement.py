@@ -63,8 +63,22 @@ def _integral_coeffs(c):
     return np.concatenate([[0.0], c / np.arange(1, len(c) + 1)])
 
 
+def _check_profile(kind):
+    if kind not in PROFILES:
+        raise ValueError(f"profile must be one of {PROFILES}, got {kind!r}")
+
+
 def clamp_profile(x, kind="ramp"):
-    """Clamp (capacity) profile p(x), x = t/t_r, clipped to [0, 1] outside [0, 1] [-]."""
+    """Clamp (capacity) profile p(x), x = t/t_r, clipped to [0, 1] outside [0, 1] [-].
+
+    Parameters
+    ----------
+    x : array_like
+        Time over ramp time t/t_r [-]; ±inf is before the start or after the end; NaN gives NaN.
+    kind : {"ramp", "cubic", "quintic"}
+        The profile (ValueError for another).
+    """
+    _check_profile(kind)
     x = np.clip(np.asarray(x, dtype=float), 0.0, 1.0)
     return _polyval(_P[kind], x)
 
@@ -94,7 +108,38 @@ def bearing_travel_clamp(x, *, air_gap, cushion_travel, kind="ramp"):
     air gap and c the travel of the lining cushion (a linear spring carrying F_B when fully
     compressed, F_B = the diaphragm spring's load at its operating point, eq. 10). The clamp force
     is the cushion force: F/F_B = max(0, 1 − κ(1 − p)), κ = (g + c)/c. The diaphragm curve sets F_B
-    and the bearing force (:func:`clutchlab.studies.engagement.bearing_force`), not the shape."""
+    and the bearing force (:func:`clutchlab.studies.engagement.bearing_force`), not the shape.
+
+    Parameters
+    ----------
+    x : array_like
+        t/t_r [-] (see :func:`clamp_profile`).
+    air_gap : array_like
+        g ≥ 0 [m].
+    cushion_travel : array_like
+        c > 0 [m].
+    kind : {"ramp", "cubic", "quintic"}
+
+    Returns
+    -------
+    numpy.ndarray
+        F/F_B [-]; NaN where x is NaN or g, c are not finite, negative (c: not positive) or of
+        an implausible magnitude (:mod:`clutchlab.plausible`).
+    """
+    _check_profile(kind)
+    return st.nan_screened(
+        _bearing_travel_clamp,
+        dict(x=x, air_gap=air_gap, cushion_travel=cushion_travel),
+        {
+            "x": lambda v: ~np.isnan(v),
+            "air_gap": st.nonnegative_in("m"),
+            "cushion_travel": st.positive_in("m"),
+        },
+        extra={"kind": kind},
+    )
+
+
+def _bearing_travel_clamp(*, x, air_gap, cushion_travel, kind):
     kappa = (np.asarray(air_gap, float) + cushion_travel) / cushion_travel
     return np.maximum(0.0, 1.0 - kappa * (1.0 - clamp_profile(x, kind)))
 
@@ -123,43 +168,81 @@ def _invert_profile(q, kind):
     return x
 
 
-# admissible per-scenario inputs (anything else: status invalid_input, NaN outputs)
+# plausible limits of dimensionless inputs (beyond them a value is a slip, never a clutch)
+MAX_STATIC_RATIO = 10.0  # μ_s/μ_k (dry friction: 1 to about 1.5)
+MAX_DAMPING_RATIO = 100.0  # ζ of the damper springs (a clutch damper: 0.02 to about 1)
+MAX_RELEASE_RATIO = 1e4  # κ = (air gap + cushion travel)/cushion travel
+MIN_HUB_FRACTION = 1e-6  # share of J_v on the plate hub (and 1 − it on the output)
+
+# admissible per-scenario inputs (anything else: status invalid_input, NaN outputs): sign, finite
+# where inf means nothing, and a magnitude within clutchlab.plausible's range of the unit
 _DOMAIN = {
-    "engine_speed": st.nonnegative,
-    "engine_inertia": st.positive_or_inf,
-    "engine_torque": st.finite,
-    "driven_inertia": st.positive,
-    "load_torque": st.nonnegative,
-    "peak_capacity": st.nonnegative,
-    "ramp_time": st.nonnegative,
-    "static_ratio": st.at_least(1.0),
-    "driven_speed": st.nonnegative,
-    "t_end": st.positive_or_inf,
+    "engine_speed": st.nonnegative_in("rad/s"),
+    "engine_inertia": st.positive_or_inf_in("kg m^2"),
+    "engine_torque": st.finite_in("N m"),
+    "driven_inertia": st.positive_in("kg m^2"),
+    "load_torque": st.nonnegative_in("N m"),
+    "peak_capacity": st.nonnegative_in("N m"),
+    "ramp_time": st.nonnegative_in("s"),
+    "static_ratio": st.all_of(st.at_least(1.0), st.plausible("1", hi=MAX_STATIC_RATIO)),
+    "driven_speed": st.nonnegative_in("rad/s"),
+    "t_end": st.positive_or_inf_in("s"),
     None: lambda a: a["driven_speed"] <= a["engine_speed"],
 }
-_DOMAIN_SIMULATE = {
-    **_DOMAIN,
-    "t_end": st.positive,
-    "stribeck_speed": st.positive_or_inf,
-    "aero_coefficient": st.nonnegative,
-    "load_step": st.finite,
-    "load_step_time": st.nonnegative_or_inf,
-    "hub_fraction": st.between(0.0, 1.0, lo_open=True, hi_open=True),
-    "damper_stiffness": st.positive_or_inf,
-    "damping_ratio": st.nonnegative,
-    "release_ratio": st.at_least(1.0),
-    "fade_coefficient": st.nonnegative,
-    "fade_onset": st.nonnegative,
-    "face_temperature_factor": st.nonnegative,
-    # and fade needs the face temperature (factor > 0) and a window its kernel fit covers
-    None: lambda a: (
+
+
+def _simulate_relations(a):
+    """Relations between simulate's inputs: ω_c(0) ≤ ω_e(0); the load after a step not negative
+    (it is also the static torque that parks the output); fade needs the face temperature
+    (factor > 0) and a window its kernel fit covers."""
+    return (
         _DOMAIN[None](a)
+        & ((a["load_torque"] + a["load_step"] >= 0) | (a["load_step_time"] == np.inf))
         & (
             (a["fade_coefficient"] == 0)
             | ((a["face_temperature_factor"] > 0) & (a["t_end"] <= _k.SOE_TMAX))
         )
-    ),
+    )
+
+
+_DOMAIN_SIMULATE = {
+    **_DOMAIN,
+    "t_end": st.positive_in("s"),
+    "stribeck_speed": st.positive_or_inf_in("rad/s"),
+    "aero_coefficient": st.nonnegative_in("N m s^2"),
+    "load_step": st.finite_in("N m"),
+    "load_step_time": st.nonnegative_or_inf_in("s"),
+    "hub_fraction": st.between(MIN_HUB_FRACTION, 1.0 - MIN_HUB_FRACTION),
+    "damper_stiffness": st.positive_or_inf_in("N m/rad"),
+    "damping_ratio": st.nonnegative_in("1", hi=MAX_DAMPING_RATIO),
+    "release_ratio": st.all_of(st.at_least(1.0), st.plausible("1", hi=MAX_RELEASE_RATIO)),
+    "fade_coefficient": st.nonnegative_in("1/K"),
+    # a temperature difference [K]: any plausible rise, from a millikelvin
+    "fade_onset": st.nonnegative_in("K", lo=1e-3),
+    "face_temperature_factor": st.nonnegative_in("K/(W s^0.5)"),
+    None: _simulate_relations,
 }
+
+
+def _check_solver_options(rtol, atol, max_step, first_step, max_steps, trace_times):
+    """Refuse solver options that cannot be meant (shared by all scenarios: ValueError naming
+    the argument)."""
+    for name, v in (("rtol", rtol), ("atol", atol)):
+        if not (np.isscalar(v) and np.isfinite(v) and 0 < v < 1):
+            raise ValueError(f"{name} must be a number in (0, 1), got {v!r}")
+    if not (np.isscalar(max_step) and max_step > 0):
+        raise ValueError(f"max_step must be > 0 s (inf: no limit), got {max_step!r}")
+    if first_step is not None and not (np.isscalar(first_step) and 0 < first_step < np.inf):
+        raise ValueError(f"first_step must be None or a finite step > 0 s, got {first_step!r}")
+    if not (np.isscalar(max_steps) and 1 <= max_steps <= MAX_WORK and max_steps == int(max_steps)):
+        raise ValueError(
+            f"max_steps must be a whole number in [1, {MAX_WORK:.0e}], got {max_steps!r}"
+        )
+    if trace_times is not None and not np.all(np.isfinite(np.asarray(trace_times, float))):
+        raise ValueError("trace_times must be finite")
+
+
+MAX_WORK = 1e9  # the largest work budget a scenario may be given (max_steps)
 
 
 def closed_form(
@@ -222,8 +305,7 @@ def closed_form(
         ``CLOSED_FORM_POWER_SAMPLES`` points on each of its polynomial pieces (parked, moving on
         the profile, after it; P linear between samples, each segment integrated exactly).
     """
-    if profile not in PROFILES:
-        raise ValueError(f"profile must be one of {PROFILES}, got {profile!r}")
+    _check_profile(profile)
     return st.screened(
         _closed_form,
         dict(
@@ -572,13 +654,35 @@ def ramp_time_for_lockup(target_lockup_time, **kwargs):
     """Ramp time t_r that makes :func:`closed_form` lock up at ``target_lockup_time`` [s] (scalar).
 
     Used to reproduce the paper's "engagement shortened to 0.1 s / extended to 0.2 s" variants.
+
+    Parameters
+    ----------
+    target_lockup_time : float
+        The lock-up time wanted [s].
+    **kwargs
+        The other (scalar) inputs of :func:`closed_form`.
+
+    Returns
+    -------
+    float
+        t_r [s] in [1e-6 s, 10·target]; NaN where the target is not a plausible time, an input is
+        invalid (:func:`closed_form` gives no lock-up time), or no ramp time in that bracket
+        reaches the target.
     """
     from scipy.optimize import brentq
 
-    def f(tr):
-        return float(closed_form(ramp_time=tr, **kwargs)["lockup_time"]) - target_lockup_time
+    target = float(target_lockup_time)
+    if not st.positive_in("s")(np.asarray(target)):
+        return np.nan
 
-    return brentq(f, 1e-6, 10.0 * target_lockup_time, xtol=1e-15, rtol=1e-15)
+    def f(tr):
+        return float(closed_form(ramp_time=tr, **kwargs)["lockup_time"]) - target
+
+    lo, hi = 1e-6, 10.0 * target
+    f_lo, f_hi = f(lo), f(hi)
+    if not (np.isfinite(f_lo) and np.isfinite(f_hi) and f_lo * f_hi <= 0):
+        return np.nan
+    return brentq(f, lo, hi, xtol=1e-15, rtol=1e-15)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -590,7 +694,8 @@ EVENT_TIME_TOL = _k.EVENT_TIME_TOL
 
 def _check_table(table, name, x_name, y_name, y_positive):
     """(x, y) arrays of a shared table: at least one point, finite, x increasing (≥ 0 for the
-    friction table), y > 0 where asked; else ValueError naming it."""
+    friction table), y > 0 where asked, every value of a plausible magnitude (speeds [rad/s];
+    torques [N m], or friction ratios μ/μ_k ≤ MAX_STATIC_RATIO); else ValueError naming it."""
     try:
         tx, ty = (np.asarray(a, dtype=float).ravel() for a in table)
     except (TypeError, ValueError):
@@ -609,6 +714,9 @@ def _check_table(table, name, x_name, y_name, y_positive):
         raise ValueError(f"{name}: {x_name} must increase")
     if y_positive and (tx[0] < 0 or np.any(ty <= 0)):
         raise ValueError(f"{name}: {x_name} must be >= 0 and {y_name} > 0")
+    y_rule = st.plausible("1", hi=MAX_STATIC_RATIO) if y_positive else st.plausible("N m")
+    if not (np.all(st.plausible("rad/s")(tx)) and np.all(y_rule(ty))):
+        raise ValueError(f"{name}: {x_name} or {y_name} of an implausible magnitude")
     return tx, ty
 
 
@@ -726,6 +834,15 @@ _TRUNCATED_NAN = [
 ]
 
 
+# the result columns that are metrics (not solver counts or flags)
+_METRIC_COLUMNS = np.array(
+    [
+        not (n.startswith("n_") or n in ("final_locked", "hit_step_limit", "truncated"))
+        for n in _k.RESULTS
+    ]
+)
+
+
 def simulate(
     *,
     engine_speed,
@@ -825,6 +942,10 @@ def simulate(
         Largest step [s] (bounds the node spacing of peak metrics).
     first_step : float or None
         First step [s]; None estimates it from the tolerance (as after every mode switch).
+    max_steps : int
+        Work budget of one scenario (a whole number in [1, 1e9]): integrator steps attempted, mode
+        switches and the passes of the exact linear phases' root search all count; a scenario
+        that spends it ends ``not_converged`` with NaN metrics (its solver counts kept).
     trace_times : array_like or None
         Times [s] at which to record the state (they become breakpoints, so no interpolation).
     power_history : bool
@@ -853,8 +974,8 @@ def simulate(
         Inputs are screened as in :func:`closed_form` (plus v_s, J-split, stiffness > 0, ζ, k_a ≥ 0,
         κ ≥ 1, a finite t_end > 0): a bad scenario has status ``invalid_input`` and NaN outputs.
     """
-    if profile not in PROFILES:
-        raise ValueError(f"profile must be one of {PROFILES}, got {profile!r}")
+    _check_profile(profile)
+    _check_solver_options(rtol, atol, max_step, first_step, max_steps, trace_times)
     return st.screened(
         _simulate,
         dict(
@@ -937,6 +1058,8 @@ def _simulate(
     )
     truncated = res[:, _k.TRUNCATED] > 0
     res[truncated[:, None] & np.isin(np.arange(_k.N_RESULTS), _TRUNCATED_NAN)[None, :]] = np.nan
+    # out of work: every metric is partial (the solver counts say how far it got)
+    res[(res[:, _k.HIT_STEP_LIMIT] > 0)[:, None] & _METRIC_COLUMNS[None, :]] = np.nan
     out = {
         name: res[:, i].reshape(shape)
         for i, name in enumerate(_k.RESULTS)

@@ -4,19 +4,26 @@ Pure functions on arrays and on any stored study Dataset (``clutchlab.store.load
 pipeline and for notebooks: an engineer asks a new question of results without rerunning them.
 
 * :func:`pareto_rank` — non-dominated sorting (rank 0 = the Pareto front, 1 = the front once
-  rank 0 is removed, ...); −1 where a design is excluded (infeasible, a NaN objective). Two
-  objectives: O(N log N) by a patience-sorting sweep; M ≥ 3: divide and conquer over one
-  objective at a time, O(N log^(M−1) N), compiled.
+  rank 0 is removed, ...); −1 where a design is excluded (infeasible, a non-finite objective).
+  The sorting itself is moocore's (``moocore.pareto_rank``, compiled C); this module decides which
+  rows take part and which are compared (groups).
+* :func:`hypervolume` — the exact volume a set of points dominates up to a reference point
+  (``moocore.hypervolume``).
 * :func:`feasible` — every constraint met and status ok, with the margin of each constraint.
 * :func:`grid_variance_decomposition` — exact main and total effects of a full factorial grid.
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
+import moocore
 import numpy as np
-from numba import njit
 
 from . import status as st
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = [
     "pareto_rank",
@@ -47,209 +54,87 @@ def pareto_rank(values, include=None, groups=None):
     Parameters
     ----------
     values : array_like (N, M), or a stored study Dataset
-        Objectives; negate a column to maximise it. Given a Dataset, ``include`` is the list of
-        objectives ("name:min"/"name:max") and ``groups`` the factors to rank within (default: its
-        operating conditions that are grid dimensions, as the pipeline ranks); the designs taking
-        part are those with ``feasible`` 1 (status ok where the Dataset has no ``feasible``);
-        returns a labelled DataArray shaped like ``status``, e.g.
-        ``pareto_rank(ds, ["slip_work:min", "lockup_time:min"])`` for a question the stored
-        ranks did not ask.
+        Objectives [any units; each column in one unit]; negate a column to maximise it. Given a
+        Dataset, ``include`` is the list of objectives ("name:min"/"name:max") and ``groups`` the
+        factors to rank within (default: its operating conditions that are grid dimensions, as
+        the pipeline ranks); the designs taking part are those with ``feasible`` 1 (status ok
+        where the Dataset has no ``feasible``); returns a labelled DataArray shaped like
+        ``status``, e.g. ``pareto_rank(ds, ["slip_work:min", "lockup_time:min"])`` for a question
+        the stored ranks did not ask.
     include : array_like of bool (N,) or None
         Rows that take part (e.g. the feasible designs); rows outside it, and rows with a
-        non-finite objective, get rank −1 and do not dominate anything.
-    groups : array_like of int (N,) or None
-        Rank each group on its own (e.g. one group per operating condition): a row is only
-        compared with the rows of its group.
+        non-finite objective (NaN, ±inf), get rank −1 and do not dominate anything.
+    groups : array_like (N,) or None
+        Group label of each row [1] (e.g. one group per operating condition): each group is
+        ranked on its own, a row compared only with the rows of its group. A row whose label is
+        NaN belongs to no group and gets rank −1.
 
     Returns
     -------
     numpy.ndarray of int64 (N,)
         0 for the Pareto front, k for the front after removing ranks < k, −1 for excluded rows.
         Equal rows share a rank (neither dominates the other).
+
+    Raises
+    ------
+    ValueError
+        ``values`` is not two-dimensional, or ``include`` or ``groups`` has not one entry a row.
+
+    Notes
+    -----
+    The sorting is ``moocore.pareto_rank`` (López-Ibáñez et al., moocore): Jensen's (2003)
+    O(N log N) sweep for two objectives; for three or more it takes off one front at a time
+    (O(N² log N) at worst for three). It is called on the rows that take part only: moocore
+    itself ranks a row with a NaN objective as dominating.
     """
     if hasattr(values, "data_vars"):  # a study Dataset
-        ds = values
-        kept = ds["feasible"] if "feasible" in ds else ds["status"] == st.CODE["ok"]
-        ranked = annotate(
-            ds.assign(status=ds["status"].where(kept.astype(bool), st.CODE["invalid_input"])),
-            list(include),
-            {},
-            within=groups,
-        )
-        return ranked["pareto_rank"]
+        return _dataset_rank(values, include, groups)
     f = np.asarray(values, dtype=float)
     if f.ndim != 2:
         raise ValueError(f"values must be (designs, objectives), got shape {f.shape}")
     ok = np.isfinite(f).all(axis=1)
     if include is not None:
-        ok &= np.asarray(include, dtype=bool).reshape(-1)
-    if groups is not None:
-        groups = np.asarray(groups).reshape(-1)
-        rank = np.full(f.shape[0], -1, dtype=np.int64)
-        order = np.argsort(groups, kind="stable")
-        bounds = np.flatnonzero(np.diff(groups[order])) + 1
-        for part in np.split(order, bounds):
-            rank[part] = pareto_rank(f[part], ok[part])
-        return rank
+        ok &= _per_row(include, f.shape[0], "include").astype(bool)
     rank = np.full(f.shape[0], -1, dtype=np.int64)
-    idx = np.flatnonzero(ok)
-    if idx.size == 0:
+    if groups is None:
+        _rank_into(rank, f, np.flatnonzero(ok))
         return rank
-    g = f[idx]
-    # lexicographic order: a row can only be dominated by rows before it
-    order = np.lexsort(g.T[::-1])
-    g = np.ascontiguousarray(g[order])
-    if g.shape[1] == 1:
-        r = _rank_1d(g)
-    elif g.shape[1] == 2:
-        r = _rank_2d(g)
-    else:
-        r = _rank_nd(g)
-    rank[idx[order]] = r
+    labels = _per_row(groups, f.shape[0], "groups")
+    if labels.dtype.kind in "fc":
+        ok &= ~np.isnan(labels)
+    idx = np.flatnonzero(ok)
+    _, gid = np.unique(labels[idx], return_inverse=True)
+    order = np.argsort(gid.reshape(-1), kind="stable")
+    bounds = np.flatnonzero(np.diff(gid.reshape(-1)[order])) + 1
+    for part in np.split(idx[order], bounds):
+        _rank_into(rank, f, part)
     return rank
 
 
-def _rank_1d(g):
-    # sorted ascending: rank = index of the distinct value
-    return np.concatenate([[0], np.cumsum(g[1:, 0] > g[:-1, 0])]).astype(np.int64)
+def _per_row(a, n, name) -> np.ndarray:
+    """``a`` as a flat array of ``n`` entries (one a row), else ValueError naming ``name``."""
+    a = np.asarray(a).reshape(-1)
+    if a.shape[0] != n:
+        raise ValueError(f"{name} must have one entry per row of values ({n}), got {a.shape[0]}")
+    return a
 
 
-@njit(cache=True)
-def _rank_2d(g):
-    """Rows sorted by (f1, f2). Front k keeps the f2 of its last member, non-decreasing along the
-    sweep; these tails increase with k, so the first front whose tail does not dominate the row is
-    found by bisection. A row equal to a front's last member joins that front."""
-    n = g.shape[0]
-    rank = np.empty(n, np.int64)
-    tail1 = np.empty(n)  # f1 and f2 of each front's last member
-    tail2 = np.empty(n)
-    n_fronts = 0
-    for i in range(n):
-        a, b = g[i, 0], g[i, 1]
-        lo, hi = 0, n_fronts  # first front whose last member does not dominate (a, b)
-        while lo < hi:
-            mid = (lo + hi) // 2
-            t1, t2 = tail1[mid], tail2[mid]
-            # t1 <= a always (sorted); dominated iff t2 <= b and (t1 < a or t2 < b)
-            if t2 <= b and (t1 < a or t2 < b):
-                lo = mid + 1
-            else:
-                hi = mid
-        rank[i] = lo
-        tail1[lo], tail2[lo] = a, b
-        if lo == n_fronts:
-            n_fronts += 1
-    return rank
+def _rank_into(rank, f, rows) -> None:
+    """Write the Pareto ranks of the rows ``rows`` of ``f`` (finite, taking part) into ``rank``."""
+    if rows.size:
+        rank[rows] = moocore.pareto_rank(f[rows])
 
 
-def _rank_nd(g):
-    """Three or more objectives, rows in lexicographic order: rank(p) = 1 + max rank of the rows
-    that dominate p (0 if none). Equal rows are merged first (they share a rank and, once merged,
-    a row q ≤ p componentwise dominates p). Divide and conquer over the sweep order (ranks of the
-    first half final before they raise the second half's), each cross step a dominance maximum
-    over the other objectives, itself divided along one objective at a time down to a sweep with
-    a Fenwick tree over the last (Jensen 2003; Buzdalov & Shalyto 2014): O(N log^(M-1) N)."""
-    uniq, inverse = np.unique(g, axis=0, return_inverse=True)  # sorted lexicographically, as needed
-    c = np.stack(
-        [np.searchsorted(np.unique(uniq[:, k]), uniq[:, k]) for k in range(1, g.shape[1])], axis=1
+def _dataset_rank(ds, objectives, within):
+    """The Dataset form of :func:`pareto_rank`: ranks of the feasible designs as a DataArray."""
+    kept = ds["feasible"] if "feasible" in ds else ds["status"] == st.CODE["ok"]
+    ranked = annotate(
+        ds.assign(status=ds["status"].where(kept.astype(bool), st.CODE["invalid_input"])),
+        list(objectives),
+        {},
+        within=within,
     )
-    return _cdq_ranks(np.ascontiguousarray(c, dtype=np.int64))[inverse.reshape(-1)]
-
-
-@njit(cache=True)
-def _sweep(left, right, c, d, rank, tree):
-    """Rows of ``left`` (ranks final) raise the ranks of the rows of ``right`` they dominate in the
-    last two coordinates d, d + 1: both in order of coordinate d (left first at equal values), a
-    Fenwick tree of maximum rank over coordinate d + 1."""
-    lo = left[np.argsort(c[left, d], kind="mergesort")]
-    ro = right[np.argsort(c[right, d], kind="mergesort")]
-    m = tree.size
-    i = 0
-    for j in range(ro.size):
-        p = ro[j]
-        while i < lo.size and c[lo[i], d] <= c[p, d]:
-            q = lo[i]
-            k = c[q, d + 1] + 1
-            while k < m:
-                if tree[k] < rank[q]:
-                    tree[k] = rank[q]
-                k += k & (-k)
-            i += 1
-        best = -1
-        k = c[p, d + 1] + 1
-        while k > 0:
-            if tree[k] > best:
-                best = tree[k]
-            k -= k & (-k)
-        if best + 1 > rank[p]:
-            rank[p] = best + 1
-    for t in range(i):  # undo the insertions
-        k = c[lo[t], d + 1] + 1
-        while k < m:
-            tree[k] = -1
-            k += k & (-k)
-
-
-@njit(cache=True)
-def _cross(left, right, c, rank, tree):
-    """rank[p] = max(rank[p], 1 + max rank[q]) over q in ``left`` with c[q] <= c[p] in every
-    coordinate, for p in ``right``. Coordinates above the last two are removed one at a time by
-    divide and conquer: merged in order of the coordinate (left first at equal values), a left
-    row of the first half can only dominate a right row of the second half in the others. The
-    subproblems are independent (max-updates), so they run from a work list, not by recursion
-    (numba cannot cache recursive functions)."""
-    k = c.shape[1]
-    tasks = [
-        (0, left, right, 0)
-    ]  # (kind 0: cross / 1: split, rows, right rows or flags, coordinate)
-    while len(tasks):
-        kind, a, b, d = tasks.pop()
-        if kind == 0:
-            if a.size == 0 or b.size == 0:
-                continue
-            if d + 2 == k:
-                _sweep(a, b, c, d, rank, tree)
-                continue
-            items = np.concatenate((a, b))
-            flag = np.concatenate((np.zeros(a.size, np.int64), np.ones(b.size, np.int64)))
-            order = np.argsort(c[items, d] * 2 + flag, kind="mergesort")
-            tasks.append((1, items[order], flag[order], d))
-        else:
-            n = a.size
-            if n < 2:
-                continue
-            h = n // 2
-            nl = np.sum(b[:h] == 0)
-            nr = np.sum(b[h:] == 1)
-            tasks.append((1, a[h:], b[h:], d))
-            tasks.append((1, a[:h], b[:h], d))
-            if nl and nr:
-                tasks.append((0, a[:h][b[:h] == 0], a[h:][b[h:] == 1], d + 1))
-
-
-@njit(cache=True)
-def _cdq_ranks(c):
-    n = c.shape[0]
-    rank = np.zeros(n, np.int64)
-    tree = np.full(c.max() + 2 if n else 1, -1, np.int64)
-    stack = np.empty((2 * 64 + 8, 3), np.int64)
-    stack[0, 0], stack[0, 1], stack[0, 2] = 0, n, 0
-    top = 1
-    while top > 0:
-        top -= 1
-        lo, hi, stage = stack[top, 0], stack[top, 1], stack[top, 2]
-        if hi - lo <= 1:
-            continue
-        mid = (lo + hi) // 2
-        if stage == 0:  # left half first, then the cross step, then the right half
-            stack[top, 0], stack[top, 1], stack[top, 2] = lo, hi, 1
-            stack[top + 1, 0], stack[top + 1, 1], stack[top + 1, 2] = lo, mid, 0
-            top += 2
-        else:
-            _cross(np.arange(lo, mid), np.arange(mid, hi), c, rank, tree)
-            stack[top, 0], stack[top, 1], stack[top, 2] = mid, hi, 0
-            top += 1
-    return rank
+    return ranked["pareto_rank"]
 
 
 def feasible(ds, constraints: dict) -> tuple[np.ndarray, dict]:
@@ -387,7 +272,8 @@ def annotate(ds, objectives, constraints, within=None):
         else np.full(ok.shape, -1)
     )
     attrs = {
-        "long_name": "Pareto rank among feasible designs (0: the front; -1: infeasible or an objective NaN)"
+        "long_name": "Pareto rank among feasible designs "
+        "(0: the front; -1: infeasible or an objective NaN)"
         + (f", within each {' and '.join(within)}" if within else ""),
         "units": "1",
         "objectives": " ".join(objectives),
@@ -400,34 +286,62 @@ def annotate(ds, objectives, constraints, within=None):
 
 
 def hypervolume(points, reference) -> float:
-    """Exact hypervolume (every objective minimised) of the region that ``points`` (N, M) dominate
-    and that dominates ``reference`` (M,): the area (2 objectives) or volume between the front and
-    the reference point. Points not better than the reference in every objective add nothing.
-    Sweep for M ≤ 2; slicing along the last objective (HSO, While et al. 2006) above, meant for
-    fronts of up to a few thousand points."""
-    p = np.asarray(points, dtype=float).reshape(-1, len(reference))
+    """Exact hypervolume of the region that ``points`` dominate and that dominates ``reference``,
+    every objective minimised: the area (2 objectives) or volume between the front and the
+    reference point.
+
+    Parameters
+    ----------
+    points : array_like (N, M)
+        Objective values of N designs [any units, one unit a column; the volume is in their
+        product]; negate a column to maximise it. Points not better than the reference in every
+        objective add nothing; dominated and repeated points add nothing either. Every entry
+        must be finite: a non-finite row (a failed design) is refused, not dropped, since a
+        volume without it would look valid and be too small — drop such rows first (e.g.
+        ``points[np.isfinite(points).all(axis=1)]``) where that is what you mean.
+    reference : array_like (M,)
+        Reference point [units of ``points``], finite; its width M must equal the points'.
+
+    Returns
+    -------
+    float
+        The hypervolume [product of the objectives' units]; 0.0 for no points.
+
+    Raises
+    ------
+    ValueError
+        ``points`` is not (N, M) with M the reference's width (the message names both widths),
+        a point or the reference is not finite, or the volume overflows float64.
+
+    Notes
+    -----
+    Computed by ``moocore.hypervolume`` (López-Ibáñez et al., moocore): O(N log N) for 2 and 3
+    objectives (HV3D+), O(N²) for 4 (HV4D+, Guerreiro & Fonseca 2017), inclusion–exclusion for
+    small sets and the recursive algorithm of Fonseca et al. (2006) above.
+    """
     ref = np.asarray(reference, dtype=float)
-    p = p[np.isfinite(p).all(axis=1) & (p < ref).all(axis=1)]
-    return _hv(np.unique(p, axis=0), ref) if p.size else 0.0
-
-
-def _hv(p, ref) -> float:
-    p = p[pareto_rank(p) == 0]
-    if p.shape[1] == 1:
-        return float(ref[0] - p[:, 0].min())
-    if p.shape[1] == 2:  # sorted by the first objective the front's second objective falls
-        p = p[np.lexsort((p[:, 1], p[:, 0]))]
-        x = np.append(p[:, 0], ref[0])
-        return float(np.sum(np.diff(x) * (ref[1] - p[:, 1])))
-    p = p[np.argsort(p[:, -1], kind="stable")]
-    z = np.append(p[:, -1], ref[-1])
-    return float(
-        sum(
-            _hv(p[: i + 1, :-1], ref[:-1]) * (z[i + 1] - z[i])
-            for i in range(len(p))
-            if z[i + 1] > z[i]
+    if ref.ndim != 1 or ref.size == 0 or not np.isfinite(ref).all():
+        raise ValueError(f"reference must be a finite point (M,), got {reference!r}")
+    p = np.asarray(points, dtype=float)
+    if p.size == 0 and p.ndim <= 2:
+        return 0.0
+    width = p.shape[1] if p.ndim == 2 else None
+    if width != ref.size:
+        raise ValueError(
+            f"points must be (designs, objectives) with the reference's {ref.size} objectives, "
+            + (f"got {width} objectives" if width else f"got shape {p.shape}")
         )
-    )
+    bad = np.flatnonzero(~np.isfinite(p).all(axis=1))
+    if bad.size:
+        raise ValueError(
+            f"{bad.size} of {len(p)} points have a non-finite objective (first: row {bad[0]}); "
+            "drop them first if that is what is meant"
+        )
+    p = p[(p < ref).all(axis=1)]
+    volume = float(moocore.hypervolume(p, ref)) if len(p) else 0.0
+    if not np.isfinite(volume):
+        raise ValueError("the hypervolume overflows float64: rescale the objectives")
+    return volume
 
 
 def objective_table(ds, objectives, within) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -518,7 +432,8 @@ def refinement_gain(first, second):
                 "group",
                 [r[1] for r in rows],
                 {
-                    "long_name": "hypervolume of the first stage's front (objectives normalised per group)",
+                    "long_name": "hypervolume of the first stage's front "
+                    "(objectives normalised per group)",
                     "units": "1",
                 },
             ),
@@ -559,8 +474,8 @@ def refinement_gain(first, second):
             "ranked_within": " ".join(within),
             "scenarios_first": int(first["status"].size),
             "scenarios_second": int(second["status"].size),
-            "reference": "1.1 in every objective normalised to the first stage's feasible designs of the "
-            "group (best 0, worst 1); maximised objectives negated",
+            "reference": "1.1 in every objective normalised to the first stage's feasible designs "
+            "of the group (best 0, worst 1); maximised objectives negated",
         },
     )
 
@@ -637,16 +552,16 @@ def sobol_indices(y, n_factors, names, conf_level=0.95, seed=1) -> dict:
         )
     out.update(
         {
-            "first_order": dict(zip(names, np.asarray(res["S1"], float))),
-            "first_order_conf": dict(zip(names, np.asarray(res["S1_conf"], float))),
-            "total": dict(zip(names, np.asarray(res["ST"], float))),
-            "total_conf": dict(zip(names, np.asarray(res["ST_conf"], float))),
+            "first_order": dict(zip(names, np.asarray(res["S1"], float), strict=True)),
+            "first_order_conf": dict(zip(names, np.asarray(res["S1_conf"], float), strict=True)),
+            "total": dict(zip(names, np.asarray(res["ST"], float), strict=True)),
+            "total_conf": dict(zip(names, np.asarray(res["ST_conf"], float), strict=True)),
         }
     )
     return out
 
 
-def sensitivity(ds, outputs) -> "xr.Dataset":
+def sensitivity(ds, outputs) -> xr.Dataset:
     """Main and total effects of every factor of a study result on each of ``outputs`` and on the
     failure indicator (status not ok): a factorial grid by :func:`grid_variance_decomposition`
     (exact), a ``saltelli`` design by :func:`sobol_indices` (with 95 % confidence intervals).
@@ -711,7 +626,8 @@ def sensitivity(ds, outputs) -> "xr.Dataset":
                 "output",
                 [r["failed"] for r in rows],
                 {
-                    "long_name": "scenarios whose output is NaN (left out; saltelli: with their whole block)",
+                    "long_name": "scenarios whose output is NaN "
+                    "(left out; saltelli: with their whole block)",
                     "units": "1",
                 },
             ),
@@ -735,8 +651,9 @@ def sensitivity(ds, outputs) -> "xr.Dataset":
             )
             if design != "saltelli"
             else (
-                "Sobol indices from a Saltelli design (SALib sobol.analyze, calc_second_order=False, 95 % "
-                "bootstrap intervals); a base point's block is left out when any of its scenarios failed"
+                "Sobol indices from a Saltelli design (SALib sobol.analyze, "
+                "calc_second_order=False, 95 % bootstrap intervals); a base point's block is left "
+                "out when any of its scenarios failed"
             ),
             "title": ds.attrs.get("title", ""),
         },

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import status as st
+
 __all__ = [
     "STANDARD_GRAVITY",
     "lining_outer_diameter",
@@ -20,6 +22,28 @@ __all__ = [
 ]
 
 STANDARD_GRAVITY = 9.80665  # m/s²
+MAX_FRICTION_COEFFICIENT = 2.0  # dry friction of any clutch pair is below about 1
+
+# per-input rules (sign, finite, plausible magnitude; clutchlab.plausible)
+_MU = st.positive_in("1", hi=MAX_FRICTION_COEFFICIENT)
+_RULES = {
+    "max_engine_torque": st.positive_in("N m"),
+    "coefficient": st.positive_in("1"),
+    "outer_diameter": st.positive_in("m"),
+    "outer_radius": st.positive_in("m"),
+    "inner_radius": st.positive_in("m"),
+    "clamp_force": st.nonnegative_in("N"),
+    "friction_coefficient": _MU,
+    "faces": st.count(1),
+    "stack_mass": st.nonnegative_in("kg"),
+    "gravity": st.nonnegative_in("m/s^2", lo=1e-3, hi=1e3),
+    "torque_capacity": st.nonnegative_in("N m"),
+}
+_ANNULUS = {None: lambda a: a["outer_radius"] > a["inner_radius"]}
+
+
+def _domain(inputs, relations=None):
+    return {**{k: _RULES[k] for k in inputs}, **(relations or {})}
 
 
 def lining_outer_diameter(max_engine_torque, coefficient):
@@ -32,12 +56,29 @@ def lining_outer_diameter(max_engine_torque, coefficient):
     coefficient : array_like
         Design constant A [-] (30…36 for a large single-plate UAV-helicopter clutch). The formula
         is empirical: A carries the units that make D come out in mm for T in N·m.
+
+    Returns
+    -------
+    numpy.ndarray
+        D [m]; NaN where an input is not positive, finite and plausible
+        (:mod:`clutchlab.plausible`).
     """
+    inputs = dict(max_engine_torque=max_engine_torque, coefficient=coefficient)
+    return st.nan_screened(_lining_outer_diameter, inputs, _domain(inputs))
+
+
+def _lining_outer_diameter(*, max_engine_torque, coefficient):
     return 0.1 * np.sqrt(np.asarray(max_engine_torque, dtype=float) / coefficient)
 
 
 def lining_coefficient(max_engine_torque, outer_diameter):
-    """Inverse of eq. (3) of [1]: A = T_emax / (D[mm]/100)² with D given in [m] [-]."""
+    """Inverse of eq. (3) of [1]: A = T_emax / (D[mm]/100)² with T_emax [N·m] and D given in [m]
+    [-]; NaN where an input is not positive, finite and plausible."""
+    inputs = dict(max_engine_torque=max_engine_torque, outer_diameter=outer_diameter)
+    return st.nan_screened(_lining_coefficient, inputs, _domain(inputs))
+
+
+def _lining_coefficient(*, max_engine_torque, outer_diameter):
     return np.asarray(max_engine_torque, dtype=float) / (10.0 * np.asarray(outer_diameter)) ** 2
 
 
@@ -45,8 +86,21 @@ def effective_radius(outer_radius, inner_radius, assumption="uniform_pressure"):
     """Friction radius of an annular face [m].
 
     ``uniform_pressure`` (new lining): R_eff = (2/3)(R₂³ − R₁³)/(R₂² − R₁²), the integral of
-    eqs. (13)–(14) of [1]; ``uniform_wear`` (worn-in lining): R_eff = (R₁ + R₂)/2.
+    eqs. (13)–(14) of [1]; ``uniform_wear`` (worn-in lining): R_eff = (R₁ + R₂)/2. Outer and inner
+    radius R₂ > R₁ > 0 [m], plausible (:mod:`clutchlab.plausible`); NaN where not (swapped radii
+    are no lining).
     """
+    if assumption not in ("uniform_pressure", "uniform_wear"):
+        raise ValueError(
+            f"assumption must be 'uniform_pressure' or 'uniform_wear', got {assumption!r}"
+        )
+    inputs = dict(outer_radius=outer_radius, inner_radius=inner_radius)
+    return st.nan_screened(
+        _effective_radius, inputs, _domain(inputs, _ANNULUS), extra={"assumption": assumption}
+    )
+
+
+def _effective_radius(*, outer_radius, inner_radius, assumption):
     ro = np.asarray(outer_radius, dtype=float)
     ri = np.asarray(inner_radius, dtype=float)
     if assumption == "uniform_pressure":
@@ -93,13 +147,45 @@ def torque_capacity(
     only, omits μ on F, counts one face, and defines R₁, R₂ as diameters while using them as
     radii. The physically consistent capacity is the one computed here. The paper's value is
     available from :func:`torque_capacity_eq14_as_printed` (239.3 N·m for the seed design).
+
+    Returns NaN where an input is not finite or not physical (F, m < 0; μ outside (0, 2]; a face
+    count that is not a whole number in [1, 1000]; R₂ ≤ R₁ or R₁ ≤ 0) or of an implausible
+    magnitude (:mod:`clutchlab.plausible`).
     """
+    inputs = dict(
+        clamp_force=clamp_force,
+        friction_coefficient=friction_coefficient,
+        outer_radius=outer_radius,
+        inner_radius=inner_radius,
+        faces=faces,
+        stack_mass=stack_mass,
+        gravity=gravity,
+    )
+    effective_radius(1.0, 0.5, assumption)  # (refuses an unknown assumption)
+    return st.nan_screened(
+        _torque_capacity, inputs, _domain(inputs, _ANNULUS), extra={"assumption": assumption}
+    )
+
+
+def _torque_capacity(
+    *,
+    clamp_force,
+    friction_coefficient,
+    outer_radius,
+    inner_radius,
+    faces,
+    stack_mass,
+    gravity,
+    assumption,
+):
     f_total = np.asarray(clamp_force, dtype=float) + np.asarray(stack_mass) * gravity
     return (
         faces
         * friction_coefficient
         * f_total
-        * effective_radius(outer_radius, inner_radius, assumption)
+        * _effective_radius(
+            outer_radius=outer_radius, inner_radius=inner_radius, assumption=assumption
+        )
     )
 
 
@@ -114,13 +200,36 @@ def torque_capacity_eq14_as_printed(
     """Eq. (14) of [1] exactly as printed: M = (μ·m·g + F)·R_eff (one face) [N·m].
 
     Kept only to reproduce the paper's 239.3 N·m; it is dimensionally consistent but physically
-    wrong (see :func:`torque_capacity`). Do not use it for design.
+    wrong (see :func:`torque_capacity`). Do not use it for design. NaN where an input is invalid
+    (as :func:`torque_capacity`).
     """
-    return (
-        friction_coefficient * np.asarray(stack_mass) * gravity + clamp_force
-    ) * effective_radius(outer_radius, inner_radius, "uniform_pressure")
+    inputs = dict(
+        clamp_force=clamp_force,
+        friction_coefficient=friction_coefficient,
+        stack_mass=stack_mass,
+        outer_radius=outer_radius,
+        inner_radius=inner_radius,
+        gravity=gravity,
+    )
+    return st.nan_screened(_eq14_as_printed, inputs, _domain(inputs, _ANNULUS))
+
+
+def _eq14_as_printed(
+    *, clamp_force, friction_coefficient, stack_mass, outer_radius, inner_radius, gravity
+):
+    return (friction_coefficient * np.asarray(stack_mass) * gravity + clamp_force) * (
+        _effective_radius(
+            outer_radius=outer_radius, inner_radius=inner_radius, assumption="uniform_pressure"
+        )
+    )
 
 
 def reserve_factor(torque_capacity, max_engine_torque):
-    """Clutch reserve (backup) factor β = T_capacity / T_emax [-]."""
+    """Clutch reserve (backup) factor β = T_capacity / T_emax [-] (T_capacity ≥ 0, T_emax > 0
+    [N·m], finite and plausible; NaN where not)."""
+    inputs = dict(torque_capacity=torque_capacity, max_engine_torque=max_engine_torque)
+    return st.nan_screened(_reserve_factor, inputs, _domain(inputs))
+
+
+def _reserve_factor(*, torque_capacity, max_engine_torque):
     return np.asarray(torque_capacity, dtype=float) / max_engine_torque

@@ -32,6 +32,8 @@ import math
 
 import numpy as np
 
+from . import status as st
+
 __all__ = [
     "MATERIALS",
     "effusivity",
@@ -43,9 +45,47 @@ __all__ = [
     "surface_temperature_constant",
     "surface_temperature_ramp",
     "sequence_temperatures",
+    "periodic_temperature",
     "engagements_to_limit",
+    "engagement_heat",
+    "face_temperature_rise",
+    "part_effusivities",
     "kernel_modes",
 ]
+
+# per-input rules of the helpers (sign, finite, plausible magnitude: clutchlab.plausible); a
+# temperature rise or margin is a difference [K]: any size from 0 to the plausible top
+_RISE = st.nonnegative_in("K", lo=0.0)
+_RULES = {
+    "density": st.positive_in("kg/m^3"),
+    "specific_heat": st.positive_in("J/(kg K)"),
+    "conductivity": st.positive_in("W/(m K)"),
+    "effusivity": st.positive_in("W s^0.5/(m^2 K)"),
+    "flywheel_effusivity": st.positive_in("W s^0.5/(m^2 K)"),
+    "pressure_plate_effusivity": st.positive_in("W s^0.5/(m^2 K)"),
+    "lining_effusivity": st.positive_in("W s^0.5/(m^2 K)"),
+    "outer_radius": st.positive_in("m"),
+    "inner_radius": st.positive_in("m"),
+    "faces": st.count(1),
+    "slip_work": st.nonnegative_in("J"),
+    "peak_slip_power": st.nonnegative_in("W"),
+    "heat": st.nonnegative_in("J"),
+    "mass": st.positive_in("kg"),
+    "flux": st.nonnegative_in("W/m^2"),
+    "rate": st.nonnegative_in("W/m^2", hi=1e15),  # [W/(m² s)]
+    "time": st.nonnegative_in("s"),
+    "rise": _RISE,
+    "margin": st.positive_in("K", lo=0.0),
+    "interval": st.positive_in("s"),
+    "time_constant": st.positive_in("s"),
+    "duhamel_integral": st.nonnegative_in("W s^0.5"),
+}
+_ANNULUS = {None: lambda a: a["outer_radius"] > a["inner_radius"]}
+
+
+def _domain(inputs, relations=None):
+    return {**{k: _RULES[k] for k in inputs}, **(relations or {})}
+
 
 # Typical room-temperature handbook values (assumed; replace by the part's data sheet):
 # grey cast iron (flywheel, pressure plate): rho 7200 kg/m^3, c 500 J/(kg K), k 50 W/(m K) -- the
@@ -61,26 +101,49 @@ MATERIALS = {
 
 
 def effusivity(density, specific_heat, conductivity):
-    """Thermal effusivity e = √(ρ c k) [W s^0.5/(m² K)]."""
+    """Thermal effusivity e = √(ρ c k) [W s^0.5/(m² K)] of density ρ [kg/m³], specific heat c
+    [J/(kg K)] and conductivity k [W/(m K)]; NaN where one is not positive, finite and plausible
+    (:mod:`clutchlab.plausible`)."""
+    inputs = dict(density=density, specific_heat=specific_heat, conductivity=conductivity)
+    return st.nan_screened(_effusivity, inputs, _domain(inputs))
+
+
+def _effusivity(*, density, specific_heat, conductivity):
     return np.sqrt(np.asarray(density) * np.asarray(specific_heat) * np.asarray(conductivity))
 
 
 def lining_area(outer_radius, inner_radius):
-    """Area of one friction face of an annular lining, π(R₂² − R₁²) [m²]."""
+    """Area of one friction face of an annular lining, π(R₂² − R₁²) [m²] (outer and inner radius
+    [m]); NaN unless R₂ > R₁ > 0, finite and plausible (a negative area is no lining)."""
+    inputs = dict(outer_radius=outer_radius, inner_radius=inner_radius)
+    return st.nan_screened(_lining_area, inputs, _domain(inputs, _ANNULUS))
+
+
+def _lining_area(*, outer_radius, inner_radius):
     return np.pi * (np.square(outer_radius) - np.square(inner_radius))
 
 
 def face_shares(flywheel_effusivity, pressure_plate_effusivity, lining_effusivity):
     """Shares of the slip work into the flywheel, the pressure plate and the driven plate (its two
     linings): each face takes half, split between metal and lining in proportion to their
-    effusivities. The three shares sum to one."""
+    effusivities [W s^0.5/(m² K)]. The three shares sum to one; NaN where an effusivity is not
+    positive, finite and plausible."""
+    inputs = dict(
+        flywheel_effusivity=flywheel_effusivity,
+        pressure_plate_effusivity=pressure_plate_effusivity,
+        lining_effusivity=lining_effusivity,
+    )
+    return st.nan_screened(_face_shares, inputs, _domain(inputs))
+
+
+def _face_shares(*, flywheel_effusivity, pressure_plate_effusivity, lining_effusivity):
     g_fw = flywheel_effusivity / (flywheel_effusivity + lining_effusivity)
     g_pp = pressure_plate_effusivity / (pressure_plate_effusivity + lining_effusivity)
     return 0.5 * g_fw, 0.5 * g_pp, 0.5 * (1.0 - g_fw) + 0.5 * (1.0 - g_pp)
 
 
 def _loading(slip_work, peak_slip_power, outer_radius, inner_radius, faces):
-    area = faces * lining_area(outer_radius, inner_radius)
+    area = faces * _lining_area(outer_radius=outer_radius, inner_radius=inner_radius)
     return {
         "friction_area": area,
         "specific_friction_work": slip_work / area,
@@ -93,44 +156,52 @@ def specific_loading(slip_work, peak_slip_power, outer_radius, inner_radius, fac
     """Per-area loading of one engagement on the whole friction area A = z_f·π(R₂² − R₁²):
     specific friction work q_A = W/A [J/m²] and peak specific friction power P_max/A [W/m²].
 
-    Per scenario: slip work and power finite and ≥ 0, R₂ > R₁ > 0, faces a whole number ≥ 1;
-    otherwise status ``invalid_input`` and NaN."""
-    from . import status as st
-
-    domain = {
-        "slip_work": st.nonnegative,
-        "peak_slip_power": st.nonnegative,
-        "inner_radius": st.positive,
-        "outer_radius": st.positive,
-        "faces": st.whole(1),
-        None: lambda a: a["outer_radius"] > a["inner_radius"],
-    }
-    return st.screened(
-        _loading,
-        dict(
-            slip_work=slip_work,
-            peak_slip_power=peak_slip_power,
-            outer_radius=outer_radius,
-            inner_radius=inner_radius,
-            faces=faces,
-        ),
-        domain,
+    Per scenario: slip work [J] and peak power [W] finite and ≥ 0, radii [m] R₂ > R₁ > 0, faces a
+    whole number in [1, 1000], all of plausible magnitude (:mod:`clutchlab.plausible`); otherwise
+    status ``invalid_input`` (``invalid_geometry`` for swapped radii) and NaN."""
+    inputs = dict(
+        slip_work=slip_work,
+        peak_slip_power=peak_slip_power,
+        outer_radius=outer_radius,
+        inner_radius=inner_radius,
+        faces=faces,
     )
+    return st.screened(_loading, inputs, _domain(inputs), geometry=_ANNULUS)
 
 
 def bulk_rise(heat, mass, specific_heat):
-    """Lumped (bulk) temperature rise Q/(m c) [K] of a part that takes the heat Q [J]."""
+    """Lumped (bulk) temperature rise Q/(m c) [K] of a part of mass m [kg] and specific heat c
+    [J/(kg K)] that takes the heat Q [J]; NaN where Q < 0, m or c ≤ 0, or one is not finite or
+    plausible (:mod:`clutchlab.plausible`)."""
+    inputs = dict(heat=heat, mass=mass, specific_heat=specific_heat)
+    return st.nan_screened(_bulk_rise, inputs, _domain(inputs))
+
+
+def _bulk_rise(*, heat, mass, specific_heat):
     return np.asarray(heat) / (np.asarray(mass) * np.asarray(specific_heat))
 
 
 def surface_temperature_constant(flux, time, effusivity):
-    """Surface temperature rise of a semi-infinite body under a constant flux q from t = 0:
-    2q√(t/(πρck)) = 2q√t/(e√π) [K]."""
+    """Surface temperature rise of a semi-infinite body under a constant flux q [W/m²] from t = 0:
+    2q√(t/(πρck)) = 2q√t/(e√π) [K] at time t [s], effusivity e [W s^0.5/(m² K)]; NaN where
+    q, t < 0, e ≤ 0, or one is not finite or plausible."""
+    inputs = dict(flux=flux, time=time, effusivity=effusivity)
+    return st.nan_screened(_surface_temperature_constant, inputs, _domain(inputs))
+
+
+def _surface_temperature_constant(*, flux, time, effusivity):
     return 2.0 * np.asarray(flux) * np.sqrt(time) / (np.asarray(effusivity) * math.sqrt(math.pi))
 
 
 def surface_temperature_ramp(rate, time, effusivity):
-    """Surface temperature rise under a linearly rising flux q = b t: (4/3)·b·t^{3/2}/(e√π) [K]."""
+    """Surface temperature rise under a linearly rising flux q = b t (b [W/(m² s)]):
+    (4/3)·b·t^{3/2}/(e√π) [K] at time t [s]; NaN where b, t < 0, e ≤ 0 or one is not finite or
+    plausible."""
+    inputs = dict(rate=rate, time=time, effusivity=effusivity)
+    return st.nan_screened(_surface_temperature_ramp, inputs, _domain(inputs))
+
+
+def _surface_temperature_ramp(*, rate, time, effusivity):
     return (
         4.0
         / 3.0
@@ -149,11 +220,27 @@ def duhamel_surface_temperature(times, flux, effusivity):
     with u = t_k − τ and q = A + B·u on the segment, ∫ (A u^{-1/2} + B u^{1/2}) du
     = 2A(√u_j − √u_{j+1}) + (2/3)B(u_j^{3/2} − u_{j+1}^{3/2}), written without cancellation. Exact
     for a constant or linearly rising flux; error O(h²) in the spacing h for a smooth flux (both
-    tested). Leading axes are scenarios; memory and work O(n²) in the samples n.
+    tested). Leading axes are scenarios; memory and work O(n²) in the samples n. A scenario whose
+    times are not finite and strictly increasing, whose flux [W/m²] is not finite (a cooling flux
+    may be negative) or whose effusivity [W s^0.5/(m² K)] is not positive and plausible gives NaN.
     """
     t = np.asarray(times, dtype=float)
     q = np.asarray(flux, dtype=float)
     t, q = np.broadcast_arrays(t, q)
+    with np.errstate(invalid="ignore"):
+        bad = ~(
+            np.all(np.isfinite(t) & np.isfinite(q), axis=-1)
+            & np.all(np.diff(t, axis=-1) > 0, axis=-1)
+            & _RULES["effusivity"](np.asarray(effusivity, dtype=float))
+        )
+    if np.any(bad):
+        with np.errstate(all="ignore"):
+            out = _duhamel(t, q, np.where(bad, 1.0, effusivity))
+        return np.where(bad[..., None], np.nan, out)
+    return _duhamel(t, q, effusivity)
+
+
+def _duhamel(t, q, effusivity):
     n = t.shape[-1]
     out = np.zeros(t.shape)
     if n < 2:
@@ -178,7 +265,20 @@ def duhamel_surface_temperature(times, flux, effusivity):
 def sequence_temperatures(rise, interval, time_constant, engagements):
     """Temperature over ambient just after each of ``engagements`` engagements (last axis) of a
     lumped part: each adds ``rise`` [K]; between them it cools exponentially (Newton's law,
-    time constant τ = m c/(h A) [s]) for ``interval`` [s]: T_n = r·T_{n−1} + ΔT, r = exp(−t_i/τ)."""
+    time constant τ = m c/(h A) [s]) for ``interval`` [s]: T_n = r·T_{n−1} + ΔT, r = exp(−t_i/τ).
+    ``engagements`` (shared) is a whole number in [1, 1e6] (ValueError otherwise); a scenario with
+    a rise < 0, an interval or τ ≤ 0, or one not finite or plausible gives NaN."""
+    if not (
+        np.isscalar(engagements) and 1 <= engagements <= 1e6 and engagements == int(engagements)
+    ):
+        raise ValueError(f"engagements must be a whole number in [1, 1e6], got {engagements!r}")
+    inputs = dict(rise=rise, interval=interval, time_constant=time_constant)
+    return st.nan_screened(
+        _sequence_temperatures, inputs, _domain(inputs), extra={"engagements": engagements}
+    )
+
+
+def _sequence_temperatures(*, rise, interval, time_constant, engagements):
     rise, r = np.broadcast_arrays(
         np.asarray(rise, dtype=float),
         np.exp(-np.asarray(interval, dtype=float) / np.asarray(time_constant, dtype=float)),
@@ -192,14 +292,27 @@ def sequence_temperatures(rise, interval, time_constant, engagements):
 
 
 def periodic_temperature(rise, interval, time_constant):
-    """The sequence's periodic steady state just after an engagement, ΔT/(1 − r) [K] (geometric sum)."""
+    """The sequence's periodic steady state just after an engagement, ΔT/(1 − r) [K] (geometric
+    sum), r = exp(−t_i/τ) (rise ΔT [K], interval t_i and time constant τ [s]); NaN where ΔT < 0,
+    t_i or τ ≤ 0, or one is not finite or plausible (a negative interval is no sequence)."""
+    inputs = dict(rise=rise, interval=interval, time_constant=time_constant)
+    return st.nan_screened(_periodic_temperature, inputs, _domain(inputs))
+
+
+def _periodic_temperature(*, rise, interval, time_constant):
     return np.asarray(rise) / (1.0 - np.exp(-np.asarray(interval) / np.asarray(time_constant)))
 
 
 def engagements_to_limit(rise, interval, time_constant, margin):
     """Engagements in a row after which the part first reaches ``margin`` [K] over ambient (the
     material limit minus ambient): the least n with ΔT(1 − rⁿ)/(1 − r) ≥ margin; inf if the
-    periodic state stays below it (or no heat)."""
+    periodic state stays below it (or no heat). Rise ΔT [K], interval and time constant [s]; NaN
+    where ΔT < 0, interval, τ or margin ≤ 0, or one is not finite or plausible."""
+    inputs = dict(rise=rise, interval=interval, time_constant=time_constant, margin=margin)
+    return st.nan_screened(_engagements_to_limit, inputs, _domain(inputs))
+
+
+def _engagements_to_limit(*, rise, interval, time_constant, margin):
     rise, r, margin = np.broadcast_arrays(
         np.asarray(rise, dtype=float),
         np.exp(-np.asarray(interval, dtype=float) / np.asarray(time_constant)),
@@ -225,8 +338,9 @@ BULK_MATERIAL = {"flywheel": "cast_iron", "pressure_plate": "cast_iron", "driven
 
 
 def part_effusivities() -> tuple[float, float, float]:
-    """Effusivities of the flywheel, pressure plate and driven-plate faces (:data:`MATERIALS`)."""
-    return tuple(float(effusivity(**MATERIALS[FACE_MATERIAL[p]])) for p in PARTS)
+    """Effusivities of the flywheel, pressure plate and driven-plate faces (:data:`MATERIALS`)
+    [W s^0.5/(m² K)]."""
+    return tuple(float(_effusivity(**MATERIALS[FACE_MATERIAL[p]])) for p in PARTS)
 
 
 def _engagement_heat(
@@ -260,11 +374,11 @@ def _engagement_heat(
     capacity = np.choose(hottest, [c * np.ones_like(slip_work) for _, c in rises])
     out["bulk_temperature_rise"] = np.take_along_axis(rise, hottest[None], 0)[0]
     out["hottest_part"] = hottest.astype(np.int8)
-    out["engagements_to_limit"] = engagements_to_limit(
-        out["bulk_temperature_rise"],
-        engagement_interval,
-        capacity / (heat_transfer_coefficient * cooling_area),
-        temperature_margin,
+    out["engagements_to_limit"] = _engagements_to_limit(
+        rise=out["bulk_temperature_rise"],
+        interval=engagement_interval,
+        time_constant=capacity / (heat_transfer_coefficient * cooling_area),
+        margin=temperature_margin,
     )
     return out
 
@@ -301,28 +415,23 @@ def engagement_heat(
     (assumed: a retried start), margin 210 K (assumed: 250 °C, the upper service temperature of
     organic linings in Limpert ch. 3, over 40 °C in the housing). Two friction faces only (the
     partition is a single plate's): another face count gives status ``invalid_input``, as do
-    non-finite or non-positive inputs.
+    non-finite, non-positive or implausible inputs (:mod:`clutchlab.plausible`); swapped lining
+    radii (R₂ ≤ R₁) give ``invalid_geometry``.
     """
-    from . import status as st
-
     domain = {
-        "slip_work": st.nonnegative,
-        "peak_slip_power": st.nonnegative,
-        "inner_radius": st.positive,
-        "outer_radius": st.positive,
+        "slip_work": _RULES["slip_work"],
+        "peak_slip_power": _RULES["peak_slip_power"],
+        "inner_radius": _RULES["inner_radius"],
+        "outer_radius": _RULES["outer_radius"],
         "faces": lambda x: x == 2,
-        None: lambda a: a["outer_radius"] > a["inner_radius"],
+        "flywheel_mass": _RULES["mass"],
+        "pressure_plate_mass": _RULES["mass"],
+        "driven_plate_mass": _RULES["mass"],
+        "heat_transfer_coefficient": st.positive_in("W/(m^2*K)"),
+        "cooling_area": st.positive_in("m^2"),
+        "engagement_interval": _RULES["interval"],
+        "temperature_margin": _RULES["margin"],
     }
-    for name in (
-        "flywheel_mass",
-        "pressure_plate_mass",
-        "driven_plate_mass",
-        "heat_transfer_coefficient",
-        "cooling_area",
-        "engagement_interval",
-        "temperature_margin",
-    ):
-        domain[name] = st.positive
     inputs = dict(
         slip_work=slip_work,
         peak_slip_power=peak_slip_power,
@@ -337,7 +446,7 @@ def engagement_heat(
         engagement_interval=engagement_interval,
         temperature_margin=temperature_margin,
     )
-    return st.screened(_engagement_heat, inputs, domain)
+    return st.screened(_engagement_heat, inputs, domain, geometry=_ANNULUS)
 
 
 def kernel_modes(cut=4000.0, span=10.0, ratio=2.5, top=4.0):
@@ -346,8 +455,18 @@ def kernel_modes(cut=4000.0, span=10.0, ratio=2.5, top=4.0):
     :mod:`clutchlab._engagement_kernel`, which this regenerates): (λ_k [1/s], w_k [s^-0.5]) with
     Σ w_k e^{−λ_k s} ≈ erf(√(λ_c s))/√s on s ∈ [0, span], by non-negative least squares weighted by
     √s (the error relative to the whole kernel 1/√s), λ_k geometric with ``ratio`` from
-    ``top``·λ_c down to 0.1/span; modes of zero weight dropped."""
+    ``top``·λ_c down to 0.1/span; modes of zero weight dropped. ``cut`` [1/s], ``span`` [s] and
+    ``top`` must be finite and > 0, ``ratio`` > 1, at most 1000 modes (ValueError otherwise)."""
     from scipy.optimize import nnls
+
+    for name, v in (("cut", cut), ("span", span), ("top", top)):
+        if not (np.isscalar(v) and 0 < v < np.inf):
+            raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
+    if not (np.isscalar(ratio) and 1 < ratio < np.inf):
+        raise ValueError(f"ratio must be a finite number > 1, got {ratio!r}")
+    n_modes = np.log(max(top * cut * span / 0.1, 1.0)) / np.log(ratio) + 1
+    if not n_modes <= 1000:
+        raise ValueError(f"cut, span, top and ratio ask for {n_modes:.3g} modes (at most 1000)")
     from scipy.special import erf
 
     n = int(np.ceil(np.log(top * cut * span / 0.1) / np.log(ratio))) + 1
@@ -364,8 +483,19 @@ def face_temperature_rise(duhamel_integral, outer_radius, inner_radius, faces=2)
     """Friction-face (flash) temperature rise of the cast-iron faces (flywheel and pressure plate take
     the same share γ = e_m/(e_m + e_lining) of their face's heat) from the solver's Duhamel integral
     of the slip power, I = ∫ P(τ)/√(t − τ) dτ [W s^0.5]: ΔT = γ·I/(A·e_m·√π), A the friction area of
-    all faces (each face takes P/2 on A/2) [K]."""
+    all faces (each face takes P/2 on A/2) [K]. Lining radii [m]; NaN where I < 0, R₂ ≤ R₁ ≤ 0,
+    faces not a whole number in [1, 1000], or an input not finite or plausible."""
+    inputs = dict(
+        duhamel_integral=duhamel_integral,
+        outer_radius=outer_radius,
+        inner_radius=inner_radius,
+        faces=faces,
+    )
+    return st.nan_screened(_face_temperature_rise, inputs, _domain(inputs, _ANNULUS))
+
+
+def _face_temperature_rise(*, duhamel_integral, outer_radius, inner_radius, faces):
     e_fw, e_pp, e_lining = part_effusivities()
     gamma = e_pp / (e_pp + e_lining)
-    area = faces * lining_area(outer_radius, inner_radius)
+    area = faces * _lining_area(outer_radius=outer_radius, inner_radius=inner_radius)
     return gamma * np.asarray(duhamel_integral) / (area * e_pp * math.sqrt(math.pi))

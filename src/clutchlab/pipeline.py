@@ -9,6 +9,7 @@ A design comes from :func:`clutchlab.doe.build_design`; a chunk is computed by t
 from __future__ import annotations
 
 import time
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
@@ -122,9 +123,23 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=N
         )
     ds = ds.assign_coords(coords)
     ds.attrs.update(design.attrs)
+    ds.attrs.update(_provenance(design, chunks, i))
     ds.attrs["chunk"] = f"{i + 1} of {chunks}"
     ds.attrs["compute_seconds"] = seconds  # the physics' own time (benchmark_million); not merged
     return ds
+
+
+def _provenance(design: xr.Dataset, chunks: int, i: int) -> dict:
+    """What produced a chunk (:mod:`clutchlab.verify`): the design's config text (with the design's
+    attributes), the design's hash, the source that computed it, which chunk of how many."""
+    from . import source_hash, store
+
+    return {
+        "clutchlab_source": source_hash(),
+        "clutchlab_design_hash": store.checksum(design),
+        "chunk_index": int(i),
+        "chunk_count": int(chunks),
+    }
 
 
 def _join_batches(parts) -> xr.Dataset:
@@ -203,8 +218,16 @@ def _compute_by_choice(study, inputs, options, choices, codes) -> xr.Dataset:
     return ds
 
 
-# attributes of one chunk file that a merged result does not carry
-CHUNK_ATTRS = ("chunk", "compute_seconds")
+# attributes of one chunk file that a merged result does not carry (its checksum: the merged
+# result is sealed with its own)
+CHUNK_ATTRS = (
+    "chunk",
+    "chunk_index",
+    "chunk_count",
+    "compute_seconds",
+    "clutchlab_checksum",
+    "clutchlab_checksum_variables",
+)
 
 
 def _curve_subset(ds: xr.Dataset, idx, stride: int) -> xr.Dataset:
@@ -231,12 +254,78 @@ def _curve_subset(ds: xr.Dataset, idx, stride: int) -> xr.Dataset:
     )
 
 
-def merge(design: xr.Dataset, parts: list[xr.Dataset]) -> xr.Dataset:
+def _design_hash(design: xr.Dataset, config=None, source=None) -> str:
+    """The design's hash (:func:`clutchlab.store.checksum`), after checking that the design was
+    built from ``config`` (a study config text; None: not checked) and by ``source`` (None: the
+    current :func:`clutchlab.source_hash`); :class:`clutchlab.verify.ProvenanceError` otherwise."""
+    from . import source_hash, store, verify
+
+    problems = verify.provenance_problems(
+        design.attrs,
+        config=config,
+        source=source if source is not None else source_hash(),
+        required=("config", "clutchlab_source"),
+    )
+    if problems:
+        raise verify.ProvenanceError("the design " + "; ".join(problems))
+    return store.checksum(design)
+
+
+def _check_chunk(attrs, design, design_hash, config, source, position, count, where) -> None:
+    """A chunk must come from this design, config and source (else
+    :class:`clutchlab.store.ForeignChunk`) and be chunk ``position`` of ``count`` (else
+    ValueError: chunks missing, duplicated or out of order)."""
+    from . import store, verify
+
+    problems = verify.chunk_problems(
+        attrs, design, config=config, source=source, design_hash=design_hash
+    )
+    if problems:
+        raise store.ForeignChunk(f"{where} {'; '.join(problems)}")
+    index, total = int(np.ravel(attrs["chunk_index"])[0]), int(np.ravel(attrs["chunk_count"])[0])
+    if (index, total) != (position, count):
+        raise ValueError(
+            f"{where} is chunk {index + 1} of {total}, given as chunk {position + 1} of {count}"
+            " (missing or duplicated chunks, or out of order)"
+        )
+
+
+def merge(
+    design: xr.Dataset, parts: list[xr.Dataset], *, config: str | None = None, source=None
+) -> xr.Dataset:
     """Merge chunk results into one study Dataset shaped like the design.
 
     Factorial designs get their factors back as dimensions; sampled designs keep ``run``. The
-    design's fixed values are stored as 0-d input variables.
+    design's fixed values are stored as 0-d input variables. Each part must come from this design
+    (its ``clutchlab_design_hash``), its config (``config``: the current study config text, by
+    default the design's) and ``source`` (default: the current :func:`clutchlab.source_hash`), and
+    be chunk k of ``len(parts)`` in order (:mod:`clutchlab.verify`).
+
+    Parameters
+    ----------
+    design : xarray.Dataset
+        The study's design (:func:`clutchlab.doe.build_design`).
+    parts : list of xarray.Dataset
+        Every chunk (:func:`run_chunk`), in chunk order.
+    config : str or None
+        The study config text the design and chunks must come from
+        (:func:`clutchlab.config.study_config_text`); None: the design's.
+    source : str or None
+        The package source hash that must have computed them; None: the current one.
+
+    Raises
+    ------
+    clutchlab.store.ForeignChunk
+        A part from another design, config or source (the message says what differs).
+    clutchlab.verify.ProvenanceError
+        The design is not from ``config`` or ``source``.
+    ValueError
+        Parts missing, duplicated or out of order.
     """
+    design_hash = _design_hash(design, config, source)
+    for k, p in enumerate(parts):
+        where = f"chunk {k + 1} of the {len(parts)} given"
+        _check_chunk(p.attrs, design, design_hash, config, source, k, len(parts), where)
     curves = [n for n, v in parts[0].data_vars.items() if "curve_run" in v.dims]
     # variables without a run dimension (if a study gives any) come from the chunk of scenario 0
     first = next((p for p in parts if p.sizes.get("run", 0) and int(p["run"][0]) == 0), parts[0])
@@ -290,68 +379,129 @@ def merge(design: xr.Dataset, parts: list[xr.Dataset]) -> xr.Dataset:
 
 
 def merge_to_file(
-    design: xr.Dataset, chunk_paths, path, objectives=(), constraints=None, sensitivity_path=None
+    design: xr.Dataset,
+    chunk_paths,
+    path,
+    objectives=(),
+    constraints=None,
+    sensitivity_path=None,
+    *,
+    config: str | None = None,
+    source: str | None = None,
 ) -> None:
     """Merge chunk files into the study's result file without holding the study in memory.
 
-    Each chunk is read (checked against its checksum, :func:`clutchlab.store.load_verified`) and
-    written into its region of a pre-sized HDF5 file (:class:`clutchlab.store.StreamWriter`): a
-    factorial design's flat scenario range as blocks of its grid, a sampled design's as a slice of
-    ``run``; global attributes are those every chunk agrees on (as :func:`merge`). The design
-    answers (:func:`clutchlab.explore.annotate`) are then computed from the objectives,
-    constraints and status alone, read back from the file, and appended; the sensitivity indices
-    likewise (``sensitivity_path``). Peak memory: one chunk plus a few per-scenario columns. The
-    same values as :func:`merge` followed by :func:`~clutchlab.explore.annotate` (tested)."""
+    Each chunk is read and checked: against its checksum (values and attributes,
+    :func:`clutchlab.store.load_verified`) and its provenance (:mod:`clutchlab.verify`): it must
+    come from this design (``clutchlab_design_hash``), from ``config`` (the current study config
+    text; default: the design's, which must be ``config`` too), from ``source`` (default: the
+    current :func:`clutchlab.source_hash`), and be chunk k of ``len(chunk_paths)`` in order. A chunk
+    that fails is removed and named (:class:`clutchlab.store.CorruptChunk`, ``ForeignChunk``), so
+    the next run recomputes it; a design that fails raises
+    :class:`clutchlab.verify.ProvenanceError`. Each chunk is written into its region of a
+    pre-sized HDF5 file (:class:`clutchlab.store.StreamWriter`): a factorial design's flat
+    scenario range as blocks of its grid, a sampled design's as a slice of ``run``; global
+    attributes are those every chunk agrees on (as :func:`merge`). The design answers
+    (:func:`clutchlab.explore.annotate`) are then computed from the objectives, constraints and
+    status alone, read back from the file, and appended; the file is sealed with its checksum of
+    everything (:func:`clutchlab.store.seal`, read back a block at a time); the sensitivity
+    indices likewise (``sensitivity_path``, with its checksum). Peak memory: one chunk plus a few
+    per-scenario columns. The same values as :func:`merge` followed by
+    :func:`~clutchlab.explore.annotate` (tested).
+
+    Parameters
+    ----------
+    design : xarray.Dataset
+        The study's design.
+    chunk_paths : list of path
+        Every chunk file, in chunk order.
+    path : path
+        The result file (written atomically).
+    objectives, constraints
+        The study's (:func:`clutchlab.explore.annotate`).
+    sensitivity_path : path or None
+        Where to write the sensitivity indices (factorial and saltelli designs).
+    config : str or None
+        The current study config text (:func:`clutchlab.config.study_config_text`); None: the
+        design's.
+    source : str or None
+        The current package source hash; None: :func:`clutchlab.source_hash`.
+    """
     from . import explore, store
 
     constraints = dict(constraints or {})
-    factors = _factors(design)
+    design_hash = _design_hash(design, config, source)
     factorial = design.attrs["design"] == "factorial"
-    n = n_scenarios(design)
-    grid = {f: design[f] for f in factors} if factorial else None
-    attrs, bounds = None, []
+    grid = {f: design[f] for f in _factors(design)} if factorial else None
     with store.atomic(path) as tmp:
         with store.StreamWriter(
-            tmp, n, grid, curve_stride=int(design.attrs.get("curve_stride", 1))
+            tmp,
+            n_scenarios(design),
+            grid,
+            curve_stride=int(design.attrs.get("curve_stride", 1)),
         ) as out:
-            for p in chunk_paths:
-                chunk = store.load_verified(p)
-                for key in CHUNK_ATTRS:
-                    chunk.attrs.pop(key, None)
-                attrs = (
-                    dict(chunk.attrs)
-                    if attrs is None
-                    else {
-                        k: v
-                        for k, v in attrs.items()
-                        if k in chunk.attrs and _same(chunk.attrs[k], v)
-                    }
-                )
-                if chunk.sizes.get("run", 0) == 0:
-                    continue
-                idx = chunk["run"].values
-                start = int(idx[0])
-                if not np.array_equal(idx, np.arange(start, start + idx.size)):
-                    raise ValueError(f"{p}: scenarios are not one contiguous range")
-                bounds.append((start, start + idx.size))
-                for name, var in design.data_vars.items():
-                    chunk[name] = var
-                out.write(chunk, start)
-            covered = sorted(bounds)
-            if [a for a, _ in covered] != [0] + [b for _, b in covered[:-1]] or covered[-1][1] != n:
-                raise ValueError(
-                    f"chunks cover {covered}, the design has {n} scenarios (missing or duplicated)"
-                )
-            out.set_attrs(attrs)
+            checked = (design_hash, config, source)
+            out.set_attrs(_stream_chunks(out, design, list(chunk_paths), checked))
         needed = ["status"] + [o.split(":")[0] for o in objectives] + list(constraints)
         with xr.open_dataset(tmp, engine=store.ENGINE) as lazy:
             columns = lazy[list(dict.fromkeys(needed))].load()
         answers = explore.annotate(columns, list(objectives), constraints)
         new = answers[[v for v in ("feasible", "constraint_margin", "pareto_rank") if v in answers]]
         new.to_netcdf(tmp, mode="a", engine=store.ENGINE, encoding=store._encoding(new, 4))
+        store.seal(tmp)  # the checksum of everything, after the design answers are written
     if sensitivity_path is not None:
         outputs = [o.split(":")[0] for o in objectives] + list(constraints)
-        store.write(explore.sensitivity(columns, outputs), sensitivity_path)
+        store.write(explore.sensitivity(columns, outputs), sensitivity_path, with_checksum=True)
+
+
+def _load_chunk(p, design, position: int, count: int, checked: tuple) -> xr.Dataset:
+    """Chunk file ``p`` checked against its checksum and its provenance (``checked``: the design's
+    hash, the config text, the source), without its chunk attributes; a chunk that fails is
+    removed (CorruptChunk, ForeignChunk)."""
+    from . import store
+
+    chunk = store.load_verified(p)
+    design_hash, config, source = checked
+    try:
+        _check_chunk(chunk.attrs, design, design_hash, config, source, position, count, p)
+    except store.ForeignChunk as exc:
+        Path(p).unlink(missing_ok=True)
+        raise store.ForeignChunk(
+            f"{exc}; it has been removed, run snakemake again to recompute it"
+        ) from None
+    for key in CHUNK_ATTRS:
+        chunk.attrs.pop(key, None)
+    return chunk
+
+
+def _stream_chunks(out, design: xr.Dataset, chunk_paths: list, checked: tuple) -> dict:
+    """Write every chunk (checked, :func:`_load_chunk`) into its region of ``out`` (a
+    :class:`clutchlab.store.StreamWriter`); return the global attributes every chunk agrees on."""
+    n = n_scenarios(design)
+    attrs, bounds = None, []
+    for position, p in enumerate(chunk_paths):
+        chunk = _load_chunk(p, design, position, len(chunk_paths), checked)
+        attrs = (
+            dict(chunk.attrs)
+            if attrs is None
+            else {k: v for k, v in attrs.items() if k in chunk.attrs and _same(chunk.attrs[k], v)}
+        )
+        if chunk.sizes.get("run", 0) == 0:
+            continue
+        idx = chunk["run"].values
+        start = int(idx[0])
+        if not np.array_equal(idx, np.arange(start, start + idx.size)):
+            raise ValueError(f"{p}: scenarios are not one contiguous range")
+        bounds.append((start, start + idx.size))
+        for name, var in design.data_vars.items():
+            chunk[name] = var
+        out.write(chunk, start)
+    covered = sorted(bounds)
+    if [a for a, _ in covered] != [0] + [b for _, b in covered[:-1]] or covered[-1][1] != n:
+        raise ValueError(
+            f"chunks cover {covered}, the design has {n} scenarios (missing or duplicated)"
+        )
+    return attrs
 
 
 def _same(a, b) -> bool:

@@ -46,6 +46,20 @@ RANGES: dict[str, tuple[float, float]] = {
     "N s/m": (1e-6, 1e10),
     "W": (1e-3, 1e9),
     "kg/m^3": (1.0, 1e5),
+    # energies: a nanojoule to a terajoule (a heavy rotor at speed holds ~1e8 J)
+    "J": (1e-9, 1e12),
+    "J/m^2": (1e-9, 1e13),
+    "W/m^2": (1e-6, 1e13),
+    # heat: specific heats, conductivities, effusivities of solids (and of air, for the low ends)
+    "J/(kg K)": (10.0, 1e5),
+    "W/(m K)": (1e-3, 1e4),
+    "W s^0.5/(m^2 K)": (1.0, 1e6),
+    # Duhamel's integral of a slip power, and the face temperature per unit of it
+    "W s^0.5": (1e-9, 1e13),
+    "K/(W s^0.5)": (1e-12, 1e6),
+    # linear spring rates; Hertz contact stiffness k of k·δ^1.5 (3.4e5 N/mm^1.5 = 1.1e10 in SI)
+    "N/m": (1e-3, 1e13),
+    "N/m^1.5": (1.0, 1e15),
     # dimensionless parameters: ratios and coefficients; narrower per parameter (a friction
     # coefficient <= 2, a count <= COUNT_MAX)
     "1": (1e-12, 1e6),

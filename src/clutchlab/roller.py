@@ -73,11 +73,49 @@ __all__ = [
 RPM = np.pi / 30.0
 STEEL_DENSITY = 7850.0
 MODES = ("bidirectional_lock", "bidirectional_overrun", "overrun_forward", "overrun_reverse")
+READINGS = ("one_flank", "all")
+MAX_FRICTION_COEFFICIENT = 2.0
+MAX_SERVICE_FACTOR = 100.0  # each of K₁, K₂, K₃ of eq. (1)
+MAX_EXPONENT = 10.0  # of the contact law k·δ^e
+
+_MU = st.positive_in("1", hi=MAX_FRICTION_COEFFICIENT)
+# per-input rules of the helpers (sign, finite, plausible magnitude: clutchlab.plausible)
+_RULES = {
+    "max_torque": st.nonnegative_in("N m"),
+    "k1": st.positive_in("1", hi=MAX_SERVICE_FACTOR),
+    "k2": st.positive_in("1", hi=MAX_SERVICE_FACTOR),
+    "k3": st.positive_in("1", hi=MAX_SERVICE_FACTOR),
+    "torque": st.nonnegative_in("N m"),
+    "contact_radius": st.positive_in("m"),
+    "friction_coefficient": _MU,
+    "rollers": st.count(1),
+    "roller_diameter": st.positive_in("m"),
+    "counter_diameter": st.positive_or_inf_in("m"),
+    "force": st.nonnegative_in("N"),
+    "roller_length": st.positive_in("m"),
+    "radius": st.positive_in("m"),
+    "youngs_modulus": st.positive_in("Pa"),
+    "poisson_ratio": st.between(-1.0, 0.5, lo_open=True, hi_open=True),
+    "density": st.positive_in("kg/m^3"),
+    "roller_mass": st.positive_in("kg"),
+    "speed": st.nonnegative_in("rad/s"),
+    "wedge_angle": st.between(0.0, np.pi / 2, lo_open=True, hi_open=True),
+}
+
+
+def _domain(inputs, relations=None):
+    return {**{k: _RULES[k] for k in inputs}, **(relations or {})}
 
 
 def computed_torque(max_torque, *, k1=1.0, k2=1.1, k3=1.1):
     """T_c = K₃(K₁ + K₂)·T_i (seed 003 eq. 1) [N m]. The paper prints only T_c = 1848 N m for
-    T_i = 800 N m, i.e. K₃(K₁+K₂) = 2.31; the split K₁ = 1.0, K₂ = 1.1, K₃ = 1.1 is assumed."""
+    T_i = 800 N m, i.e. K₃(K₁+K₂) = 2.31; the split K₁ = 1.0, K₂ = 1.1, K₃ = 1.1 is assumed.
+    NaN where T_i [N m] < 0, a factor is not in (0, 100], or an input is not finite or plausible."""
+    inputs = dict(max_torque=max_torque, k1=k1, k2=k2, k3=k3)
+    return st.nan_screened(_computed_torque, inputs, _domain(inputs))
+
+
+def _computed_torque(*, max_torque, k1, k2, k3):
     return k3 * (k1 + k2) * np.asarray(max_torque, float)
 
 
@@ -87,10 +125,14 @@ def loaded_rollers(rollers, reading="one_flank"):
     ``one_flank`` (clutchlab): the wedge ring is symmetric for both directions, and in either
     direction only the rollers on one flank of each wedge lock, z/2 of them — the reading that gives
     the published σ_H = 2865.5 MPa; ``all``: eq. (2) as printed, every roller loaded (2026 MPa).
-    A count that is not a whole number ≥ 1 — or, for ``one_flank``, not even (z = 13 would load 6.5
-    rollers) — gives NaN, so every number computed from it is NaN (the config refuses such counts)."""
+    A count that is not a whole number in [1, 1000] — or, for ``one_flank``, not even (z = 13 would
+    load 6.5 rollers) — gives NaN, so every number computed from it is NaN (the config refuses such
+    counts). Another ``reading``: ValueError."""
+    if reading not in READINGS:
+        raise ValueError(f"reading must be one of {READINGS}, got {reading!r}")
     z = np.asarray(rollers, float)
-    whole = st.whole(1)(z)
+    with np.errstate(invalid="ignore"):
+        whole = st.count(1)(z)
     if reading == "one_flank":
         return np.where(whole & (z % 2 == 0), 0.5 * z, np.nan)
     return np.where(whole, z, np.nan)
@@ -98,12 +140,34 @@ def loaded_rollers(rollers, reading="one_flank"):
 
 def normal_force(torque, *, contact_radius, friction_coefficient, rollers):
     """N_A = T_c / (R_C·μ_A·z) (seed 003 eq. 2) [N]: the normal force per roller that lets the
-    friction interface carry T_c (``rollers`` = the loaded ones)."""
+    friction interface carry T_c [N m] (``rollers`` = the loaded ones, a whole number in [1, 1000];
+    R_C [m]); NaN where an input is not physical, finite or plausible."""
+    inputs = dict(
+        torque=torque,
+        contact_radius=contact_radius,
+        friction_coefficient=friction_coefficient,
+        rollers=rollers,
+    )
+    return st.nan_screened(_normal_force, inputs, _domain(inputs))
+
+
+def _normal_force(*, torque, contact_radius, friction_coefficient, rollers):
     return np.asarray(torque, float) / (contact_radius * friction_coefficient * rollers)
 
 
 def equivalent_radius(roller_diameter, counter_diameter=np.inf):
-    """ρ_v = 0.5·D_v·d/(D_v − d) (seed 003, after eq. 3) [m]; d/2 on a flat face (D_v = ∞)."""
+    """ρ_v = 0.5·D_v·d/(D_v − d) (seed 003, after eq. 3) [m]; d/2 on a flat face (D_v = ∞). Roller
+    and (concave) counter-face diameters d, D_v [m]; NaN unless D_v > d > 0, finite (D_v may be
+    inf) and plausible."""
+    inputs = dict(roller_diameter=roller_diameter, counter_diameter=counter_diameter)
+    return st.nan_screened(
+        _equivalent_radius,
+        inputs,
+        _domain(inputs, {None: lambda a: a["counter_diameter"] > a["roller_diameter"]}),
+    )
+
+
+def _equivalent_radius(*, roller_diameter, counter_diameter):
     d = np.asarray(roller_diameter, float)
     dv = np.asarray(counter_diameter, float)
     return np.where(np.isinf(dv), 0.5 * d, 0.5 * dv * d / np.where(np.isinf(dv), 1.0, dv - d))
@@ -111,7 +175,19 @@ def equivalent_radius(roller_diameter, counter_diameter=np.inf):
 
 def contact_stress(force, *, roller_length, radius, youngs_modulus=206e9, poisson_ratio=0.3):
     """Hertz line-contact stress σ_H = √(N·E / (2π(1−ν²)·b·ρ_v)) (seed 003 eq. 3: 0.418 = 1/√(2π(1−ν²))
-    for steel, ν = 0.3) [Pa]."""
+    for steel, ν = 0.3) [Pa]: force N ≥ 0 [N], length b and radius ρ_v > 0 [m], E [Pa]; NaN where
+    an input is not physical, finite or plausible."""
+    inputs = dict(
+        force=force,
+        roller_length=roller_length,
+        radius=radius,
+        youngs_modulus=youngs_modulus,
+        poisson_ratio=poisson_ratio,
+    )
+    return st.nan_screened(_contact_stress, inputs, _domain(inputs))
+
+
+def _contact_stress(*, force, roller_length, radius, youngs_modulus, poisson_ratio):
     return np.sqrt(
         np.asarray(force, float)
         * youngs_modulus
@@ -120,7 +196,13 @@ def contact_stress(force, *, roller_length, radius, youngs_modulus=206e9, poisso
 
 
 def roller_mass(*, roller_diameter, roller_length, density=STEEL_DENSITY):
-    """Mass of a solid roller [kg] (10 x 15 mm steel: 9.25 g)."""
+    """Mass of a solid roller [kg] (10 x 15 mm steel: 9.25 g) of diameter and length [m] and
+    density [kg/m³]; NaN where one is not positive, finite and plausible."""
+    inputs = dict(roller_diameter=roller_diameter, roller_length=roller_length, density=density)
+    return st.nan_screened(_roller_mass, inputs, _domain(inputs))
+
+
+def _roller_mass(*, roller_diameter, roller_length, density):
     return density * np.pi / 4 * np.square(roller_diameter) * roller_length
 
 
@@ -128,7 +210,21 @@ def spring_preload(*, roller_mass, contact_radius, friction_coefficient, speed, 
     """Spring force that keeps a roller in the wedge against friction of its centrifugal force [N]
     (seed 003 eq. 4): F_T ≥ μ·m·ω²·R_C (``exact``). The printed form 2R_Cμmn²/(18·10⁴) (R_C in mm,
     n in rpm; ``eq4``) is the same with π² taken as 10 (1.3 % higher): 800·m for seed 003, so the
-    published 3.7 N implies m = 4.6 g, half the 9.25 g of a solid 10 x 15 mm roller."""
+    published 3.7 N implies m = 4.6 g, half the 9.25 g of a solid 10 x 15 mm roller. Mass [kg],
+    R_C [m], speed ω [rad/s]; NaN where one is not physical, finite or plausible; another
+    ``formula``: ValueError."""
+    if formula not in ("exact", "eq4"):
+        raise ValueError(f"formula must be 'exact' or 'eq4', got {formula!r}")
+    inputs = dict(
+        roller_mass=roller_mass,
+        contact_radius=contact_radius,
+        friction_coefficient=friction_coefficient,
+        speed=speed,
+    )
+    return st.nan_screened(_spring_preload, inputs, _domain(inputs), extra={"formula": formula})
+
+
+def _spring_preload(*, roller_mass, contact_radius, friction_coefficient, speed, formula):
     if formula == "eq4":
         n = np.asarray(speed, float) / RPM
         return (
@@ -144,49 +240,63 @@ def spring_preload(*, roller_mass, contact_radius, friction_coefficient, speed, 
 
 def self_locking_margin(*, wedge_angle, friction_coefficient):
     """μ / tan(α/2) [1]: the roller locks without slipping at its contacts only if > 1 (seed 003
-    section 1.1 step 4: tan(α/2) < μ at every contact; 11°, μ 0.12: 1.25)."""
+    section 1.1 step 4: tan(α/2) < μ at every contact; 11°, μ 0.12: 1.25); wedge angle α in
+    (0, π/2) [rad], μ in (0, 2]; NaN where not."""
+    inputs = dict(wedge_angle=wedge_angle, friction_coefficient=friction_coefficient)
+    return st.nan_screened(_self_locking_margin, inputs, _domain(inputs))
+
+
+def _self_locking_margin(*, wedge_angle, friction_coefficient):
     return np.asarray(friction_coefficient, float) / np.tan(0.5 * np.asarray(wedge_angle, float))
 
 
 def limit_wedge_angle(friction_coefficient):
-    """Largest self-locking wedge angle 2·atan(μ) [rad] (13.69° for μ = 0.12)."""
-    return 2.0 * np.arctan(friction_coefficient)
+    """Largest self-locking wedge angle 2·atan(μ) [rad] (13.69° for μ = 0.12); NaN unless μ in
+    (0, 2]."""
+    inputs = dict(friction_coefficient=friction_coefficient)
+    return st.nan_screened(
+        lambda friction_coefficient: 2.0 * np.arctan(friction_coefficient),
+        inputs,
+        _domain(inputs),
+    )
 
 
 def engages(mode, direction=1):
     """Whether a working mode lets the clutch lock when driven in ``direction`` (+1 forward, −1
     reverse): bidirectional lock both; bidirectional overrun neither; one-way overrun forward
     locks only in reverse, and vice versa (the control ring holds the rollers out of the wedges of
-    the overrunning direction)."""
+    the overrunning direction). A direction that is not +1 or −1 (NaN, 0, 0.5) never locks:
+    False."""
     if mode not in MODES:
         raise ValueError(f"mode must be one of {MODES}, got {mode!r}")
-    d = np.asarray(direction)
+    d = np.asarray(direction, dtype=float)
+    valid = (d == 1.0) | (d == -1.0)
     if mode == "bidirectional_lock":
-        return np.ones(d.shape, bool)
+        return valid
     if mode == "bidirectional_overrun":
         return np.zeros(d.shape, bool)
-    return d < 0 if mode == "overrun_forward" else d > 0
+    return valid & ((d < 0) if mode == "overrun_forward" else (d > 0))
 
 
 _DOMAIN = {
-    "driving_speed": st.positive,
-    "load_torque": st.nonnegative,
-    "wedge_inertia": st.positive,
-    "driven_inertia": st.positive,
-    "contact_radius": st.positive,
-    "rollers_loaded": st.positive,
+    "driving_speed": st.positive_in("rad/s"),
+    "load_torque": st.nonnegative_in("N m"),
+    "wedge_inertia": st.positive_in("kg m^2"),
+    "driven_inertia": st.positive_in("kg m^2"),
+    "contact_radius": st.positive_in("m"),
+    "rollers_loaded": st.count(1),
     "wedge_angle": st.between(0.0, np.pi / 2, lo_open=True, hi_open=True),
-    "friction_coefficient": st.positive,
-    "spring_force": st.nonnegative,
-    "stiffness": st.positive,
-    "exponent": st.at_least(1.0),
-    "damping": st.nonnegative,
-    "penetration_depth": st.positive,
-    "control_stop_time": st.nonnegative_or_inf,
-    "claw_clearance": st.nonnegative,
-    "end_time": st.positive,
+    "friction_coefficient": _MU,
+    "spring_force": st.nonnegative_in("N"),
+    "stiffness": st.positive_in("N/m^1.5"),
+    "exponent": st.all_of(st.at_least(1.0), st.plausible("1", hi=MAX_EXPONENT)),
+    "damping": st.nonnegative_in("N s/m"),
+    "penetration_depth": st.positive_in("m"),
+    "control_stop_time": st.nonnegative_or_inf_in("s"),
+    "claw_clearance": st.nonnegative_in("m"),
+    "end_time": st.positive_in("s"),
     "sync_tolerance": st.between(0.0, 1.0, hi_open=True),
-    "max_step": st.positive_or_inf,
+    "max_step": st.positive_or_inf_in("s"),
 }
 
 
@@ -212,7 +322,8 @@ def parameter_rows(
     max_step=np.inf,
 ):
     """The compiled kernel's parameter rows (one per scenario, broadcast) and their shape; see
-    :func:`simulate` for the arguments."""
+    :func:`simulate` for the arguments. A scenario with an input :func:`simulate` refuses has a
+    row of NaN."""
     args = np.broadcast_arrays(
         *(
             np.asarray(a, float)
@@ -267,7 +378,22 @@ def parameter_rows(
         }
     for col, v in cols.items():
         P[:, col] = v
+    names = ("driving_speed", "load_torque", "wedge_inertia", "driven_inertia", "contact_radius")
+    names += ("rollers_loaded", "wedge_angle", "friction_coefficient", "spring_force", "stiffness")
+    names += ("exponent", "damping", "penetration_depth", "control_stop_time", "claw_clearance")
+    names += ("end_time", "max_step", "sync_tolerance")
+    _, ok = st.admissible(dict(zip(names, args, strict=True)), _DOMAIN)
+    P[~ok.ravel()] = np.nan
     return P, args[0].shape
+
+
+def _check_options(rtol, max_steps, trace_points):
+    if not (np.isscalar(rtol) and np.isfinite(rtol) and 0 < rtol < 1):
+        raise ValueError(f"rtol must be a number in (0, 1), got {rtol!r}")
+    if not (np.isscalar(max_steps) and 1 <= max_steps <= 1e9 and max_steps == int(max_steps)):
+        raise ValueError(f"max_steps must be a whole number in [1, 1e9], got {max_steps!r}")
+    if not (np.isscalar(trace_points) and 0 <= trace_points <= 1e7):
+        raise ValueError(f"trace_points must be a number in [0, 1e7], got {trace_points!r}")
 
 
 def simulate(*, rtol=1e-8, max_steps=200_000, trace_index=None, trace_points=20_000, **scenario):
@@ -290,10 +416,14 @@ def simulate(*, rtol=1e-8, max_steps=200_000, trace_index=None, trace_points=20_
     rotation at engagement), ``slip_backlash`` [rad] (its driving/wedge ring part), ``stick_time``
     [s], ``peak_contact_force`` [N] (per roller, peaks located exactly), ``release_time`` [s] after
     the control ring stops, ``final_contact_force`` [N], ``n_steps``, ``n_fev``, ``status`` (ok;
-    never_locked; not_converged; not_self_locking: tan(α/2) ≥ μ, not simulated; invalid_input: an
-    input not finite or not physical, not simulated, NaN); and ``trace``
-    (columns t, ω_d, ω_w, ω_o, N) of scenario ``trace_index``.
+    never_locked; not_converged: ``max_steps`` step attempts (accepted, rejected or failed) spent;
+    not_self_locking: tan(α/2) ≥ μ, not simulated; invalid_input: an input not finite, not
+    physical (a roller count that is not a whole number in [1, 1000], ...) or of an implausible
+    magnitude (:mod:`clutchlab.plausible`), not simulated, NaN); and ``trace``
+    (columns t, ω_d, ω_w, ω_o, N) of scenario ``trace_index``. rtol in (0, 1), max_steps a whole
+    number in [1, 1e9], trace_points in [0, 1e7] (ValueError otherwise).
     """
+    _check_options(rtol, max_steps, trace_points)
     P, shape = parameter_rows(**scenario)
     _, ok = st.admissible(scenario, {k: _DOMAIN[k] for k in scenario})
     ok = np.broadcast_to(ok, shape).ravel()

@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import status as st
+from .published import SPRAG_CLUTCH, SPRAG_TABLE2
 
 __all__ = [
     "impact_speed",
@@ -62,6 +63,21 @@ _E_STAR_STEEL = 206e9 / (2.0 * (1.0 - 0.3**2))  # reduced modulus the Palmgren c
 
 # --------------------------------------------------------------------------- impact torque (eqs 1-5)
 
+# per-input rules of the impact model (sign, finite, plausible magnitude: clutchlab.plausible)
+_IMPACT_RULES = {
+    "time": st.nonnegative_in("s"),
+    "rise_time": st.positive_in("s"),
+    "power": st.positive_in("W"),
+    "inertia": st.positive_in("kg m^2"),
+    "damping": st.positive_in("N m s^2"),
+    "initial_speed": st.nonnegative_in("rad/s"),
+    "peak": st.positive_in("N m"),
+}
+
+
+def _impact(compute, **inputs):
+    return st.nan_screened(compute, inputs, {k: _IMPACT_RULES[k] for k in inputs})
+
 
 def impact_speed(time, *, power, inertia, damping, initial_speed=0.0):
     """Output speed ω(t) under constant input power with quadratic damping (seed 002 eqs. 3-5).
@@ -79,11 +95,24 @@ def impact_speed(time, *, power, inertia, damping, initial_speed=0.0):
     Returns
     -------
     ndarray [rad/s]
+        NaN where t, ω₀ < 0, P₀, J, C ≤ 0, or an input is not finite or plausible
+        (:mod:`clutchlab.plausible`).
 
     Notes
     -----
     Eq. (4) of [1] is printed garbled; this is its exact solution, equivalent to T = P₀/ω.
     """
+    return _impact(
+        _impact_speed,
+        time=time,
+        power=power,
+        inertia=inertia,
+        damping=damping,
+        initial_speed=initial_speed,
+    )
+
+
+def _impact_speed(*, time, power, inertia, damping, initial_speed):
     p0, c = np.asarray(power, float), np.asarray(damping, float)
     w2 = (
         p0
@@ -94,31 +123,72 @@ def impact_speed(time, *, power, inertia, damping, initial_speed=0.0):
 
 def impact_torque(time, *, power, inertia, damping, initial_speed=0.0):
     """Clutch torque T(t) = P₀ / ω(t) (seed 002 eqs. 2, 4, 5) [N m]; infinite at t = 0 for ω₀ = 0,
-    hence the finite rise time t₀ of :func:`peak_torque` (the curve is used for t ≥ t₀)."""
+    hence the finite rise time t₀ of :func:`peak_torque` (the curve is used for t ≥ t₀). Inputs
+    as :func:`impact_speed` (NaN where invalid)."""
+    return _impact(
+        _impact_torque,
+        time=time,
+        power=power,
+        inertia=inertia,
+        damping=damping,
+        initial_speed=initial_speed,
+    )
+
+
+def _impact_torque(*, time, power, inertia, damping, initial_speed):
     with np.errstate(divide="ignore"):
-        return power / impact_speed(
-            time, power=power, inertia=inertia, damping=damping, initial_speed=initial_speed
+        return power / _impact_speed(
+            time=time, power=power, inertia=inertia, damping=damping, initial_speed=initial_speed
         )
 
 
 def steady_torque(*, power, damping):
-    """T(∞) = √(P₀ C_t) [N m] (seed 002 section 2.1; the printed "T_e = P₀C_t" is garbled)."""
+    """T(∞) = √(P₀ C_t) [N m] (seed 002 section 2.1; the printed "T_e = P₀C_t" is garbled), P₀ [W],
+    C_t [N m s²]; NaN where one is not positive, finite and plausible."""
+    return _impact(_steady_torque, power=power, damping=damping)
+
+
+def _steady_torque(*, power, damping):
     return np.sqrt(np.asarray(power, float) * damping)
 
 
 def peak_torque(*, rise_time, power, inertia, damping, initial_speed=0.0):
     """Peak torque T₀ = T(t₀) reached at the end of the rise time t₀ (seed 002 section 1.1) [N m].
 
-    Rises with P₀, J and C and falls with ω₀ and t₀ (seed 002 Fig. 4 b-e)."""
-    return impact_torque(
-        rise_time, power=power, inertia=inertia, damping=damping, initial_speed=initial_speed
+    Rises with P₀, J and C and falls with ω₀ and t₀ (seed 002 Fig. 4 b-e). t₀ > 0 [s], the rest
+    as :func:`impact_speed`; NaN where an input is invalid."""
+    return _impact(
+        _peak_torque,
+        rise_time=rise_time,
+        power=power,
+        inertia=inertia,
+        damping=damping,
+        initial_speed=initial_speed,
+    )
+
+
+def _peak_torque(*, rise_time, power, inertia, damping, initial_speed):
+    return _impact_torque(
+        time=rise_time, power=power, inertia=inertia, damping=damping, initial_speed=initial_speed
     )
 
 
 def rise_time_for_peak(*, peak, power, inertia, damping, initial_speed=0.0):
     """The rise time t₀ at which T(t₀) equals ``peak`` [s]: the inverse of :func:`peak_torque`.
 
-    t₀ = J/(2C) ln[(P₀ − Cω₀²)/(P₀ − C (P₀/T₀)²)]; NaN unless √(P₀C) < T₀ < P₀/ω₀."""
+    t₀ = J/(2C) ln[(P₀ − Cω₀²)/(P₀ − C (P₀/T₀)²)]; NaN unless √(P₀C) < T₀ < P₀/ω₀, or where an
+    input is invalid (as :func:`impact_speed`; T₀ > 0 [N m])."""
+    return _impact(
+        _rise_time_for_peak,
+        peak=peak,
+        power=power,
+        inertia=inertia,
+        damping=damping,
+        initial_speed=initial_speed,
+    )
+
+
+def _rise_time_for_peak(*, peak, power, inertia, damping, initial_speed):
     p0, c = np.asarray(power, float), np.asarray(damping, float)
     w = p0 / np.asarray(peak, float)
     num, den = p0 - c * np.square(initial_speed), p0 - c * w * w
@@ -129,13 +199,69 @@ def rise_time_for_peak(*, peak, power, inertia, damping, initial_speed=0.0):
 
 def inertia_for_peak(*, peak, rise_time, power, damping):
     """Output inertia J for which T(t₀) = ``peak`` from rest (ω₀ = 0) [kg m^2]:
-    J = 2 C t₀ / −ln(1 − P₀C/T₀²); NaN unless T₀ > √(P₀C)."""
+    J = 2 C t₀ / −ln(1 − P₀C/T₀²); NaN unless T₀ > √(P₀C), or where an input is invalid (T₀
+    [N m], t₀ [s], P₀ [W], C [N m s²] positive, finite and plausible)."""
+    return _impact(_inertia_for_peak, peak=peak, rise_time=rise_time, power=power, damping=damping)
+
+
+def _inertia_for_peak(*, peak, rise_time, power, damping):
     x = np.asarray(power, float) * damping / np.square(peak)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(x < 1, -2.0 * damping * rise_time / np.log1p(-x), np.nan)
 
 
 # --------------------------------------------------------------------------- geometry and deflection
+
+MAX_COMPLIANCE_FACTOR = 1e3  # deflection multiplier (1 physical; Table 2's fit: 1.73)
+_ANGLE = st.between(0.0, np.pi / 2, lo_open=True)  # (π/2: the pure-torsion limit)
+# per-input rules (sign, finite, plausible magnitude: clutchlab.plausible)
+_DOMAIN = {
+    "torque": st.nonnegative_in("N m"),
+    "compliance_factor": st.positive_in("1", lo=1e-6, hi=MAX_COMPLIANCE_FACTOR),
+    "contact_allowable": st.positive_in("Pa"),
+    "shaft_allowable": st.positive_in("Pa"),
+    "gripping_angle_allowable": st.between(0.0, np.pi / 2, lo_open=True),
+    "sprags": st.count(1),
+    "sprag_length": st.positive_in("m"),
+    "centre_distance": st.positive_in("m"),
+    "sprag_inner_radius": st.positive_in("m"),
+    "sprag_outer_radius": st.positive_in("m"),
+    "inner_bore_radius": st.nonnegative_in("m"),
+    "inner_race_radius": st.positive_in("m"),
+    "outer_race_radius": st.positive_in("m"),
+    "outer_rim_radius": st.positive_in("m"),
+    "youngs_modulus": st.positive_in("Pa"),
+    "poisson_ratio": st.between(-1.0, 0.5, lo_open=True, hi_open=True),
+    "load": st.nonnegative_in("N"),
+    "load_inner": st.nonnegative_in("N"),
+    "load_outer": st.nonnegative_in("N"),
+    "V": _ANGLE,
+    "W": _ANGLE,
+}
+# the races in order, inside out: shaft bore, inner race, outer race, outer rim
+_RACES = {
+    None: lambda a: (
+        (a["inner_bore_radius"] < a["inner_race_radius"])
+        & (a["inner_race_radius"] < a["outer_race_radius"])
+        & (a["outer_race_radius"] < a["outer_rim_radius"])
+    )
+}
+# and the sprag's arcs: its outer arc no larger than the outer race it rolls in
+_SPRAG_IN_RACES = {
+    None: lambda a: _RACES[None](a) & (a["sprag_outer_radius"] < a["outer_race_radius"])
+}
+
+
+def _domain(names):
+    return {k: _DOMAIN[k] for k in names}
+
+
+def _full_geometry(geometry):
+    """The seed 002 geometry and steel with ``geometry``'s values (unknown keys: TypeError)."""
+    unknown = set(geometry) - set(SEED_GEOMETRY) - set(STEEL)
+    if unknown:
+        raise TypeError(f"unknown geometry argument(s): {', '.join(sorted(unknown))}")
+    return {**SEED_GEOMETRY, **STEEL, **geometry}
 
 
 def _chord_angles(psi, r_in, r_out):
@@ -164,7 +290,31 @@ def rest_geometry(
     """Unloaded ψ₀, V₀, W₀ [rad] and the radial overlap d₀ = |OA| − |OB| [m].
 
     The sprag spans the races only for 0 < d₀ < Z (d₀ ≥ Z: it does not reach both races; d₀ ≤ 0: it
-    stands past radial). Seed 002 geometry: ψ₀ = 0.642°, V₀ = 2.354°."""
+    stands past radial). Seed 002 geometry: ψ₀ = 0.642°, V₀ = 2.354°. NaN where a radius is not
+    positive, finite and plausible or the races are out of order (R_i < R_o)."""
+    inputs = dict(
+        inner_race_radius=inner_race_radius,
+        outer_race_radius=outer_race_radius,
+        sprag_inner_radius=sprag_inner_radius,
+        sprag_outer_radius=sprag_outer_radius,
+        centre_distance=centre_distance,
+    )
+    return st.screened(
+        _rest_geometry,
+        inputs,
+        {**_domain(inputs), None: lambda a: a["inner_race_radius"] < a["outer_race_radius"]},
+    )
+
+
+def _rest_geometry(
+    *,
+    inner_race_radius,
+    outer_race_radius,
+    sprag_inner_radius,
+    sprag_outer_radius,
+    centre_distance,
+    **_,
+):
     oa = inner_race_radius + sprag_inner_radius
     ob = outer_race_radius - sprag_outer_radius
     psi = _central_angle(oa, ob, centre_distance)
@@ -174,7 +324,19 @@ def rest_geometry(
 
 def contact_approach(load, *, sprag_length, youngs_modulus=206e9, poisson_ratio=0.3):
     """Mutual approach of a line contact δ = 3.84e-5 Q^0.9 / l^0.8 (mm, N) [m] (Palmgren, [2]),
-    scaled as (E*_steel / E*)^0.9 for other moduli (the power of Q/(l E*) in that formula)."""
+    scaled as (E*_steel / E*)^0.9 for other moduli (the power of Q/(l E*) in that formula). Load
+    Q ≥ 0 [N], contact length l > 0 [m], E > 0 [Pa], ν ∈ (−1, 0.5); NaN where not, or not
+    finite or plausible."""
+    inputs = dict(
+        load=load,
+        sprag_length=sprag_length,
+        youngs_modulus=youngs_modulus,
+        poisson_ratio=poisson_ratio,
+    )
+    return st.nan_screened(_contact_approach, inputs, _domain(inputs))
+
+
+def _contact_approach(*, load, sprag_length, youngs_modulus, poisson_ratio):
     e_star = youngs_modulus / (2.0 * (1.0 - np.square(poisson_ratio)))
     q = np.maximum(load, 0.0)
     return _PALMGREN * q**0.9 / sprag_length**0.8 * (_E_STAR_STEEL / e_star) ** 0.9
@@ -196,7 +358,38 @@ def race_deflections(
 ):
     """Radial displacement of the race surfaces under the smeared sprag pressure [m] (Lamé thick
     cylinders, plane stress): inner shaft under external pressure p_i = n N_i/(2π R_i l) (u_i < 0),
-    outer race under internal pressure p_o = n N_o/(2π R_o l) (u_o > 0)."""
+    outer race under internal pressure p_o = n N_o/(2π R_o l) (u_o > 0). Loads ≥ 0 [N], radii
+    [m] in order 0 ≤ R_id < R_i < R_o < R_od, sprag count whole in [1, 1000]; NaN where not, or
+    an input is not finite or plausible."""
+    inputs = dict(
+        load_inner=load_inner,
+        load_outer=load_outer,
+        sprags=sprags,
+        sprag_length=sprag_length,
+        inner_bore_radius=inner_bore_radius,
+        inner_race_radius=inner_race_radius,
+        outer_race_radius=outer_race_radius,
+        outer_rim_radius=outer_rim_radius,
+        youngs_modulus=youngs_modulus,
+        poisson_ratio=poisson_ratio,
+    )
+    return st.nan_screened(_race_deflections, inputs, {**_domain(inputs), **_RACES})
+
+
+def _race_deflections(
+    load_inner,
+    load_outer,
+    *,
+    sprags,
+    sprag_length,
+    inner_bore_radius,
+    inner_race_radius,
+    outer_race_radius,
+    outer_rim_radius,
+    youngs_modulus=206e9,
+    poisson_ratio=0.3,
+    **_,
+):
     e, nu = youngs_modulus, poisson_ratio
     a, b = inner_bore_radius, inner_race_radius
     p_i = sprags * load_inner / (2.0 * np.pi * b * sprag_length)
@@ -229,7 +422,7 @@ def _deformed(torque, v, g, compliance_factor, inner_passes=3):
         ri_prev, ro_prev = ri_bar, ro_bar
         w = np.arcsin(ri_bar * np.sin(v) / ro_bar)
         n_i, n_o = _normal_loads(torque, v, w, ri_bar, ro_bar, n)
-        u_i, u_o = race_deflections(n_i, n_o, **g)
+        u_i, u_o = _race_deflections(n_i, n_o, **g)
         ri_bar = g["inner_race_radius"] + compliance_factor * u_i
         ro_bar = g["outer_race_radius"] + compliance_factor * u_o
     # change of the radii in the last pass: ~1e-6 relative on the physical branch; far above that
@@ -242,8 +435,8 @@ def _deformed(torque, v, g, compliance_factor, inner_passes=3):
         )
         <= UNSETTLED_RADII
     )
-    d_i = compliance_factor * contact_approach(n_i, sprag_length=l, **mat)
-    d_o = compliance_factor * contact_approach(n_o, sprag_length=l, **mat)
+    d_i = compliance_factor * _contact_approach(load=n_i, sprag_length=l, **mat)
+    d_o = compliance_factor * _contact_approach(load=n_o, sprag_length=l, **mat)
     # the contact approach shortens the sprag's effective arc radii (the r̄ of seed 002 eq. 7)
     si_bar, so_bar = g["sprag_inner_radius"] - d_i, g["sprag_outer_radius"] - d_o
     oa, ob = ri_bar + si_bar, ro_bar - so_bar
@@ -297,11 +490,33 @@ def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **g
     -------
     dict of ndarrays: ``V``, ``W``, ``psi`` [rad]; deformed radii ``inner_race_radius``,
     ``outer_race_radius``, ``sprag_inner_radius``, ``sprag_outer_radius`` [m]; ``load_inner``,
-    ``load_outer`` [N]; ``status`` (ok, invalid_geometry: the sprag does not span the races at rest;
-    roll_over: the loaded races open past the sprag's reach; not_converged); ``n_iterations``
-    (bracketing steps taken). At zero torque the result is the rest geometry
-    (:func:`rest_geometry`) with zero loads.
+    ``load_outer`` [N]; ``status`` (ok, invalid_geometry: the sprag does not span the races at rest,
+    or the races are out of order (0 ≤ R_id < R_i < R_o < R_od, r_o < R_o); roll_over: the loaded
+    races open past the sprag's reach; not_converged; invalid_input: an input not finite, not
+    physical (T < 0, a sprag count that is not whole, ν outside (−1, 0.5), ...) or of an
+    implausible magnitude (:mod:`clutchlab.plausible`)); ``n_iterations`` (bracketing steps
+    taken). At zero torque the result is the rest geometry (:func:`rest_geometry`) with zero loads.
+    ``tol`` in (0, 0.1] rad and ``max_iter`` a whole number in [1, 1000] (ValueError otherwise).
     """
+    _check_fixed_point(tol, max_iter)
+    inputs = dict(torque=torque, compliance_factor=compliance_factor, **_full_geometry(geometry))
+    return st.screened(
+        _gripping_angle,
+        inputs,
+        _domain(inputs),
+        geometry=_SPRAG_IN_RACES,
+        extra=dict(tol=tol, max_iter=max_iter),
+    )
+
+
+def _check_fixed_point(tol, max_iter):
+    if not (np.isscalar(tol) and 0 < tol <= 0.1):
+        raise ValueError(f"tol must be a bracket width in (0, 0.1] rad, got {tol!r}")
+    if not (np.isscalar(max_iter) and 1 <= max_iter <= 1000 and max_iter == int(max_iter)):
+        raise ValueError(f"max_iter must be a whole number in [1, 1000], got {max_iter!r}")
+
+
+def _gripping_angle(torque, *, compliance_factor, tol, max_iter, **geometry):
     g = _geometry(geometry)
     torque = np.asarray(torque, float)
     shape = np.broadcast_shapes(
@@ -310,7 +525,7 @@ def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **g
     g = {k: np.broadcast_to(v, shape).ravel() for k, v in g.items()}
     t = np.broadcast_to(torque, shape).ravel()
     c = np.broadcast_to(np.asarray(compliance_factor, float), shape).ravel()
-    rest = rest_geometry(**g)
+    rest = _rest_geometry(**g)
     valid = (rest["overlap"] > 0) & (rest["overlap"] < g["centre_distance"]) & (t >= 0)
 
     lo = np.where(valid, rest["V"], 0.1)
@@ -326,7 +541,7 @@ def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **g
     f_lo, f_hi = f(lo), f(hi)
     side = np.zeros(lo.shape, np.int8)
     iterations = np.zeros(lo.shape, np.int32)
-    for _ in range(max_iter):
+    for _ in range(int(max_iter)):
         active = valid & (hi - lo > tol)
         if not active.any():
             break
@@ -404,8 +619,47 @@ def contact_stress(
     σ_co = √[T cot W (1/r̄_o − 1/R̄_o) / (π n l R̄_o · 2(1−ν²)/E)] (concave outer race).
     The square root covers the whole fraction (the printed layout is ambiguous). Pass the deformed
     radii (:func:`gripping_angle`) as eq. 7 does, or the rest radii; one steel for all three parts
-    (eq. 7 allows E₁, E₂, E₃: the paper prints none).
+    (eq. 7 allows E₁, E₂, E₃: the paper prints none). Returns (σ_ci, σ_co); NaN where T < 0, V or
+    W outside (0, π/2), a length [m] or E [Pa] not positive, the races out of order (R_i < R_o,
+    r̄_o < R̄_o), or an input not finite or plausible.
     """
+    inputs = dict(
+        torque=torque,
+        V=V,
+        W=W,
+        sprags=sprags,
+        sprag_length=sprag_length,
+        inner_race_radius=inner_race_radius,
+        outer_race_radius=outer_race_radius,
+        sprag_inner_radius=sprag_inner_radius,
+        sprag_outer_radius=sprag_outer_radius,
+        youngs_modulus=youngs_modulus,
+        poisson_ratio=poisson_ratio,
+    )
+    inside = {
+        None: lambda a: (
+            (a["inner_race_radius"] < a["outer_race_radius"])
+            & (a["sprag_outer_radius"] < a["outer_race_radius"])
+        )
+    }
+    return st.nan_screened(_contact_stress, inputs, {**_domain(inputs), **inside})
+
+
+def _contact_stress(
+    torque,
+    *,
+    V,
+    W,
+    sprags,
+    sprag_length,
+    inner_race_radius,
+    outer_race_radius,
+    sprag_inner_radius,
+    sprag_outer_radius,
+    youngs_modulus=206e9,
+    poisson_ratio=0.3,
+    **_,
+):
     k = 2.0 * (1.0 - np.square(poisson_ratio)) / youngs_modulus
     ci = (
         torque
@@ -446,8 +700,37 @@ def shaft_stress(
     plus the torsional shear T ρ/J_p. Eq. (8) is not legible in the paper; this is its stated
     content (Fig. 3, "fourth strength theory"). Returns a dict with the stress at both surfaces of
     each part (``inner_bore``, ``inner_surface``, ``outer_bore``, ``outer_surface``) and the maxima
-    ``inner``, ``outer`` (at the bores for seed-like proportions).
+    ``inner``, ``outer`` (at the bores for seed-like proportions); NaN where T < 0, V or W outside
+    (0, π/2), the races out of order (0 ≤ R_id < R_i < R_o < R_od), or an input not finite,
+    not physical or not plausible.
     """
+    inputs = dict(
+        torque=torque,
+        V=V,
+        W=W,
+        sprags=sprags,
+        sprag_length=sprag_length,
+        inner_bore_radius=inner_bore_radius,
+        inner_race_radius=inner_race_radius,
+        outer_race_radius=outer_race_radius,
+        outer_rim_radius=outer_rim_radius,
+    )
+    return st.screened(_shaft_stress, inputs, {**_domain(inputs), **_RACES})
+
+
+def _shaft_stress(
+    torque,
+    *,
+    V,
+    W,
+    sprags,
+    sprag_length,
+    inner_bore_radius,
+    inner_race_radius,
+    outer_race_radius,
+    outer_rim_radius,
+    **_,
+):
     n_i, n_o = _normal_loads(torque, V, W, inner_race_radius, outer_race_radius, sprags)
     out = {}
     for name, a, b, p, sign in (
@@ -468,18 +751,23 @@ def shaft_stress(
     return out
 
 
+#: The allowables of seed 002 Table 2 [Pa, Pa, rad] (:data:`clutchlab.published.SPRAG_CLUTCH`).
 ALLOWABLES = dict(
-    contact_allowable=3400e6, shaft_allowable=793e6, gripping_angle_allowable=np.deg2rad(5.0)
+    contact_allowable=SPRAG_CLUTCH["contact_allowable"].value * 1e6,
+    shaft_allowable=SPRAG_CLUTCH["shaft_allowable"].value * 1e6,
+    gripping_angle_allowable=np.deg2rad(SPRAG_CLUTCH["gripping_angle_allowable"].value),
 )
+_PEAK = SPRAG_TABLE2[750.0]  # seed 002 Table 2, theory column, at the peak torque
+_PEAK_V = float(np.deg2rad(_PEAK.gripping_angle))  # [rad]
 
 
 def statics(
     torque,
     *,
     compliance_factor=1.0,
-    contact_allowable=3400e6,
-    shaft_allowable=793e6,
-    gripping_angle_allowable=np.deg2rad(5.0),
+    contact_allowable=ALLOWABLES["contact_allowable"],
+    shaft_allowable=ALLOWABLES["shaft_allowable"],
+    gripping_angle_allowable=ALLOWABLES["gripping_angle_allowable"],
     **geometry,
 ):
     """Gripping angle, contact and shaft stresses, margins and checks for a torque (seed 002).
@@ -496,6 +784,8 @@ def statics(
     count that is not whole, ν outside (−1, 0.5), ...), invalid_geometry / roll_over /
     not_converged (no numbers), else pop_out_risk when V exceeds its allowable, else
     above_allowable when a stress does, else ok. Zero torque: the rest geometry, zero stresses.
+    Magnitudes outside :mod:`clutchlab.plausible` (a million sprags, E = 1e308 Pa) are
+    invalid_input; races out of order (0 ≤ R_id < R_i < R_o < R_od, r_o < R_o) invalid_geometry.
     """
     inputs = dict(
         torque=torque,
@@ -503,29 +793,9 @@ def statics(
         contact_allowable=contact_allowable,
         shaft_allowable=shaft_allowable,
         gripping_angle_allowable=gripping_angle_allowable,
-        **geometry,
+        **_full_geometry(geometry),
     )
-    return st.screened(_statics, inputs, {k: _DOMAIN[k] for k in inputs})
-
-
-_DOMAIN = {
-    "torque": st.nonnegative,
-    "compliance_factor": st.positive,
-    "contact_allowable": st.positive,
-    "shaft_allowable": st.positive,
-    "gripping_angle_allowable": st.between(0.0, np.pi / 2, lo_open=True),
-    "sprags": st.whole(1),
-    "sprag_length": st.positive,
-    "centre_distance": st.positive,
-    "sprag_inner_radius": st.positive,
-    "sprag_outer_radius": st.positive,
-    "inner_bore_radius": st.nonnegative,
-    "inner_race_radius": st.positive,
-    "outer_race_radius": st.positive,
-    "outer_rim_radius": st.positive,
-    "youngs_modulus": st.positive,
-    "poisson_ratio": st.between(-1.0, 0.5, lo_open=True, hi_open=True),
-}
+    return st.screened(_statics, inputs, _domain(inputs), geometry=_SPRAG_IN_RACES)
 
 
 def _statics(
@@ -537,7 +807,9 @@ def _statics(
     gripping_angle_allowable,
     **geometry,
 ):
-    grip = gripping_angle(torque, compliance_factor=compliance_factor, **geometry)
+    grip = _gripping_angle(
+        torque, compliance_factor=compliance_factor, tol=1e-12, max_iter=60, **geometry
+    )
     g = {
         **_geometry(geometry),
         **{
@@ -550,8 +822,8 @@ def _statics(
             )
         },
     }
-    ci, co = contact_stress(torque, V=grip["V"], W=grip["W"], **g)
-    vm = shaft_stress(torque, V=grip["V"], W=grip["W"], **g)
+    ci, co = _contact_stress(torque, V=grip["V"], W=grip["W"], **g)
+    vm = _shaft_stress(torque, V=grip["V"], W=grip["W"], **g)
     out = dict(
         V=grip["V"],
         W=grip["W"],
@@ -583,12 +855,20 @@ def _statics(
     return out
 
 
-def fit_compliance_factor(*, torque=750.0, gripping_angle_target=np.deg2rad(5.097), **geometry):
+def fit_compliance_factor(*, torque=_PEAK.torque, gripping_angle_target=_PEAK_V, **geometry):
     """The compliance factor for which :func:`gripping_angle` gives ``gripping_angle_target`` at
     ``torque`` (default seed 002 Table 2 theory column at 750 N m: 5.097°) [1].
 
-    V grows monotonically with the factor, so a scalar bracketed root (Brent) finds it."""
+    V grows monotonically with the factor, so a scalar bracketed root (Brent) finds it. NaN where
+    the torque, the target (in (0, π/2) rad) or the geometry is invalid (as :func:`statics`);
+    ValueError where no factor up to 100 reaches the target.
+    """
     from scipy.optimize import brentq
+
+    inputs = dict(torque=torque, **_full_geometry(geometry))
+    _, ok = st.admissible(inputs, {**_domain(inputs), **_SPRAG_IN_RACES})
+    if not (ok and _ANGLE(np.asarray(gripping_angle_target, float))):
+        return np.nan
 
     def f(c):
         v = float(gripping_angle(torque, compliance_factor=c, **geometry)["V"])

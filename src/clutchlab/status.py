@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import plausible as _plausible
+
 #: code -> meaning; codes are stable (stored in files), append only.
 FLAGS = {
     0: "ok",
@@ -92,6 +94,68 @@ def whole(minimum):
     return lambda x: np.isfinite(x) & (x >= minimum) & (x == np.round(x))
 
 
+def all_of(*rules):
+    """A predicate true where every one of ``rules`` is."""
+
+    def check(x):
+        ok = rules[0](x)
+        for rule in rules[1:]:
+            ok = ok & rule(x)
+        return ok
+
+    return check
+
+
+def plausible(unit, *, lo=None, hi=None):
+    """Predicate: finite, and zero or of a magnitude within the plausible range of SI ``unit``
+    (:mod:`clutchlab.plausible`); ``lo``/``hi`` replace the table's bounds where an input's own
+    physics narrows them (a friction coefficient ≤ 2, a count ≤ COUNT_MAX) or where the unit
+    stands for another kind of quantity (a temperature difference in K). Zero is judged by each
+    input's own sign rule (combine with :func:`positive`, :func:`nonnegative`)."""
+    lo0, hi0 = _plausible.bounds(unit)
+    lo = lo0 if lo is None else lo
+    hi = hi0 if hi is None else hi
+
+    def check(x):
+        a = np.abs(x)
+        return (a == 0) | (np.isfinite(a) & (a >= lo) & (a <= hi))
+
+    return check
+
+
+def positive_in(unit, **bounds):
+    """> 0, finite and plausible (:func:`plausible`)."""
+    return all_of(positive, plausible(unit, **bounds))
+
+
+def nonnegative_in(unit, **bounds):
+    """≥ 0, finite and plausible (:func:`plausible`)."""
+    return all_of(nonnegative, plausible(unit, **bounds))
+
+
+def finite_in(unit, **bounds):
+    """Any sign, finite and plausible (:func:`plausible`)."""
+    return plausible(unit, **bounds)
+
+
+def positive_or_inf_in(unit, **bounds):
+    """inf (a held engine, a constant μ, no release), or > 0 and plausible: NaN is not."""
+    rule = positive_in(unit, **bounds)
+    return lambda x: rule(x) | (x == np.inf)
+
+
+def nonnegative_or_inf_in(unit, **bounds):
+    """inf, or ≥ 0 and plausible."""
+    rule = nonnegative_in(unit, **bounds)
+    return lambda x: rule(x) | (x == np.inf)
+
+
+def count(minimum=1, maximum=None):
+    """A whole number in [minimum, maximum] (default :data:`clutchlab.plausible.COUNT_MAX`)."""
+    top = _plausible.COUNT_MAX if maximum is None else maximum
+    return lambda x: np.isfinite(x) & (x >= minimum) & (x <= top) & (x == np.round(x))
+
+
 def admissible(inputs: dict, domain: dict):
     """The inputs broadcast together (a dict of float arrays) and the mask of scenarios whose
     inputs all lie in ``domain`` (see :func:`screened`)."""
@@ -99,45 +163,73 @@ def admissible(inputs: dict, domain: dict):
         zip(inputs, np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in inputs.values())))
     )
     shape = next(iter(arrays.values())).shape if arrays else ()
+    return arrays, _mask(arrays, domain, shape)
+
+
+def _mask(arrays, domain, shape):
     ok = np.ones(shape, dtype=bool)
-    with np.errstate(invalid="ignore"):
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
         for name, rule in domain.items():
             ok &= rule(arrays) if name is None else rule(arrays[name])
-    return arrays, ok
+    return ok
 
 
-def screened(compute, inputs: dict, domain: dict, *, extra=None) -> dict:
+def screened(compute, inputs: dict, domain: dict, *, extra=None, geometry=None) -> dict:
     """Run ``compute(**inputs)`` on the scenarios whose inputs lie in ``domain`` only.
 
     ``inputs`` maps names to per-scenario arrays (broadcast together); ``domain`` maps some of
     them to a predicate giving True where the value is admissible, and may hold the key ``None``:
-    a predicate of all inputs (e.g. a relation between two of them). ``extra`` (scalars, options)
-    is passed unchanged. Returns ``compute``'s dict with every array (nested dicts too) shaped
-    like the broadcast inputs (plus its own trailing axes), NaN (integers: 0) and status
-    ``invalid_input`` where an input was bad.
+    a predicate of all inputs (e.g. a relation between two of them). ``geometry`` (same form):
+    relations of a part's geometry (radii in order, a shoe inside its drum), checked where the
+    inputs are admissible; a scenario that breaks one gets status ``invalid_geometry``. ``extra``
+    (scalars, options) is passed unchanged. Returns ``compute``'s dict with every array (nested
+    dicts too) shaped like the broadcast inputs (plus its own trailing axes), NaN (integers: 0)
+    and status ``invalid_input`` (or ``invalid_geometry``) where an input was bad.
     """
     extra = extra or {}
     arrays, ok = admissible(inputs, domain)
     shape = ok.shape
+    code = np.where(ok, CODE["ok"], CODE["invalid_input"])
+    if geometry:
+        fits = _mask(arrays, geometry, shape)
+        code = np.where(ok & ~fits, CODE["invalid_geometry"], code)
+        ok = ok & fits
     if ok.all():
         return compute(**inputs, **extra)
     good = ok.ravel()
     out = compute(**{k: a.reshape(-1)[good] for k, a in arrays.items()}, **extra)
-    return _scatter(out, good, shape)
+    return _scatter(out, good, shape, code.ravel())
 
 
-def _scatter(out, good, shape):
+def nan_screened(compute, inputs: dict, domain: dict, *, extra=None):
+    """:func:`screened` for a helper that returns a plain array (or a tuple of them): the result
+    is NaN (integers 0, booleans False) where an input lies outside ``domain``; a numpy scalar for
+    scalar inputs."""
+    extra = extra or {}
+    arrays, ok = admissible(inputs, domain)
+    if ok.all():
+        return compute(**inputs, **extra)
+    good = ok.ravel()
+    res = compute(**{k: a.reshape(-1)[good] for k, a in arrays.items()}, **extra)
+    parts = res if isinstance(res, tuple) else (res,)
+    full = _scatter({str(i): v for i, v in enumerate(parts)}, good, ok.shape, None)
+    back = tuple(full[str(i)][()] if ok.ndim == 0 else full[str(i)] for i in range(len(parts)))
+    return back if isinstance(res, tuple) else back[0]
+
+
+def _scatter(out, good, shape, code):
     full = {}
     for name, v in out.items():
         if isinstance(v, dict):
-            full[name] = _scatter(v, good, shape)
+            full[name] = _scatter(v, good, shape, code)
             continue
         v = np.asarray(v)
         if v.ndim == 0:  # a shared scalar (not per scenario)
             full[name] = v
             continue
         if name == "status":
-            a = np.full((good.size,) + v.shape[1:], CODE["invalid_input"], dtype=v.dtype)
+            a = np.empty((good.size,) + v.shape[1:], dtype=v.dtype)
+            a[...] = code.reshape((good.size,) + (1,) * (v.ndim - 1))
         elif v.dtype.kind == "f":
             a = np.full((good.size,) + v.shape[1:], np.nan, dtype=v.dtype)
         else:

@@ -6,8 +6,10 @@
   interrupted Snakemake run) never sees a partial file; the file's mode follows the umask like any
   tool's (``tempfile.mkstemp`` would leave it 0600); temporary files that a killed process left
   beside the target are removed by the next write of that target;
-* :func:`checksum` digests a Dataset's data, so a chunk file changed or cut after it was written
-  is found by the merge (``clutchlab_checksum`` attribute).
+* :func:`checksum` digests a Dataset's values and attributes (every variable's and the global
+  ones), block by block, so a file changed or cut after it was written is found: by the merge for
+  a chunk file, by :mod:`clutchlab.verify` and the report job for a result
+  (``clutchlab_checksum`` attribute).
 """
 
 from __future__ import annotations
@@ -30,7 +32,13 @@ __all__ = [
     "load",
     "atomic",
     "checksum",
+    "checksums",
+    "checksum_attrs",
+    "checksum_problem",
+    "file_checksum_problem",
+    "seal",
     "CorruptChunk",
+    "ForeignChunk",
     "load_verified",
     "StreamWriter",
 ]
@@ -134,73 +142,263 @@ def atomic(path):
         raise
 
 
-def checksum(ds: xr.Dataset) -> str:
-    """SHA-256 of every variable's name, shape and values (numbers as float64, text as UTF-8), so a
-    file whose data changed after it was written, or that was cut short, no longer matches."""
+# global attributes of a sealed file: the SHA-256 of its values and attributes, and per variable
+# the digests of its attributes and of its values (to say what changed)
+CHECKSUM = "clutchlab_checksum"
+CHECKSUM_VARIABLES = "clutchlab_checksum_variables"
+_CHECKSUM_KEYS = (CHECKSUM, CHECKSUM_VARIABLES)
+# values hashed per block (512 kB as float64): a stored file is read a block at a time
+BLOCK_VALUES = 1 << 16
+
+
+def _frame(text: str) -> bytes:
+    b = str(text).encode("utf-8", "surrogatepass")
+    return len(b).to_bytes(8, "little") + b
+
+
+_NAN_BITS = np.array(np.nan, "<f8").view("<u8")  # the one NaN that stands for every NaN
+
+
+def _canonical(a: np.ndarray):
+    """The bytes (a bytes-like object) that stand for an array's values: numbers as little-endian
+    float64 with one NaN bit pattern (a file's fill value reads back as numpy's NaN), text as
+    length-prefixed UTF-8."""
+    kind = a.dtype.kind
+    if kind in "mM":
+        a = a.view("<i8")
+        kind = "i"
+    if kind in "biuf":
+        f = np.ascontiguousarray(a, dtype="<f8")
+        if kind == "f":
+            nan = np.isnan(f)
+            if nan.any() and np.any(f.view("<u8")[nan] != _NAN_BITS):
+                f = np.where(nan, np.nan, f)
+        return memoryview(f).cast("B")
+    return b"".join(
+        _frame(x.decode("utf-8", "surrogateescape") if isinstance(x, bytes) else x)
+        for x in a.ravel()
+    )
+
+
+def _canonical_attr(value) -> bytes:
+    """An attribute as bytes: a scalar, a one-element list and a 1-element array are one value
+    (a netCDF file reads them back either way); numbers as float64, text as UTF-8."""
+    if isinstance(value, bytes):
+        value = value.decode("utf-8", "surrogateescape")
+    a = np.asarray(value).ravel()
+    tag = b"n" if a.dtype.kind in "biufmM" else b"t"
+    return tag + a.size.to_bytes(8, "little") + bytes(_canonical(a))
+
+
+def _blocks(var: xr.Variable):
+    """A variable's values in C order, a block of leading-axis rows at a time (a variable of a
+    lazily opened file reads only that block)."""
+    if var.ndim == 0:
+        yield np.asarray(var.values)
+        return
+    rows = max(1, BLOCK_VALUES // max(1, int(np.prod(var.shape[1:], dtype=np.int64))))
+    for i in range(0, var.shape[0], rows):
+        yield np.asarray(var[i : i + rows].values)
+
+
+def _variable_digests(name: str, var: xr.Variable, is_coord: bool) -> tuple[str, str]:
+    """(digest of the variable's kind, dims, shape and attributes; digest of its values)."""
+    meta = hashlib.sha256()
+    meta.update(_frame(name) + (b"c" if is_coord else b"d"))
+    meta.update(b"n" if var.dtype.kind in "biufmM" else b"t")
+    meta.update(_frame(" ".join(map(str, var.dims))) + _frame(" ".join(map(str, var.shape))))
+    for key in sorted(var.attrs):
+        meta.update(_frame(key) + _canonical_attr(var.attrs[key]))
+    values = hashlib.sha256()
+    for block in _blocks(var):
+        values.update(_canonical(block))
+    return meta.hexdigest(), values.hexdigest()
+
+
+def checksums(ds: xr.Dataset) -> tuple[str, dict[str, tuple[str, str]]]:
+    """The checksum of a Dataset and the digests it is made of.
+
+    Every variable and coordinate, in name order, gives a digest of its name, dimensions, shape
+    and attributes and one of its values (numbers as float64, text as UTF-8, hashed a block of
+    rows at a time in C order, so a lazily opened file is hashed without reading it whole); the
+    checksum is the SHA-256 of the global attributes (but the checksum's own) and those digests.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        In memory or opened lazily (:func:`open`).
+
+    Returns
+    -------
+    checksum : str
+        64 hex digits.
+    variables : dict
+        Variable name -> (attributes digest, values digest), 64 hex digits each.
+    """
+    coords = set(ds.coords)
+    digests = {
+        name: _variable_digests(name, ds.variables[name], name in coords)
+        for name in sorted(ds.variables)
+    }
     h = hashlib.sha256()
-    for name in sorted(ds.variables):
-        v = ds.variables[name].values
-        h.update(f"{name}{v.shape}".encode())
-        if v.dtype.kind in "biuf":
-            h.update(np.ascontiguousarray(v, dtype="<f8").tobytes())
-        else:
-            h.update("\x00".join(map(str, v.ravel())).encode())
-    return h.hexdigest()
+    for key in sorted(k for k in ds.attrs if k not in _CHECKSUM_KEYS):
+        h.update(_frame(key) + _canonical_attr(ds.attrs[key]))
+    h.update(b"\0variables")
+    for name, (meta, values) in digests.items():
+        h.update(_frame(name) + meta.encode() + values.encode())
+    return h.hexdigest(), digests
+
+
+def checksum(ds: xr.Dataset) -> str:
+    """SHA-256 of a Dataset's values and attributes: of every variable and coordinate (name,
+    dimensions, shape, attributes, values) and of the global attributes except the stored
+    checksum itself (:func:`checksums`). A file whose data or attributes changed after it was
+    written, or that was cut short, no longer matches."""
+    return checksums(ds)[0]
+
+
+_DIGEST_CHARS = 16  # per-variable digests are stored shortened (they locate a change; the
+# checksum of the whole, all 64 digits, decides whether there is one)
+
+
+def _variables_text(digests: dict) -> str:
+    return "\n".join(
+        f"{name} attributes:{meta[:_DIGEST_CHARS]} values:{values[:_DIGEST_CHARS]}"
+        for name, (meta, values) in digests.items()
+    )
+
+
+def checksum_attrs(ds: xr.Dataset) -> dict:
+    """The attributes that seal ``ds``: ``clutchlab_checksum`` (:func:`checksum`) and
+    ``clutchlab_checksum_variables`` (each variable's digests, to say what changed)."""
+    whole, digests = checksums(ds)
+    return {CHECKSUM: whole, CHECKSUM_VARIABLES: _variables_text(digests)}
+
+
+def _parse_variables(text: str) -> dict:
+    out = {}
+    for line in str(text).splitlines():
+        name, *parts = line.split(" ")
+        fields = dict(p.split(":", 1) for p in parts if ":" in p)
+        out[name] = (fields.get("attributes", ""), fields.get("values", ""))
+    return out
+
+
+def checksum_problem(ds: xr.Dataset) -> str | None:
+    """None if ``ds`` (in memory or opened lazily) matches its stored checksum, else what is wrong:
+    no checksum, or which variables' values or attributes (or the global attributes) changed."""
+    stored = ds.attrs.get(CHECKSUM)
+    if stored is None:
+        return "has no checksum"
+    whole, digests = checksums(ds)
+    if stored == whole:
+        return None
+    before = _parse_variables(ds.attrs.get(CHECKSUM_VARIABLES, ""))
+    n = _DIGEST_CHARS
+    changed = [f"variable {v} missing" for v in before if v not in digests]
+    changed += [f"new variable {v}" for v in digests if before and v not in before]
+    for name, (meta, values) in digests.items():
+        if name in before:
+            was = before[name]
+            changed += [f"{name} attributes"] if was[0] != meta[:n] else []
+            changed += [f"{name} values"] if was[1] != values[:n] else []
+    if before and not changed:
+        changed = ["global attributes"]
+    return "does not match its checksum (changed after it was written" + (
+        ": " + ", ".join(changed[:8]) + (", ..." if len(changed) > 8 else "") + ")"
+        if changed
+        else ")"
+    )
+
+
+def file_checksum_problem(path) -> str | None:
+    """:func:`checksum_problem` of a stored file, read a block at a time (a result of a million
+    scenarios is hashed without holding it in memory); a file that cannot be read says so."""
+    if not Path(path).exists():
+        return "does not exist"
+    try:
+        with open(path, indexes=False) as ds:
+            return checksum_problem(ds)
+    except Exception as exc:  # h5py/netCDF raise several types for a cut or damaged file
+        return _unreadable(exc)
+
+
+def _unreadable(exc: Exception) -> str:
+    first = str(exc).splitlines()[0] if str(exc) else ""
+    return f"cannot be read ({type(exc).__name__}: {first})"
+
+
+def seal(path) -> str:
+    """Compute the checksum of a stored file a block at a time and store it (with the
+    per-variable digests) as its global attributes; returns the checksum. For a file written
+    piecewise (:func:`clutchlab.pipeline.merge_to_file`) before it is renamed into place."""
+    import h5netcdf
+
+    with open(path, indexes=False) as ds:
+        attrs = checksum_attrs(ds)
+    with h5netcdf.File(str(path), "a") as f:
+        for key, value in attrs.items():
+            f.attrs[key] = value
+    return attrs[CHECKSUM]
 
 
 class CorruptChunk(RuntimeError):
-    """A chunk file cannot be read or its data do not match its checksum (the message names it)."""
+    """A chunk file cannot be read, its data do not match its checksum, or it does not belong to
+    the study being merged (the message names it and says what differs)."""
+
+
+class ForeignChunk(CorruptChunk):
+    """A chunk file that was not computed from the design, config or source it is merged with
+    (another config's chunk, an older source's, a chunk of another split; see
+    :mod:`clutchlab.verify`)."""
 
 
 def load_verified(path) -> xr.Dataset:
-    """Load a file written with a ``clutchlab_checksum`` attribute and check its data against it.
+    """Load a file written with a ``clutchlab_checksum`` attribute and check it against it.
 
     A file that cannot be read or does not match is removed, and :class:`CorruptChunk` says which it
-    was: the next ``snakemake`` run recomputes it.
+    was (and which variables changed): the next ``snakemake`` run recomputes it. The returned
+    Dataset no longer carries the checksum attributes.
     """
     path = Path(path)
+    if not path.exists():
+        raise CorruptChunk(f"{path} does not exist; run snakemake again to compute it")
     try:
         ds = load(path)
-        stored = ds.attrs.pop("clutchlab_checksum", None)
-        problem = (
-            None
-            if stored == checksum(ds)
-            else (
-                "has no checksum"
-                if stored is None
-                else "does not match its checksum (changed after it was written)"
-            )
-        )
+        problem = checksum_problem(ds)
     except Exception as exc:  # h5py/netCDF raise several types for a cut or damaged file
-        problem = (
-            f"cannot be read ({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})"
-        )
+        problem = _unreadable(exc)
     if problem:
         path.unlink(missing_ok=True)
         raise CorruptChunk(
             f"{path} {problem}; it has been removed, run snakemake again to recompute it"
         )
+    for key in _CHECKSUM_KEYS:
+        ds.attrs.pop(key, None)
     return ds
 
 
 def write(ds: xr.Dataset, path, *, complevel: int = 4, with_checksum: bool = False) -> Path:
     """Write ``ds`` atomically to ``path`` (HDF5 via h5netcdf) and return the path.
 
-    ``with_checksum`` stores :func:`checksum` of the data as the ``clutchlab_checksum`` attribute
-    (chunk files; :func:`load_verified` checks it).
+    ``with_checksum`` stores :func:`checksum` of the values and attributes, computed in memory
+    before writing, as the ``clutchlab_checksum`` attribute (with the per-variable digests,
+    :func:`checksum_attrs`); :func:`load_verified` and :mod:`clutchlab.verify` check it.
     """
     check_metadata(ds)
     if with_checksum:
-        ds = ds.assign_attrs(clutchlab_checksum=checksum(ds))
+        ds = ds.assign_attrs(checksum_attrs(ds))
     ds = ds.copy()  # _encoding clears the filters a loaded variable brings, on this copy only
     with atomic(path) as tmp:
         ds.to_netcdf(tmp, engine=ENGINE, encoding=_encoding(ds, complevel))
     return Path(path)
 
 
-def open(path) -> xr.Dataset:  # noqa: A001 - mirrors xr.open_dataset
-    """Open a stored study lazily (``xr.open_dataset(path, engine="h5netcdf")``)."""
-    return xr.open_dataset(path, engine=ENGINE)
+def open(path, *, indexes: bool = True) -> xr.Dataset:  # noqa: A001 - mirrors xr.open_dataset
+    """Open a stored study lazily (``xr.open_dataset(path, engine="h5netcdf")``); ``indexes``
+    False: without pandas indexes (xarray would otherwise read every dimension coordinate, e.g. a
+    million-scenario ``run``, to build one)."""
+    return xr.open_dataset(path, engine=ENGINE, create_default_indexes=indexes)
 
 
 def load(path) -> xr.Dataset:

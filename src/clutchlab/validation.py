@@ -49,6 +49,35 @@ class Row:
     def passed(self) -> bool:
         return bool(self.rel_error <= self.tolerance)
 
+    @classmethod
+    def against(cls, published, computed, tolerance, note="", quantity=None) -> Row:
+        """The row comparing ``computed`` with a number of :mod:`clutchlab.published`.
+
+        Parameters
+        ----------
+        published : clutchlab.published.Published
+            The paper's number: gives the row's seed, source, published value and units.
+        computed : float
+            clutchlab's value [the published number's units].
+        tolerance : float
+            Relative tolerance [1] (absolute where the published value is 0).
+        note : str
+            Assumptions and errata.
+        quantity : str or None
+            The row's name where it differs from the published number's (the same number
+            compared with two readings).
+        """
+        return cls(
+            published.paper,
+            quantity or published.quantity,
+            published.source,
+            published.value,
+            float(computed),
+            published.units,
+            tolerance,
+            note,
+        )
+
 
 def to_dataset(rows: list[Row], title: str) -> xr.Dataset:
     """Rows -> Dataset on dimension ``row`` with units and long_name everywhere."""

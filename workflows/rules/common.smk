@@ -1,6 +1,7 @@
 # Paths and helpers shared by the rules. No physics here.
 import clutchlab as _clutchlab
 from clutchlab import cluster as _cluster
+from clutchlab import config as _config
 from clutchlab import studies as _studies
 
 # the package's source hash: a param of every rule whose output the code determines, so that an
@@ -45,6 +46,12 @@ def sensitivity_files(study):
 def refine_source(study):
     """The first-stage result a design-refine study samples near (an input of its design)."""
     return RESOLVED[study]["refine"]["from"]
+
+
+def study_config(study):
+    """The study's resolved config text: what its design, chunks and result must have been computed
+    from (their `config` attribute; checked by the merge and the report, clutchlab.verify)."""
+    return _config.study_config_text(RESOLVED[study])
 
 
 def chunk_files(study):

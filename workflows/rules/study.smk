@@ -53,6 +53,7 @@ for _study in STUDIES:
         params:
             objectives=RESOLVED[_study]["objectives"],
             constraints=RESOLVED[_study]["constraints"],
+            config=study_config(_study),  # each chunk and the design must come from it
             source=SOURCE,
         resources:
             **_cluster.merge_resources(RESOLVED[_study]),

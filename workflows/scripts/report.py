@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from clutchlab import report
+from clutchlab import report, verify
 
 sm = snakemake  # noqa: F821
 
@@ -24,6 +24,32 @@ def job_seconds(study):
     return (len(seconds), sum(seconds)) if seconds else None
 
 
+def verify_inputs():
+    """The report is built from verified files only: each study result against its checksum, its
+    study config, this source and its design (work/<study>/design.h5); each sensitivity file
+    against its checksum, the first-stage result of a refinement against its checksum and
+    provenance (it comes from another config: its design may have been rebuilt since)."""
+    first_stage = (
+        "it is the first-stage result a refinement starts from: delete it and recompute it with "
+        "the config that produced it"
+    )
+    expected = {
+        path: {"config": sm.params.configs[name], "source": sm.params.source}
+        for name, path in zip(sm.params.names, sm.input.studies, strict=True)
+    }
+    for p in sm.input.sensitivity:
+        expected[p] = {}
+    for p in sm.input.refined:  # (a result of this run too is checked as one)
+        expected.setdefault(p, {"design": False, "action": first_stage})
+    try:
+        verify.require(expected, action="delete it and run snakemake again to recompute it")
+    except verify.ProvenanceError as exc:
+        raise SystemExit(
+            f"clutchlab: the report is not built from a file that fails:\n{exc}"
+        ) from None
+
+
+verify_inputs()
 report.build(
     dict(zip(sm.params.names, sm.input.studies)),
     list(sm.input.validation),

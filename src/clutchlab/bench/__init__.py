@@ -8,7 +8,8 @@ and names the model, design and tolerance it measured; never asserted in unit te
 * :mod:`~clutchlab.bench.roller` — the roller wedging's compiled SDIRK4 against LSODA and Radau;
 * :mod:`~clutchlab.bench.sprag` — the vectorised gripping-angle fixed point against per-scenario
   root finding;
-* :mod:`~clutchlab.bench.pareto` — Pareto ranking of 10⁵–10⁶ designs;
+* :mod:`~clutchlab.bench.pareto` — Pareto ranking of 10⁵–10⁶ designs and the hypervolume of
+  10³–10⁴ front points;
 * :mod:`~clutchlab.bench.million` — config/million.yaml through Snakemake (5 × 2²⁰ scenarios);
 * :mod:`~clutchlab.bench.resources` — a chunk job's time and memory, for the SLURM requests;
 * :mod:`~clutchlab.bench.slurm` — the same study through the SLURM profile against a local run;

@@ -10,6 +10,7 @@ import numpy as np
 
 from .. import status as st
 from ..explore import flat
+from ..published import CENTRIFUGAL_CLUTCH
 from ..studies.centrifugal import PARAMETERS, RPM
 from .answers import _marks
 from .common import (
@@ -65,7 +66,11 @@ def capacity_curves(ds):
         ax.plot(
             [], [], "r-", lw=0.6, alpha=0.5, label="M'(n) at the other pressure angles of the grid"
         )
-    ax.axvspan(1900, 2100, color="0.85", label="idle 1900-2100 rpm (must be disengaged)")
+    idle = (
+        CENTRIFUGAL_CLUTCH["idle_speed_min"].value,
+        CENTRIFUGAL_CLUTCH["idle_speed_max"].value,
+    )
+    ax.axvspan(*idle, color="0.85", label="idle %g-%g rpm (must be disengaged)" % idle)
     w0 = float(sub["engagement_speed"]) / RPM
     ax.axvline(w0, color="g", ls=":", label=f"engagement speed {w0:.0f} rpm")
     rated = float(sub["rated_speed"]) / RPM if "rated_speed" in sub else 5500.0

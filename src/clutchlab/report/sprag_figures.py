@@ -10,6 +10,7 @@ import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap
 
 from ..explore import flat
+from ..published import SPRAG_TABLE2
 from ..studies.sprag import CHECKS, PARAMETERS
 from .answers import _marks
 from .common import (
@@ -26,13 +27,18 @@ from .common import (
 
 SEED = {p.name: p.default for p in PARAMETERS}
 MPA = 1e6
-TABLE2 = {750.0: (3482, 2928, 673.8, 582.0, 5.097), 267.5: (2314, 1945, 295.2, 255.4, 4.093)}
 STRESSES = (
     ("contact_stress_inner", "contact inner", "C0"),
     ("contact_stress_outer", "contact outer", "C1"),
     ("vm_stress_inner", "shaft inner (von Mises)", "C2"),
     ("vm_stress_outer", "outer race (von Mises)", "C3"),
 )
+
+
+def _table2(field):
+    """Torques [N m] and the published values of ``field`` (a stress [MPa] or V [deg]) of paper
+    002's Table 2, theory column (:data:`clutchlab.published.SPRAG_TABLE2`)."""
+    return list(SPRAG_TABLE2), [getattr(row, field) for row in SPRAG_TABLE2.values()]
 
 
 def _allowable(sub, name):
@@ -57,10 +63,10 @@ def stress_vs_torque(ds):
     paper = _at_paper(sub)  # Table 2's numbers belong to the paper's geometry only
     t = sub["torque"].values
     ax = axes[0]
-    for (name, label, colour), k in zip(STRESSES, range(4)):
+    for name, label, colour in STRESSES:
         ax.plot(t, sub[name].values / MPA, "-", color=colour, label=label)
         if paper:
-            ax.plot(list(TABLE2), [v[k] for v in TABLE2.values()], "o", mfc="none", color=colour)
+            ax.plot(*_table2(name), "o", mfc="none", color=colour)
     ax.axhline(
         _allowable(sub, "contact_allowable") / MPA,
         color="k",
@@ -81,8 +87,7 @@ def stress_vs_torque(ds):
     ax.plot(t, np.rad2deg(sub["gripping_angle_outer"].values), "b--", label="W (outer contact)")
     if paper:
         ax.plot(
-            list(TABLE2),
-            [v[4] for v in TABLE2.values()],
+            *_table2("gripping_angle"),
             "bo",
             mfc="none",
             label="the source paper's Table 2 V (theory)",
@@ -131,18 +136,11 @@ def _sampled_stress_vs_torque(fig, axes, ds):
     t = ds["torque"].values
     show = drawn(t.size)
     ax = axes[0]
-    for (name, label, colour), k in zip(STRESSES, range(4)):
+    for name, label, colour in STRESSES:
         ax.scatter(
             t[show], ds[name].values[show] / MPA, s=2, alpha=0.3, color=colour, rasterized=True
         )
-        ax.plot(
-            list(TABLE2),
-            [v[k] for v in TABLE2.values()],
-            "o",
-            mfc="none",
-            color=colour,
-            label=label,
-        )
+        ax.plot(*_table2(name), "o", mfc="none", color=colour, label=label)
     ax.axhline(
         _allowable(ds, "contact_allowable") / MPA,
         color="k",
@@ -164,13 +162,7 @@ def _sampled_stress_vs_torque(fig, axes, ds):
         color="b",
         rasterized=True,
     )
-    ax.plot(
-        list(TABLE2),
-        [v[4] for v in TABLE2.values()],
-        "bo",
-        mfc="none",
-        label="seed 002 Table 2 V (theory)",
-    )
+    ax.plot(*_table2("gripping_angle"), "bo", mfc="none", label="seed 002 Table 2 V (theory)")
     ax.axhline(
         np.rad2deg(_allowable(ds, "gripping_angle_allowable")),
         color="r",

@@ -19,6 +19,7 @@ import xarray as xr
 
 from .. import centrifugal as cf
 from .. import status as st
+from ..published import CENTRIFUGAL_CLUTCH
 from . import Parameter, Study, flat_inputs, register, seed_design
 
 RPM = np.pi / 30.0
@@ -112,6 +113,19 @@ _CAP = (
 )
 
 
+def _status(p, code, rel):
+    """design_status's code, then, where it has numbers (ok, near_jam): the release's own
+    screening (inertias, passive torque), an idle speed ≥ 0 below the rated speed and a plausible
+    engine torque > 0 (the reserve factor's denominator); invalid_input where one fails."""
+    live = np.isin(code, [st.CODE["ok"], st.CODE["near_jam"]])
+    code = np.where(live & (rel["status"] != st.CODE["ok"]), rel["status"], code)
+    with np.errstate(invalid="ignore"):
+        idle_ok = st.nonnegative_in("rad/s")(p["idle_speed"]) & (p["idle_speed"] < p["rated_speed"])
+        torque_ok = st.positive_in("N m")(p["engine_torque"])
+    live = np.isin(code, [st.CODE["ok"], st.CODE["near_jam"]])
+    return np.where(live & ~(idle_ok & torque_ok), st.CODE["invalid_input"], code).astype(st.DTYPE)
+
+
 def compute(inputs, options=None) -> xr.Dataset:
     p = flat_inputs(inputs)
     cap = {k: p[k] for k in _CAP}
@@ -138,6 +152,7 @@ def compute(inputs, options=None) -> xr.Dataset:
         rated_speed=p["rated_speed"],
         static_fraction=p["static_fraction"],
     )
+    code = _status(p, code, rel)
     values = {
         "engagement_speed": cf.engagement_speed(
             shoe_mass=p["shoe_mass"], shoe_radius=p["shoe_radius"], spring_force=p["spring_force"]
@@ -154,6 +169,8 @@ def compute(inputs, options=None) -> xr.Dataset:
     bad = (code != st.CODE["ok"]) & (
         code != st.CODE["near_jam"]
     )  # near_jam: exact numbers, flagged
+    # an input the models refuse: no number at all
+    refused = np.isin(code, [st.CODE["invalid_input"], st.CODE["invalid_geometry"]])
     keep_when_bad = {
         "engagement_speed",
         "linkage_factor",
@@ -164,7 +181,7 @@ def compute(inputs, options=None) -> xr.Dataset:
     data = {
         k: (
             "run",
-            np.where(bad & (k not in keep_when_bad), np.nan, v),
+            np.where((bad & (k not in keep_when_bad)) | refused, np.nan, v),
             {"units": OUTPUTS[k][0], "long_name": OUTPUTS[k][1]},
         )
         for k, v in values.items()
@@ -176,7 +193,9 @@ def compute(inputs, options=None) -> xr.Dataset:
             "jammed: f tan(alpha) >= 1 (forward linkage self-locks); not_engaged: "
             "springs beat the centrifugal force at rated speed, or M < rotor load; "
             "near_jam: works, but (1 + friction_scatter) f tan(alpha) >= 1: a "
-            "friction rise within the scatter jams it (outputs kept, exact)"
+            "friction rise within the scatter jams it (outputs kept, exact); "
+            "invalid_geometry: shoe centroid radius not inside the drum; invalid_input: an "
+            "input not physical or implausible, or idle speed not below rated speed"
         ),
     )
     # capacity curves over engine speed (Fig. 5), per scenario
@@ -184,24 +203,26 @@ def compute(inputs, options=None) -> xr.Dataset:
     cw = {k: v[:, None] for k, v in cap.items()}
     fc, rc = cf.capacity(speed=w, **cw)
     jam = (code == st.CODE["jammed"])[:, None]
+    refused = refused[:, None]
     data["capacity_forward_curve"] = (
         ("run", "speed"),
-        np.where(jam, np.nan, fc),
+        np.where(jam | refused, np.nan, fc),
         {"units": "N m", "long_name": "forward capacity M(n)"},
     )
     data["capacity_reverse_curve"] = (
         ("run", "speed"),
-        rc,
+        np.where(refused, np.nan, rc),
         {"units": "N m", "long_name": "reverse capacity M'(n)"},
     )
     data["engine_torque_curve"] = (
         ("run", "speed"),
-        p["engine_torque"][:, None] * np.interp(w, *ENGINE_TORQUE_SHAPE),
+        np.where(refused, np.nan, p["engine_torque"][:, None] * np.interp(w, *ENGINE_TORQUE_SHAPE)),
         {"units": "N m", "long_name": "engine torque (illustrative shape through the rated value)"},
     )
     data["passive_torque_curve"] = (
         ("run", "speed"),
-        cf.passive_torque(
+        np.where(refused, np.nan, 1.0)
+        * cf.passive_torque(
             w,
             rated_passive_torque=p["rated_passive_torque"][:, None],
             rated_speed=p["rated_speed"][:, None],
@@ -235,6 +256,8 @@ def seed_traces(inputs, options=None) -> xr.Dataset:
         return xr.Dataset()
     fail = cf.engine_failure_trace(p, t_end=4.0)
     up = cf.startup_trace(p, idle_speed=2000 * RPM, startup_time=p["startup_time"])
+    if fail["status"] != st.CODE["ok"] or up["status"] != st.CODE["ok"]:
+        return xr.Dataset()  # (no traces of a seed design its models refuse)
     for prefix, tr, dim in (
         ("failure", fail, "failure_time"),
         ("startup", up, "startup_time_axis"),
@@ -268,21 +291,65 @@ def seed_traces(inputs, options=None) -> xr.Dataset:
 
 
 def validation():
-    """Seed 001 numbers (section 2.3, Fig. 5, test section)."""
-    from ..validation import Row, to_dataset
+    """Paper 001's numbers (:data:`clutchlab.published.CENTRIFUGAL_CLUTCH`: section 2.3, Fig. 5,
+    the test section) reproduced by clutchlab, as validation rows."""
+    from ..validation import to_dataset
 
-    seed = "001"
+    return to_dataset(
+        _capacity_rows() + _release_rows(),
+        "seed 001: centrifugal clutch with overrunning linkage",
+    )
+
+
+def _seed_capacity_inputs():
+    """(all parameter defaults, the capacity inputs of the seed design)."""
     d = {p.name: p.default for p in PARAMETERS}
-    cap = {k: d[k] for k in _CAP}
-    w_r = d["rated_speed"]
-    fwd, rev = cf.capacity(speed=w_r, **cap)
-    idle_lo, _ = cf.capacity(speed=1900 * RPM, **cap)
-    idle_hi, _ = cf.capacity(speed=2100 * RPM, **cap)
+    return d, {k: d[k] for k in _CAP}
+
+
+def _capacity_rows():
+    """Capacities, reserve, linkage factor, engagement speed and idle (section 2.3)."""
+    from ..validation import Row
+
+    pub = CENTRIFUGAL_CLUTCH
+    d, cap = _seed_capacity_inputs()
+    fwd, rev = cf.capacity(speed=d["rated_speed"], **cap)
+    idle_lo, _ = cf.capacity(speed=pub["idle_speed_min"].value * RPM, **cap)
+    idle_hi, _ = cf.capacity(speed=pub["idle_speed_max"].value * RPM, **cap)
     w0 = cf.engagement_speed(
         shoe_mass=d["shoe_mass"], shoe_radius=d["shoe_radius"], spring_force=d["spring_force"]
     )
-    x = cf.linkage_factor_from_targets(127.84, 65.0)
-    f53, r53 = cf.capacity(speed=w_r, **{**cap, "pressure_angle": np.deg2rad(53.0)})
+    x = cf.linkage_factor_from_targets(pub["forward_capacity"].value, pub["reverse_capacity"].value)
+    given = (
+        "z = 3 (fits 2*248 N*sin 60 = 430 N), f = 0.4046, alpha = 38.84 deg, m 0.178 kg, "
+        "r 34 mm, R 45 mm, F_s 430 N"
+    )
+    return [
+        Row.against(pub["forward_capacity"], fwd, 1e-3, given),
+        Row.against(
+            pub["reverse_capacity"], rev, 1e-3, "F_r = m w^2 r (the paper's w^2 r omits m)"
+        ),
+        Row.against(pub["reserve_factor"], fwd / pub["engine_torque"].value, 1e-3),
+        Row.against(pub["linkage_factor"], x, 1e-3),
+        Row.against(pub["engagement_speed"], w0 / RPM, 5e-3),
+        Row.against(
+            pub["idle_capacity"],
+            max(idle_lo, idle_hi),
+            0.0,
+            "absolute check: must be exactly 0",
+        ),
+    ]
+
+
+def _release_rows():
+    """The paper's change to 53 deg (conclusions) and the release after an engine cut (test)."""
+    from ..validation import Row
+
+    pub = CENTRIFUGAL_CLUTCH
+    d, cap = _seed_capacity_inputs()
+    w_r = d["rated_speed"]
+    cap53 = {**cap, "pressure_angle": np.deg2rad(53.0)}
+    f53, r53 = cf.capacity(speed=w_r, **cap53)
     dyn = {
         k: d[k]
         for k in (
@@ -294,77 +361,26 @@ def validation():
         )
     }
     rel = cf.release_after_failure(rated_speed=w_r, **dyn, **cap)
-    rel53 = cf.release_after_failure(
-        rated_speed=w_r, **dyn, **{**cap, "pressure_angle": np.deg2rad(53.0)}
-    )
-    given = "z = 3 (fits 2*248 N*sin 60 = 430 N), f = 0.4046, alpha = 38.84 deg, m 0.178 kg, r 34 mm, R 45 mm, F_s 430 N"
-    rows = [
-        Row(
-            seed,
-            "forward capacity M at 5500 rpm (eq. 1)",
-            "section 2.3",
-            127.84,
-            float(fwd),
-            "N m",
-            1e-3,
-            given,
-        ),
-        Row(
-            seed,
-            "reverse capacity M' at 5500 rpm (eq. 2)",
-            "section 2.3",
-            65.0,
-            float(rev),
-            "N m",
-            1e-3,
-            "F_r = m w^2 r (the paper's w^2 r omits m)",
-        ),
-        Row(seed, "reserve factor M / 68 N m", "section 2.3", 1.88, float(fwd / 68.0), "1", 1e-3),
-        Row(
-            seed,
-            "f tan(alpha) from M, M' targets (eq. 1 / eq. 2)",
-            "section 2.3",
-            0.32587,
-            float(x),
-            "1",
-            1e-3,
-        ),
-        Row(seed, "engagement speed", "design inputs", 2545.0, float(w0 / RPM), "rpm", 5e-3),
-        Row(
-            seed,
-            "capacity at idle 1900-2100 rpm (disengaged)",
-            "requirements",
-            0.0,
-            float(max(idle_lo, idle_hi)),
-            "N m",
-            0.0,
-            "absolute check: must be exactly 0",
-        ),
-        Row(
-            seed,
-            "alpha = 53 deg: reserve factor at 5500 rpm",
-            "conclusions (final 1.79)",
-            1.79,
-            float(f53 / 68.0),
-            "1",
+    rel53 = cf.release_after_failure(rated_speed=w_r, **dyn, **cap53)
+    return [
+        Row.against(
+            pub["reserve_factor_53deg"],
+            f53 / pub["engine_torque"].value,
             0.05,
-            f"not reproduced: at 53 deg the model gives M = {float(f53):.1f} N m and M' = {float(r53):.1f} N m "
-            f"(releases at once: {bool(rel53['released_at_once'])}); a lower f lowers M' as well, so 'f too small' "
-            "does not explain the late release the paper measured before the change",
+            f"not reproduced: at 53 deg the model gives M = {float(f53):.1f} N m and "
+            f"M' = {float(r53):.1f} N m (releases at once: {bool(rel53['released_at_once'])}); "
+            "a lower f lowers M' as well, so 'f too small' does not explain the late release the "
+            "paper measured before the change",
         ),
-        Row(
-            seed,
-            "release speed after engine cut at 5500 rpm, alpha 38.84 deg",
-            "test section (measured)",
-            5400.0,
-            float(rel["release_speed"] / RPM),
-            "rpm",
+        Row.against(
+            pub["release_speed"],
+            rel["release_speed"] / RPM,
             0.05,
-            "the paper's theory says 'at once' (M' 65.0 < passive 65.5 N m); with the rotor's share of the "
-            "deceleration (J_e 0.02, J_r 0.5 kg m2, rotor drag 55 N m, all assumed) the clutch holds to this speed",
+            "the paper's theory says 'at once' (M' 65.0 < passive 65.5 N m); with the rotor's "
+            "share of the deceleration (J_e 0.02, J_r 0.5 kg m2, rotor drag 55 N m, all assumed) "
+            "the clutch holds to this speed",
         ),
     ]
-    return to_dataset(rows, "seed 001: centrifugal clutch with overrunning linkage")
 
 
 STUDY = register(

@@ -16,6 +16,7 @@ import xarray as xr
 
 from .. import diaphragm, driven_plate, engagement, friction
 from .. import status as st
+from ..published import DIAPHRAGM_CLUTCH
 from ..validation import Row, to_dataset
 from . import Parameter, Study, flat_inputs, register
 
@@ -98,6 +99,19 @@ def spring_geometry(p) -> dict:
     )
 
 
+def _capacity_status(code, capacity, reserve, p):
+    """The spring's status, and where the spring has numbers (ok, monotone_no_hump, snap_through)
+    but the capacity or reserve factor has none: ``invalid_geometry`` for swapped lining radii,
+    ``invalid_input`` for inputs the friction model refuses (μ, faces, stack mass, engine torque
+    out of range) — never a NaN under a status that promises numbers."""
+    numbers = np.isin(code, [st.CODE[k] for k in ("ok", "monotone_no_hump", "snap_through")])
+    lining_bad = ~(p["lining_inner_radius"] < p["lining_outer_radius"])
+    missing = ~np.isfinite(capacity) | ~np.isfinite(reserve)
+    code = np.where(numbers & lining_bad, st.CODE["invalid_geometry"], code)
+    code = np.where(numbers & ~lining_bad & missing, st.CODE["invalid_input"], code)
+    return code.astype(st.DTYPE)
+
+
 def compute(inputs, options=None) -> xr.Dataset:
     """Compute the statics of a chunk of scenarios (see module docstring)."""
     options = options or {}
@@ -118,16 +132,20 @@ def compute(inputs, options=None) -> xr.Dataset:
         assumption=assumption,
         stack_mass=p["stack_mass"],
     )
-    lining_bad = ~(p["lining_inner_radius"] < p["lining_outer_radius"])
-    capacity = np.where(lining_bad, np.nan, capacity)
-    code = np.where(lining_bad & (code == st.CODE["ok"]), st.CODE["invalid_geometry"], code).astype(
-        st.DTYPE
-    )
+    reserve = friction.reserve_factor(capacity, p["max_engine_torque"])
+    code = _capacity_status(code, capacity, reserve, p)
 
     lam_curve = pts["deflection_C"][:, None] * CURVE_POINTS[None, :]
     load_curve = diaphragm.almen_laszlo_load(
         lam_curve, **{k: v[:, None] for k, v in spring.items()}
     )
+
+    # a scenario a model refuses has no numbers (the spring's too: one result, one status)
+    refused = np.isin(code, [st.CODE["invalid_input"], st.CODE["invalid_geometry"]])
+    pts = {k: (np.where(refused, np.nan, v) if k != "status" else v) for k, v in pts.items()}
+    capacity, reserve = np.where(refused, np.nan, capacity), np.where(refused, np.nan, reserve)
+    lam_curve = np.where(refused[:, None], np.nan, lam_curve)
+    load_curve = np.where(refused[:, None], np.nan, load_curve)
 
     run = "run"
     data = {
@@ -160,7 +178,7 @@ def compute(inputs, options=None) -> xr.Dataset:
         ),
         "reserve_factor": (
             run,
-            friction.reserve_factor(capacity, p["max_engine_torque"]),
+            reserve,
             _attrs("reserve factor: capacity over engine maximum torque", "1"),
         ),
         "curve_deflection": (
@@ -197,11 +215,11 @@ def compute(inputs, options=None) -> xr.Dataset:
 
 # --- seed-000 validation rows (statics) ------------------------------------------------------
 
-SEED = "000"
 T_EMAX = 173.0  # N m, Table 1
 #: τ and G of the damper springs are not printed in seed 000; 65Mn values assumed here.
 DAMPER_ALLOWABLE_SHEAR = 400e6  # Pa
 DAMPER_SHEAR_MODULUS = 79e9  # Pa
+LINING_RO, LINING_RI = 112.5 * MM, 75 * MM  # lining radii, Table 2: D = 225 mm, d = 150 mm
 
 
 def seed_spring() -> dict:
@@ -222,8 +240,17 @@ def seed_spring() -> dict:
 
 
 def validation() -> xr.Dataset:
-    """Seed-000 statics numbers reproduced by clutchlab, as validation rows."""
-    pts = diaphragm.characteristic_points(**seed_spring(), operating_point_factor=0.9)
+    """Paper 000's statics and engagement numbers (:data:`clutchlab.published.DIAPHRAGM_CLUTCH`)
+    reproduced by clutchlab, as validation rows."""
+    return to_dataset(
+        _statics_rows() + _engagement_rows(),
+        "seed 000: diaphragm spring, damper, spline, capacity, engagement",
+    )
+
+
+def _statics_rows() -> list[Row]:
+    """Lining and damper rows (Tables 1-2, eqs. 3-9), then the spline, capacity and clamp load."""
+    pub = DIAPHRAGM_CLUTCH
     Tj = driven_plate.damper_design_torque(T_EMAX)
     p_total = driven_plate.damper_total_force(Tj, 52 * MM)
     c_a = driven_plate.damper_angular_stiffness(Tj)
@@ -232,163 +259,96 @@ def validation() -> xr.Dataset:
         driven_plate.damper_spring_force(p_total, 4), 15 * MM, DAMPER_ALLOWABLE_SHEAR
     )
     coils = driven_plate.damper_coil_count(DAMPER_SHEAR_MODULUS, d1, 15 * MM, rate)
+    return [
+        Row.against(
+            pub["lining_constant"], friction.lining_coefficient(T_EMAX, 2 * LINING_RO), 1e-3
+        ),
+        Row.against(
+            pub["damper_total_force"],
+            p_total,
+            1e-3,
+            "R1 = 52 mm inferred (not printed); Table 2 calls it 'single spring' (erratum)",
+        ),
+        Row.against(pub["damper_angular_stiffness"], c_a, 1e-3),
+        Row.against(
+            pub["damper_spring_rate"],
+            rate,
+            1e-3,
+            "printed as 416 'N/m': the value is in N/mm (erratum)",
+        ),
+        Row.against(
+            pub["damper_coils"],
+            coils,
+            0.05,
+            "tau = 400 MPa, G = 79 GPa assumed (not printed); eq. 6 with cube root (erratum)",
+        ),
+    ] + _spline_capacity_rows()
+
+
+def _spline_capacity_rows() -> list[Row]:
+    """Spline (section 3.2.2), capacity (eqs. 13-14) and clamp-load (eq. 10, Fig. 7) rows."""
+    pub = DIAPHRAGM_CLUTCH
     spline = dict(
         teeth=10, outer_diameter=35 * MM, inner_diameter=28 * MM, tooth_width=4 * MM, length=35 * MM
     )
     bearing, _ = driven_plate.spline_stresses(T_EMAX, **spline)
-    _, shear = driven_plate.spline_stresses(Tj, **spline)
-    ro, ri = 112.5 * MM, 75 * MM
-    rows = [
-        Row(
-            SEED,
-            "lining design constant A (eq. 3, D = 225 mm)",
-            "Table 1-2, eq. (3)",
-            34.17,
-            float(friction.lining_coefficient(T_EMAX, 2 * ro)),
-            "1",
-            1e-3,
-        ),
-        Row(
-            SEED,
-            "damper total spring force P_total (eq. 4)",
-            "Table 2",
-            6654.0,
-            float(p_total),
-            "N",
-            1e-3,
-            "R1 = 52 mm inferred (not printed); Table 2 calls it 'single spring' (erratum)",
-        ),
-        Row(
-            SEED,
-            "damper angular stiffness C_a (eq. 7)",
-            "Table 2",
-            4498.0,
-            float(c_a),
-            "N m rad-1",
-            1e-3,
-        ),
-        Row(
-            SEED,
-            "damper spring rate C (eq. 8)",
-            "Table 2",
-            415.9e3,
-            float(rate),
-            "N m-1",
-            1e-3,
-            "printed as 416 'N/m': the value is in N/mm (erratum)",
-        ),
-        Row(
-            SEED,
-            "damper coil count i (eqs. 6, 9)",
-            "Table 2",
-            6.0,
-            float(coils),
-            "1",
-            0.05,
-            "tau = 400 MPa, G = 79 GPa assumed (not printed); eq. 6 with cube root (erratum)",
-        ),
-        Row(
-            SEED,
-            "spline bearing stress at T_emax",
-            "section 3.2.2",
-            8.9e6,
-            float(bearing),
-            "Pa",
-            0.01,
-        ),
-        Row(
-            SEED,
-            "spline shear stress",
-            "section 3.2.2",
-            15e6,
-            float(shear),
-            "Pa",
+    _, shear = driven_plate.spline_stresses(driven_plate.damper_design_torque(T_EMAX), **spline)
+    ro, ri = LINING_RO, LINING_RI
+    pts = diaphragm.characteristic_points(**seed_spring(), operating_point_factor=0.9)
+    return [
+        Row.against(pub["spline_bearing_stress"], bearing, 0.01),
+        Row.against(
+            pub["spline_shear_stress"],
+            shear,
             0.05,
             "reached only with 2 T_emax = T_j = 346 N m (load not stated in the paper)",
         ),
-        Row(
-            SEED,
-            "friction torque, eq. (14) as printed",
-            "eq. (14), Fig. 11",
-            239.3,
-            float(friction.torque_capacity_eq14_as_printed(2500.0, 0.4, 4.757, ro, ri)),
-            "N m",
+        Row.against(
+            pub["capacity_eq14_as_printed"],
+            friction.torque_capacity_eq14_as_printed(2500.0, 0.4, 4.757, ro, ri),
             1e-3,
             "the paper's formula: one face, mu on the weight only; physically wrong (erratum)",
         ),
-        Row(
-            SEED,
-            "capacity, 2 faces, uniform pressure, F = 2500 N",
-            "eqs. (13)-(14) corrected",
-            190.0,
-            float(friction.torque_capacity(2500.0, 0.4, ro, ri)),
-            "N m",
-            1e-3,
-        ),
-        Row(
-            SEED,
-            "capacity as above + 4.757 kg stack weight",
-            "eqs. (13)-(14) corrected",
-            193.5,
-            float(friction.torque_capacity(2500.0, 0.4, ro, ri, stack_mass=4.757)),
-            "N m",
+        Row.against(pub["capacity_two_faces"], friction.torque_capacity(2500.0, 0.4, ro, ri), 1e-3),
+        Row.against(
+            pub["capacity_two_faces_stack_weight"],
+            friction.torque_capacity(2500.0, 0.4, ro, ri, stack_mass=4.757),
             1e-3,
             "Fig. 11's 250-256 N m is above the 225 N m ceiling at mu = 0.4, F = 2500 N",
         ),
-        Row(
-            SEED,
-            "clamp load F_B at lambda_B = 0.9 lambda_C (eq. 10)",
-            "section 5.1, Fig. 7",
-            2500.0,
-            float(pts["load_B"]),
-            "N",
+        Row.against(
+            pub["clamp_load"],
+            pts["load_B"],
             5e-3,
-            "spring dimensions not printed: E 206 GPa, nu 0.3, R/r/R1/r1 110/85/108/86 mm, h 2.334, H 3.50 mm",
+            "spring dimensions not printed: E 206 GPa, nu 0.3, R/r/R1/r1 110/85/108/86 mm, "
+            "h 2.334, H 3.50 mm",
         ),
     ]
-    # engagement (eqs. 1-2, 11): engine held at 570 rad/s, capacity ramped 0 -> 239.3 N m (eq. 14 as
-    # printed) over 0.15 s, load 44 N m, driven inertia 0.021 kg m² (inferred, not printed)
-    seed_eng = dict(
+
+
+def _engagement_rows() -> list[Row]:
+    """Engagement (eqs. 1-2, 11): engine held at 570 rad/s, capacity ramped 0 -> the published
+    239.3 N m (eq. 14 as printed) over 0.15 s, load 44 N m, driven inertia 0.021 kg m² (inferred,
+    not printed)."""
+    pub = DIAPHRAGM_CLUTCH
+    r = engagement.closed_form(
         engine_speed=570.0,
         engine_inertia=np.inf,
         engine_torque=156.0,
         driven_inertia=0.021,
         load_torque=44.0,
-        peak_capacity=239.3,
+        peak_capacity=pub["capacity_eq14_as_printed"].value,
+        ramp_time=0.15,
     )
-    r = engagement.closed_form(**seed_eng, ramp_time=0.15)
-    assumption = "engine held at 570 rad/s, J_v = 0.021 kg m2 inferred, linear ramp to 239.3 N m (eq. 14 as printed)"
-    rows += [
-        Row(
-            SEED,
-            "engagement: lock-up time",
-            "section 5.2, Fig. 8",
-            0.150,
-            float(r["lockup_time"]),
-            "s",
-            0.01,
-            assumption,
-        ),
-        Row(
-            SEED,
-            "engagement: driven speed at lock-up",
-            "section 5.2, Fig. 8",
-            570.0,
-            float(r["lockup_speed"]),
-            "rad s-1",
-            1e-3,
-        ),
-        Row(
-            SEED,
-            "engagement: slip work (eq. 11)",
-            "section 5.3, Fig. 9",
-            5800.0,
-            float(r["slip_work"]),
-            "J",
-            0.02,
-        ),
+    assumption = (
+        "engine held at 570 rad/s, J_v = 0.021 kg m2 inferred, linear ramp to 239.3 N m "
+        "(eq. 14 as printed)"
+    )
+    return [
+        Row.against(pub["lockup_time"], r["lockup_time"], 0.01, assumption),
+        Row.against(pub["lockup_speed"], r["lockup_speed"], 1e-3),
+        Row.against(pub["slip_work"], r["slip_work"], 0.02),
     ]
-    return to_dataset(rows, "seed 000: diaphragm spring, damper, spline, capacity, engagement")
 
 
 STUDY = register(

@@ -270,9 +270,23 @@ def capacity(p, options, with_points=False):
             faces=p["friction_faces"],
             stack_mass=p["stack_mass"],
         )
-    spring_bad = pts["status"] == st.CODE["invalid_geometry"]
-    out = force, np.where(spring_bad | ~np.isfinite(cap), 0.0, cap), spring_bad
+    # a spring whose load points are off it, or swapped lining radii: no geometry, no capacity
+    spring_bad = (pts["status"] == st.CODE["invalid_geometry"]) | ~(
+        p["lining_inner_radius"] < p["lining_outer_radius"]
+    )
+    out = force, np.where(spring_bad, 0.0, cap), spring_bad
     return out + (pts,) if with_points else out
+
+
+def _status(solver_status, spring_bad, cap, hot):
+    """The scenario's status: invalid_geometry where the spring or the lining has no geometry;
+    invalid_input where the spring or friction inputs give no capacity (NaN) or, where the
+    engagement itself is ok, where the heat model refuses its inputs (masses, cooling, interval,
+    temperature margin, face count: the heat outputs would be NaN under ok); else the solver's."""
+    code = np.where(spring_bad, st.CODE["invalid_geometry"], solver_status)
+    code = np.where(~spring_bad & ~np.isfinite(cap), st.CODE["invalid_input"], code)
+    heat_refused = (code == st.CODE["ok"]) & (hot["status"] != st.CODE["ok"])
+    return np.where(heat_refused, hot["status"], code).astype(st.DTYPE)
 
 
 def tolerances(accuracy):
@@ -474,9 +488,10 @@ def compute(inputs, options=None) -> xr.Dataset:
     res["peak_surface_temperature"] = p["ambient_temperature"] + heat.face_temperature_rise(
         flash, p["lining_outer_radius"], p["lining_inner_radius"], p["friction_faces"]
     )
-    code = np.where(spring_bad, st.CODE["invalid_geometry"], res["status"]).astype(st.DTYPE)
+    code = _status(res["status"], spring_bad, cap, hot)
+    refused = np.isin(code, [st.CODE["invalid_geometry"], st.CODE["invalid_input"]])
     data = {
-        k: ("run", np.where(spring_bad, np.nan, res[k]), {"units": u, "long_name": ln})
+        k: ("run", np.where(refused, np.nan, res[k]), {"units": u, "long_name": ln})
         for k, (u, ln) in OUTPUTS.items()
     }
     data["hottest_part"] = (
@@ -509,8 +524,9 @@ def compute(inputs, options=None) -> xr.Dataset:
         "run",
         code,
         st.attrs(
-            "invalid_geometry: spring load points off the spring; "
-            "never_locked: slipping at end_time; not_converged: step limit; "
+            "invalid_geometry: spring load points off the spring, or lining radii "
+            "swapped; invalid_input: an input not physical or implausible; "
+            "never_locked: slipping at end_time; not_converged: work limit; "
             "truncated: an event after end_time (break-away, the output "
             "stopping) would change the metrics: raise end_time"
         ),
@@ -532,7 +548,7 @@ def seed_traces(inputs, options) -> xr.Dataset:
     force, speeds, slip work, friction torque, jerk."""
     p = {k: np.atleast_1d(v) for k, v in seed_design(PARAMETERS, inputs).items()}
     force, cap, bad = capacity(p, options)
-    if bad[0] or cap[0] <= 0:
+    if bad[0] or not cap[0] > 0:
         return xr.Dataset()
     times = np.linspace(0.0, float(p["end_time"][0]), TRACE_POINTS)
     res = engagement.simulate(**_solver_inputs(p, cap, options), trace_times=times)

@@ -30,6 +30,7 @@ import xarray as xr
 from .. import roller as rl
 from .. import status as st
 from ..contact import hertz_stiffness
+from ..published import ROLLER_CLUTCH
 from . import Parameter, Study, flat_inputs, register, seed_design
 
 RPM = rl.RPM
@@ -60,12 +61,21 @@ PARAMETERS = (
     Parameter("max_torque", "N m", "maximum transmitted torque T_i", 800.0),
     Parameter("service_factor", "1", "K3 (K1 + K2) of eq. 1 (1848 / 800 N m)", 2.31),
     Parameter("rated_speed", "rad/s", "rated (driving ring) speed", 2000 * RPM),
-    Parameter("spring_force", "N", "spring preload per roller F_T", 3.7, minimum_inclusive=True),
+    Parameter(
+        "spring_force",
+        "N",
+        "spring preload per roller F_T",
+        ROLLER_CLUTCH["spring_preload"].value,
+        minimum_inclusive=True,
+    ),
     Parameter("youngs_modulus", "Pa", "Young's modulus (GCr15)", 206e9),
     Parameter("poisson_ratio", "1", "Poisson's ratio", 0.3, maximum=0.5, maximum_inclusive=False),
     Parameter("density", "kg/m^3", "roller density", 7850.0),
     Parameter(
-        "contact_allowable", "Pa", "allowable contact stress (lower end of 3041-3247 MPa)", 3041e6
+        "contact_allowable",
+        "Pa",
+        "allowable contact stress (lower end of 3041-3247 MPa)",
+        ROLLER_CLUTCH["contact_allowable_min"].value * 1e6,
     ),
     Parameter("wedge_inertia", "kg m^2", "wedge ring inertia J_w (assumed)", 1e-5),
     Parameter("driven_inertia", "kg m^2", "driven ring inertia J_o (assumed)", 1e-2),
@@ -243,15 +253,46 @@ SOLVER_STATS = {
 }
 
 
+# statics every scenario must have numbers for (helpers give NaN where an input is invalid)
+_STATICS = (
+    "computed_torque",
+    "normal_force",
+    "contact_stress",
+    "self_locking_margin",
+    "limit_wedge_angle",
+    "roller_mass",
+    "spring_preload",
+)
+
+
+def _refused(p, s):
+    """Status per scenario where the models refuse it, else ok: invalid_input where a static
+    quantity has no number (an input not physical, finite or plausible); invalid_geometry where the
+    rollers do not fit around the contact circle (z·d ≥ 2π·R_C) or the penetration depth of full
+    damping is not below the roller diameter."""
+    code = np.full(p["rollers"].size, st.CODE["ok"], st.DTYPE)
+    with np.errstate(invalid="ignore"):
+        fits = (p["rollers"] * p["roller_diameter"] < 2.0 * np.pi * p["contact_radius"]) & (
+            p["penetration_depth"] < p["roller_diameter"]
+        )
+    code[~fits] = st.CODE["invalid_geometry"]
+    missing = np.zeros(code.shape, bool)
+    for k in _STATICS:
+        missing |= ~np.isfinite(s[k])
+    code[missing] = st.CODE["invalid_input"]
+    return code
+
+
 def compute(inputs, options=None) -> xr.Dataset:
     options = {k: v[0] for k, v in OPTIONS.items()} | (options or {})
     p = flat_inputs(inputs)
     s = statics(p, options["stress_reading"])
+    refused = _refused(p, s)
     n = p["rollers"].size
     code = np.full(n, st.CODE["ok"], st.DTYPE)
     locks = s["self_locking_margin"] > 1.0
     engages = rl.engages(options["mode"], np.sign(p["drive_direction"]))
-    run = locks & engages
+    run = locks & engages & (refused == st.CODE["ok"])
     dyn = {k: np.full(n, np.nan) for k in _DYNAMIC}
     stats = {k: np.zeros(n, np.int32) for k in SOLVER_STATS}  # 0 where not simulated
     if run.any():
@@ -281,9 +322,16 @@ def compute(inputs, options=None) -> xr.Dataset:
     code[(code == st.CODE["ok"]) & far] = st.CODE["dynamic_overstress"]
     code[locks & ~engages] = st.CODE["overrunning"]
     code[~locks] = st.CODE["not_self_locking"]
+    code = np.where(refused != st.CODE["ok"], refused, code).astype(st.DTYPE)
+    # a scenario a model refuses (here, or the wedging simulation) has no numbers
+    bad = np.isin(code, [st.CODE["invalid_input"], st.CODE["invalid_geometry"]])
     values = {**{k: s[k] for k in OUTPUTS if k in s}, **dyn}
     data = {
-        k: ("run", np.asarray(values[k], float), {"units": u, "long_name": ln})
+        k: (
+            "run",
+            np.where(bad, np.nan, np.asarray(values[k], float)),
+            {"units": u, "long_name": ln},
+        )
         for k, (u, ln) in OUTPUTS.items()
     }
     data["status"] = (
@@ -293,6 +341,9 @@ def compute(inputs, options=None) -> xr.Dataset:
             "not_self_locking: tan(alpha/2) >= mu, never simulated; overrunning: the working mode lets this direction "
             "overrun (no engagement); above_allowable: static contact stress above the allowable; never_locked: "
             "not engaged before the control ring is stopped (control_stop_time) or by end_time; "
+            "invalid_geometry: the rollers do not fit around the contact circle (z d >= 2 pi R_C) "
+            "or the penetration depth is not below the roller diameter; invalid_input: an input "
+            "not physical or implausible; "
             "dynamic_overstress: peak dynamic contact stress above "
             f"{DYNAMIC_STRESS_FACTOR:g} x the allowable (the wedging impact; its value depends on "
             "the assumed contact damping and inertias)"
@@ -357,156 +408,110 @@ def seed_trace(inputs, options) -> xr.Dataset:
 
 
 def validation():
-    """Seed 003 section 2.2, Table 1 and section 3.2-3.3."""
-    from ..validation import Row, to_dataset
+    """Paper 003's numbers (:data:`clutchlab.published.ROLLER_CLUTCH`: section 2.2, Table 1 and
+    sections 3.2-3.3) reproduced by clutchlab, as validation rows."""
+    from ..validation import to_dataset
 
-    seed = "003"
     d = {q.name: np.atleast_1d(q.default) for q in PARAMETERS}
+    return to_dataset(
+        _statics_rows(d) + _dynamics_rows(d),
+        "seed 003: roller-type controllable overrunning clutch",
+    )
+
+
+def _statics_rows(d):
+    """Computed torque, normal force, contact stress (both readings), spring and self-locking."""
+    from ..validation import Row
+
+    pub = ROLLER_CLUTCH
     one, every = statics(d, "one_flank"), statics(d, "all")
     tc = float(one["computed_torque"][0])
     na12 = rl.normal_force(tc, contact_radius=0.15, friction_coefficient=0.12, rollers=12)
-    mass_implied = 3.7 / float(
-        rl.spring_preload(
-            roller_mass=1.0,
-            contact_radius=0.15,
-            friction_coefficient=0.12,
-            speed=2000 * RPM,
-            formula="eq4",
-        )
-    )
-    ft_implied = rl.spring_preload(
-        roller_mass=mass_implied,
-        contact_radius=0.15,
-        friction_coefficient=0.12,
-        speed=2000 * RPM,
-        formula="eq4",
-    )
-    sim = rl.simulate(**dynamics_inputs(d, one))
-    assumed = (
-        "J_w 1e-5, J_o 1e-2 kg m2, c 2.1e3 N s/mm over 0.1 mm, 99 % of 2000 rpm (all but c assumed)"
-    )
-    rows = [
-        Row(
-            seed,
-            "computed torque T_c = 2.31 x 800 N m (eq. 1)",
-            "section 2.2",
-            1848.0,
-            tc,
-            "N m",
-            1e-3,
-            "K3 (K1 + K2) = 2.31 (the factors are not printed)",
+    preload = dict(contact_radius=0.15, friction_coefficient=0.12, speed=2000 * RPM, formula="eq4")
+    f_t = pub["spring_preload"].value
+    mass_implied = f_t / float(rl.spring_preload(roller_mass=1.0, **preload))
+    ft_implied = rl.spring_preload(roller_mass=mass_implied, **preload)
+    sigma = pub["contact_stress"]
+    return [
+        Row.against(
+            pub["computed_torque"], tc, 1e-3, "K3 (K1 + K2) = 2.31 (the factors are not printed)"
         ),
-        Row(
-            seed,
-            "normal force N_A (eq. 2, z = 12 as printed)",
-            "section 2.2",
-            8555.6,
-            float(na12),
-            "N",
-            1e-3,
-        ),
-        Row(
-            seed,
-            "contact stress sigma_H, one flank loaded (z/2 = 6)",
-            "section 2.2",
-            2865.5,
+        Row.against(pub["normal_force"], na12, 1e-3),
+        Row.against(
+            sigma,
             float(one["contact_stress"][0]) / 1e6,
-            "MPa",
             1e-3,
             "clutchlab's reading: symmetric wedges, one flank locks per direction (N = 17111 N)",
+            quantity="contact stress sigma_H, one flank loaded (z/2 = 6)",
         ),
-        Row(
-            seed,
-            "contact stress sigma_H, eq. 2 as printed (all 12 loaded)",
-            "section 2.2",
-            2865.5,
+        Row.against(
+            sigma,
             float(every["contact_stress"][0]) / 1e6,
-            "MPa",
             1e-3,
             "flat wedge face, rho_v = d/2: a factor sqrt(2) below the published value",
+            quantity="contact stress sigma_H, eq. 2 as printed (all 12 loaded)",
         ),
-        Row(
-            seed,
-            "spring preload F_T (eq. 4 as printed) with the mass it implies",
-            "Table 1",
-            3.7,
-            float(ft_implied),
-            "N",
+        Row.against(
+            pub["spring_preload"],
+            ft_implied,
             1e-3,
             f"implied roller mass {mass_implied * 1e3:.3f} g",
+            quantity="spring preload F_T (eq. 4 as printed) with the mass it implies",
         ),
-        Row(
-            seed,
-            "spring preload for a solid 10 x 15 mm roller (eq. 4, exact pi)",
-            "Table 1",
-            3.7,
+        Row.against(
+            pub["spring_preload"],
             float(one["spring_preload"][0]),
-            "N",
             1e-3,
-            f"solid roller {float(one['roller_mass'][0]) * 1e3:.2f} g: twice the mass F_T = 3.7 N implies",
+            f"solid roller {float(one['roller_mass'][0]) * 1e3:.2f} g: twice the mass "
+            f"F_T = 3.7 N implies",
+            quantity="spring preload for a solid 10 x 15 mm roller (eq. 4, exact pi)",
         ),
-        Row(
-            seed,
-            "self-locking margin mu / tan(alpha/2) at 11 deg",
-            "section 2.1",
-            1.25,
+        Row.against(
+            pub["self_locking_margin"],
             float(one["self_locking_margin"][0]),
-            "1",
             5e-3,
             "published value rounded to 1.25",
         ),
-        Row(
-            seed,
-            "limiting wedge angle 2 atan(mu)",
-            "section 1.1 step 4 (derived)",
-            13.69,
-            float(np.rad2deg(one["limit_wedge_angle"][0])),
-            "deg",
-            1e-3,
-        ),
-        Row(
-            seed,
-            "engagement (wedging) time",
-            "section 3.2 (ADAMS)",
-            0.197,
+        Row.against(pub["limit_wedge_angle"], float(np.rad2deg(one["limit_wedge_angle"][0])), 1e-3),
+    ]
+
+
+def _dynamics_rows(d):
+    """The ADAMS engagement and release of sections 3.2-3.3: order checks."""
+    from ..validation import Row
+
+    pub = ROLLER_CLUTCH
+    sim = rl.simulate(**dynamics_inputs(d, statics(d, "one_flank")))
+    assumed = (
+        "J_w 1e-5, J_o 1e-2 kg m2, c 2.1e3 N s/mm over 0.1 mm, 99 % of 2000 rpm (all but c assumed)"
+    )
+    return [
+        Row.against(
+            pub["engagement_time"],
             float(sim["engagement_time"][0]) * 1e3,
-            "ms",
             0.5,
             "order check; " + assumed,
         ),
-        Row(
-            seed,
-            "total backlash angle",
-            "section 3.2 (ADAMS)",
-            1.12,
+        Row.against(
+            pub["backlash"],
             float(np.rad2deg(sim["backlash"][0])),
-            "deg",
             0.5,
             "order check; same assumptions",
         ),
-        Row(
-            seed,
-            "driving-ring / wedge-ring backlash",
-            "section 3.2 (ADAMS)",
-            0.11,
+        Row.against(
+            pub["slip_backlash"],
             float(np.rad2deg(sim["slip_backlash"][0])),
-            "deg",
             0.5,
             "not reproduced: the wedge ring starts at rest and needs the wedging force to catch up",
         ),
-        Row(
-            seed,
-            "release time after stopping the control ring",
-            "section 3.3 (ADAMS)",
-            1.3,
+        Row.against(
+            pub["release_time"],
             float(sim["release_time"][0]) * 1e3,
-            "ms",
             0.5,
-            "not reproduced: here set by the claw clearance (1 mm assumed); the paper's 1.3 ms is the wedge "
-            "ring's travel to the reverse wedge, whose geometry is not printed",
+            "not reproduced: here set by the claw clearance (1 mm assumed); the paper's 1.3 ms is "
+            "the wedge ring's travel to the reverse wedge, whose geometry is not printed",
         ),
     ]
-    return to_dataset(rows, "seed 003: roller-type controllable overrunning clutch")
 
 
 STUDY = register(
@@ -542,7 +547,7 @@ STUDY = register(
         model_options=("stress_reading",),
         objectives=("engagement_time:min", "contact_stress:min"),
         constraints={
-            "contact_stress": ("max", 3041e6),
+            "contact_stress": ("max", ROLLER_CLUTCH["contact_allowable_min"].value * 1e6),
             "self_locking_margin": ("min", 0.0),
             "engagement_time": ("max", 1e-3),
         },

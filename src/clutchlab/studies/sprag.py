@@ -25,6 +25,7 @@ import xarray as xr
 
 from .. import sprag as sp
 from .. import status as st
+from ..published import SPRAG_CLUTCH, SPRAG_TABLE2, SPRAG_TABLE2_SOURCE, SPRAG_TABLE2_UNITS
 from . import Parameter, Study, flat_inputs, register, seed_design
 
 MM = 1e-3
@@ -81,13 +82,23 @@ PARAMETERS = (
     Parameter(
         "compliance_factor", "1", "deflection multiplier (1 physical; fitted to Table 2: 1.72)", 1.0
     ),
-    Parameter("contact_allowable", "Pa", "allowable Hertz contact stress", 3400e6),
-    Parameter("shaft_allowable", "Pa", "allowable shaft von Mises stress", 793e6),
+    Parameter(
+        "contact_allowable",
+        "Pa",
+        "allowable Hertz contact stress",
+        SPRAG_CLUTCH["contact_allowable"].value * 1e6,
+    ),
+    Parameter(
+        "shaft_allowable",
+        "Pa",
+        "allowable shaft von Mises stress",
+        SPRAG_CLUTCH["shaft_allowable"].value * 1e6,
+    ),
     Parameter(
         "gripping_angle_allowable",
         "rad",
         "allowable gripping angle V (pop-out beyond)",
-        np.deg2rad(5.0),
+        np.deg2rad(SPRAG_CLUTCH["gripping_angle_allowable"].value),
         maximum=np.pi / 2,
         maximum_inclusive=False,
     ),
@@ -124,7 +135,12 @@ CHECKS = ("contact_inner", "contact_outer", "vm_inner", "vm_outer", "gripping_an
 @functools.lru_cache(maxsize=1)
 def seed_compliance() -> float:
     """Compliance factor fitted to seed 002 Table 2 (V = 5.097 deg at 750 N m, seed geometry)."""
-    return float(sp.fit_compliance_factor(torque=750.0, gripping_angle_target=np.deg2rad(5.097)))
+    peak = SPRAG_TABLE2[750.0]
+    return float(
+        sp.fit_compliance_factor(
+            torque=peak.torque, gripping_angle_target=np.deg2rad(peak.gripping_angle)
+        )
+    )
 
 
 GRIP_TOL = 1e-12  # rad: clutchlab.sprag.gripping_angle's bracket width at convergence (its default)
@@ -266,77 +282,86 @@ def impact_curves(inputs, options=None) -> xr.Dataset:
     return xr.Dataset(data, coords=coords)
 
 
-def validation():
-    """Seed 002 Table 2 (theory column) three ways: fed with the published V, physical
-    deflection (compliance 1), and the compliance factor fitted at 750 N m."""
-    from ..validation import Row, to_dataset
+#: The Table 2 quantities: (field of :class:`clutchlab.published.SpragTheory`, row label).
+TABLE2_LABELS = {
+    "gripping_angle": "gripping angle V",
+    "contact_stress_inner": "contact stress inner",
+    "contact_stress_outer": "contact stress outer",
+    "vm_stress_inner": "shaft von Mises inner",
+    "vm_stress_outer": "shaft von Mises outer",
+}
 
-    seed, src = "002", "Table 2 (theory)"
-    table = {
-        750.0: dict(V=5.097, ci=3482, co=2928, si=673.8, so=582.0),
-        267.5: dict(V=4.093, ci=2314, co=1945, si=295.2, so=255.4),
-    }
-    labels = dict(
-        V="gripping angle V",
-        ci="contact stress inner",
-        co="contact stress outer",
-        si="shaft von Mises inner",
-        so="shaft von Mises outer",
-    )
+
+def validation():
+    """Paper 002's Table 2 (theory column, :data:`clutchlab.published.SPRAG_TABLE2`) three ways:
+    fed with the published V, physical deflection (compliance 1), and the compliance factor
+    fitted at 750 N m."""
+    from ..validation import to_dataset
+
+    rows = _fed_published_angle_rows()
     fit = seed_compliance()
+    rows += _statics_rows(1.0, "physical deflection", 0.15)
+    rows += _statics_rows(fit, f"compliance fitted at 750 N m ({fit:.4f})", 0.01)
+    return to_dataset(rows, "seed 002: sprag clutch statics (Table 2)")
+
+
+def _table2_row(pub, field, computed, tag, tolerance, note=""):
+    """The validation row of the Table 2 number ``field`` of ``pub`` (a SpragTheory)."""
+    from ..validation import Row
+
+    return Row(
+        "002",
+        f"{TABLE2_LABELS[field]} at {pub.torque:g} N m, {tag}",
+        SPRAG_TABLE2_SOURCE,
+        getattr(pub, field),
+        float(computed),
+        SPRAG_TABLE2_UNITS[field],
+        tolerance,
+        note,
+    )
+
+
+def _fed_published_angle_rows():
+    """Eqs. 7-8 on the rest radii with V from the table."""
     rows = []
-    for t, pub in table.items():
-        v = np.deg2rad(pub["V"])
+    for t, pub in SPRAG_TABLE2.items():
+        v = np.deg2rad(pub.gripping_angle)
         w = np.arcsin(_G["inner_race_radius"] * np.sin(v) / _G["outer_race_radius"])
         ci, co = sp.contact_stress(t, V=v, W=w, **_G, **sp.STEEL)
         vm = sp.shaft_stress(t, V=v, W=w, **_G)
-        for key, val in dict(ci=ci, co=co, si=vm["inner"], so=vm["outer"]).items():
-            rows.append(
-                Row(
-                    seed,
-                    f"{labels[key]} at {t:g} N m, fed the published V",
-                    src,
-                    pub[key],
-                    float(val) / 1e6,
-                    "MPa",
-                    0.03,
-                    "eqs. 7-8 on rest radii with V from the table",
-                )
-            )
-    for c, tag, tol in (
-        (1.0, "physical deflection", 0.15),
-        (fit, f"compliance fitted at 750 N m ({fit:.4f})", 0.01),
-    ):
-        for t, pub in table.items():
-            r = sp.statics(t, compliance_factor=c)
-            comp = dict(
-                V=np.rad2deg(r["V"]),
-                ci=r["contact_stress_inner"] / 1e6,
-                co=r["contact_stress_outer"] / 1e6,
-                si=r["vm_stress_inner"] / 1e6,
-                so=r["vm_stress_outer"] / 1e6,
-            )
-            for key in labels:
-                note = ""
-                tol_k = tol
-                if c == 1.0 and key == "V":
-                    note = "Lame races + Palmgren contact approach, E 206 GPa: V low, stresses high"
-                if c != 1.0 and key == "V":
-                    note = "the fit target" if t == 750.0 else "prediction; tolerance 0.05 deg"
-                    tol_k = 1e-9 if t == 750.0 else 0.05 / pub["V"]
-                rows.append(
-                    Row(
-                        seed,
-                        f"{labels[key]} at {t:g} N m, {tag}",
-                        src,
-                        pub[key],
-                        float(comp[key]),
-                        "deg" if key == "V" else "MPa",
-                        tol_k,
-                        note,
-                    )
-                )
-    return to_dataset(rows, "seed 002: sprag clutch statics (Table 2)")
+        computed = dict(
+            contact_stress_inner=ci,
+            contact_stress_outer=co,
+            vm_stress_inner=vm["inner"],
+            vm_stress_outer=vm["outer"],
+        )
+        for field, value in computed.items():
+            note = "eqs. 7-8 on rest radii with V from the table"
+            rows.append(_table2_row(pub, field, value / 1e6, "fed the published V", 0.03, note))
+    return rows
+
+
+def _statics_rows(compliance, tag, tolerance):
+    """Every Table 2 number from the statics with the deflection multiplied by ``compliance``."""
+    rows = []
+    for t, pub in SPRAG_TABLE2.items():
+        r = sp.statics(t, compliance_factor=compliance)
+        computed = dict(
+            gripping_angle=np.rad2deg(r["V"]),
+            contact_stress_inner=r["contact_stress_inner"] / 1e6,
+            contact_stress_outer=r["contact_stress_outer"] / 1e6,
+            vm_stress_inner=r["vm_stress_inner"] / 1e6,
+            vm_stress_outer=r["vm_stress_outer"] / 1e6,
+        )
+        for field in TABLE2_LABELS:
+            note, tol = "", tolerance
+            if field == "gripping_angle" and compliance == 1.0:
+                note = "Lame races + Palmgren contact approach, E 206 GPa: V low, stresses high"
+            elif field == "gripping_angle":
+                note = "the fit target" if t == 750.0 else "prediction; tolerance 0.05 deg"
+                tol = 1e-9 if t == 750.0 else 0.05 / pub.gripping_angle
+            rows.append(_table2_row(pub, field, computed[field], tag, tol, note))
+    return rows
 
 
 STUDY = register(
