@@ -5,15 +5,18 @@ from snakemake.utils import min_version
 
 min_version("8.0")
 
+import sys
+from pathlib import Path
+
 # The default study, unless the user names a config file: a --configfile is a complete study
 # (Snakemake would otherwise deep-merge it into the default and mix factor definitions).
-# --config key=value still overrides single keys of whichever file is used.
+# --config key=value still overrides single keys of whichever file is used. The default config is
+# the workflow's own (beside this Snakefile), also when run from another folder with -s.
+DEFAULT_CONFIG = str(Path(workflow.basedir) / "config" / "config.yaml")
 if not workflow.overwrite_configfiles:
 
-    configfile: "config/config.yaml"
+    configfile: DEFAULT_CONFIG
 
-
-import sys
 
 import clutchlab.config
 
@@ -21,11 +24,20 @@ import clutchlab.config
 # schema validation, unit conversion and physical range checks, before any job is scheduled.
 # A ConfigError names the offending key in one line and stops the run here.
 try:
-    for _path in workflow.overwrite_configfiles or ["config/config.yaml"]:
+    for _path in workflow.overwrite_configfiles or [DEFAULT_CONFIG]:
         clutchlab.config.read_file(_path)
     RESOLVED = clutchlab.config.resolve(config)
 except clutchlab.config.ConfigError as _exc:
     sys.exit(f"clutchlab: {_exc}")
+
+# Results go below the working folder (top-level key `results`, default "results"), not below the
+# Snakefile: run from another folder (snakemake -s path/to/Snakefile, or --directory), say where.
+if workflow.is_main_process and Path.cwd().resolve() != Path(workflow.basedir).resolve():
+    print(
+        f"clutchlab: results go to {Path(RESOLVED['results']).resolve()} (the working folder, "
+        f"not the workflow's {workflow.basedir})",
+        file=sys.stderr,
+    )
 
 # the description of Snakemake's own HTML report (`snakemake --report report.html`)
 report: "workflows/report/workflow.rst"

@@ -48,7 +48,7 @@ def test_hypervolume_of_known_fronts():
 
 def _first_stage(folder: Path, section: dict | None = None) -> Path:
     """A stored engagement result (a small factorial grid over a design factor and a load) at the
-    path config/refine.yaml refines: <folder>/results/diaphragm/engagement.h5."""
+    path config/refine.yaml refines: <folder>/results/engagement/engagement.h5."""
     section = section or {
         "design": "factorial",
         "options": {"driveline": "rigid"},

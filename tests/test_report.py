@@ -40,7 +40,14 @@ def test_report_pages(tmp_path, design):
     cfg = resolve({"studies": ["diaphragm_spring"], "diaphragm_spring": sec})
     spring = store.write(pipeline.run_study(cfg["diaphragm_spring"]), tmp_path / "spring.h5")
     val = store.write(diaphragm_spring.validation(), tmp_path / "val.h5")
+    # pages of another config's earlier run into the same folder are removed, other files kept
+    (tmp_path / "report").mkdir()
+    for stale in ("engagement_heat.png", "engagement_pareto.csv", "notes.txt"):
+        (tmp_path / "report" / stale).write_text("an earlier run")
     written = report.build({"diaphragm_spring": spring}, [val], tmp_path / "report")
+    left = sorted(p.name for p in (tmp_path / "report").iterdir())
+    assert "engagement_heat.png" not in left and "engagement_pareto.csv" not in left
+    assert "notes.txt" in left and "diaphragm_spring_pareto.csv" in left
     stems = sorted(p.stem for p in written if p.suffix == ".png")
     assert stems == sorted(report.figure_stems(["diaphragm_spring"]))
     pdf = (tmp_path / "report" / "report.pdf").read_bytes()
@@ -101,7 +108,9 @@ def test_pages_draw_with_any_factor_fixed(name, section):
 
 def test_front_table_lists_front_designs_spread_along_it():
     """<study>_pareto.csv: at most 15 designs, all of rank 0, ordered along the first objective,
-    both ends of the front included, factor values as stored."""
+    both ends of the front included, factor values in the units engineers read (the header names
+    each unit: the pressure angle in deg, the release time in ms), then the constraints' outputs
+    and margins."""
     import numpy as np
 
     from clutchlab.report import answers
@@ -121,17 +130,33 @@ def test_front_table_lists_front_designs_spread_along_it():
     ds = pipeline.run_study(sec)
     header, rows = answers.front_rows(ds)
     assert (
-        header[:2] == ["friction_coefficient [1]", "pressure_angle [rad]"]
+        header[:4]
+        == [
+            "friction_coefficient [-]",
+            "pressure_angle [deg]",
+            "reserve_factor [-]",
+            "release_time [ms]",
+        ]
         and len(rows) <= answers.MAX_ROWS
     )
+    assert header[4:] == [
+        "release_margin [N*m]",
+        "reserve_factor_constraint_margin [-]",
+        "release_margin_constraint_margin [-]",
+    ]
     front = ds.where(ds["pareto_rank"] == 0)
     obj = [o.split(":")[0] for o in sec["objectives"]]
     first = np.sort(front[obj[0]].values[np.isfinite(front[obj[0]].values)])
     got = [r[2] for r in rows]
     assert got == sorted(got) and got[0] == first[0] and got[-1] == first[-1]
     for r in rows:
-        pick = ds.sel(friction_coefficient=r[0], pressure_angle=r[1])
-        assert int(pick["pareto_rank"]) == 0 and float(pick[obj[1]]) == r[3]
+        pick = ds.sel(friction_coefficient=r[0], pressure_angle=np.deg2rad(r[1]), method="nearest")
+        assert np.rad2deg(float(pick["pressure_angle"])) == pytest.approx(r[1], rel=1e-12)
+        assert int(pick["pareto_rank"]) == 0
+        assert float(pick[obj[1]]) * 1e3 == pytest.approx(r[3], rel=1e-12)
+        assert float(pick["release_margin"]) == pytest.approx(r[4], rel=1e-12)
+        margins = pick["constraint_margin"].sel(constraint=["reserve_factor", "release_margin"])
+        assert list(margins.values) == r[5:]
 
 
 @pytest.mark.parametrize(

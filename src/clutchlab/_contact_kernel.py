@@ -279,10 +279,13 @@ IMPACT, ROLLER = 0, 1
 # roller parameter columns
 (WD, TL, JW, JO, RC, Z, TH, TA, MU, K, EXP, CD, DMAX, D0, TREL, CLR, TEND, HMAX, WSYNC) = range(19)
 N_PARAM = 19
-SLIP, STICK = 0, 1  # wedge ring slipping on, or stuck to, the driving ring
-# roller events (each falls through zero from > 0)
-EV_STICK, EV_SYNC, EV_PEAK, EV_RELEASE = range(4)
-N_EVENTS = 4
+# mode bits: the wedge ring slipping on (SLIP) or stuck to (STICK) the driving ring; the driven ring
+# held at rest by its passive load (HELD) or turning
+SLIP, STICK, HELD = 0, 1, 2
+# roller events (each falls through zero from > 0); BREAKAWAY: the wedge's drive torque on a held
+# driven ring reaches the load; STOP: a turning driven ring comes to rest
+EV_STICK, EV_SYNC, EV_PEAK, EV_RELEASE, EV_BREAKAWAY, EV_STOP = range(6)
+N_EVENTS = 6
 # roller result columns
 (
     STICK_TIME,
@@ -348,7 +351,7 @@ def _claw(t, p):
 def _roller_contact(t, y, p, mode):
     """Penetration, its rate, and the force law at state y (all loaded rollers alike)."""
     xi, xid = _claw(t, p)
-    ww = p[WD] if mode == STICK else y[1]
+    ww = p[WD] if mode & STICK else y[1]
     ud = p[RC] * (ww - y[3])
     d = p[D0] + 0.5 * p[TH] * y[2] - 0.5 * p[TA] * xi
     dd = 0.5 * p[TH] * ud - 0.5 * p[TA] * xid
@@ -361,12 +364,15 @@ def _roller_rhs(t, y, p, mode, f, jac, want_jac):
     _, _, (F, dF, dFd, _) = _roller_contact(t, y, p, mode)
     a_w = p[Z] * rc * (p[MU] - th) / p[JW]
     a_o = p[Z] * rc * th / p[JO]
-    slip = mode == SLIP
+    slip = (mode & STICK) == 0
+    turning = (mode & HELD) == 0  # a held driven ring stays at rest: its load holds it
     ww = y[1] if slip else p[WD]
     f[0] = rc * (p[WD] - ww) if slip else 0.0
     f[1] = a_w * F if slip else 0.0
     f[2] = rc * (ww - y[3])
-    f[3] = a_o * F - p[TL] / p[JO]
+    # the passive load opposes the motion of a turning ring (which only turns forward: it stops
+    # and is held at rest before it could turn backwards, EV_STOP)
+    f[3] = a_o * F - p[TL] / p[JO] if turning else 0.0
     if want_jac:
         g1 = 0.5 * dFd * th * rc if slip else 0.0
         g2 = 0.5 * dF * th
@@ -379,7 +385,8 @@ def _roller_rhs(t, y, p, mode, f, jac, want_jac):
             jac[1, 1], jac[1, 2], jac[1, 3] = a_w * g1, a_w * g2, a_w * g3
             jac[2, 1] = rc
         jac[2, 3] = -rc
-        jac[3, 1], jac[3, 2], jac[3, 3] = a_o * g1, a_o * g2, a_o * g3
+        if turning:
+            jac[3, 1], jac[3, 2], jac[3, 3] = a_o * g1, a_o * g2, a_o * g3
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -410,14 +417,57 @@ def event(system, t, y, p, mode, which, work):
         return p[WD] - y[1]
     if which == EV_SYNC:
         return p[WSYNC] - y[3]
+    if which == EV_STOP:
+        return y[3]
     d, dd, (F, dF, dFd, Fu) = _roller_contact(t, y, p, mode)
     if which == EV_RELEASE:
         return d  # the rollers come free: penetration back to zero
+    if which == EV_BREAKAWAY:
+        return p[TL] - p[Z] * p[RC] * p[TH] * F  # load minus the wedge's drive torque
     # EV_PEAK: dF/dt = ∂F/∂δ·δ̇ + ∂F/∂δ̇·δ̈ with δ̈ = (tan(α/2)/2)·R_C·(dω_w/dt − dω_o/dt)
     n = y.size
     f = work[2 * n + 10]
     rhs(system, t, y, p, mode, f, work[0:n], False)
     return dF * dd + dFd * 0.5 * p[TH] * p[RC] * (f[1] - f[3])
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def initial_mode(p):
+    """The mode at t = 0: the wedge ring slipping (it starts at rest), the driven ring held by its
+    load unless the spring preload's drive torque already exceeds it."""
+    # at rest (y = 0, the claws not yet moving) the rollers hold their preload penetration D0
+    F, _, _, _ = contact_force(p[D0], 0.0, p[K], p[EXP], p[CD], p[DMAX])
+    return SLIP | HELD if p[Z] * p[RC] * p[TH] * F < p[TL] else SLIP
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def switching_active(e, mode, t, p):
+    """Whether switching event ``e`` can happen in ``mode`` at time ``t``."""
+    if e == EV_STICK:
+        return (mode & STICK) == 0
+    if e == EV_RELEASE:
+        return t >= p[TREL]
+    if e == EV_BREAKAWAY:
+        return (mode & HELD) != 0
+    return (mode & HELD) == 0  # EV_STOP
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def switch_mode(mode, e, y, p):
+    """The mode after switching event ``e`` (the state ``y`` made exact: the wedge ring at the
+    driving speed once stuck, the driven ring at rest once held)."""
+    if e == EV_STICK:
+        y[1] = p[WD]
+        return mode | STICK
+    if e == EV_STOP:
+        y[3] = 0.0
+        return mode | HELD
+    if e == EV_BREAKAWAY:
+        return mode & ~HELD
+    return mode
+
+
+SWITCHING = np.array([EV_STICK, EV_RELEASE, EV_BREAKAWAY, EV_STOP])
 
 
 # ----------------------------------------------------------------------------------- drivers
@@ -491,6 +541,31 @@ def impact(p, v, rtol, atol, h0, max_steps):
 
 
 @njit(cache=True, error_model="numpy")
+def _earliest_switch(t, y, f0, y_best, f1, h_acc, p, mode, rtol, atol, y_ev, work):
+    """The earliest switching event on the accepted piece [t, t + h_acc] (from y to y_best, with
+    derivatives f0, f1): (event or -1, the piece's new length, f evals). Each event found cuts the
+    piece at its located time (y_best, f1 updated), so the last one found is the earliest."""
+    switch, nfev = -1, 0
+    n = y.size
+    for e in SWITCHING:
+        if not switching_active(e, mode, t, p):
+            continue
+        ga = event(ROLLER, t, y, p, mode, e, work)
+        gb = event(ROLLER, t + h_acc, y_best, p, mode, e, work)
+        if ga > 0.0 and gb <= 0.0:
+            hx, nf = locate(
+                ROLLER, e, t, y, f0, y_best, f1, h_acc, ga, gb, p, mode, rtol, atol, y_ev, work,
+                EVENT_TIME_TOL,
+            )  # fmt: skip
+            nfev += nf
+            h_acc = hx
+            y_best[:] = y_ev
+            f1[:] = work[2 * n + 4]
+            switch = e
+    return switch, h_acc, nfev
+
+
+@njit(cache=True, error_model="numpy")
 def _roller_one(p, rtol, max_steps, res, trace, n_trace):
     """One roller-clutch engagement (and release); fills ``res``; returns the trace length."""
     n = 4
@@ -501,7 +576,7 @@ def _roller_one(p, rtol, max_steps, res, trace, n_trace):
     f0, f1 = np.zeros(n), np.zeros(n)
     work = np.zeros((3 * n + 14, n))
     atol = np.array([rtol * 1e-4, rtol * p[WD], rtol * 1e-4, rtol * p[WD]])
-    mode = SLIP
+    mode = initial_mode(p)
     t = 0.0
     h = min(1e-8, p[HMAX])
     for k in range(N_STEPS):
@@ -539,37 +614,11 @@ def _roller_one(p, rtol, max_steps, res, trace, n_trace):
         f1[:] = work[2 * n + 4]
         h_acc = hs
         y_best[:] = y_new
-        switch = -1
-        # switching events (they change the equations): the step ends at the event
-        for e in (EV_STICK, EV_RELEASE):
-            if (e == EV_STICK and mode == STICK) or (e == EV_RELEASE and t < p[TREL]):
-                continue
-            ga = event(ROLLER, t, y, p, mode, e, work)
-            gb = event(ROLLER, t + hs, y_new, p, mode, e, work)
-            if ga > 0.0 and gb <= 0.0:
-                h_acc, nf = locate(
-                    ROLLER,
-                    e,
-                    t,
-                    y,
-                    f0,
-                    y_new,
-                    f1,
-                    hs,
-                    ga,
-                    gb,
-                    p,
-                    mode,
-                    rtol,
-                    atol,
-                    y_best,
-                    work,
-                    EVENT_TIME_TOL,
-                )
-                nfev += nf
-                f1[:] = work[2 * n + 4]
-                switch = e
-                break
+        # switching events (they change the equations): the step ends at the earliest one
+        switch, h_acc, nf = _earliest_switch(
+            t, y, f0, y_best, f1, h_acc, p, mode, rtol, atol, y_ev, work
+        )
+        nfev += nf
         # recording events on the accepted piece [t, t + h_acc] (the step is not cut)
         if not synced:
             ga = event(ROLLER, t, y, p, mode, EV_SYNC, work)
@@ -613,16 +662,16 @@ def _roller_one(p, rtol, max_steps, res, trace, n_trace):
         _, _, (F, _, _, _) = _roller_contact(t, y, p, mode)
         res[PEAK_FORCE] = max(res[PEAK_FORCE], F)
         best = switch
+        if best >= 0:
+            mode = switch_mode(mode, best, y, p)
         if best == EV_STICK:
-            mode = STICK
-            y[1] = p[WD]
             res[STICK_TIME] = t
             res[SLIP_BACKLASH] = y[0] / p[RC]
         elif best == EV_RELEASE:
             res[RELEASE_TIME] = t - p[TREL]
         if n_tr < n_trace:
             trace[n_tr, 0], trace[n_tr, 1] = t, p[WD]
-            trace[n_tr, 2] = y[1] if mode == SLIP else p[WD]
+            trace[n_tr, 2] = y[1] if (mode & STICK) == 0 else p[WD]
             trace[n_tr, 3], trace[n_tr, 4] = y[3], F
             n_tr += 1
         if best == EV_RELEASE:

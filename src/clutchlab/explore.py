@@ -393,11 +393,15 @@ def best_compromise(ds) -> int | None:
     combos = np.unique(key[ok], axis=0) if within else np.zeros((1, 0))
     if within and combos.size:  # the operating condition nearest the seed design's
         seed = studies.get(ds.attrs["study"]).defaults if "study" in ds.attrs else {}
-        span = np.where(np.ptp(combos, axis=0) > 0, np.ptp(combos, axis=0), 1.0)
-        target = np.array(
-            [seed.get(w, 0.0) for w in within]
-        )  # an option: its first choice (code 0)
-        combos = combos[[int(np.argmin((((combos - target) / span) ** 2).sum(axis=1)))]]
+        with np.errstate(invalid="ignore"):  # a condition may be inf (a held engine)
+            ptp = np.ptp(combos, axis=0)
+            span = np.where(np.isfinite(ptp) & (ptp > 0), ptp, 1.0)
+            target = np.array(
+                [seed.get(w, 0.0) for w in within]
+            )  # an option: its first choice (code 0)
+            # equal values (inf included) are at distance 0, an inf against a finite one far
+            gap = np.where(combos == target, 0.0, np.abs(combos - target) / span)
+        combos = combos[[int(np.argmin(np.nan_to_num(gap**2, nan=np.inf).sum(axis=1)))]]
     for combo in combos:
         group = ok & (key == combo).all(axis=1)
         lo, hi = f[group].min(axis=0), f[group].max(axis=0)

@@ -112,11 +112,7 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=N
             + (f" ({n / spent:,.0f} per second)" if n and spent > 0 else "")
         )
     ds = _curve_subset(ds, idx, int(design.attrs.get("curve_stride", 1)))
-    if (
-        idx.size and idx[0] == 0 and study.traces is not None
-    ):  # the seed design's traces: once per study,
-        # by the chunk holding scenario 0 (with more chunks than scenarios, chunk 0 may be empty)
-        ds = ds.merge(study.traces(inputs, study.full_options(options)))
+    # (the traces of the design the pages show are computed after the merge: clutchlab.traces)
     seconds = time.perf_counter() - start
     coords = {"run": ("run", idx, {"long_name": "scenario index", "units": "1"})}
     for f in _factors(design):
@@ -331,7 +327,7 @@ def merge(
         where = f"chunk {k + 1} of the {len(parts)} given"
         _check_chunk(p.attrs, design, design_hash, config, source, k, len(parts), where)
     curves = [n for n, v in parts[0].data_vars.items() if "curve_run" in v.dims]
-    # the seed design's traces (no run dimension) come from the chunk holding scenario 0 (run_chunk)
+    # variables without a run dimension (if a study gives any) come from the chunk of scenario 0
     first = next((p for p in parts if p.sizes.get("run", 0) and int(p["run"][0]) == 0), parts[0])
     seed = [
         n for n, v in first.data_vars.items() if "run" not in v.dims and "curve_run" not in v.dims
@@ -517,9 +513,12 @@ def _same(a, b) -> bool:
 
 def run_study(resolved_study: dict) -> xr.Dataset:
     """Design, compute and merge a whole study in memory (one chunk), with its design answers
-    (:func:`clutchlab.explore.annotate`); for notebooks and tests."""
+    (:func:`clutchlab.explore.annotate`) and the traces of the design its pages show
+    (:func:`clutchlab.traces.compute`); for notebooks and tests."""
+    from . import traces
     from .explore import annotate
 
     design = build_design(resolved_study)
     ds = merge(design, [run_chunk(design, resolved_study["options"], 1, 0)])
-    return annotate(ds, resolved_study.get("objectives", []), resolved_study.get("constraints", {}))
+    ds = annotate(ds, resolved_study.get("objectives", []), resolved_study.get("constraints", {}))
+    return traces.attach(ds, traces.compute(ds, resolved_study["options"]))

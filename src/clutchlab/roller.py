@@ -17,11 +17,19 @@ spring preload F_T holds the rollers in the wedge at the start: N₀ = F_T / (2�
     q' = R_C (ω_d − ω_w)                      (slip at the friction interface; 0 when stuck)
     J_w ω_w' = z R_C (μ − tan(α/2)) N         (0 when stuck: ω_w = ω_d)
     u' = R_C (ω_w − ω_o)
-    J_o ω_o' = z R_C tan(α/2) N − T_L
+    J_o ω_o' = z R_C tan(α/2) N − T_L         (while the driven ring turns; 0 while it is held)
+
+The load torque T_L is passive (the drag of what the clutch drives): it opposes the driven ring's
+motion and, at rest, holds it with up to T_L (Coulomb-like stiction of the load). The driven ring
+starts held and stays exactly at rest until the wedge's drive torque z R_C tan(α/2) N reaches T_L
+(event), turns forward under the difference after that, and is held again if it comes to rest
+(event) — it never turns backwards. (A load acting as an active torque would drive the ring at
+rest backwards, to −7.8 rad/s for the seed design, before the wedge takes it up.)
 
 N follows :func:`clutchlab.contact.impact_force` (k·δ^1.5, damping through a cubic step over the
 penetration depth, never pulling). Events, located by re-stepping the integrator: the wedge ring
-reaching ω_d (stick: it stays stuck because tan(α/2) < μ), the driven ring reaching ω_d
+reaching ω_d (stick: it stays stuck because tan(α/2) < μ), the driven ring breaking away from
+rest or coming to rest, the driven ring reaching ω_d
 (engagement time; total backlash (q + u)/R_C; the driving/wedge part q/R_C frozen at the stick),
 the peaks of N, and the release. Release: when the control ring is stopped its claws hold the
 rollers, which (after a claw clearance) move toward the wide end of the wedge at the relative speed
@@ -397,7 +405,8 @@ def simulate(*, rtol=1e-8, max_steps=200_000, trace_index=None, trace_points=20_
 
     Parameters (keyword arrays)
     ---------------------------
-    driving_speed [rad/s], load_torque [N m], wedge_inertia, driven_inertia [kg m^2],
+    driving_speed [rad/s], load_torque [N m] (passive: opposes the driven ring's motion, holds it
+    at rest up to its value), wedge_inertia, driven_inertia [kg m^2],
     contact_radius [m], rollers_loaded [1], wedge_angle [rad], friction_coefficient [1],
     spring_force [N] (preload per roller), stiffness [N/m^exponent], exponent [1] (1.5),
     damping [N s/m] (2.1e6), penetration_depth [m] (1e-4), control_stop_time [s] (inf: no

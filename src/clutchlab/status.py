@@ -28,6 +28,7 @@ FLAGS = {
     13: "truncated",
     14: "invalid_input",
     15: "near_jam",
+    16: "dynamic_overstress",
 }
 CODE = {meaning: code for code, meaning in FLAGS.items()}
 DTYPE = np.int8

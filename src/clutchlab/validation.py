@@ -130,8 +130,11 @@ def to_dataset(rows: list[Row], title: str) -> xr.Dataset:
 
 
 def to_csv(datasets: list[xr.Dataset], path) -> None:
-    """Write the rows of several validation Datasets as one CSV table."""
+    """Write the rows of several validation Datasets as one CSV table (published and computed in
+    the units engineers read: a stress stored in Pa in MPa, :func:`clutchlab.display.reported`)."""
     import csv
+
+    from .display import reported
 
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
@@ -139,8 +142,14 @@ def to_csv(datasets: list[xr.Dataset], path) -> None:
         for ds in datasets:
             for i in range(ds.sizes["row"]):
                 vals = []
+                (pub, com), unit = reported(
+                    [ds["published"].values[i], ds["computed"].values[i]],
+                    str(ds["units"].values[i]),
+                    typeset=False,
+                )
+                shown = {"published": pub, "computed": com, "units": unit}
                 for c in COLUMNS:
-                    v = ds[c].values[i]
+                    v = shown.get(c, ds[c].values[i])
                     if c in ("published", "computed"):
                         v = f"{float(v):.6g}"
                     elif c in ("rel_error", "tolerance"):

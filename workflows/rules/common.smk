@@ -13,6 +13,8 @@ RESULTS = RESOLVED["results"]  # top-level key results (default "results")
 WORK = f"{RESULTS}/work"
 VALIDATED = [s for s in STUDIES if _studies.get(s).validation is not None]
 REFINED = [s for s in STUDIES if RESOLVED[s]["design"] == "refine"]
+# studies with trace pages: the traces of the design the pages show, after the merge
+TRACED = [s for s in STUDIES if _studies.get(s).traces is not None]
 
 
 def _all_cores():
@@ -31,7 +33,7 @@ ALL_CORES = _all_cores()
 
 
 def results(study):
-    """Merged HDF5 result of a study, e.g. results/diaphragm/spring.h5."""
+    """Merged HDF5 result of a study, e.g. results/diaphragm_spring/diaphragm_spring.h5."""
     return f"{RESULTS}/{_studies.get(study).output}"
 
 

@@ -29,7 +29,8 @@ rule report:
     input:
         studies=[results(s) for s in STUDIES],
         sensitivity=[f for s in STUDIES for f in sensitivity_files(s)],
-        validation=[f"{RESULTS}/validation/{s}.h5" for s in VALIDATED],
+        validation=[f"{RESULTS}/{s}/validation.h5" for s in VALIDATED],
+        traces=[f"{RESULTS}/{s}/traces.h5" for s in TRACED],
         benchmark=[f"{RESULTS}/benchmark/engagement_benchmark.csv"] if BENCHMARK_PAGE else [],
         refined=[refine_source(s) for s in REFINED],
         hard_cases=[f"{RESULTS}/numerics/hard_cases.h5"] if HARD_CASES else [],
@@ -43,6 +44,7 @@ rule report:
         names=STUDIES,
         sensitivity_names=[s for s in STUDIES if sensitivity_files(s)],
         refined_names=REFINED,
+        traced_names=TRACED,
         title=RESOLVED["report"]["title"],
         dpi=RESOLVED["report"]["dpi"],
         source=SOURCE,

@@ -63,7 +63,7 @@ for _study in STUDIES:
 
 rule validation:
     output:
-        f"{RESULTS}/validation/{{study}}.h5",
+        f"{RESULTS}/{{study}}/validation.h5",
     params:
         source=SOURCE,
     resources:
@@ -71,3 +71,20 @@ rule validation:
         mem_mb=1000,
     script:
         "../scripts/validation.py"
+
+
+rule traces:
+    # the traces of the design the study's pages show (clutchlab.traces): its best design is only
+    # known once the chunks are merged
+    input:
+        lambda wc: results(wc.study),
+    output:
+        f"{RESULTS}/{{study}}/traces.h5",
+    params:
+        options=lambda wc: RESOLVED[wc.study]["options"],
+        source=SOURCE,
+    resources:
+        runtime=10,
+        mem_mb=lambda wc: _cluster.merge_resources(RESOLVED[wc.study])["mem_mb"],
+    script:
+        "../scripts/traces.py"

@@ -59,6 +59,7 @@ report.build(
     benchmark_csv=sm.input.benchmark[0] if sm.input.benchmark else None,
     sensitivity_files=dict(zip(sm.params.sensitivity_names, sm.input.sensitivity)),
     refine_files=dict(zip(sm.params.refined_names, sm.input.refined)),
+    traces_files=dict(zip(sm.params.traced_names, sm.input.traces)),
     hard_cases_file=sm.input.hard_cases[0] if sm.input.hard_cases else None,
     numerics_dir=Path(sm.input.numerics[0]).parent if sm.input.numerics else None,
     job_seconds={s: t for s in sm.params.names if (t := job_seconds(s))},

@@ -258,7 +258,7 @@ def _wp_figure(rows, error, ours, title, ylabel, label_key):
                     (r["seconds_per_scenario"], max(r[error], 1e-17)),
                     textcoords="offset points",
                     xytext=(4, 4),
-                    fontsize=6,
+                    fontsize=8,
                 )
     lines = [
         f"vs {r['method']}{_setting(r, label_key)} (error {r[error]:.1e}): {ratio:.0f}x faster"
@@ -276,7 +276,7 @@ def _wp_figure(rows, error, ours, title, ylabel, label_key):
         "clutchlab at equal or better error:\n" + "\n".join(lines[:10])
         if lines
         else "no alternative reached an error clutchlab's settings cover",
-        fontsize=7,
+        fontsize=8,
         va="bottom",
         family="monospace",
     )

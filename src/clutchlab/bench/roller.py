@@ -24,10 +24,9 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ._common import parse, per_scenario_sweep, write_rows
 from .. import _contact_kernel as _k
 from .. import roller
-
+from ._common import parse, per_scenario_sweep, write_rows
 
 RTOLS = tuple(10.0 ** -np.arange(4.0, 10.01, 0.5))
 
@@ -53,8 +52,10 @@ def design(n, seed=0):
 
 
 def scipy_engagement(p, method, rtol):
-    """Engagement time of one scenario with ``solve_ivp`` (slip phase to the stick event, stick
-    phase to the engagement event), the kernel's compiled right-hand side and Jacobian."""
+    """Engagement time of one scenario with ``solve_ivp``, phase by phase (the kernel's modes: the
+    wedge ring slipping or stuck, the driven ring held at rest by its load or turning), each phase
+    ended by the first switching event, the kernel's compiled right-hand side, Jacobian, events and
+    mode changes."""
     f, jac, work = np.zeros(4), np.zeros((4, 4)), np.zeros((25, 4))
     atol = np.array([rtol * 1e-4, rtol * p[_k.WD], rtol * 1e-4, rtol * p[_k.WD]])
 
@@ -77,37 +78,34 @@ def scipy_engagement(p, method, rtol):
         return g
 
     extra = {} if method == "LSODA" else {"first_step": 1e-9}
-    rhs, jacobian = fun(_k.SLIP)
-    s1 = solve_ivp(
-        rhs,
-        (0.0, p[_k.TEND]),
-        np.zeros(4),
-        method=method,
-        rtol=rtol,
-        atol=atol,
-        jac=jacobian,
-        events=[ev(_k.EV_STICK, _k.SLIP), ev(_k.EV_SYNC, _k.SLIP)],
-        **extra,
-    )
-    if s1.t_events[1].size:
-        return s1.t_events[1][0]
-    if not s1.t_events[0].size:
-        return np.nan
-    y = s1.y_events[0][0].copy()
-    y[1] = p[_k.WD]
-    rhs, jacobian = fun(_k.STICK)
-    s2 = solve_ivp(
-        rhs,
-        (s1.t_events[0][0], p[_k.TEND]),
-        y,
-        method=method,
-        rtol=rtol,
-        atol=atol,
-        jac=jacobian,
-        events=[ev(_k.EV_SYNC, _k.STICK)],
-        **extra,
-    )
-    return s2.t_events[0][0] if s2.t_events[0].size else np.nan
+    mode, t, y = _k.initial_mode(p), 0.0, np.zeros(4)
+    for _ in range(20):  # phases
+        switching = [
+            e
+            for e in (_k.EV_STICK, _k.EV_BREAKAWAY, _k.EV_STOP)
+            if _k.switching_active(e, mode, t, p)
+        ]
+        rhs, jacobian = fun(mode)
+        s = solve_ivp(
+            rhs,
+            (t, p[_k.TEND]),
+            y,
+            method=method,
+            rtol=rtol,
+            atol=atol,
+            jac=jacobian,
+            events=[ev(_k.EV_SYNC, mode)] + [ev(e, mode) for e in switching],
+            **extra,
+        )
+        if s.t_events[0].size:
+            return s.t_events[0][0]
+        hits = [(s.t_events[i + 1][0], i) for i in range(len(switching)) if s.t_events[i + 1].size]
+        if not hits:
+            return np.nan
+        t, i = min(hits)
+        y = s.y_events[i + 1][0].copy()
+        mode = _k.switch_mode(mode, switching[i], y, p)
+    return np.nan
 
 
 def run(outdir="results/benchmark", n=40):

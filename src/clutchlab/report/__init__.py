@@ -91,6 +91,41 @@ def answer_files(study_names, refined=()) -> list[str]:
     ]
 
 
+class Page:
+    """A report page: its PNG stem, a function drawing it, and (tables) the A4 pages that stand for
+    it in the PDF: a table longer than a page is one tall PNG and several PDF pages."""
+
+    def __init__(self, stem, draw, pdf_pages=None, n_pdf=1):
+        self.stem, self.draw, self.pdf_pages, self.n_pdf = stem, draw, pdf_pages, n_pdf
+
+
+def _study_pages(name, ds, sensitivity_files, refine_files, outdir) -> list[Page]:
+    """A study's pages (drawn later, one at a time) and its CSV files (written now)."""
+    from functools import partial
+
+    pages = [Page(f"{name}_{stem}", partial(draw, ds)) for stem, draw in _pages_of(name).items()]
+    pages.append(Page(f"{name}_answers", partial(answers.page, name, ds)))
+    if name in sensitivity_files:
+        se = store.load(sensitivity_files[name])
+        pages.append(Page(f"{name}_sensitivity", partial(answers.sensitivity_page, name, se)))
+    with store.atomic(outdir / f"{name}_pareto.csv") as tmp:
+        answers.write_csv(ds, tmp)
+    if name in refine_files:
+        first = store.load(refine_files[name])
+        gain = refinement_gain(first, ds)
+        pages.append(
+            Page(f"{name}_refinement", partial(answers.refinement_page, name, first, ds, gain))
+        )
+        with store.atomic(outdir / f"{name}_refinement.csv") as tmp:
+            answers.write_refinement_csv(gain, tmp)
+    return pages
+
+
+def _table_page(stem, table) -> Page:
+    """A table (:class:`clutchlab.report.common.Table`) as one PNG and its A4 PDF pages."""
+    return Page(stem, table.figure, table.pages, table.n_pages)
+
+
 def build(
     study_files: dict,
     validation_files: list,
@@ -104,6 +139,7 @@ def build(
     hard_cases_file=None,
     numerics_dir=None,
     job_seconds=None,
+    traces_files=None,
 ) -> list[Path]:
     """Build the report from stored results.
 
@@ -129,58 +165,72 @@ def build(
     job_seconds : dict or None
         Study name -> (chunk jobs, their seconds and the merge's), from Snakemake's benchmark
         files: the summary page says how long each study took.
+    traces_files : dict or None
+        Study name -> its ``traces.h5`` (:mod:`clutchlab.traces`): the traces of the design its
+        pages show. Without one, a study's pages compute nothing: they take the traces already in
+        its Dataset (an in-memory :func:`clutchlab.pipeline.run_study`), if any.
     outdir : path
-        Folder for ``report.pdf``, ``validation.csv`` and the PNGs.
+        Folder for ``report.pdf``, ``validation.csv`` and the PNGs. PNG and CSV files in it that
+        this report does not write (pages of an earlier run of another config) are removed.
+
+    Returns
+    -------
+    list of Path
+        The PNGs written and ``report.pdf``.
     """
+    from .. import traces as tr
+
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     results = {name: store.load(p) for name, p in study_files.items()}
+    for name, path in (traces_files or {}).items():
+        results[name] = tr.attach(results[name], store.load(path))
     validations = [store.load(p) for p in validation_files]
     pages = []
     for name, ds in results.items():
-        pages += [(f"{name}_{stem}", fig) for stem, fig in study_pages(name, ds)]
-        pages.append((f"{name}_answers", answers.page(name, ds)))
-        if name in (sensitivity_files or {}):
-            pages.append(
-                (
-                    f"{name}_sensitivity",
-                    answers.sensitivity_page(name, store.load(sensitivity_files[name])),
-                )
-            )
-        with store.atomic(outdir / f"{name}_pareto.csv") as tmp:
-            answers.write_csv(ds, tmp)
-        if name in (refine_files or {}):
-            first = store.load(refine_files[name])
-            gain = refinement_gain(first, ds)
-            pages.append((f"{name}_refinement", answers.refinement_page(name, first, ds, gain)))
-            with store.atomic(outdir / f"{name}_refinement.csv") as tmp:
-                answers.write_refinement_csv(gain, tmp)
+        pages += _study_pages(name, ds, sensitivity_files or {}, refine_files or {}, outdir)
     if benchmark_csv is not None:
         from ..bench.engagement import read_rows, work_precision_figure
 
-        pages.append(("engagement_work_precision", work_precision_figure(read_rows(benchmark_csv))))
+        rows = read_rows(benchmark_csv)
+        pages.append(Page("engagement_work_precision", lambda: work_precision_figure(rows)))
     if validations:
-        pages.append(("validation_table", validation_table(validations)))
+        pages.append(_table_page("validation_table", validation_table(validations)))
         with store.atomic(outdir / "validation.csv") as tmp:
             to_csv(validations, tmp)
     if numerics_dir is not None:
         from ..bench.numerics import pages as numerics_pages
 
-        pages += numerics_pages(numerics_dir)
+        pages += [Page(stem, (lambda f=fig: f)) for stem, fig in numerics_pages(numerics_dir)]
     if hard_cases_file is not None:
         from ..hardcases import to_csv as hard_cases_csv
 
         cases = store.load(hard_cases_file)
-        pages.append(("hard_cases", hard_case_table(cases)))
+        pages.append(_table_page("hard_cases", hard_case_table(cases)))
         with store.atomic(outdir / "hard_cases.csv") as tmp:
             hard_cases_csv(cases, tmp)
-    # the summary page opens the report and names each study's pages
-    stems_of = {
-        name: [stem for stem, _ in pages if stem.startswith(f"{name}_")] for name in results
-    }
+    # the summary page opens the report and names each study's pages by their page numbers
+    numbers, k = {}, 2
+    for page in pages:
+        numbers[page.stem] = (k, k + page.n_pdf - 1)
+        k += page.n_pdf
     pages.insert(
-        0, ("title", title_page(title, __version__, results, validations, stems_of, job_seconds))
+        0,
+        Page(
+            "title",
+            lambda: title_page(title, __version__, results, validations, numbers, job_seconds),
+        ),
     )
+    written = _write_pages(pages, outdir, title, dpi)
+    tables = answer_files(results, refine_files or {}) + (["validation.csv"] if validations else [])
+    _remove_stale(
+        outdir, [p.name for p in written] + tables + ["hard_cases.csv"] * bool(hard_cases_file)
+    )
+    return written + [outdir / "report.pdf"]
+
+
+def _write_pages(pages, outdir, title, dpi) -> list[Path]:
+    """Draw each page, write its PNG and its PDF page(s), close it: one figure open at a time."""
     written = []
     with (
         store.atomic(outdir / "report.pdf") as tmp_pdf,
@@ -194,15 +244,30 @@ def build(
             },
         ) as pdf,
     ):
-        for stem, fig in pages:
+        for page in pages:
+            fig = page.draw()
             _wrap_suptitle(fig)
-            png = outdir / f"{stem}.png"
+            png = outdir / f"{page.stem}.png"
             with store.atomic(png) as tmp:
                 fig.savefig(tmp, dpi=dpi, metadata={"Software": None}, format="png")
-            pdf.savefig(fig)
+            if page.pdf_pages is None:
+                pdf.savefig(fig)
             plt.close(fig)
+            for part in page.pdf_pages() if page.pdf_pages is not None else ():
+                _wrap_suptitle(part)
+                pdf.savefig(part)
+                plt.close(part)
             written.append(png)
-    return written + [outdir / "report.pdf"]
+    return written
+
+
+def _remove_stale(outdir, keep) -> None:
+    """Remove the PNG and CSV files of ``outdir`` that this report did not write (the pages of
+    another config run into the same folder earlier), so the folder holds this run's report."""
+    keep = set(keep)
+    for path in outdir.iterdir():
+        if path.suffix in (".png", ".csv") and path.name not in keep and path.is_file():
+            path.unlink()
 
 
 def _wrap_suptitle(fig, width=130):

@@ -11,10 +11,11 @@ import textwrap
 import matplotlib.pyplot as plt
 import numpy as np
 
-from .. import studies
+from .. import display, studies
+from .. import status as st
 from ..explore import flat as _flat
 from ..explore import front_order, objective_table, pareto_rank, spread
-from .common import A4_LANDSCAPE, drawn, drawn_note, seed_view
+from .common import A4_LANDSCAPE, drawn, drawn_note
 
 MAX_ROWS = 15
 
@@ -25,55 +26,118 @@ def factors(ds) -> list[str]:
     return ds.attrs.get("factors", "").split() if dims == ["run"] else dims
 
 
-def front_rows(ds) -> tuple[list[str], list[list]]:
-    """Header and rows of the front's designs (at most ``MAX_ROWS``, spread along the first
-    objective, per operating condition where the ranks are): factor values and objectives in SI,
-    an option drawn per scenario by the name of its choice."""
+def _outputs(ds) -> tuple[list[str], list[str]]:
+    """(objectives, the constrained outputs that are not objectives) of a ranked result."""
     objectives = [o.split(":")[0] for o in ds["pareto_rank"].attrs["objectives"].split()]
+    constrained = [str(c) for c in ds["constraint"].values] if "constraint" in ds.coords else []
+    return objectives, [c for c in constrained if c not in objectives]
+
+
+def front_rows(ds, typeset=False) -> tuple[list[str], list[list]]:
+    """Header and rows of the front's designs (at most ``MAX_ROWS``, spread along the first
+    objective, per operating condition where the ranks are): factor values, objectives, the other
+    constrained outputs and every constraint's margin, in the units engineers read (the header
+    names each column's unit as a config writes it, ``sheet_thickness [mm]``, or typeset for a
+    page, ``N·m``; :mod:`clutchlab.display`); an option drawn per scenario by its choice."""
+    objectives, constrained = _outputs(ds)
     names = factors(ds)
     options = {
         o: ds[o].attrs["flag_meanings"].split() for o in ds.attrs.get("option_factors", "").split()
     }
-    cols = {n: _flat(ds, n) for n in names}
     front = spread(front_order(ds), MAX_ROWS)
+    columns = names + objectives + constrained
+    units = {n: display.unit_of(ds, n) for n in columns}
     header = [
-        n if n in options else f"{n} [{ds[n].attrs.get('units', '')}]" for n in names + objectives
+        n
+        if n in options
+        else (f"{n} [{units[n].label}]" if typeset else display.column(n, units[n]))
+        for n in columns
     ]
+    values = {n: _flat(ds, n) for n in columns}
     rows = [
-        [options[n][int(cols[n][i])] if n in options else float(cols[n][i]) for n in names]
-        + [float(_flat(ds, o)[i]) for o in objectives]
+        [
+            options[n][int(values[n][i])] if n in options else float(units[n](values[n][i]))
+            for n in columns
+        ]
         for i in front
     ]
+    if "constraint_margin" in ds:
+        margins = ds["constraint_margin"].transpose("constraint", *ds["status"].dims).values
+        margins = margins.reshape(margins.shape[0], -1)
+        header += [f"{c}_constraint_margin [-]" for c in ds["constraint"].values]
+        rows = [r + [float(m) for m in margins[:, i]] for r, i in zip(rows, front, strict=True)]
     return header, rows
 
 
 def _value_text(ds, name, v) -> str:
-    """ "name value" of a factor, a flagged code (an option drawn per scenario) by its meaning."""
+    """ "name value unit" of a factor in its display unit; a flagged code (an option drawn per
+    scenario) by its meaning."""
     meanings = ds[name].attrs.get("flag_meanings", "").split()
-    return f"{name} {meanings[int(v)]}" if meanings else f"{name} {v:.4g}"
+    if meanings:
+        return f"{name} {meanings[int(v)]}"
+    return f"{name} {display.text(v, display.unit_of(ds, name))}"
 
 
 def best_text(ds) -> str:
-    """The best compromise design (:func:`clutchlab.explore.best_compromise`) in one line:
-    its factors, then its objectives."""
-    from ..explore import best_compromise
+    """The best design (:func:`clutchlab.traces.best_design`: today the best compromise) in one
+    line: its factors, then its objectives, in the units engineers read."""
+    from ..traces import best_design
 
-    i = best_compromise(ds)
+    i = best_design(ds)
     if i is None:
         return "no feasible design on a Pareto front"
-    objectives = [o.split(":")[0] for o in ds["pareto_rank"].attrs["objectives"].split()]
-    parts = []
-    for n in factors(ds) + objectives:
-        v = _flat(ds, n)[i]
-        unit = ds[n].attrs.get("units", "")
-        if unit == "rad":  # angles read in degrees
-            v, unit = np.rad2deg(v), "deg"
-        parts.append(
-            _value_text(ds, n, v).replace(" ", " = ", 1)
-            + ("" if unit in ("1", "") or ds[n].attrs.get("flag_meanings") else f" {unit}")
-        )
-    k = len(factors(ds))
-    return ", ".join(parts[:k]) + " -> " + ", ".join(parts[k:])
+    objectives, _ = _outputs(ds)
+    parts = [_value_text(ds, n, _flat(ds, n)[i]).replace(" ", " = ", 1) for n in factors(ds)]
+    goals = [_value_text(ds, n, _flat(ds, n)[i]).replace(" ", " = ", 1) for n in objectives]
+    return ", ".join(parts) + " -> " + ", ".join(goals)
+
+
+# a sampled (continuous) factor's best value within this share of its range of a bound sits "at
+# the edge" of the range
+EDGE_SHARE = 0.02
+
+
+def edge_notes(ds, short=False) -> list[str]:
+    """One note per design factor at which the best compromise sits at the edge of the range the
+    run gave it (its smallest or largest value; within 2 % of the range for a sampled factor): the
+    answer may lie beyond, so the range should be widened. Operating conditions and options drawn
+    per scenario are not design choices and get none. ``short``: "sprags (upper, 22)"."""
+    from ..explore import condition_factors
+    from ..traces import best_design
+
+    i = best_design(ds)
+    if i is None:
+        return []
+    conditions = set(sum(condition_factors(ds), [])) | set(studies.get(name_of(ds)).conditions)
+    options = set(ds.attrs.get("option_factors", "").split())
+    front = front_order(ds)
+    notes = []
+    for n in factors(ds):
+        if n in conditions or n in options or "flag_meanings" in ds[n].attrs:
+            continue
+        v = _flat(ds, n)
+        lo, hi = np.nanmin(v), np.nanmax(v)
+        if not hi > lo:
+            continue
+        tol = 0.0 if "run" not in ds["status"].dims else EDGE_SHARE * (hi - lo)
+        for end, bound in (("upper", hi), ("lower", lo)):
+            if abs(v[i] - bound) > tol:
+                continue
+            u = display.unit_of(ds, n)
+            if short:
+                notes.append(f"{n} ({end}, {display.text(bound, u)})")
+                continue
+            at = int((np.abs(v[front] - bound) <= tol).sum())
+            notes.append(
+                f"best design at the {end} edge of {n}'s range ({display.text(lo, u)} to "
+                f"{display.text(hi, u)}; {at} of {front.size} front designs there): widen the "
+                f"range of {n}"
+            )
+    return notes
+
+
+def name_of(ds) -> str:
+    return ds.attrs.get("study", "")
 
 
 def _text(v, fmt) -> str:
@@ -81,6 +145,7 @@ def _text(v, fmt) -> str:
 
 
 def write_csv(ds, path) -> None:
+    """``<study>_pareto.csv``: the front's designs (:func:`front_rows`), units in the header."""
     header, rows = front_rows(ds)
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
@@ -89,32 +154,63 @@ def write_csv(ds, path) -> None:
             w.writerow([_text(v, ".6g") for v in r])
 
 
+def limits_text(ds) -> str:
+    """The constraints as the user would write them: ``contact_stress max: 3041 MPa``."""
+    if "constraint" not in ds.coords:
+        return "none"
+    parts = []
+    for item in ds["constraint"].attrs.get("limits", "").split():
+        output, op, value = item.split(":")
+        kind = ds[output].attrs.get("temperature_kind") if output in ds else None
+        si = ds[output].attrs.get("units", "1") if output in ds else "1"
+        parts.append(display.limit_text(output, op, float(value), si, kind))
+    return "; ".join(parts)
+
+
+def _failing(ds) -> tuple[list[str], list[int], list[str]]:
+    """(labels, counts, colours) of the bars: designs per status that is not ok, then designs
+    failing each constraint."""
+    codes, counts = np.unique(ds["status"].values[ds["status"].values != 0], return_counts=True)
+    names = [f"status {st.FLAGS.get(int(c), str(c))}" for c in codes]
+    viol = [int(n) for n in counts]
+    colours = ["0.5"] * len(names)
+    if "constraint_margin" in ds:
+        for c in ds["constraint"].values:
+            names.append(str(c))
+            viol.append(int((ds["constraint_margin"].sel(constraint=c).values < 0).sum()))
+            colours.append("tab:red")
+    return names, viol, colours
+
+
 def page(name, ds):
-    study = studies.get(name)
+    """The design answers of a study: feasible share, the statuses and constraints that fail most,
+    the Pareto front with the run's best design (and the source paper's design where it is one of
+    the run's scenarios), the front's designs as a table, and an answer at the edge of a factor's
+    range said as such; every number in the units engineers read."""
     objectives = ds["pareto_rank"].attrs["objectives"].split()
     outs = [o.split(":")[0] for o in objectives]
     feas = _flat(ds, "feasible").astype(bool)
     rank = ds["pareto_rank"].values.reshape(-1)
     fig = plt.figure(figsize=A4_LANDSCAPE)
+    notes = edge_notes(ds)[:4]
+    if notes:  # an answer at the edge of a factor's range, said under the title
+        fig.text(
+            0.06, 0.905, "\n".join(textwrap.shorten(n, 190) for n in notes), fontsize=8,
+            va="top", color="tab:red",
+        )  # fmt: skip
+    top = 0.82 - 0.022 * len(notes)
     grid = fig.add_gridspec(
-        2, 2, height_ratios=[1.5, 1.0], width_ratios=[1.0, 1.6], top=0.83, bottom=0.03
+        2, 2, height_ratios=[1.5, 1.0], width_ratios=[1.0, 1.6], top=top, bottom=0.03, wspace=0.35
     )
     ax_c = fig.add_subplot(grid[0, 0])
     ax_t = fig.add_subplot(grid[1, :])
-    # which constraint binds most often (and how many designs have no number: status not ok)
-    names, viol = ["status not ok"], [int((ds["status"].values != 0).sum())]
-    if "constraint_margin" in ds:
-        names += [str(c) for c in ds["constraint"].values]
-        viol += [
-            int((ds["constraint_margin"].sel(constraint=c).values < 0).sum()) for c in names[1:]
-        ]
-    ax_c.barh(range(len(names)), viol, height=0.6, color=["0.5"] + ["tab:red"] * (len(names) - 1))
-    ax_c.set_yticks(range(len(names)), [textwrap.fill(n, 18) for n in names], fontsize=8)
+    names, viol, colours = _failing(ds)
+    ax_c.barh(range(len(names)), viol, height=0.6, color=colours)
+    ax_c.set_yticks(range(len(names)), [_wrap_name(n, 18) for n in names], fontsize=8)
     ax_c.set_ylim(len(names) - 0.5, -0.5)
     ax_c.set_xlabel("designs failing it")
     ax_c.xaxis.set_major_locator(plt.MaxNLocator(4, integer=True))
-    limits = ds["constraint"].attrs.get("limits", "") if "constraint" in ds.coords else "none"
-    ax_c.set_title(textwrap.fill("constraints: " + limits, 50), fontsize=8)
+    ax_c.set_title(textwrap.fill("constraints: " + limits_text(ds), 55), fontsize=8)
     # the front: over the two objectives, or every pair of them (projections) for three or more
     within = ds["pareto_rank"].attrs.get("ranked_within", "").split()
     pairs = (
@@ -124,41 +220,30 @@ def page(name, ds):
     cell = (
         grid[0, 1].subgridspec(1, 1)
         if len(pairs) == 1
-        else grid[0, 1].subgridspec(2, -(-(len(pairs) + 1) // 2), wspace=0.75, hspace=0.55)
+        else grid[0, 1].subgridspec(2, -(-(len(pairs) + 1) // 2), wspace=0.75, hspace=0.6)
     )
     sense = dict(o.split(":") for o in objectives)
-    seed = seed_view(ds, study.defaults)
+    marks = _marks(ds)
     for k, (ox, oy) in enumerate(pairs):
         ax = fig.add_subplot(cell[k % 2, k // 2] if len(pairs) > 1 else cell[0, 0])
-        _front_panel(
-            ax, ds, ox, oy, feas, rank, within, seed, lines=len(pairs) == 1, legend=len(pairs) == 1
-        )
-        small = len(pairs) > 1
-        ax.set_xlabel(
-            f"{ox} [{ds[ox].attrs.get('units', '')}] ({sense[ox]})", fontsize=7 if small else None
-        )
-        ax.set_ylabel(
-            f"{oy} [{ds[oy].attrs.get('units', '')}] ({sense[oy]})", fontsize=7 if small else None
-        )
-        if small:
-            ax.tick_params(labelsize=6)
-            ax.xaxis.get_offset_text().set_fontsize(6)
-            ax.yaxis.get_offset_text().set_fontsize(6)
+        _front_panel(ax, ds, ox, oy, feas, rank, within, marks, lines=len(pairs) == 1)
+        for setter, o in ((ax.set_xlabel, ox), (ax.set_ylabel, oy)):
+            setter(f"{o} [{display.unit_of(ds, o).label}] ({sense[o]})", fontsize=8)
+        ax.tick_params(labelsize=8)
+        ax.xaxis.get_offset_text().set_fontsize(8)
+        ax.yaxis.get_offset_text().set_fontsize(8)
+    handles, labels = ax.get_legend_handles_labels()
     if len(pairs) > 1:  # the legend in the free cell
         k = len(pairs)
         lax = fig.add_subplot(cell[k % 2, k // 2])
         lax.set_axis_off()
-        lax.legend(
-            *ax.get_legend_handles_labels(),
-            fontsize=6,
-            loc="center",
-            title="front at" if within else None,
-            title_fontsize=6,
-        )
+        lax.legend(handles, labels, fontsize=8, loc="center", title="front at" if within else None)
+    else:
+        ax.legend(fontsize=8, title="front at" if within else None, title_fontsize=8)
     mixed = ds["pareto_rank"].attrs.get("conditions_mixed", "")
     fig.text(
-        0.62,
-        0.895,
+        0.64,
+        top + 0.012,
         textwrap.fill(
             f"Pareto front over {' and '.join(objectives)}"
             + (" (projections: front designs marked, not joined)" if len(outs) > 2 else "")
@@ -168,48 +253,116 @@ def page(name, ds):
                 else ""
             )
             + (
-                f"; {mixed} sampled: ranked together with the design factors, a front design may owe its "
-                "place to a light operating condition"
+                f"; {mixed} sampled: ranked together with the design factors, a front design may "
+                "owe its place to a light operating condition"
                 if mixed
                 else ""
             ),
-            90,
+            85,
         ),
         fontsize=8,
         ha="center",
-        va="top",
+        va="bottom",
     )
-    # the front's designs
-    header, rows = front_rows(ds)
-    ax_t.set_axis_off()
-    if rows:
-        table = ax_t.table(
-            cellText=[[_text(v, ".4g") for v in r] for r in rows],
-            colLabels=[textwrap.fill(h, 16) for h in header],
-            cellLoc="center",
-            bbox=(0.0, 0.0, 1.0, 1.0),
-        )  # the table fills its axes, never past the page
-        table.auto_set_font_size(False)
-        table.set_fontsize(7)
-        header_share = 2.0 / (len(rows) + 2)  # the wrapped column names get two rows' height
-        for (i, j), c in table.get_celld().items():
-            c.set_height(header_share if i == 0 else (1.0 - header_share) / len(rows))
+    _front_table(ax_t, ds)
     n = feas.size
     fig.suptitle(
         f"Design answers, study '{name}': {int(feas.sum())} of {n} designs feasible "
         f"({100 * feas.mean():.0f} %), {int((rank == 0).sum())} on the Pareto front"
-        + (f" (table: {len(rows)} spread along it; {name}_pareto.csv)" if rows else "")
+        + (
+            f" (table: up to {MAX_ROWS} spread along it; {name}_pareto.csv)"
+            if (rank == 0).any()
+            else ""
+        )
     )
     return fig
 
 
-def _front_panel(ax, ds, ox, oy, feas, rank, within, seed, lines, legend):
-    """Feasible and infeasible designs over two objectives, the front (one per operating condition
-    where ranked within them; joined where it is the whole front, marked where a projection) and
-    the seed design."""
-    x, y = _flat(ds, ox), _flat(ds, oy)
+def _wrap_name(name, width) -> str:
+    """A name wrapped at its underscores or spaces (never inside a word): ``sheet_\nthickness``."""
+    import re
+
+    parts = [p for p in re.split(r"(?<=[_ ])", name) if p]
+    lines, line = [], ""
+    for p in parts:
+        if line and len(line) + len(p.rstrip()) > width:
+            lines.append(line.rstrip())
+            line = ""
+        line += p
+    return "\n".join(lines + [line.rstrip()])
+
+
+def _front_table(ax, ds):
+    """The front's designs as a table (the first columns of ``<study>_pareto.csv``: factors and
+    objectives, display units), or a sentence where the run has no feasible design."""
+    header, rows = front_rows(ds, typeset=True)
+    ax.set_axis_off()
+    objectives, constrained = _outputs(ds)
+    k = len(factors(ds)) + len(objectives)  # the CSV also has the constraints' outputs, margins
+    if not rows:
+        ax.text(
+            0.5, 0.5, "no feasible design: no front (the bars above say what fails)",
+            ha="center", va="center", fontsize=10, transform=ax.transAxes,
+        )  # fmt: skip
+        return
+    table = ax.table(
+        cellText=[[_text(v, ".4g") for v in r[:k]] for r in rows],
+        colLabels=[_wrap_name(h, 16) for h in header[:k]],
+        cellLoc="center",
+        bbox=(0.0, 0.0, 1.0, 1.0),
+    )  # the table fills its axes, never past the page
+    table.auto_set_font_size(False)
+    table.set_fontsize(8)
+    header_share = 2.0 / (len(rows) + 2)  # the wrapped column names get two rows' height
+    for (i, j), c in table.get_celld().items():
+        c.set_height(header_share if i == 0 else (1.0 - header_share) / len(rows))
+
+
+def _marks(ds, slice_only=False) -> list:
+    """The designs marked on a page: the design the run's pages show (its best design; without a
+    feasible one, the design nearest the ideal point, :func:`clutchlab.traces.shown_design`) and,
+    unless the page is a slice through that design (``slice_only``), the source paper's design
+    where it is one of the run's scenarios. [(flat index, label, face colour)]"""
+    from ..traces import is_paper_design, shown_design
+
+    if "shown_index" in ds.attrs:
+        i, reason = int(ds.attrs["shown_index"]), ds.attrs.get("shown_reason", "")
+    else:
+        i, reason = shown_design(ds)
+    marks = []
+    if i is not None and i >= 0:
+        label = "best design" if reason.startswith("the run's best") else "design shown"
+        if is_paper_design(ds, i):
+            label += ", the source paper's"
+        marks.append((i, label, "gold"))
+    paper = None if slice_only else _paper_index(ds)
+    if paper is not None and paper != i:
+        marks.append((paper, "the source paper's design", "w"))
+    return marks
+
+
+def _paper_index(ds) -> int | None:
+    """Flat index of the source paper's design where it is one of the run's scenarios."""
+    from ..traces import _parameters, is_paper_design
+
+    defaults = {p.name: p.default for p in _parameters(ds)}
+    want = np.ones(ds["status"].size, bool)
+    for n in factors(ds):
+        if n in defaults and "flag_meanings" not in ds[n].attrs:
+            want &= np.isclose(_flat(ds, n), defaults[n], rtol=1e-6, atol=0.0)
+    hits = np.flatnonzero(want)
+    return int(hits[0]) if hits.size and is_paper_design(ds, int(hits[0])) else None
+
+
+def _front_panel(ax, ds, ox, oy, feas, rank, within, marks, lines):
+    """Feasible and infeasible designs over two objectives (display units; the axes span the
+    feasible designs, infeasible ones beyond are counted, not drawn), the front (one per
+    operating condition where ranked within them; joined where it is the whole front, marked where
+    a projection) and the marked designs."""
+    ux, uy = display.unit_of(ds, ox), display.unit_of(ds, oy)
+    x, y = ux(_flat(ds, ox)), uy(_flat(ds, oy))
     for mask, size, colour, label in (
-        (~feas, 6, "0.8", "infeasible"),
+        (~feas, 6, "0.75", "infeasible"),
         (feas & (rank > 0), 8, "tab:blue", "feasible"),
     ):
         show = drawn(mask)
@@ -247,14 +400,35 @@ def _front_panel(ax, ds, ox, oy, feas, rank, within, seed, lines, legend):
             label=label,
             color=plt.cm.tab10(j % 10) if within else "tab:red",
         )
-    sx, sy = float(seed[ox]), float(seed[oy])
-    if np.isfinite(sx) and np.isfinite(sy):
-        ax.plot(sx, sy, "*", ms=16 if lines else 11, mfc="gold", mec="k", label="seed design")
-    if legend:
-        ax.legend(
-            fontsize=7 if lines else 5, title="front at" if within else None, title_fontsize=7
-        )
+    for i, label, colour in marks:
+        if np.isfinite(x[i]) and np.isfinite(y[i]):
+            ax.plot(x[i], y[i], "*", ms=16 if lines else 11, mfc=colour, mec="k", label=label)
+    _feasible_limits(ax, x, y, feas)
     ax.grid(alpha=0.3)
+
+
+def _feasible_limits(ax, x, y, feas):
+    """Axis ranges from the feasible designs (5 % margin), so that a few far infeasible designs do
+    not squeeze the front into a corner; the designs left outside are counted on the panel."""
+    ok = feas & np.isfinite(x) & np.isfinite(y)
+    if not ok.any():
+        return
+    box = []
+    for v, setter, scale in ((x, ax.set_xlim, ax.get_xscale()), (y, ax.set_ylim, ax.get_yscale())):
+        lo, hi = float(v[ok].min()), float(v[ok].max())
+        pad = 0.05 * (hi - lo) if hi > lo else 0.05 * abs(hi) or 1.0
+        if scale == "linear":
+            setter(lo - pad, hi + pad)
+            box.append((lo - pad, hi + pad))
+    if len(box) == 2:
+        (x0, x1), (y0, y1) = box
+        finite = np.isfinite(x) & np.isfinite(y)
+        out = int((finite & ((x < x0) | (x > x1) | (y < y0) | (y > y1))).sum())
+        if out:
+            ax.text(
+                0.99, 0.01, f"{out} infeasible designs beyond the axes", transform=ax.transAxes,
+                ha="right", va="bottom", fontsize=8, color="0.35",
+            )  # fmt: skip
 
 
 def sensitivity_page(name, se):
@@ -269,32 +443,38 @@ def sensitivity_page(name, se):
         s1 = se["first_order"].sel(output=out).values
         st_ = se["total"].sel(output=out).values
         c1, ct = (se[v].sel(output=out).values for v in ("first_order_conf", "total_conf"))
-        ax.bar(
+        # horizontal bars: the factor names read along their own line, wrapped at underscores
+        ax.barh(
             x - 0.2,
             s1,
-            width=0.4,
+            height=0.4,
             label="first order",
             color="tab:blue",
-            yerr=None if np.isnan(c1).all() else c1,
+            xerr=None if np.isnan(c1).all() else c1,
             capsize=2,
         )
-        ax.bar(
+        ax.barh(
             x + 0.2,
             st_,
-            width=0.4,
+            height=0.4,
             label="total",
             color="tab:orange",
-            yerr=None if np.isnan(ct).all() else ct,
+            xerr=None if np.isnan(ct).all() else ct,
             capsize=2,
         )
         failed = int(se["failed"].sel(output=out))
-        ax.set_title(out + (f" ({failed} failed scenarios left out)" if failed else ""), fontsize=9)
-        ax.set_ylim(
+        ax.set_title(
+            textwrap.fill(out + (f" ({failed} failed scenarios left out)" if failed else ""), 45),
+            fontsize=9,
+        )
+        ax.set_xlim(
             min(0.0, float(np.nanmin(np.r_[s1, st_, 0.0])) * 1.1),
             max(1.0, float(np.nanmax(np.r_[s1, st_, 0.0])) * 1.05),
         )
-        ax.grid(alpha=0.3, axis="y")
-        ax.set_xticks(x, [textwrap.fill(f, 14) for f in factors_], fontsize=7, rotation=30)
+        ax.grid(alpha=0.3, axis="x")
+        ax.set_yticks(x, [_wrap_name(f, 13) for f in factors_], fontsize=8)
+        ax.set_ylim(len(factors_) - 0.5, -0.5)
+        ax.tick_params(axis="x", labelsize=8)
     for ax in axes.ravel()[len(outputs) :]:
         ax.set_axis_off()
     axes[0, 0].legend(fontsize=8)
@@ -308,9 +488,9 @@ def sensitivity_page(name, se):
         textwrap.fill(
             "Method: " + se.attrs.get("method", "") + ". Failed scenarios are left "
             "out of an output's indices (counted in its title).",
-            190,
+            170,
         ),
-        fontsize=7,
+        fontsize=8,
         color="0.3",
     )
     fig.tight_layout(rect=(0, 0.04, 1, 0.93))
@@ -344,7 +524,8 @@ def refinement_page(name, first, second, gain):
         1, 2, figsize=A4_LANDSCAPE, gridspec_kw={"width_ratios": [1.0, 1.6]}
     )
     labels = [
-        ", ".join(f"{w} {float(gain[w].sel(group=g)):.4g}" for w in within) or "all designs"
+        ", ".join(_value_text(first, w, float(gain[w].sel(group=g))) for w in within)
+        or "all designs"
         for g in gain["group"].values
     ]
     y = np.arange(len(labels))
@@ -356,14 +537,20 @@ def refinement_page(name, first, second, gain):
         zip(gain["hypervolume_before"].values, gain["hypervolume_after"].values)
     ):
         if b > 0:
-            ax_h.text(a, k + 0.2, f" {100 * (a / b - 1):+.1f} %", va="center", fontsize=7)
-    ax_h.set_yticks(y, [textwrap.fill(lab, 22) for lab in labels], fontsize=7)
+            ax_h.text(a, k + 0.2, f" {100 * (a / b - 1):+.1f} %", va="center", fontsize=8)
+    ax_h.set_yticks(y, [textwrap.fill(lab, 22) for lab in labels], fontsize=8)
     ax_h.set_ylim(len(labels) - 0.5, -0.5)
     ax_h.set_xlabel("hypervolume (objectives normalised per group)")
     ax_h.legend(fontsize=8, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncol=2)
     ax_h.grid(alpha=0.3, axis="x")
     ox, oy = (outs + outs)[:2]
-    x1, y1, x2, y2 = _flat(first, ox), _flat(first, oy), _flat(second, ox), _flat(second, oy)
+    ux, uy = display.unit_of(first, ox), display.unit_of(first, oy)
+    x1, y1, x2, y2 = (
+        ux(_flat(first, ox)),
+        uy(_flat(first, oy)),
+        ux(_flat(second, ox)),
+        uy(_flat(second, oy)),
+    )
     f1, ok1, key1 = objective_table(first, objectives, within)
     f2, ok2, key2 = objective_table(second, objectives, within)
     f_all = np.concatenate([f1, f2])
@@ -399,10 +586,10 @@ def refinement_page(name, first, second, gain):
                 lw=1.2,
                 label=label,
             )
-    ax_f.set_xlabel(f"{ox} [{first[ox].attrs.get('units', '')}]")
-    ax_f.set_ylabel(f"{oy} [{first[oy].attrs.get('units', '')}]")
+    ax_f.set_xlabel(display.label(ox, display.unit_of(first, ox)))
+    ax_f.set_ylabel(display.label(oy, display.unit_of(first, oy)))
     ax_f.grid(alpha=0.3)
-    ax_f.legend(fontsize=6, ncol=2)
+    ax_f.legend(fontsize=8, ncol=2)
     n1, n2 = int(gain.attrs["scenarios_first"]), int(gain.attrs["scenarios_second"])
     before, after = float(gain["hypervolume_before"].sum()), float(gain["hypervolume_after"].sum())
     fig.suptitle(
@@ -420,10 +607,10 @@ def refinement_page(name, first, second, gain):
             "condition, one colour each). Hypervolume: the objective-space area the front dominates up to "
             f"the reference point ({gain.attrs['reference']}); it grows where the refining stage found "
             "better trade-offs. Factors kept at the front designs' values: operating conditions, counts, choices.",
-            190,
+            170,
         ),
-        fontsize=7,
+        fontsize=8,
         color="0.3",
     )
-    fig.tight_layout(rect=(0, 0.05, 1, 0.92))
+    fig.tight_layout(rect=(0, 0.06, 1, 0.92))
     return fig

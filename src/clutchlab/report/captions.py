@@ -21,16 +21,17 @@ FIGURES = {
     "engagement_tradeoff": "The efficiency-smoothness trade-off: slip work against peak output jerk of every locked "
     "engagement, coloured by lock-up time, with the Pareto front of the feasible designs.",
     "engagement_maps": "Slip work and lock-up time over ramp time and clamp force.",
-    "engagement_traces": "Seed design traces (equivalents of seed 000 Figs. 7-11): clamp force, speeds, clutch "
-    "torque, slip work and output jerk over time.",
-    "engagement_heat": "Heat: the seed design's friction-face (Duhamel) and bulk temperature over the engagement "
-    "and over engagements in a row; the peak friction-face temperature over the design; the "
+    "engagement_traces": "Traces of the run's best design (equivalents of the source paper's Figs. 7-11): clamp "
+    "force, speeds, clutch torque, slip work and output jerk over time.",
+    "engagement_heat": "Heat: the run's best design's friction-face (Duhamel) and bulk temperature over the "
+    "engagement and over engagements in a row; the peak friction-face temperature over the design; the "
     "trade-off coloured by it (assumed materials, clutchlab.heat).",
-    "centrifugal_capacity_curves": "Forward and reverse capacity of the seed design over engine speed against the "
-    "engine and passive torques (cf. seed 001 Fig. 5).",
+    "centrifugal_capacity_curves": "Forward and reverse capacity of the run's best design over engine speed "
+    "against the engine and passive torques (cf. the source paper's Fig. 5).",
     "centrifugal_release_map": "Release margin after an engine failure and forward reserve over pressure angle and "
     "friction coefficient, with the jam (f tan alpha >= 1) and near-jam regions.",
-    "centrifugal_traces": "Seed design start-up and engine-failure traces (DOP853 with lock-up and release events).",
+    "centrifugal_traces": "Start-up and engine-failure traces of the run's best design (DOP853 with lock-up and "
+    "release events).",
     "sprag_stress_vs_torque": "Contact and shaft von Mises stresses and the gripping angle against torque, with the "
     "allowables (seed 002 Table 2 values marked).",
     "sprag_pass_map": "Which sprag geometries pass every allowable (contact, shaft, gripping angle).",
@@ -39,26 +40,30 @@ FIGURES = {
     "roller_stress_engagement": "Roller count: static contact stress and the engagement time and backlash of the "
     "wedging dynamics.",
     "roller_feasible_region": "Feasible region over roller count and wedge angle: ok, above the allowable, not "
-    "self-locking, never engaged, overrunning.",
-    "roller_engagement_trace": "Seed 003 design: engagement from rest and release after the control ring stops "
-    "(speeds and contact force; cf. Figs. 7 and 9).",
+    "self-locking, never engaged, overrunning, dynamic stress far above the allowable.",
+    "roller_engagement_trace": "The run's best design: engagement from rest under the passive load and release "
+    "after the control ring stops (speeds and contact force; cf. the source paper's Figs. 7 and 9).",
 }
 GENERIC = {
-    "answers": "Design answers of study {study}: feasible share, the constraints that fail most, the Pareto front "
-    "(per operating condition where ranked within one) with the seed design, and the front's designs.",
+    "answers": "Design answers of study {study}: feasible share, the statuses and constraints that fail most, the "
+    "Pareto front (per operating condition where ranked within one) with the run's best design, the front's "
+    "designs, and a note where the best design sits at the edge of a factor's range.",
     "sensitivity": "First-order and total sensitivity indices of study {study}'s objectives, constrained outputs "
     "and failure indicator to each factor.",
     "refinement": "Refinement of study {study}: hypervolume of the first stage's front and of both stages' front "
     "per operating condition.",
-    "pareto.csv": "The Pareto front designs of study {study} (factors and objectives in SI).",
+    "pareto.csv": "The Pareto front designs of study {study}: factors, objectives, constrained outputs and "
+    "constraint margins, in the units engineers read (each column header names its unit).",
     "refinement.csv": "Hypervolume before and after the refinement of study {study}.",
     "numerics": "Work-precision of the solver study {study} runs, against per-scenario scipy, measured in this run "
     "on a small sample, with the speed ratio at equal error.",
 }
 SINGLE = {
-    "title": "Summary: per study the scenarios, design, model, status counts, best compromise design and pages. "
+    "title": "Summary: per study the scenarios, design, status counts, best compromise design, the factors it "
+    "sits at the edge of and the pages. "
     "clutchlab {{ snakemake.params.version }}, source hash {{ snakemake.params.source }}.",
-    "validation_table": "Seed numbers reproduced: published value, clutchlab's value, relative error, tolerance.",
+    "validation_table": "Numbers of the source papers reproduced: published value, clutchlab's value, relative "
+    "error, tolerance (every row; paginated in the PDF).",
     "validation.csv": "The validation table as CSV.",
     "hard_cases": "Hard cases of the physics notes and since, computed in this run: right answer and its source, "
     "clutchlab's value, error, pass, and what an off-the-shelf solver gives.",

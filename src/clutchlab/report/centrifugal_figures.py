@@ -3,18 +3,24 @@
 
 from __future__ import annotations
 
+import textwrap
+
 import matplotlib.pyplot as plt
 import numpy as np
 
 from .. import status as st
+from ..explore import flat
 from ..published import CENTRIFUGAL_CLUTCH
 from ..studies.centrifugal import PARAMETERS, RPM
+from .answers import _marks
 from .common import (
     A4_LANDSCAPE,
     contour_level,
     fixed_text,
     robust_limits,
     sampled_value_map,
+    shown,
+    shown_name,
     with_curves,
 )
 from .common import seed_view as _seed_view
@@ -23,7 +29,9 @@ SEED = {p.name: p.default for p in PARAMETERS}
 
 
 def seed_view(ds, keep=()):
-    return _seed_view(ds, SEED, keep)
+    """The grid (or sampled run) at the design the run shows (its best design; the source paper's
+    where the run shows none), dims in ``keep`` kept."""
+    return _seed_view(ds, shown(ds) or SEED, keep)
 
 
 def capacity_curves(ds):
@@ -74,10 +82,15 @@ def capacity_curves(ds):
     ax.grid(alpha=0.3)
     ax.legend(loc="upper left", fontsize=9)
     ax.set_title(
-        "Capacity curves of the seed design (nearest grid point): forward M, reverse M' and engine torques\n"
-        f"M = {float(sub['capacity_forward']):.1f} N m, M' = {float(sub['capacity_reverse']):.1f} N m, "
-        f"reserve {float(sub['reserve_factor']):.2f} at rated speed; "
-        + fixed_text(sub, ("pressure_angle", "friction_coefficient"))
+        "\n".join(
+            textwrap.wrap(f"Capacity curves of {shown_name(ds)}", 130)
+            + [
+                f"M = {float(sub['capacity_forward']):.1f} N·m, M' = "
+                f"{float(sub['capacity_reverse']):.1f} N·m, reserve "
+                f"{float(sub['reserve_factor']):.2f} at rated speed"
+            ]
+        ),
+        fontsize=10,
     )
     return fig
 
@@ -180,22 +193,24 @@ def release_map(ds):
                 lw=1.0,
                 label=f"near_jam above: {1 + scatter:g} f tan(alpha) >= 1",
             )
-        ax.plot(
-            np.rad2deg(SEED["pressure_angle"]),
-            SEED["friction_coefficient"],
-            "*",
-            ms=16,
-            mfc="orange",
-            mec="k",
-            label="seed 001 design",
-        )
+        for i, name, colour in _marks(ds, slice_only=True):
+            ax.plot(
+                np.rad2deg(flat(ds, "pressure_angle")[i]),
+                flat(ds, "friction_coefficient")[i],
+                "*",
+                ms=16,
+                mfc=colour,
+                mec="k",
+                label=name,
+            )
         ax.set_ylim(f.min(), f.max())
         ax.set_xlabel("linkage pressure angle alpha [deg]")
         ax.set_ylabel("friction coefficient f")
         ax.legend(loc="lower left", fontsize=8)
     fixed = fixed_text(sub, [d for d in ds.dims if d not in keep])
     fig.suptitle(
-        "Release margin and forward reserve over (alpha, f)" + (f"\n({fixed})" if fixed else "")
+        "Release margin and forward reserve over (alpha, f)"
+        + (f"\n(other factors at the design shown: {fixed})" if fixed else "")
     )
     return fig
 
@@ -207,7 +222,7 @@ def traces(ds):
             ax.text(
                 0.5,
                 0.5,
-                "seed design is not ok (status): no traces",
+                textwrap.fill(f"no traces: {shown_name(ds)}", 50),
                 ha="center",
                 transform=ax.transAxes,
             )
@@ -233,7 +248,11 @@ def traces(ds):
     for ax in axes:
         ax.legend(fontsize=9)
     fig.suptitle(
-        "Seed design traces (DOP853, lock-up and release located as events); inertias and loads assumed"
+        "\n".join(
+            textwrap.wrap(f"Traces of {shown_name(ds)}", 120)
+            + ["DOP853, lock-up and release located as events; inertias and loads assumed"]
+        ),
+        fontsize=11,
     )
     return fig
 

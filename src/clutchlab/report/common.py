@@ -7,6 +7,7 @@ import textwrap
 import matplotlib.pyplot as plt
 import numpy as np
 
+from .. import display
 from .. import status as st
 
 A4_LANDSCAPE = (11.69, 8.27)
@@ -56,115 +57,265 @@ def seed_view(ds, seed, keep=()):
 
 
 def fixed_text(sub, dims):
-    """ "name = value unit" for the scalar coordinates ``dims`` of a selection (angles in deg)."""
+    """ "name = value unit" for the scalar coordinates ``dims`` of a selection, in the units
+    engineers read (:mod:`clutchlab.display`)."""
     out = []
     for d in dims:
         if d in sub.coords and sub[d].ndim == 0:
-            v, u = float(sub[d]), sub[d].attrs.get("units", "")
-            v, u = (np.rad2deg(v), "deg") if u == "rad" else (v, "" if u == "1" else u)
-            out.append(f"{d} = {v:.4g} {u}".rstrip())
+            out.append(f"{d} = {display.text(float(sub[d]), display.unit_of(sub, d))}")
     return ", ".join(out)
 
 
-def title_page(title, version, results, validations, pages=None, job_seconds=None):
-    """The summary page: per study what was run (and how long its jobs took: ``job_seconds``,
-    study -> (jobs, seconds)), its status counts, its best compromise design and the pages that
-    show it (``pages``: study -> page stems); the validation verdict."""
-    from . import status_counts
-    from .answers import best_text
+def shown(ds) -> dict | None:
+    """The factor values (SI) of the design the run's pages show (:mod:`clutchlab.traces`), for
+    slicing a grid at it; None where the run shows none."""
+    from ..explore import flat
+    from ..traces import _factors, shown_design
 
-    fig = plt.figure(figsize=A4_LANDSCAPE)
-    # the title is the user's text: drawn as it is written ("$" is not mathtext), wrapped to the page
-    fig.text(
-        0.06,
-        0.95,
-        "\n".join(textwrap.wrap(title, 70)),
-        fontsize=20,
-        weight="bold",
-        va="top",
-        parse_math=False,
+    i = int(ds.attrs["shown_index"]) if "shown_index" in ds.attrs else shown_design(ds)[0]
+    if i is None or i < 0:
+        return None
+    return {f: float(flat(ds, f)[i]) for f in _factors(ds)}
+
+
+def value_at_shown(ds, name, default):
+    """A parameter's value (SI) at the design the run shows: a fixed value, its factor value, or
+    ``default`` (the study's) where the run has neither."""
+    from ..explore import flat
+
+    if name in ds and ds[name].ndim == 0 and "flag_meanings" not in ds[name].attrs:
+        return float(ds[name])
+    at = shown(ds)
+    if at is not None and name in at:
+        return at[name]
+    if name in ds.coords and ds[name].size:
+        return float(flat(ds, name)[0])
+    return default
+
+
+def shown_name(ds) -> str:
+    """How a page names the design it shows: the source paper's design, or the run's best design
+    (why it is the one) with its factor values; the status where it is not ok."""
+    if "shown_index" not in ds.attrs or int(ds.attrs["shown_index"]) < 0:
+        return "no design of this run to show: " + ds.attrs.get("shown_reason", "no traces")
+    if ds.attrs.get("shown_reason", "").startswith("the run's best"):
+        what = "the run's best design"
+    else:
+        what = "the run's design nearest the ideal point (no feasible design)"
+    if int(ds.attrs.get("shown_is_paper", 0)):
+        what += ", the source paper's design"
+    status = ds.attrs.get("shown_status", "ok")
+    return f"{what}: {ds.attrs['shown_design']}" + (f" (status {status})" if status != "ok" else "")
+
+
+def page_ranges(numbers, stems) -> str:
+    """ "pages 6-11, 27" of the stems' PDF pages (``numbers``: stem -> (first, last))."""
+    pages = sorted({k for s in stems for k in range(numbers[s][0], numbers[s][1] + 1)})
+    runs, start = [], None
+    for k, nxt in zip(pages, pages[1:] + [None], strict=True):
+        start = k if start is None else start
+        if nxt != k + 1:
+            runs.append(f"{start}" if start == k else f"{start}-{k}")
+            start = None
+    return ("pages " if len(pages) > 1 else "page ") + ", ".join(runs)
+
+
+def _study_lines(name, ds, numbers, job_seconds, model=True) -> list[str]:
+    """The summary's lines of one study (long lines are wrapped by the caller)."""
+    from . import status_counts
+    from .answers import best_text, edge_notes
+
+    dims = " x ".join(f"{d} ({ds.sizes[d]})" for d in ds["status"].dims)
+    if list(ds["status"].dims) == ["run"]:  # a sampled design: its factors
+        dims = ", ".join(ds.attrs.get("factors", "").split()) or "run"
+    n = int(np.prod([ds.sizes[d] for d in ds["status"].dims])) if ds["status"].dims else 1
+    jobs = (
+        f"; {job_seconds[name][0]} jobs, {job_seconds[name][1]:.1f} s of job time"
+        if job_seconds and name in job_seconds
+        else ""
     )
-    fig.text(0.06, 0.855, f"clutchlab {version}", fontsize=11, color="0.3")
-    blocks = []
-    for name, ds in results.items():
-        n = int(np.prod([ds.sizes[d] for d in ds["status"].dims])) if ds["status"].dims else 1
-        dims = ", ".join(f"{d} ({ds.sizes[d]})" for d in ds["status"].dims)
-        lines = [
-            f"Study '{name}': {ds.attrs.get('title', '')}",
-            f"  {n} scenarios, design {ds.attrs.get('design')}, dimensions: {dims}",
-            f"  model: {ds.attrs.get('model', '')}",
-            *(
-                [
-                    f"  computed by {job_seconds[name][0]} jobs in {job_seconds[name][1]:.1f} s of job time (chunks and "
-                    "merge, Snakemake's benchmark files)"
-                ]
-                if job_seconds and name in job_seconds
-                else []
-            ),
-            "  status: " + ", ".join(f"{k} {v}" for k, v in status_counts(ds).items()),
-        ]
-        if "pareto_rank" in ds:
-            lines.append("  best compromise: " + best_text(ds))
-        if pages and pages.get(name):
-            lines.append("  pages: " + ", ".join(pages[name]))
-        blocks.append(
-            [
-                w
-                for line in lines
-                for w in textwrap.wrap(line, 120, subsequent_indent="    ") or [""]
-            ]
+    status = "status: " + ", ".join(f"{k} {v}" for k, v in status_counts(ds).items())
+    lines = [
+        f"Study '{name}': {ds.attrs.get('title', '')}",
+        f"{n} scenarios, design {ds.attrs.get('design')} over {dims}{jobs}",
+        (f"model: {ds.attrs.get('model', '')}; " if model else "") + status,
+    ]
+    if "pareto_rank" in ds:
+        lines.append("best compromise: " + best_text(ds))
+        if not ds.attrs.get("shown_reason", "the run's best").startswith("the run's best"):
+            lines.append("trace pages: " + shown_name(ds))
+        notes = edge_notes(ds, short=True)
+        if notes:
+            lines.append("at the edge of its range (widen it): " + "; ".join(notes))
+    stems = [s for s in numbers if s.startswith(f"{name}_")]
+    if stems:
+        lines.append(
+            page_ranges(numbers, stems) + ": " + ", ".join(s[len(name) + 1 :] for s in stems)
         )
-    # the studies' lines share the page between the title and the footnote (0.80 .. 0.10)
-    n_lines = sum(len(b) for b in blocks) + 0.7 * len(blocks) + (2 if validations else 0)
-    step = min(0.03, 0.70 / max(n_lines, 1))
-    size = min(10.0, 330.0 * step)
-    y = 0.80
-    for block in blocks:
-        for wrapped in block:
-            fig.text(0.06, y, wrapped, fontsize=size, family="monospace")
-            y -= step
-        y -= 0.7 * step
+    return lines
+
+
+def title_page(title, version, results, validations, numbers=None, job_seconds=None):
+    """The summary page: per study what was run (and how long its jobs took: ``job_seconds``,
+    study -> (jobs, seconds)), its status counts, its best compromise design (values in the units
+    engineers read), the factors it sits at the edge of, and the pages that show it (``numbers``:
+    page stem -> (first, last) page of the PDF); the validation verdict and the pages of its table.
+    Text 8 pt or more, inside the page."""
+    numbers = numbers or {}
+    fig = plt.figure(figsize=A4_LANDSCAPE)
+    # the title is the user's text: drawn as written ("$" is not mathtext), wrapped to the page
+    head = textwrap.wrap(title, 70)
+    fig.text(0.05, 0.96, "\n".join(head), fontsize=20, weight="bold", va="top", parse_math=False)
+    top = 0.96 - len(head) * 0.045
+    fig.text(0.05, top - 0.005, f"clutchlab {version}", fontsize=11, color="0.3", va="top")
+    tail = []
     if validations:
         n = sum(v.sizes["row"] for v in validations)
         ok = sum(int(v["passed"].sum()) for v in validations)
-        fig.text(
-            0.06,
-            y - step,
-            f"Validation: {ok} of {n} reproduced seed numbers within tolerance "
-            "(table on the last page, validation.csv).",
-            fontsize=10,
-        )
+        where = page_ranges(numbers, ["validation_table"]) if "validation_table" in numbers else ""
+        tail = [
+            [
+                f"Validation: {ok} of {n} reproduced numbers of the source papers within tolerance "
+                f"(table on {where}; validation.csv)."
+            ]
+        ]
+    # the studies' lines share the page between the version line and the footnote
+    height = A4_LANDSCAPE[1] * 72  # pt
+    avail = (top - 0.05) - 0.07
+    for size, model in ((9.5, True), (9.0, True), (8.5, True), (8.0, True), (8.0, False)):
+        blocks = [_study_lines(n, ds, numbers, job_seconds, model) for n, ds in results.items()]
+        chars = int(0.9 * A4_LANDSCAPE[0] * 72 / (0.53 * size))
+        wrapped = [
+            [w for line in b for w in textwrap.wrap(line, chars, subsequent_indent="    ")]
+            for b in blocks + tail
+        ]
+        step = 1.3 * size / height
+        if (sum(len(b) for b in wrapped) + 0.6 * len(wrapped)) * step <= avail:
+            break
+    y = top - 0.05
+    for block in wrapped:
+        for k, line in enumerate(block):
+            fig.text(0.05, y, line, fontsize=size, weight="bold" if k == 0 else None, va="top")
+            y -= step
+        y -= 0.6 * step
     fig.text(
-        0.06,
-        0.04,
-        "Units: SI inside every result file (units attribute on each variable); "
-        "figures use mm, kN and MPa where marked.",
+        0.05,
+        0.025,
+        "Units: SI inside every result file (units attribute on each variable); pages and CSV "
+        "files in the units engineers read (mm, deg, MPa, kN, N·m, rpm, °C, ms, kJ).",
         fontsize=8,
         color="0.4",
     )
     return fig
 
 
-def validation_table(validations):
+# ---- tables ----------------------------------------------------------------------------------
+TABLE_FONT = 8.0  # pt: the smallest text of any page
+_LINE_IN = 1.3 * TABLE_FONT / 72  # a text line of a cell [in]
+_PAD_IN = 0.07  # a cell's padding above and below [in]
+_TOP_IN, _BOTTOM_IN = 0.75, 0.3  # the title band and the bottom margin of a page [in]
+
+
+class Table:
+    """A table of text cells at 8 pt, each cell wrapped to its column's width: one tall figure
+    (the PNG) and as many A4 landscape pages as its rows need (the PDF), every row on a page and
+    the header on each. ``verdict``: the column whose "NO" cells are red."""
+
+    def __init__(self, title, cols, rows, widths, verdict="pass"):
+        self.title, self.cols, self.widths, self.verdict = title, cols, widths, verdict
+        chars = [
+            max(4, int(w * 0.98 * A4_LANDSCAPE[0] * 72 / (0.56 * TABLE_FONT)) - 2) for w in widths
+        ]
+        self.rows = [
+            [
+                "\n".join(textwrap.wrap(str(c), n, break_long_words=True)) or ""
+                for c, n in zip(r, chars, strict=True)
+            ]
+            for r in rows
+        ]
+        self.header = ["\n".join(textwrap.wrap(c, n)) for c, n in zip(cols, chars, strict=True)]
+        per_page = A4_LANDSCAPE[1] - _TOP_IN - _BOTTOM_IN - self._height(self.header)
+        self.chunks, chunk, used = [], [], 0.0
+        for r in self.rows:
+            h = self._height(r)
+            if chunk and used + h > per_page:
+                self.chunks.append(chunk)
+                chunk, used = [], 0.0
+            chunk.append(r)
+            used += h
+        self.chunks.append(chunk)
+
+    @staticmethod
+    def _height(row) -> float:
+        return max(c.count("\n") + 1 for c in row) * _LINE_IN + 2 * _PAD_IN
+
+    @property
+    def n_pages(self) -> int:
+        return len(self.chunks)
+
+    def figure(self):
+        """The whole table on one figure as tall as its rows need (the PNG)."""
+        body = self._height(self.header) + sum(self._height(r) for r in self.rows)
+        return self._draw(self.title, self.rows, max(A4_LANDSCAPE[1], _TOP_IN + _BOTTOM_IN + body))
+
+    def pages(self) -> list:
+        """The table on A4 landscape pages (the PDF)."""
+        n = self.n_pages
+        return [
+            self._draw(f"{self.title} (page {k + 1} of {n})", chunk, None)
+            for k, chunk in enumerate(self.chunks)
+        ]
+
+    def _draw(self, title, rows, height):
+        height = height or A4_LANDSCAPE[1]
+        fig = plt.figure(figsize=(A4_LANDSCAPE[0], height))
+        fig.text(0.01, 1.0 - 0.3 / height, title, fontsize=12, weight="bold", va="top")
+        body = self._height(self.header) + sum(self._height(r) for r in rows)
+        top = 1.0 - _TOP_IN / height
+        ax = fig.add_axes([0.01, top - body / height, 0.98, body / height])
+        ax.axis("off")
+        if not rows:
+            return fig
+        table = ax.table(
+            cellText=rows, colLabels=self.header, cellLoc="left", colWidths=self.widths,
+            bbox=(0.0, 0.0, 1.0, 1.0),
+        )  # fmt: skip
+        table.auto_set_font_size(False)
+        table.set_fontsize(TABLE_FONT)
+        verdict = self.cols.index(self.verdict) if self.verdict in self.cols else -1
+        for (r, c), cell in table.get_celld().items():
+            cell.set_height(self._height(self.header if r == 0 else rows[r - 1]) / body)
+            cell.PAD = 0.06 / (self.widths[c] * A4_LANDSCAPE[0])  # 0.06 in each side
+            cell.get_text().set_va("center")
+            if r > 0 and c == verdict and cell.get_text().get_text() == "NO":
+                cell.set_facecolor("#f4c7c3")
+        return fig
+
+
+def validation_table(validations) -> Table:
+    """The reproduced numbers of the source papers, every row (paginated in the PDF)."""
     rows = []
     for v in validations:
         for i in range(v.sizes["row"]):
+            (pub, com), unit = display.reported(
+                [v["published"].values[i], v["computed"].values[i]], str(v["units"].values[i])
+            )
             rows.append(
                 [
                     str(v["seed"].values[i]),
-                    textwrap.fill(str(v["quantity"].values[i]), 40),
-                    textwrap.fill(str(v["source"].values[i]), 20),
-                    f"{float(v['published'].values[i]):.5g}",
-                    f"{float(v['computed'].values[i]):.5g}",
-                    str(v["units"].values[i]),
+                    str(v["quantity"].values[i]),
+                    str(v["source"].values[i]),
+                    f"{float(pub):.5g}",
+                    f"{float(com):.5g}",
+                    unit,
                     f"{float(v['rel_error'].values[i]):.2e}",
                     f"{float(v['tolerance'].values[i]):.0e}",
                     "yes" if int(v["passed"].values[i]) else "NO",
-                    textwrap.fill(str(v["note"].values[i]), 54),
+                    str(v["note"].values[i]),
                 ]
             )
     cols = [
-        "seed",
+        "paper",
         "quantity",
         "source",
         "published",
@@ -175,32 +326,32 @@ def validation_table(validations):
         "pass",
         "note",
     ]
-    return table_page(
-        "Validation against the seed papers",
+    return Table(
+        "Validation against the source papers",
         cols,
         rows,
-        [0.035, 0.2, 0.09, 0.065, 0.065, 0.06, 0.06, 0.04, 0.035, 0.25],
+        [0.04, 0.23, 0.1, 0.07, 0.07, 0.055, 0.065, 0.05, 0.04, 0.28],
     )
 
 
-def hard_case_table(ds):
-    """The hard cases (:mod:`clutchlab.hardcases`) as a table page."""
+def hard_case_table(ds) -> Table:
+    """The hard cases (:mod:`clutchlab.hardcases`) as a table (paginated in the PDF)."""
     rows = []
     for i in range(ds.sizes["case"]):
         err = float(ds["error"].values[i])
         rows.append(
             [
-                textwrap.fill(str(ds["study"].values[i]), 12),
-                textwrap.fill(str(ds["name"].values[i]), 30),
-                textwrap.fill(str(ds["right_answer"].values[i]), 34),
-                textwrap.fill(str(ds["source"].values[i]), 24),
-                textwrap.fill(str(ds["computed"].values[i]), 34),
+                str(ds["study"].values[i]),
+                str(ds["name"].values[i]),
+                str(ds["right_answer"].values[i]),
+                str(ds["source"].values[i]),
+                str(ds["computed"].values[i]),
                 "status"
                 if np.isnan(err)
                 else f"{err:.1e}" + (" rel." if ds["error_kind"].values[i] == "relative" else ""),
                 "" if np.isnan(err) else f"{float(ds['tolerance'].values[i]):.0e}",
                 "yes" if int(ds["passed"].values[i]) else "NO",
-                textwrap.fill(str(ds["off_the_shelf"].values[i]), 38),
+                str(ds["off_the_shelf"].values[i]),
             ]
         )
     cols = [
@@ -215,37 +366,12 @@ def hard_case_table(ds):
         "off-the-shelf solver",
     ]
     n_pass = int(ds["passed"].values.sum())
-    return table_page(
+    return Table(
         f"Hard cases: {n_pass} of {ds.sizes['case']} pass (computed in this run; hard_cases.csv)",
         cols,
         rows,
-        [0.06, 0.14, 0.16, 0.115, 0.16, 0.06, 0.035, 0.03, 0.19],
+        [0.07, 0.13, 0.16, 0.11, 0.16, 0.065, 0.04, 0.035, 0.19],
     )
-
-
-def table_page(title, cols, rows, widths):
-    """A table page that grows with its rows (multi-line cells); a "NO" in the column "pass" is red."""
-    n_lines = sum(max(c.count("\n") + 1 for c in r) for r in rows) + 1
-    height = max(A4_LANDSCAPE[1], 0.95 + 0.16 * n_lines + 0.09 * len(rows))
-    fig = plt.figure(figsize=(A4_LANDSCAPE[0], height))
-    ax = fig.add_axes([0.01, 0.02, 0.98, 1.0 - 0.9 / height])
-    ax.axis("off")
-    fig.text(0.02, 1.0 - 0.45 / height, title, fontsize=14, weight="bold")
-    table = ax.table(
-        cellText=rows, colLabels=cols, loc="upper center", cellLoc="left", colWidths=widths
-    )
-    table.auto_set_font_size(False)
-    table.set_fontsize(6.5)
-    cells = table.get_celld()
-    lines = {}
-    for (r, c), cell in cells.items():
-        lines[r] = max(lines.get(r, 1), cell.get_text().get_text().count("\n") + 1)
-    verdict = cols.index("pass")
-    for (r, c), cell in cells.items():
-        cell.set_height((0.022 * lines[r] + 0.01) * A4_LANDSCAPE[1] / height)
-        if r > 0 and c == verdict and cell.get_text().get_text() == "NO":
-            cell.set_facecolor("#f4c7c3")
-    return fig
 
 
 def contour_level(ax, x, y, z, level, **kw):
@@ -342,6 +468,19 @@ def texts_outside(fig) -> list[str]:
     return out
 
 
+def texts_too_small(fig, minimum=8.0) -> list[tuple[str, float]]:
+    """The visible texts of a figure (tick labels included) set below ``minimum`` points: a page is
+    A4 at 100 %, so a font size in points is the size on paper."""
+    from matplotlib.text import Text
+
+    fig.canvas.draw()
+    return [
+        (t.get_text(), t.get_fontsize())
+        for t in fig.findobj(Text)
+        if t.get_visible() and t.get_text().strip() and t.get_fontsize() < minimum - 1e-9
+    ]
+
+
 def status_categories(status, categories: dict, other: int) -> np.ndarray:
     """A category number per scenario from its status ({meaning: number}; ``other`` for the rest)."""
     status = np.asarray(status)
@@ -385,10 +524,12 @@ def sampled_value_map(ax, x, y, z, label, cmap="viridis", limits=None, bins=30):
             x[finite],
             y[finite],
             c=z[finite],
-            s=10,
+            s=14,
             cmap=cmap,
             vmin=vmin,
             vmax=vmax,
+            edgecolors="0.2",  # a pale end of the colour map stays visible on white
+            linewidths=0.3,
             rasterized=True,
         )
     else:

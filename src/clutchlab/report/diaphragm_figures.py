@@ -8,7 +8,14 @@ from matplotlib.colors import TwoSlopeNorm
 
 from .. import status as st
 from ..explore import flat
-from .common import A4_LANDSCAPE, SCATTER_MAX, contour_level, sampled_value_map, with_curves
+from .common import (
+    A4_LANDSCAPE,
+    SCATTER_MAX,
+    contour_level,
+    sampled_value_map,
+    shown,
+    with_curves,
+)
 
 MARKERS = {
     "A": ("^", "peak A"),
@@ -24,7 +31,8 @@ def _nearest(ds, **targets):
 
 
 def load_curves(ds):
-    """F(λ) for every cone-height ratio at the middle thickness and radius ratio."""
+    """F(λ) for every cone-height ratio at the best design's thickness, radius ratio and operating
+    point (the middle of the grid where the run shows no design)."""
     fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
     ds = with_curves(ds)  # a large sampled design stores the curves of a subset
     if "run" in ds.dims:  # sampled design: a spread of designs ordered by H/h
@@ -36,12 +44,13 @@ def load_curves(ds):
         members = [sub.isel(run=i) for i in range(sub.sizes["run"])]
         fixed = "sampled design: 9 scenarios spread over H/h"
     else:
+        at = shown(ds) or {}  # the best design's thickness and radius ratio (else the middle)
         mid = {
-            d: float(ds[d].values[len(ds[d]) // 2])
-            for d in ("sheet_thickness", "radius_ratio")
+            d: at.get(d, float(ds[d].values[len(ds[d]) // 2]))
+            for d in ("sheet_thickness", "radius_ratio", "operating_point_factor")
             if d in ds.dims
         }
-        sub = _nearest(ds, operating_point_factor=0.9, **mid)
+        sub = _nearest(ds, **{"operating_point_factor": 0.9, **mid})
         if "cone_height_ratio" in sub.dims:
             members = [sub.isel(cone_height_ratio=i) for i in range(sub.sizes["cone_height_ratio"])]
         else:
@@ -134,7 +143,7 @@ def reserve_map(ds):
         mesh = ax.pcolormesh(x, y, rf, cmap="RdYlGn", norm=norm, shading="nearest")
         cs = contour_level(ax, x, y, rf, 1.0, colors="k", linewidths=1.2)
         if cs is not None:
-            ax.clabel(cs, fmt="1.0", fontsize=7)
+            ax.clabel(cs, fmt="1.0", fontsize=8)
         code = p["status"].values
         xx, yy = np.meshgrid(x, y)
         for c, mk in (
@@ -150,7 +159,7 @@ def reserve_map(ds):
     fig.supxlabel("sheet thickness h [mm]")
     axes[0][0].set_ylabel("cone height ratio H/h  (dashed: sqrt 2)")
     if axes[0][0].get_legend_handles_labels()[0]:
-        axes[0][0].legend(fontsize=7, loc="upper left")
+        axes[0][0].legend(fontsize=8, loc="upper left")
     fig.colorbar(
         mesh, ax=axes[0].tolist(), label="reserve factor = capacity / T_emax [-]  (black line: 1.0)"
     )

@@ -7,10 +7,21 @@ import textwrap
 import matplotlib.pyplot as plt
 import numpy as np
 
+from .. import display
 from .. import status as st
 from ..explore import flat
-from .common import A4_LANDSCAPE, drawn, drawn_note, sampled_value_map
+from .answers import _marks
+from .common import (
+    A4_LANDSCAPE,
+    drawn,
+    drawn_note,
+    fixed_text,
+    sampled_value_map,
+    shown,
+    shown_name,
+)
 
+# the source paper's design: where the run shows no design of its own
 SEED = {
     "sheet_thickness": 2.334e-3,
     "ramp_time": 0.15,
@@ -64,19 +75,10 @@ def tradeoff(ds):
                 if k < 8
                 else None,
             )
-    dims = [d for d in SEED if d in ds.dims]
-    if dims and "run" not in ds.dims:
-        seed = ds.sel({d: SEED[d] for d in dims}, method="nearest")
-        if seed["status"].ndim == 0 and int(seed["status"]) == st.CODE["ok"]:
-            ax.plot(
-                float(seed["slip_work"]) / 1e3,
-                float(seed["peak_jerk"]),
-                "*",
-                ms=18,
-                mfc="orange",
-                mec="k",
-                label="seed 000 design (nearest grid point)",
-            )
+    w_all, j_all = _flat(ds, "slip_work") / 1e3, _flat(ds, "peak_jerk")
+    for i, label, colour in _marks(ds):
+        if np.isfinite(w_all[i]) and np.isfinite(j_all[i]):
+            ax.plot(w_all[i], j_all[i], "*", ms=18, mfc=colour, mec="k", label=label)
     ax.set_yscale("log")
     ax.set_xlabel("slip work [kJ]  (efficiency: lower is better)")
     ax.set_ylabel("peak output jerk [rad/s³]  (smoothness: lower is better)")
@@ -92,27 +94,30 @@ def tradeoff(ds):
 
 
 def maps(ds):
-    """Slip work and lock-up time over (ramp time, clamp force) at the other factors' seed values."""
+    """Slip work and lock-up time over (ramp time, clamp force) at the other factors' values of the
+    design the run shows (its best design)."""
     fig, axes = plt.subplots(1, 2, figsize=A4_LANDSCAPE, gridspec_kw={"wspace": 0.45})
     if "run" in ds.dims or not {"ramp_time", "sheet_thickness"} <= set(ds.dims):
         for ax, name in zip(axes, ("slip_work", "lockup_time")):
+            u = display.unit_of(ds, name)
             sampled_value_map(
                 ax,
-                flat(ds, "ramp_time") if "ramp_time" in ds.coords else np.zeros(ds["status"].size),
-                flat(ds, "clamp_load"),
-                flat(ds, name),
-                f"{name} [{ds[name].attrs['units']}]",
+                1e3 * flat(ds, "ramp_time")
+                if "ramp_time" in ds.coords
+                else np.zeros(ds["status"].size),
+                flat(ds, "clamp_load") / 1e3,
+                u(flat(ds, name)),
+                display.label(name, u),
             )
-            ax.set_xlabel("ramp time [s]")
-            ax.set_ylabel("clamp force [N]")
+            ax.set_xlabel("ramp time [ms]")
+            ax.set_ylabel("clamp force [kN]")
         fig.suptitle(
             f"Slip work and lock-up time of {ds['status'].size} designs over ramp time and clamp force "
             "(colours clipped to the 1st-99th percentiles)"
         )
         return fig
-    others = {
-        d: SEED[d] for d in SEED if d in ds.dims and d not in ("ramp_time", "sheet_thickness")
-    }
+    at = shown(ds) or SEED  # the other factors at the design the run shows
+    others = {d: at[d] for d in ds.dims if d in at and d not in ("ramp_time", "sheet_thickness")}
     sub = ds.sel(others, method="nearest") if others else ds
     extra = [d for d in sub.dims if d not in ("ramp_time", "sheet_thickness")]
     if extra:
@@ -135,24 +140,25 @@ def maps(ds):
             ax.legend(fontsize=8)
         ax.set_xlabel("ramp (engagement) time [ms]")
         ax.set_ylabel("clamp force from the spring design [N]")
-    fixed = ", ".join(f"{d} = {float(sub[d]):.3g}" for d in others)
+    fixed = fixed_text(sub, list(others))
     fig.suptitle(
         "Slip work and lock-up time over ramp time and clamp force"
-        + (f"\n({fixed})" if fixed else "")
+        + (f"\n(other factors at the design shown: {fixed})" if fixed else "")
     )
     return fig
 
 
 def traces(ds):
-    """Seed design traces (seed 000 Figs. 7-11): clamp force, speeds, torque and slip work, jerk."""
+    """Traces of the design the run shows (seed 000 Figs. 7-11): clamp force, speeds, torque and
+    slip work, jerk."""
     fig, axes = plt.subplots(
-        2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.35, "wspace": 0.3}
+        2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.35, "wspace": 0.3, "top": 0.83}
     )
     if "trace_time" not in ds.dims:
         axes[0, 0].text(
             0.5,
             0.5,
-            "no seed design traces (invalid spring)",
+            textwrap.fill(f"no traces: {shown_name(ds)}", 60),
             ha="center",
             transform=axes[0, 0].transAxes,
         )
@@ -164,15 +170,15 @@ def traces(ds):
     ax.set_title("(a) clamp force (cf. Fig. 7)", fontsize=10)
     ax = axes[0, 1]
     for name, style in (("engine_speed", "k-"), ("hub_speed", "b--"), ("output_speed", "r-")):
-        ax.plot(t, ds[f"trace_{name}"].values, style, label=name.replace("_", " "))
-    ax.set_ylabel("speed [rad/s]")
+        ax.plot(t, ds[f"trace_{name}"].values * 30 / np.pi, style, label=name.replace("_", " "))
+    ax.set_ylabel("speed [rpm]")
     ax.legend(fontsize=8)
     ax.set_title("(b) speeds (cf. Fig. 8)", fontsize=10)
     ax = axes[1, 0]
-    ax.plot(t, ds["trace_friction_torque"].values, "b-", label="clutch torque [N m]")
+    ax.plot(t, ds["trace_friction_torque"].values, "b-", label="clutch torque [N·m]")
     ax2 = ax.twinx()
     ax2.plot(t, ds["trace_slip_work"].values / 1e3, "r-", label="slip work [kJ]")
-    ax.set_ylabel("clutch torque [N m]")
+    ax.set_ylabel("clutch torque [N·m]")
     ax2.set_ylabel("slip work [kJ]")
     ax.set_title("(c) clutch torque and slip work (cf. Figs. 9-10)", fontsize=10)
     ax = axes[1, 1]
@@ -186,19 +192,23 @@ def traces(ds):
         if np.isfinite(t_lock):
             ax.axvline(t_lock, color="g", ls=":", lw=1)
     fig.suptitle(
-        f"Seed 000 design traces (lock-up at {t_lock:.1f} ms, green)\nmodel: "
-        f"{ds.attrs.get('model_used', '')}",
+        "\n".join(
+            textwrap.wrap(f"Traces of {shown_name(ds)}", 125)
+            + textwrap.wrap(
+                f"lock-up at {t_lock:.1f} ms (green); model: {ds.attrs.get('model_used', '')}", 125
+            )
+        ),
         fontsize=10,
     )
     return fig
 
 
 def heat_page(ds):
-    """Heat (issue 20): the seed design's friction-face and bulk temperature over the engagement
+    """Heat: the friction-face and bulk temperature of the design the run shows over the engagement
     and over engagements in a row; the peak friction-face temperature over the design; the
     trade-off coloured by it."""
     fig, axes = plt.subplots(
-        2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.45, "wspace": 0.5}
+        2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.45, "wspace": 0.5, "top": 0.85}
     )
     ax = axes[0, 0]
     if "trace_surface_temperature" in ds:
@@ -217,7 +227,7 @@ def heat_page(ds):
         ax.set_ylabel("pressure plate temperature [°C]")
         ax.legend(fontsize=8, loc="center right")
         ax.set_title(
-            "(a) seed design: peak face %.1f °C"
+            "(a) design shown: peak face %.1f °C"
             % (float(ds["trace_peak_surface_temperature"]) - 273.15),
             fontsize=10,
         )
@@ -227,7 +237,7 @@ def heat_page(ds):
         ax.set_xlabel("engagement in a row")
         ax.set_ylabel("bulk temperature just after it [°C]")
         ax.set_title(
-            "(b) seed design, engagements in a row: "
+            "(b) design shown, engagements in a row: "
             + ds["trace_sequence_temperature"]
             .attrs["long_name"]
             .split(" just")[0]
@@ -236,13 +246,17 @@ def heat_page(ds):
         )
     else:
         ax.text(
-            0.5, 0.5, "no seed design traces (invalid spring)", ha="center", transform=ax.transAxes
+            0.5,
+            0.5,
+            textwrap.fill(f"no traces: {shown_name(ds)}", 50),
+            ha="center",
+            transform=ax.transAxes,
         )
     temp = _flat(ds, "peak_surface_temperature") - 273.15
     ok = (_flat(ds, "status") == st.CODE["ok"]) & np.isfinite(temp)
     ax = axes[1, 0]
-    x = flat(ds, "ramp_time") if "ramp_time" in ds.coords else np.zeros(ok.size)
-    x, y, z = x[ok], flat(ds, "clamp_load")[ok], temp[ok]
+    x = 1e3 * flat(ds, "ramp_time") if "ramp_time" in ds.coords else np.zeros(ok.size)
+    x, y, z = x[ok], flat(ds, "clamp_load")[ok] / 1e3, temp[ok]
     pairs, inverse = np.unique(np.stack([x, y], axis=1), axis=0, return_inverse=True)
     note = "all designs"
     if (
@@ -252,8 +266,8 @@ def heat_page(ds):
         np.maximum.at(hottest, inverse.ravel(), z)
         x, y, z, note = pairs[:, 0], pairs[:, 1], hottest, "the hottest over the other factors"
     sampled_value_map(ax, x, y, z, "peak face temperature [°C]", cmap="inferno")
-    ax.set_xlabel("ramp time [s]")
-    ax.set_ylabel("clamp force [N]")
+    ax.set_xlabel("ramp time [ms]")
+    ax.set_ylabel("clamp force [kN]")
     ax.set_title(
         f"(c) peak face temperature, one engagement ({note.replace('the hottest', 'max')})",
         fontsize=10,
@@ -265,7 +279,9 @@ def heat_page(ds):
         _flat(ds, "peak_jerk")[show],
         c=temp[show],
         cmap="inferno",
-        s=8,
+        s=12,
+        edgecolors="0.2",  # the hottest colours are pale: an edge keeps them visible on white
+        linewidths=0.4,
         rasterized=True,
     )
     fig.colorbar(m, ax=ax, label="peak friction-face temperature [°C]")
@@ -281,8 +297,13 @@ def heat_page(ds):
     for a in axes.ravel():
         a.grid(alpha=0.3)
     fig.suptitle(
-        "Heat: friction face and parts (pressure plate, flywheel: cast iron; linings: organic; "
-        "assumed materials, clutchlab.heat)",
+        "\n".join(
+            [
+                "Heat: friction face and parts (pressure plate, flywheel: cast iron; linings: "
+                "organic; assumed materials, clutchlab.heat)"
+            ]
+            + textwrap.wrap(f"(a), (b): {shown_name(ds)}", 125)
+        ),
         fontsize=10,
     )
     return fig

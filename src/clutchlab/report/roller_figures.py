@@ -3,13 +3,17 @@ allowable band), the feasible region over (z, α), the seed design's engagement 
 
 from __future__ import annotations
 
+import textwrap
+
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap
 
 from .. import status as st
+from ..explore import flat
+from ..studies.roller import DYNAMIC_STRESS_FACTOR, PARAMETERS, RPM
+from .answers import _marks
 from ..published import ROLLER_CLUTCH
-from ..studies.roller import PARAMETERS, RPM
 from .common import (
     A4_LANDSCAPE,
     drawn,
@@ -17,6 +21,8 @@ from .common import (
     fixed_text,
     sampled_category_map,
     seed_view,
+    shown,
+    shown_name,
     status_categories,
 )
 
@@ -36,16 +42,50 @@ def _needs(ds, dims):
 
 
 def _stress_time_axes(axes):
-    """Contact stress (with the allowable band) and engagement time against the roller count."""
-    band = f"allowable {BAND[0]:g}-{BAND[1]:g} MPa (10^6 cycles)"
-    axes[0].axhspan(*BAND, color="r", alpha=0.2, label=band)
+    """Contact stress (with the allowable band and the limit above which a dynamic stress is far
+    out) and engagement time against the roller count."""
+    axes[0].axhspan(
+        *BAND, color="r", alpha=0.2, label=f"allowable {BAND[0]:g}-{BAND[1]:g} MPa (10^6 cycles)"
+    )
+    axes[0].axhline(
+        DYNAMIC_STRESS_FACTOR * BAND[0],
+        color="r",
+        ls="--",
+        lw=1,
+        label=f"{DYNAMIC_STRESS_FACTOR:g} x allowable: above it dynamic_overstress",
+    )
     axes[0].set_yscale("log")
     axes[0].set_ylabel("contact stress [MPa]")
     axes[1].set_ylabel("engagement time [ms]")
     for ax in axes:
         ax.set_xlabel("number of rollers z")
         ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=7)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=8)
+
+
+def overstress_note(ds) -> str:
+    """The page note on peak dynamic contact stresses far above the allowable ('' if none)."""
+    code = ds["status"].values.reshape(-1)
+    n = int((code == st.CODE["dynamic_overstress"]).sum())
+    if not n:
+        return ""
+    ratio = (ds["peak_contact_stress"] / ds["contact_allowable"]).values.reshape(-1)
+    ratio = ratio[code == st.CODE["dynamic_overstress"]]
+    return (
+        f"{n} of {code.size} designs: status dynamic_overstress, the peak dynamic contact stress "
+        f"{np.nanmin(ratio):.1f}-{np.nanmax(ratio):.1f} x the allowable (above "
+        f"{DYNAMIC_STRESS_FACTOR:g} x): the wedging impact, mostly the contact damping term, not "
+        "the static load, decides these designs; the value depends on the assumed damping, "
+        "inertias and penetration depth. They are not feasible."
+    )
+
+
+def _note(fig, ds):
+    note = overstress_note(ds)
+    if note:
+        fig.text(0.06, 0.015, textwrap.fill(note, 170), fontsize=8, color="tab:red")
+        fig.subplots_adjust(bottom=0.16)
 
 
 def _sampled_stress_engagement(ds):
@@ -78,6 +118,7 @@ def _sampled_stress_engagement(ds):
         "(self-locking ones for the dynamic values)" + drawn_note(z.size),
         fontsize=10,
     )
+    _note(fig, ds)
     return fig
 
 
@@ -88,7 +129,7 @@ def stress_engagement(ds):
     if fig is not None:
         return fig
     keep = ("rollers", "wedge_angle") if "wedge_angle" in ds.dims else ("rollers",)
-    sub = seed_view(ds, SEED, keep=keep)
+    sub = seed_view(ds, shown(ds) or SEED, keep=keep)
     z = sub["rollers"].values
     fig, axes = plt.subplots(1, 2, figsize=A4_LANDSCAPE, gridspec_kw={"wspace": 0.3})
     angles = sub["wedge_angle"].values if "wedge_angle" in sub.dims else [None]
@@ -118,11 +159,13 @@ def stress_engagement(ds):
         "Static (eq. 3, independent of alpha) and peak dynamic contact stress", fontsize=10
     )
     axes[1].set_title("Engagement time (self-locking wedge angles only)", fontsize=10)
+    fixed = fixed_text(sub, [d for d in ds.dims if d not in keep])
     fig.suptitle(
-        "Roller count: contact stress and engagement time at the seed d, b, mu "
-        f"({fixed_text(sub, [d for d in ds.dims if d not in keep])})",
+        "Roller count: contact stress and engagement time"
+        + (f"; other factors at the design shown: {fixed}" if fixed else ""),
         fontsize=10,
     )
+    _note(fig, ds)
     return fig
 
 
@@ -132,12 +175,21 @@ CATEGORIES = (
     ("not self-locking", "#e41a1c"),
     ("never engaged / not converged", "k"),
     ("overrunning (mode)", "0.7"),
+    (f"dynamic stress > {DYNAMIC_STRESS_FACTOR:g} x allowable", "#984ea3"),
 )
 
 
 def _categories(code):
     return status_categories(
-        code, {"ok": 0, "above_allowable": 1, "not_self_locking": 2, "overrunning": 4}, 3
+        code,
+        {
+            "ok": 0,
+            "above_allowable": 1,
+            "not_self_locking": 2,
+            "overrunning": 4,
+            "dynamic_overstress": 5,
+        },
+        3,
     )
 
 
@@ -151,7 +203,7 @@ def feasible_region(ds):
             _categories(ds["status"].values),
             CATEGORIES,
         )
-        ax.plot(SEED["rollers"], np.rad2deg(SEED["wedge_angle"]), "*", ms=22, mfc="none", mec="k")
+        _mark(ax, ds)
         ax.set_xlabel("number of rollers z")
         ax.set_ylabel("wedge angle alpha [deg]")
         if handles:
@@ -167,7 +219,7 @@ def feasible_region(ds):
         return fig
     sub = seed_view(
         ds[["status", "contact_stress", "engagement_time", "limit_wedge_angle"]],
-        SEED,
+        shown(ds) or SEED,
         keep=("rollers", "wedge_angle"),
     ).transpose("wedge_angle", "rollers")
     cat = _categories(sub["status"].values)
@@ -187,7 +239,7 @@ def feasible_region(ds):
         for i, zz in enumerate(z):
             te = sub["engagement_time"].values[j, i]
             if np.isfinite(te):
-                ax.text(zz, aa, f"{te * 1e3:.2f}", ha="center", va="center", fontsize=7)
+                ax.text(zz, aa, f"{te * 1e3:.2f}", ha="center", va="center", fontsize=8)
     lim = np.rad2deg(np.unique(sub["limit_wedge_angle"].values))
     for v in lim:
         ax.axhline(v, color="k", ls="--", lw=1)
@@ -197,15 +249,7 @@ def feasible_region(ds):
         "k--",
         label=f"self-locking limit 2 atan(mu) = {', '.join(f'{v:.2f}' for v in lim)} deg",
     )
-    ax.plot(
-        SEED["rollers"],
-        np.rad2deg(SEED["wedge_angle"]),
-        "*",
-        ms=22,
-        mfc="none",
-        mec="k",
-        label="seed 003 design",
-    )
+    _mark(ax, ds)
     for label, colour in CATEGORIES:
         ax.plot([], [], "s", color=colour, ms=10, label=label)
     ax.set_xlabel("number of rollers z")
@@ -213,11 +257,29 @@ def feasible_region(ds):
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
     fig.subplots_adjust(right=0.72)
     ax.set_title(
-        "Feasible region (numbers: engagement time in ms); "
-        + fixed_text(sub, [d for d in ds.dims if d not in ("rollers", "wedge_angle")]),
+        textwrap.fill(
+            "Feasible region (numbers: engagement time in ms); other factors at the design shown: "
+            + fixed_text(sub, [d for d in ds.dims if d not in ("rollers", "wedge_angle")]),
+            110,
+        ),
         fontsize=9,
     )
+    _note(fig, ds)
     return fig
+
+
+def _mark(ax, ds):
+    """The run's best design (and the source paper's where it is a scenario of the run)."""
+    for i, label, colour in _marks(ds, slice_only="run" not in ds.dims):
+        ax.plot(
+            flat(ds, "rollers")[i],
+            np.rad2deg(flat(ds, "wedge_angle")[i]),
+            "*",
+            ms=20,
+            mfc=colour,
+            mec="k",
+            label=label,
+        )
 
 
 def engagement_trace(ds):
@@ -226,7 +288,7 @@ def engagement_trace(ds):
         ax.text(
             0.5,
             0.5,
-            "the seed design does not self-lock: no trace",
+            textwrap.fill(f"no trace (the design does not self-lock): {shown_name(ds)}", 80),
             ha="center",
             transform=ax.transAxes,
         )
@@ -267,8 +329,14 @@ def engagement_trace(ds):
     ax.legend(h1 + h2, l1 + l2, loc="center right", fontsize=8)
     ax.grid(alpha=0.3)
     ax.set_title(
-        "Seed 003 design: engagement from rest at 2000 rpm under T_c = 1848 N m (cf. Figs. 7 and 9); "
-        "inertias and penetration depth assumed",
+        "\n".join(
+            textwrap.wrap(f"Engagement from rest of {shown_name(ds)}", 125)
+            + textwrap.wrap(
+                "passive load: the driven ring is held at rest until the wedge's torque reaches "
+                "it (cf. the source paper's Figs. 7 and 9); inertias and penetration depth assumed",
+                125,
+            )
+        ),
         fontsize=10,
     )
     return fig

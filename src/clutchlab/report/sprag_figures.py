@@ -3,12 +3,16 @@
 
 from __future__ import annotations
 
+import textwrap
+
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap
 
+from ..explore import flat
 from ..published import SPRAG_TABLE2
 from ..studies.sprag import CHECKS, PARAMETERS
+from .answers import _marks
 from .common import (
     A4_LANDSCAPE,
     drawn,
@@ -16,7 +20,9 @@ from .common import (
     fixed_text,
     sampled_category_map,
     seed_view,
+    shown,
     status_categories,
+    value_at_shown,
 )
 
 SEED = {p.name: p.default for p in PARAMETERS}
@@ -53,12 +59,14 @@ def stress_vs_torque(ds):
                 transform=ax.transAxes,
             )
         return fig
-    sub = seed_view(ds, SEED, keep=("torque",))
+    sub = seed_view(ds, shown(ds) or SEED, keep=("torque",))
+    paper = _at_paper(sub)  # Table 2's numbers belong to the paper's geometry only
     t = sub["torque"].values
     ax = axes[0]
     for name, label, colour in STRESSES:
         ax.plot(t, sub[name].values / MPA, "-", color=colour, label=label)
-        ax.plot(*_table2(name), "o", mfc="none", color=colour)
+        if paper:
+            ax.plot(*_table2(name), "o", mfc="none", color=colour)
     ax.axhline(
         _allowable(sub, "contact_allowable") / MPA,
         color="k",
@@ -69,14 +77,21 @@ def stress_vs_torque(ds):
     ax.axhline(
         _allowable(sub, "shaft_allowable") / MPA, color="k", ls=":", lw=1, label="shaft allowable"
     )
-    ax.plot([], [], "ko", mfc="none", label="seed 002 Table 2 (theory)")
-    ax.set_xlabel("torque [N m]")
+    if paper:
+        ax.plot([], [], "ko", mfc="none", label="the source paper's Table 2 (theory)")
+    ax.set_xlabel("torque [N·m]")
     ax.set_ylabel("stress [MPa]")
     ax.legend(fontsize=8)
     ax = axes[1]
     ax.plot(t, np.rad2deg(sub["gripping_angle"].values), "b-", label="V (inner contact)")
     ax.plot(t, np.rad2deg(sub["gripping_angle_outer"].values), "b--", label="W (outer contact)")
-    ax.plot(*_table2("gripping_angle"), "bo", mfc="none", label="seed 002 Table 2 V (theory)")
+    if paper:
+        ax.plot(
+            *_table2("gripping_angle"),
+            "bo",
+            mfc="none",
+            label="the source paper's Table 2 V (theory)",
+        )
     ax.axhline(
         np.rad2deg(_allowable(sub, "gripping_angle_allowable")),
         color="r",
@@ -91,11 +106,28 @@ def stress_vs_torque(ds):
         a.grid(alpha=0.3)
     c = np.unique(sub["compliance_factor_used"].values)
     fig.suptitle(
-        "Seed 002 geometry (nearest grid point): stresses and gripping angle against torque\n"
-        f"deflection compliance factor {', '.join(f'{x:.4g}' for x in c)} (1 = physical); "
-        + fixed_text(sub, [d for d in ds.dims if d != "torque"])
+        "\n".join(
+            textwrap.wrap(
+                "Stresses and gripping angle against torque: "
+                + ("the source paper's geometry" if paper else "the geometry of the design shown")
+                + f" ({fixed_text(sub, [d for d in ds.dims if d != 'torque']) or 'fixed'})",
+                130,
+            )
+            + [f"deflection compliance factor {', '.join(f'{x:.4g}' for x in c)} (1 = physical)"]
+        ),
+        fontsize=11,
     )
     return fig
+
+
+def _at_paper(sub) -> bool:
+    """Whether a torque sweep is at the source paper's geometry (Table 2 applies there only)."""
+    for name, v in SEED.items():
+        if name in sub.coords or name in sub.data_vars:
+            x = sub[name]
+            if x.ndim == 0 and not np.isclose(float(x), v, rtol=1e-6, atol=0.0):
+                return False
+    return True
 
 
 def _sampled_stress_vs_torque(fig, axes, ds):
@@ -192,15 +224,16 @@ def pass_map(ds):
             transform=axes[0, 0].transAxes,
         )
         return fig
+    at = shown(ds) or SEED  # the other factors at the design the run shows
     torque = None
     if "torque" in ds.dims:
-        torque = float(ds["torque"].sel(torque=750.0, method="nearest"))
+        torque = float(ds["torque"].sel(torque=at.get("torque", 750.0), method="nearest"))
     cmap = ListedColormap([c for _, c in CATEGORIES])
     norm = BoundaryNorm(np.arange(len(CATEGORIES) + 1) - 0.5, len(CATEGORIES))
     for ax, (x, y) in zip(axes[0], pairs):
         view = ds[["status"] + [f"margin_{k}" for k in CHECKS]]
         sub = seed_view(
-            view, {**SEED, **({"torque": torque} if torque else {})}, keep=(x, y)
+            view, {**SEED, **at, **({"torque": torque} if torque else {})}, keep=(x, y)
         ).transpose(y, x)
         cat = _category(sub["status"].values)
         scale = {n: (1e3, "mm") if sub[n].attrs.get("units") == "m" else (1.0, "") for n in (x, y)}
@@ -212,14 +245,15 @@ def pass_map(ds):
         for j, yy in enumerate(yv):
             for i, xx in enumerate(xv):
                 if np.isfinite(margin[j, i]):
-                    ax.text(xx, yy, f"{margin[j, i]:+.2f}", ha="center", va="center", fontsize=7)
-        ax.plot(SEED[x] * scale[x][0], SEED[y] * scale[y][0], "*", ms=22, mfc="none", mec="k")
+                    ax.text(xx, yy, f"{margin[j, i]:+.2f}", ha="center", va="center", fontsize=8)
+        _mark(ax, ds, x, y, scale)
         ax.set_xlabel(f"{x.replace('_', ' ')} [{scale[x][1] or '-'}]")
         ax.set_ylabel(f"{y.replace('_', ' ')} [{scale[y][1] or '-'}]")
-        ax.set_title(fixed_text(sub, [d for d in ds.dims if d not in (x, y)]), fontsize=8)
+        ax.set_title(
+            textwrap.fill(fixed_text(sub, [d for d in ds.dims if d not in (x, y)]), 70), fontsize=8
+        )
     for label, colour in CATEGORIES:
         axes[0, 0].plot([], [], "s", color=colour, ms=10, label=label)
-    axes[0, 0].plot([], [], "*", ms=12, mfc="none", mec="k", label="seed 002 design")
     fig.legend(loc="lower center", ncol=4, fontsize=8)
     fig.subplots_adjust(bottom=0.2)
     fig.suptitle(
@@ -227,6 +261,21 @@ def pass_map(ds):
         "allowable/value - 1)"
     )
     return fig
+
+
+def _mark(ax, ds, x, y, scale):
+    """The design the run shows (and, on a map of every design, the source paper's where it is a
+    scenario of the run)."""
+    for i, label, colour in _marks(ds, slice_only="run" not in ds.dims):
+        ax.plot(
+            flat(ds, x)[i] * scale[x][0],
+            flat(ds, y)[i] * scale[y][0],
+            "*",
+            ms=18,
+            mfc=colour,
+            mec="k",
+            label=label,
+        )
 
 
 def _sampled_pass_map(ds):
@@ -253,8 +302,7 @@ def _sampled_pass_map(ds):
         handles = sampled_category_map(
             ax, ds[x].values * scale[x][0], ds[y].values * scale[y][0], cat, CATEGORIES
         )
-        if x in SEED and y in SEED:
-            ax.plot(SEED[x] * scale[x][0], SEED[y] * scale[y][0], "*", ms=22, mfc="none", mec="k")
+        _mark(ax, ds, x, y, scale)
         ax.set_xlabel(f"{x.replace('_', ' ')} [{scale[x][1] or ds[x].attrs.get('units', '-')}]")
         ax.set_ylabel(f"{y.replace('_', ' ')} [{scale[y][1] or ds[y].attrs.get('units', '-')}]")
         others = [f for f in factors if f not in (x, y)]
@@ -294,12 +342,16 @@ def impact_torque(ds):
         ax.set_ylabel("peak torque T0 [N m]")
         ax.set_title(f"{tag} T0 against {label.split('[')[0].strip()}", fontsize=10)
     axes[1, 2].axis("off")
+    nominal = {n: value_at_shown(ds, n, SEED[n]) for n in SEED}
     axes[1, 2].text(
         0,
-        0.9,
-        "Nominal (assumed, not printed in seed 002):\n"
-        "P0 = 100 kW, C with sqrt(P0 C) = 267.5 N m,\nJ with T0 = 750 N m at t0 = 0.1 s from rest.\n"
-        "T0 rises with P0, J, C and falls with w0\n(seed 002 Fig. 4 b-e).",
+        0.95,
+        "Nominal impact (the design shown;\nassumed, not printed in the source paper):\n"
+        f"P0 = {nominal['impact_power'] / 1e3:.4g} kW, C = {nominal['impact_damping']:.4g} N·m·s²,\n"
+        f"J = {nominal['output_inertia']:.4g} kg·m², t0 = {nominal['rise_time'] * 1e3:.4g} ms,\n"
+        f"w0 = {nominal['initial_speed'] * 30 / np.pi:.4g} rpm: sqrt(P0 C) = "
+        f"{float(ds['impact_steady_torque']):.4g} N·m.\n"
+        "T0 rises with P0, J, C and falls with w0\n(the source paper's Fig. 4 b-e).",
         va="top",
         fontsize=9,
     )

@@ -111,8 +111,9 @@ class Study:
     # options that choose a model or a reading of the paper, not a design or an operating
     # condition: never drawn per scenario (its choices ranked together would compare models)
     model_options: tuple[str, ...] = ()
-    # (inputs, options) -> Dataset of the seed design's traces and curves (no ``run`` dimension):
-    # the same for every chunk, so computed once per study (by the chunk holding scenario 0, pipeline.run_chunk)
+    # (inputs, options) -> Dataset of one design's traces and curves (no ``run`` dimension): the
+    # design a run's pages show, every input given as a scalar; computed once per study after the
+    # merge (clutchlab.traces, the workflow's traces job)
     traces: Callable | None = None
     # measured tables a study section may give (config key -> ((x name, x units), (y name, y units),
     # description)); resolved to SI lists and passed to compute as options[key]
@@ -150,8 +151,9 @@ def flat_inputs(inputs) -> dict:
 
 
 def seed_design(parameters, inputs) -> dict:
-    """The seed design of a chunk: the parameters' defaults (the seed paper's design), overridden by
-    the chunk's fixed (scalar) inputs; the scenario a study draws its traces for."""
+    """One design: the parameters' defaults (the source paper's design), overridden by the scalar
+    ``inputs``; a study's ``traces`` draw it (given every input of the design shown as a scalar,
+    :mod:`clutchlab.traces`)."""
     out = {p.name: p.default for p in parameters}
     out.update({k: float(v) for k, v in inputs.items() if np.ndim(v) == 0 and k in out})
     return out

@@ -2,10 +2,10 @@
 
 Per scenario (closed form, no ODE): engagement speed, forward and reverse capacity at rated
 speed and as curves over engine speed, reserve factor against the engine torque, release margin
-(passive engine torque over reverse capacity at rated speed, minus one), and the release speed
-and time after an engine failure at rated speed. For the seed design (the parameters' defaults,
-with the config's fixed values) the start-up and engine-failure speed traces are integrated once
-(DOP853 with the lock-up / release as events) for the report.
+(passive engine torque over reverse capacity at rated speed, minus one), and the release speed and time
+after an engine failure at rated speed. For the design a run's pages show (its best design,
+:mod:`clutchlab.traces`) the start-up and engine-failure speed traces are integrated once after
+the merge (DOP853 with the lock-up / release as events) for the report.
 
 Assumed, not printed in the paper: passive-torque shape (30 % friction, rest ∝ ω²), inertias
 J_e = 0.02 kg m² and J_r = 0.5 kg m² (rotor referred to the clutch), rotor drag 55 N m at rated
@@ -260,7 +260,8 @@ def compute(inputs, options=None) -> xr.Dataset:
 
 
 def seed_traces(inputs, options=None) -> xr.Dataset:
-    """Start-up and engine-failure traces of the seed design (identical in every chunk)."""
+    """Start-up and engine-failure traces of one design (the scalar ``inputs`` over the defaults:
+    the design a run's pages show, :mod:`clutchlab.traces`)."""
     p = seed_design(PARAMETERS, inputs)
     coords = {}
     data = {}
@@ -284,7 +285,7 @@ def seed_traces(inputs, options=None) -> xr.Dataset:
         coords[dim] = (
             dim,
             tr["time"],
-            {"units": "s", "long_name": f"time ({prefix} trace of the seed design)"},
+            {"units": "s", "long_name": f"time ({prefix} trace of the design shown)"},
         )
         for k, u, ln in (
             ("engine_speed", "rad/s", "engine speed"),
@@ -294,7 +295,7 @@ def seed_traces(inputs, options=None) -> xr.Dataset:
             data[f"{prefix}_{k}"] = (
                 dim,
                 tr[k],
-                {"units": u, "long_name": f"{ln}, {prefix} trace (seed design)"},
+                {"units": u, "long_name": f"{ln}, {prefix} trace (design shown)"},
             )
     data["failure_release_time"] = (
         (),

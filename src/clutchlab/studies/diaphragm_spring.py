@@ -382,7 +382,7 @@ def _engagement_rows() -> list[Row]:
 STUDY = register(
     Study(
         name="diaphragm_spring",
-        output="diaphragm/spring.h5",
+        output="diaphragm_spring/diaphragm_spring.h5",
         description="Diaphragm-spring statics: Almen-Laszlo curve, clamp load, torque capacity (seed 000)",
         parameters=PARAMETERS,
         compute=compute,

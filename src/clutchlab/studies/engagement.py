@@ -636,12 +636,13 @@ def compute(inputs, options=None) -> xr.Dataset:
 
 
 TRACE_POINTS = 401
-SEQUENCE_ENGAGEMENTS = 30  # engagements in a row drawn for the seed design
+SEQUENCE_ENGAGEMENTS = 30  # engagements in a row drawn for the design shown
 
 
 def seed_traces(inputs, options) -> xr.Dataset:
-    """Time traces of the seed design (parameter defaults overridden by the chunk's fixed inputs),
-    the equivalents of seed 000 Figs. 7-11: clamp force, speeds, slip work, friction torque, jerk."""
+    """Time traces of one design (the scalar ``inputs`` over the parameter defaults: the design a
+    run's pages show, :mod:`clutchlab.traces`), the equivalents of seed 000 Figs. 7-11: clamp
+    force, speeds, slip work, friction torque, jerk."""
     p = {k: np.atleast_1d(v) for k, v in seed_design(PARAMETERS, inputs).items()}
     force, cap, bad = capacity(p, options)
     if bad[0] or not cap[0] > 0:
@@ -659,27 +660,33 @@ def seed_traces(inputs, options) -> xr.Dataset:
         "jerk": ("rad/s^3", "output jerk (eq. 12)"),
     }
     data = {
-        f"trace_{k}": (dim, tr[k], {"units": u, "long_name": f"{ln} (seed design)"})
+        f"trace_{k}": (dim, tr[k], {"units": u, "long_name": f"{ln} (design shown)"})
         for k, (u, ln) in meta.items()
     }
     data["trace_clamp_force"] = (
         dim,
         tr["capacity"] / cap[0] * force[0],
-        {"units": "N", "long_name": "clamp force (seed design; its rise follows the ramp profile)"},
+        {
+            "units": "N",
+            "long_name": "clamp force (design shown; its rise follows the ramp profile)",
+        },
     )
     data["trace_lockup_time"] = (
         (),
         float(res["lockup_time"][0]),
-        {"units": "s", "long_name": "lock-up time (seed)"},
+        {"units": "s", "long_name": "lock-up time (design shown)"},
     )
     data.update(_trace_temperatures(p, times, tr, dim))
     return xr.Dataset(
-        data, coords={dim: (dim, times, {"units": "s", "long_name": "time (seed design traces)"})}
+        data,
+        coords={
+            dim: (dim, times, {"units": "s", "long_name": "time (traces of the design shown)"})
+        },
     )
 
 
 def _trace_temperatures(p, times, tr, dim) -> dict:
-    """The seed design's heat history (clutchlab.heat): slip power P = T_c·(ω_e − ω_h); the pressure
+    """The design's heat history (clutchlab.heat): slip power P = T_c·(ω_e − ω_h); the pressure
     plate's friction-face (flash) temperature, ambient + Duhamel's integral of its heat flux
     q = γ·P/A (γ its effusivity share at the face, A the friction area of all faces; the solver's
     own trace, not a second run); its bulk temperature, ambient + its share of the slip work so far
@@ -697,7 +704,7 @@ def _trace_temperatures(p, times, tr, dim) -> dict:
     bulk = ambient + gamma / faces * np.nan_to_num(tr["slip_work"]) / (
         float(p["pressure_plate_mass"][0]) * heat.MATERIALS["cast_iron"]["specific_heat"]
     )
-    where = "(seed design; pressure plate)"
+    where = "(design shown; pressure plate)"
     # engagements in a row, engagement_interval apart, the hottest part cooling between them
     hot = _heat(
         {k: v[:1] for k, v in p.items()},
@@ -722,7 +729,7 @@ def _trace_temperatures(p, times, tr, dim) -> dict:
             {
                 "units": "K",
                 "long_name": f"bulk temperature of the {part.replace('_', ' ')} just after each engagement "
-                "in a row (seed design)",
+                "in a row (design shown)",
             },
         ),
         "engagement_number": (
@@ -730,7 +737,7 @@ def _trace_temperatures(p, times, tr, dim) -> dict:
             np.arange(1, SEQUENCE_ENGAGEMENTS + 1),
             {"units": "1", "long_name": "engagement in a row (engagement_interval apart)"},
         ),
-        "trace_slip_power": (dim, power, {"units": "W", "long_name": "slip power (seed design)"}),
+        "trace_slip_power": (dim, power, {"units": "W", "long_name": "slip power (design shown)"}),
         "trace_surface_temperature": (
             dim,
             surface,
@@ -752,7 +759,7 @@ def _trace_temperatures(p, times, tr, dim) -> dict:
 STUDY = register(
     Study(
         name="engagement",
-        output="diaphragm/engagement.h5",
+        output="engagement/engagement.h5",
         description="Diaphragm-spring clutch engagement: lock-up, slip work, jerk (seed 000)",
         parameters=PARAMETERS,
         compute=compute,

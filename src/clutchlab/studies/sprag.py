@@ -245,7 +245,8 @@ def _k(name):
 
 def impact_curves(inputs, options=None) -> xr.Dataset:
     """Seed 002 Fig. 4: T(t) after the peak, and the peak T₀ against P₀, J, C, ω₀ one at a time
-    around the nominal impact parameters (defaults overridden by the chunk's fixed inputs)."""
+    around the nominal impact parameters (defaults overridden by the scalar ``inputs``: those of
+    the design a run's pages show)."""
     nom = seed_design(PARAMETERS, inputs)
     imp = {_k(k): nom[k] for k in _IMPACT}
     t0 = nom["rise_time"]
