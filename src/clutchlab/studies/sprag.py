@@ -25,7 +25,7 @@ import xarray as xr
 
 from .. import sprag as sp
 from .. import status as st
-from . import Parameter, Study, flat_inputs, register, seed_design
+from . import Parameter, Relation, Study, flat_inputs, register, seed_design
 
 MM = 1e-3
 _G = sp.SEED_GEOMETRY
@@ -79,7 +79,11 @@ PARAMETERS = (
         maximum_inclusive=False,
     ),
     Parameter(
-        "compliance_factor", "1", "deflection multiplier (1 physical; fitted to Table 2: 1.72)", 1.0
+        "compliance_factor",
+        "1",
+        "deflection multiplier (1 physical; fitted to Table 2: 1.72)",
+        1.0,
+        maximum=100.0,  # a hundredfold deflection: no longer the races' steel
     ),
     Parameter("contact_allowable", "Pa", "allowable Hertz contact stress", 3400e6),
     Parameter("shaft_allowable", "Pa", "allowable shaft von Mises stress", 793e6),
@@ -104,6 +108,24 @@ PARAMETERS = (
 )
 
 OPTIONS = {"compliance": ("physical", "seed002_fit"), "torque_source": ("given", "impact_peak")}
+
+
+def _inside(inner, outer, what):
+    return Relation(
+        (inner, outer),
+        ("max", "min"),
+        lambda **v: v[inner] < v[outer],
+        f"the radii are in order ({what}: {inner} < {outer})",
+    )
+
+
+# the races' radii in order from the bore out (eqs. 6-8 assume them); whether a sprag spans the
+# races (0 < R_i + r_i - (R_o - r_o) < Z) is a question of its design: a status per scenario
+RELATIONS = (
+    _inside("inner_bore_radius", "inner_race_radius", "the inner shaft's bore inside its race"),
+    _inside("inner_race_radius", "outer_race_radius", "the inner race inside the outer race"),
+    _inside("outer_race_radius", "outer_rim_radius", "the outer race inside its rim"),
+)
 
 _GEOMETRY = tuple(sp.SEED_GEOMETRY) + ("youngs_modulus", "poisson_ratio")
 _IMPACT = ("impact_power", "output_inertia", "impact_damping", "initial_speed")
@@ -373,5 +395,6 @@ STUDY = register(
             for c in ("contact_inner", "contact_outer", "vm_inner", "vm_outer", "gripping_angle")
         },
         options=OPTIONS,
+        relations=RELATIONS,
     )
 )
