@@ -17,7 +17,7 @@ import re
 
 import yaml
 
-__all__ = ["yaml12", "spell", "misreadings", "deepest"]
+__all__ = ["yaml12", "spell", "misreadings", "deepest", "path_text"]
 
 # the YAML 1.2 core schema (YAML 1.2.2, section 10.3.2): tag resolution of a plain scalar
 _CORE = (
@@ -106,7 +106,8 @@ def _children(node, path):
             yield v, path + [i], False
 
 
-def _path_text(path) -> str:
+def path_text(path) -> str:
+    """A key path as config messages write it: ``roller.parameters.rollers.values[1]``."""
     out = ""
     for p in path:
         out += f"[{p}]" if isinstance(p, int) else (f".{p}" if out else str(p))
@@ -130,7 +131,7 @@ def misreadings(root):
             if node.style is None and not explicit_text:  # (plain, not tagged !!str)
                 problem = _misread(constructor, node, is_key)
                 if problem:
-                    yield _path_text(path), problem
+                    yield path_text(path), problem
             continue
         stack.extend(reversed(list(_children(node, path))))
 

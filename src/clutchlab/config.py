@@ -200,7 +200,7 @@ def _read_yaml(text, where):
 def _check_data(raw, where) -> None:
     """A config file's data: a mapping, not an alias bomb, not nested deeper than MAX_DEPTH, not a
     template."""
-    from ._yaml_readings import deepest
+    from ._yaml_readings import deepest, path_text
 
     if raw is None:
         raise ConfigError(
@@ -216,7 +216,9 @@ def _check_data(raw, where) -> None:
         )
     deep = deepest(raw, MAX_DEPTH)
     if deep is not None:
-        raise ConfigError(_key(deep), f"nests deeper than {MAX_DEPTH} levels (a config needs 6)")
+        raise ConfigError(
+            path_text(deep), f"nests deeper than {MAX_DEPTH} levels (a config needs 6)"
+        )
     if _expanded_size(raw) > MAX_NODES:
         raise ConfigError(
             where,
@@ -272,9 +274,12 @@ ACCURACY_RANGE = (1e-7, 1e-2)
 
 
 def _quantity(value, param, key, finite=False) -> float:
-    if param.allow_infinite and (
-        value == float("inf") or str(value).strip().lower() in ("inf", ".inf")
-    ):
+    """A parameter's value (as given in the config at ``key``) in SI, read by its unit and kind
+    and checked against its bounds and plausible magnitude."""
+    infinite = value == float("inf") or str(value).strip().lower() in ("inf", ".inf", "+inf")
+    if infinite and not param.allow_infinite:
+        raise ConfigError(key, f"must be finite, got {value!r} (inf means nothing here)")
+    if infinite:
         if finite:
             raise ConfigError(
                 key,
@@ -692,10 +697,15 @@ def _answers(study, section):
                 key, "unknown output (choose from " + ", ".join(sorted(study.outputs)) + ")"
             )
         ((op, value),) = limit.items()
+        units, kind = study.output_units(output)
         try:
-            v = to_si(value, *study.output_units(output))
+            v = to_si(value, units, kind)
         except UnitError as exc:
             raise ConfigError(f"{key}.{op}", str(exc)) from None
+        # a limit of implausible magnitude for its unit (zero and negative margins are fine)
+        why = studies.Parameter(output, units, output, 0.0, minimum=None, kind=kind).check(v, value)
+        if why:
+            raise ConfigError(f"{key}.{op}", why)
         constraints[output] = [op, v]
     return objectives, constraints
 
@@ -764,11 +774,13 @@ def resolve(raw: dict) -> dict:
     ConfigError
         Naming the key of the first problem found.
     """
-    from ._yaml_readings import deepest
+    from ._yaml_readings import deepest, path_text
 
     deep = deepest(raw, MAX_DEPTH)
     if deep is not None:
-        raise ConfigError(_key(deep), f"nests deeper than {MAX_DEPTH} levels (a config needs 6)")
+        raise ConfigError(
+            path_text(deep), f"nests deeper than {MAX_DEPTH} levels (a config needs 6)"
+        )
     cfg = copy.deepcopy(dict(raw))
     validate_schema(cfg)
     default_chunks = _chunking(cfg, "") or ("chunks", DEFAULT_CHUNKS)
