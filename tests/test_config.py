@@ -208,13 +208,24 @@ def _expected_key(path):
 
 
 def test_there_are_malformed_configs_of_every_class():
-    assert len(MALFORMED) >= 40
+    assert len(MALFORMED) >= 160
+    stems = {p.stem for p in MALFORMED}
+    for prefix, members in (
+        ("speed_", 6),
+        ("yaml11_", 15),
+        ("torque_in_", 4),
+        ("results_", 4),
+        ("constraint_", 6),
+    ):
+        assert sum(s.startswith(prefix) for s in stems) >= members, prefix
 
 
 @pytest.mark.parametrize("path", MALFORMED, ids=lambda p: p.stem)
-def test_malformed_config_is_refused_naming_the_key(path):
+def test_malformed_config_is_refused_naming_the_key(path, monkeypatch):
     """Each file of tests/malformed/ holds one mistake a user made (its '# why:' line) and the key
-    (or, for a file that is not a config at all, the file) the refusal must name."""
+    (or, for a file that is not a config at all, the file) the refusal must name. Read from the
+    workflow's folder, as Snakemake reads it (a results folder is checked relative to it)."""
+    monkeypatch.chdir(ROOT)
     with pytest.raises(ConfigError) as exc:
         config.load(path)
     key = Path(exc.value.key).name if exc.value.key.endswith(".yaml") else exc.value.key

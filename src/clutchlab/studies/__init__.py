@@ -79,7 +79,15 @@ class Parameter:
         """
         u = "" if self.units == "1" else f" {self.units}"
         got = f"{value:g}{u}"
-        if given is not None and not isinstance(given, bool) and _text(given) != _text(value):
+        if (
+            given is not None
+            and not isinstance(given, bool)
+            and _text(given)
+            not in (
+                _text(value),
+                got,
+            )
+        ):
             got = f"{_text(given)} = {got}"
         if self.choices is not None:
             if value not in self.choices:
