@@ -165,6 +165,10 @@ def test_units_of_the_right_kind(text, unit, kind, expected):
         ("0.7 kg*m^2", "N m s^2", None, "not written as a torque"),
         ("12 %", "1", "count", "count"),
         ("12 dimensionless", "1", "count", "count"),
+        ("1.5 ton*m^2", "kg m^2", None, "short ton"),  # pint: the US short ton
+        ("134 hp", "W", None, "horsepower"),  # mechanical or metric?
+        ("2 tonf", "N", None, "tonne-force"),
+        ("2.3 mil", "m", None, "angle"),  # pint: an angular mil, not a thou
     ],
 )
 def test_units_of_the_wrong_kind_are_refused(bad, unit, kind, fragment):

@@ -44,6 +44,17 @@ KINDS = ("absolute", "difference", "count")
 # "2 3 mm" as 6 mm and "2,3 mm" as 23 mm, both silent misreads of what an engineer wrote
 _NUMBER = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(.*?)\s*$", re.S)
 
+# unit names whose meaning depends on the country (pint takes the US one): refused, with a spelling
+# that says which is meant
+_AMBIGUOUS = {
+    "ton": "the US short ton (907 kg) or the tonne? write t (tonne) or short_ton",
+    "tons": "the US short ton (907 kg) or the tonne? write t (tonne) or short_ton",
+    "tonf": "a short ton-force or a tonne-force? write kN (or tf: tonne-force)",
+    "ton_force": "a short ton-force or a tonne-force? write kN (or tf: tonne-force)",
+    "hp": "a mechanical (745.7 W) or a metric (735.5 W) horsepower? write W or kW",
+    "horsepower": "a mechanical (745.7 W) or a metric (735.5 W) horsepower? write W or kW",
+}
+
 # temperature units with an offset, and the difference each means inside a difference
 _OFFSET = {
     "degree_Celsius": "delta_degree_Celsius",
@@ -139,6 +150,9 @@ def _bare(number: float, value, si_unit: str, kind) -> float:
 def _convert(number: float, unit: str, value, si_unit: str, kind) -> float:
     """``number`` in the unit expression ``unit`` converted to ``si_unit`` (kinds checked)."""
     ureg = _registry()
+    for word in re.findall(r"[A-Za-z_]+", unit):
+        if word in _AMBIGUOUS:
+            raise UnitError(f"{value!r}: {_AMBIGUOUS[word]}")
     try:
         given = ureg.parse_units(unit)
     except Exception as exc:  # pint raises several unrelated exception types
