@@ -787,3 +787,101 @@ def test_a_sampled_design_without_a_factor_is_refused(design):
     )
     if design != "saltelli":  # (an option drawn per scenario is a factor of a sampled design)
         assert config.resolve(ok)["engagement"]["option_factors"] == {"profile": ["ramp", "cubic"]}
+
+
+# --- any text: read, or refused in one line naming the file or key ------------------------------
+
+YAMLISH = [
+    "studies: [sprag]\n",
+    "sprag:\n",
+    "  design: factorial\n",
+    "a: ",
+    "b:",
+    " ",
+    "\n",
+    "\t",
+    "[",
+    "]",
+    "{",
+    "}",
+    ",",
+    ":",
+    "- ",
+    "&x ",
+    "*x",
+    "!!binary aGk=",
+    "!!set {a, b}",
+    "!!int ",
+    "!!float ",
+    "!!str ",
+    "? ",
+    "010",
+    "on",
+    "1e3",
+    "2024-01-01",
+    '"',
+    "'",
+    "#",
+    "<<: *x",
+    "~",
+    ".inf",
+    "---\n",
+    "%YAML 1.2\n",
+    "1:30",
+    "\x00",
+    "\ufeff",
+    "|\n",
+    '{"a": 1}',
+    "[[[[",
+]
+
+
+def test_any_text_is_read_or_refused_in_one_line(tmp_path):
+    """Config files made of YAML and JSON pieces (tags, anchors, tabs, NUL, BOM, directives):
+    read_file returns a mapping or raises one ConfigError line, never another exception
+    (PyYAML's constructor raised ValueError/IndexError for `!!int ` and a reader error for NUL)."""
+    from hypothesis import HealthCheck, example, given, settings
+    from hypothesis import strategies as hs
+
+    f = tmp_path / "c.yaml"
+
+    @settings(max_examples=300, deadline=None, suppress_health_check=list(HealthCheck))
+    @given(hs.lists(hs.sampled_from(YAMLISH), max_size=20))
+    @example(["!!int "])
+    @example(["!!float ", "studies: [sprag]\n"])
+    @example(["\x00"])
+    def check(parts):
+        f.write_text("".join(parts), encoding="utf-8")
+        try:
+            assert isinstance(config.read_file(f), dict)
+        except ConfigError as exc:
+            assert "\n" not in str(exc)
+
+    check()
+
+
+def test_any_quantity_text_converts_or_is_refused():
+    """A number followed by any string of unit pieces: a finite SI value or a UnitError (pint raised
+    OverflowError for m^1e308 while finding its root units)."""
+    from hypothesis import HealthCheck, example, given, settings
+    from hypothesis import strategies as hs
+
+    from clutchlab.units import UnitError, to_si
+
+    pieces = ["m", "mm", "Hz", "rpm", "deg", "degC", "delta_degC", "K", "J", "N", "*", "/", "^"]
+    pieces += ["**", "2", "-1", "(", ")", " ", "%", "rad", "s", "min", "kg", "1e308", "°", "²"]
+    units = ["m", "N m", "rad/s", "1", "K", "kg m^2", "N m/rad", "rad", "J", "1/K"]
+
+    @settings(max_examples=500, deadline=None, suppress_health_check=list(HealthCheck))
+    @given(hs.floats(allow_nan=False, width=64), hs.lists(hs.sampled_from(pieces), max_size=6))
+    @example(0.0, ["°", "^", "1e308"])
+    def check(number, parts):
+        for unit in units:
+            try:
+                assert np.isfinite(
+                    to_si(f"{number!r} {''.join(parts)}", unit, "absolute" if unit == "K" else None)
+                )
+            except UnitError:
+                pass
+
+    check()

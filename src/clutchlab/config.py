@@ -178,8 +178,9 @@ def _read_yaml(text, where):
     YAML 1.2 (:mod:`clutchlab._yaml_readings`)."""
     from ._yaml_readings import misreadings
 
-    loader = _StrictLoader(text)
+    loader = None
     try:
+        loader = _StrictLoader(text)
         node = loader.get_single_node()
         raw = loader.construct_document(node) if node is not None else None
     except ConfigError:
@@ -187,10 +188,17 @@ def _read_yaml(text, where):
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         at = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
-        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        problem = getattr(exc, "problem", None) or (str(exc).splitlines() or [""])[0]
         raise ConfigError(where, f"is not valid YAML{at}: {problem}", "config file") from None
+    except (ValueError, TypeError, IndexError, OverflowError) as exc:  # a tag's value (!!int x)
+        raise ConfigError(
+            where,
+            f"is not valid YAML: {type(exc).__name__}: {(str(exc).splitlines() or [''])[0]}",
+            "config file",
+        ) from None
     finally:
-        loader.dispose()
+        if loader is not None:
+            loader.dispose()
     if isinstance(raw, dict):  # (aliases are walked once: an alias bomb is refused below)
         for key, problem in misreadings(node):
             raise ConfigError(key, problem)

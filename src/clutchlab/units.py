@@ -119,7 +119,13 @@ def to_si(value, si_unit: str, kind: str | None = None) -> float:
         return _bare(number, value, si_unit, kind)
     if kind == "count":
         raise UnitError(f"{value!r}: a count is a bare whole number, without a unit")
-    return _finite(_convert(number, unit, value, si_unit, kind), value)
+    try:
+        out = _convert(number, unit, value, si_unit, kind)
+    except UnitError:
+        raise
+    except Exception as exc:  # pint's arithmetic on an absurd unit (m^1e308: OverflowError, ...)
+        raise UnitError(f"cannot read the unit of {value!r}: {type(exc).__name__}") from None
+    return _finite(out, value)
 
 
 def _split(value: str) -> tuple[float, str]:
