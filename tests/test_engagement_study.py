@@ -132,8 +132,10 @@ def test_model_chosen_per_scenario():
     assert (ds["n_steps"].where(closed, 0) == 0).all() and (
         ds["n_steps"].where(~closed, 1) > 0
     ).all()
-    # each model alone: the closed-form scenarios by the event solver (forced by a vanishing drag)
-    forced = _study({"driveline": "rigid"}, **params, aero_coefficient=1e-300)
+    # each model alone: the closed-form scenarios by the event solver (forced by a vanishing drag,
+    # set in the resolved section: a config refuses 1e-300 N m s^2 as implausible)
+    forced = _study({"driveline": "rigid"}, **params)
+    forced["fixed"]["aero_coefficient"] = 1e-300
     forced["options"]["accuracy"] = 1e-8
     ref = pipeline.run_study(forced)
     assert (ref["model"] == MODEL["rigid_events"]).all()
