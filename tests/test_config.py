@@ -885,3 +885,30 @@ def test_any_quantity_text_converts_or_is_refused():
                 pass
 
     check()
+
+
+def test_stored_temperatures_say_their_kind():
+    """CF units_metadata: an absolute temperature (input or output) is on the scale, a rise and a
+    per-kelvin coefficient are differences; nothing else carries it."""
+    from clutchlab import doe, pipeline
+
+    sec = config.resolve(
+        _study(
+            "engagement",
+            {"ambient_temperature": {"values": ["30 degC", "40 degC"]}},
+            options={"driveline": "rigid"},
+        )
+    )["engagement"]
+    design = doe.build_design(sec)
+    assert design["ambient_temperature"].attrs["units_metadata"] == "temperature: on_scale"
+    assert design["temperature_limit"].attrs["units_metadata"] == "temperature: on_scale"
+    assert design["fade_coefficient"].attrs["units_metadata"] == "temperature: difference"
+    assert "units_metadata" not in design["ramp_time"].attrs
+    ds = pipeline.run_study(sec)
+    assert ds["bulk_temperature_rise"].attrs["units_metadata"] == "temperature: difference"
+    assert ds["peak_surface_temperature"].attrs["units_metadata"] == "temperature: on_scale"
+    assert ds["ambient_temperature"].attrs["units_metadata"] == "temperature: on_scale"
+    assert ds["ambient_temperature"].values == pytest.approx([303.15, 313.15])
+    for name, var in {**ds.coords, **ds.data_vars}.items():
+        if var.attrs.get("units") == "K":
+            assert var.attrs.get("units_metadata", "").startswith("temperature: "), name
