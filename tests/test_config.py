@@ -459,6 +459,12 @@ def _relation_cases():
     """(study, parameters that break one relation for some scenario, the keys named)."""
     return [
         (
+            "diaphragm_spring",
+            {"sheet_thickness": 2.3},
+            "sheet_thickness",
+            "outer_radius",
+        ),
+        (
             "engagement",
             {"lining_inner_radius": "120 mm"},
             "lining_inner_radius",

@@ -108,6 +108,15 @@ RELATIONS = (
         "pressure-plate point R1 = R - (R - R1))",
     ),
     Relation(
+        ("sheet_thickness", "outer_radius", "radius_ratio"),
+        ("max", "min", "min"),
+        lambda sheet_thickness, outer_radius, radius_ratio: (
+            sheet_thickness < outer_radius - outer_radius / radius_ratio
+        ),
+        "the spring is a thin annular plate (sheet_thickness below the annulus width R - R/(R/r); "
+        "a bare 2.3 is 2.3 m: write '2.3 mm')",
+    ),
+    Relation(
         ("lining_inner_radius", "lining_outer_radius"),
         ("max", "min"),
         lambda lining_inner_radius, lining_outer_radius: lining_inner_radius < lining_outer_radius,
