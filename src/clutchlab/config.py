@@ -450,6 +450,25 @@ def _resolve_study(
                     "not used by a factorial design (its scenarios are the "
                     "grid of the factors' values); remove it or choose design lhs/sobol",
                 )
+    _resolve_parameters(study, section, out, max_scenarios)
+    n = scenario_count(out)
+    if n > max_scenarios:
+        raise _ceiling(name, n, max_scenarios)
+    out["chunks"] = chunk_count(n, _chunking(section, f"{name}.") or default_chunks)
+    out["curve_stride"] = _curve_stride(name, section, design, n)
+    out["objectives"], out["constraints"] = _answers(study, section)
+    problem = studies.failed_relation(out, study.relations) or (
+        study.check_config(out) if study.check_config is not None else None
+    )
+    if problem:
+        raise ConfigError(*problem)
+    return out
+
+
+def _resolve_parameters(study, section: dict, out: dict, max_scenarios: int) -> None:
+    """A study section's parameters into ``out["fixed"]`` (SI; the seed design's value where not
+    given) and ``out["factors"]``; a sampled design needs a factor to sample."""
+    name, design = out["name"], out["design"]
     given = section.get("parameters", {}) or {}
     for param in study.parameters:
         key = f"{name}.parameters.{param.name}"
@@ -472,18 +491,6 @@ def _resolve_study(
             "for a parameter, or an option's values); for the one design of fixed values use "
             "design factorial",
         )
-    n = scenario_count(out)
-    if n > max_scenarios:
-        raise _ceiling(name, n, max_scenarios)
-    out["chunks"] = chunk_count(n, _chunking(section, f"{name}.") or default_chunks)
-    out["curve_stride"] = _curve_stride(name, section, design, n)
-    out["objectives"], out["constraints"] = _answers(study, section)
-    problem = studies.failed_relation(out, study.relations) or (
-        study.check_config(out) if study.check_config is not None else None
-    )
-    if problem:
-        raise ConfigError(*problem)
-    return out
 
 
 def _resolve_options(study, section: dict, out: dict) -> None:
