@@ -211,13 +211,24 @@ def _expected_key(path):
 
 
 def test_there_are_malformed_configs_of_every_class():
-    assert len(MALFORMED) >= 40
+    assert len(MALFORMED) >= 160
+    stems = {p.stem for p in MALFORMED}
+    for prefix, members in (
+        ("speed_", 6),
+        ("yaml11_", 15),
+        ("torque_in_", 4),
+        ("results_", 4),
+        ("constraint_", 6),
+    ):
+        assert sum(s.startswith(prefix) for s in stems) >= members, prefix
 
 
 @pytest.mark.parametrize("path", MALFORMED, ids=lambda p: p.stem)
-def test_malformed_config_is_refused_naming_the_key(path):
+def test_malformed_config_is_refused_naming_the_key(path, monkeypatch):
     """Each file of tests/malformed/ holds one mistake a user made (its '# why:' line) and the key
-    (or, for a file that is not a config at all, the file) the refusal must name."""
+    (or, for a file that is not a config at all, the file) the refusal must name. Read from the
+    workflow's folder, as Snakemake reads it (a results folder is checked relative to it)."""
+    monkeypatch.chdir(ROOT)
     with pytest.raises(ConfigError) as exc:
         config.load(path)
     key = Path(exc.value.key).name if exc.value.key.endswith(".yaml") else exc.value.key
@@ -323,3 +334,590 @@ def test_chunk_jobs_from_a_target_chunk_size(raw):
         where.pop("chunks")
     raw.pop("chunks")
     assert config.resolve(raw)["engagement"]["chunks"] == config.DEFAULT_CHUNKS
+
+
+# --- reading as meant, or refusing: speeds, temperatures, kinds, magnitudes, relations ----------
+
+
+def _study(name, parameters=None, **section):
+    return {
+        "studies": [name],
+        name: {"design": "factorial", **section, "parameters": parameters or {}},
+    }
+
+
+def test_every_default_is_plausible_and_every_temperature_has_a_kind():
+    """The seed design passes its own checks; a temperature parameter or output says whether it
+    is on the scale or a difference."""
+    for name in config.schema()["properties"]["studies"]["items"]["enum"]:
+        study = studies.get(name)
+        for p in study.parameters:
+            assert p.check(p.default) is None, (name, p.name)
+            assert (p.units == "K") == (p.kind in ("absolute", "difference")), (name, p.name)
+        for out in study.outputs:
+            units, kind = study.output_units(out)
+            assert (units == "K") == (kind in ("absolute", "difference")), (name, out)
+    eng = studies.get("engagement")
+    assert eng.output_units("bulk_temperature_rise") == ("K", "difference")
+    assert eng.output_units("peak_surface_temperature") == ("K", "absolute")
+
+
+@pytest.mark.parametrize(
+    "name, key, given, expected",
+    [
+        ("centrifugal", "rated_speed", "91.67 Hz", 91.67 * 2 * np.pi),  # 5500 rpm, not 875
+        ("centrifugal", "idle_speed", "2100 1/min", 2100 * np.pi / 30),
+        ("engagement", "engine_speed", "6000 1/min", 200 * np.pi),
+        ("engagement", "stribeck_speed", "2 Hz", 4 * np.pi),
+        ("roller", "rated_speed", "2000 rpm", 2000 * np.pi / 30),
+        ("sprag", "initial_speed", "10 rev/s", 20 * np.pi),
+        ("engagement", "ambient_temperature", "40 degC", 313.15),
+        ("engagement", "temperature_limit", "482 degF", 523.15),
+        ("diaphragm_spring", "friction_coefficient", "40 %", 0.4),
+        ("centrifugal", "pressure_angle", "38.84 deg", np.deg2rad(38.84)),
+        ("diaphragm_spring", "max_engine_torque", "0.173 kN*m", 173.0),
+    ],
+)
+def test_values_are_read_as_meant(name, key, given, expected):
+    assert config.resolve(_study(name, {key: given}))[name]["fixed"][key] == pytest.approx(
+        expected, rel=1e-12
+    )
+
+
+def test_the_friction_tables_slip_speeds_in_hz_are_revolutions():
+    sec = config.resolve(
+        _study(
+            "engagement",
+            friction_table={"slip_speed": ["0 Hz", "10 Hz"], "friction_coefficient": [0.4, 0.35]},
+        )
+    )["engagement"]
+    assert sec["options"]["friction_table"]["slip_speed"] == pytest.approx([0.0, 20 * np.pi])
+
+
+@pytest.mark.parametrize(
+    "output, given, expected",
+    [
+        ("bulk_temperature_rise", "1 degC", 1.0),  # a rise: never 274.15 K
+        ("bulk_temperature_rise", "9 degF", 5.0),
+        ("bulk_temperature_rise", "5 delta_degC", 5.0),
+        ("bulk_temperature_rise", 5, 5.0),
+        ("peak_surface_temperature", "200 degC", 473.15),
+        ("peak_surface_temperature", "473.15 K", 473.15),
+        ("slip_work", "5.8 kN*m", 5800.0),
+        ("slip_work", "5.8 kJ", 5800.0),
+    ],
+)
+def test_constraints_follow_their_outputs_kind(output, given, expected):
+    sec = config.resolve(_study("engagement", constraints={output: {"max": given}}))["engagement"]
+    assert sec["constraints"][output] == ["max", pytest.approx(expected, rel=1e-12)]
+
+
+@pytest.mark.parametrize(
+    "output, given, fragment",
+    [
+        ("peak_surface_temperature", 200, "needs a unit"),
+        ("peak_surface_temperature", "200 delta_degC", "difference"),
+        ("peak_friction_torque", "1 kJ", "torque"),
+        ("accel_jump", "100 1/s^2", "angle"),
+        ("bulk_temperature_rise", "6000 degF", "plausible"),
+    ],
+)
+def test_constraints_of_the_wrong_kind_are_refused(output, given, fragment):
+    cfg = _study("engagement", constraints={output: {"max": given}})
+    _expect(cfg, f"engagement.constraints.{output}.max", fragment)
+
+
+@pytest.mark.parametrize(
+    "name, key, given, fragments",
+    [
+        ("diaphragm_spring", "sheet_thickness", "2.3 Mm", ["2.3 Mm", "1e-07 to 10 m"]),
+        ("sprag", "sprags", 1_000_000, ["1e+06", "count"]),
+        ("centrifugal", "shoes", 1e20, ["1e+20", "count"]),
+        ("sprag", "youngs_modulus", 1e308, ["1e+308 Pa", "1.2e+12 Pa"]),
+        ("engagement", "engine_speed", 1e300, ["1e+300 rad/s"]),
+        ("engagement", "engine_speed", "16 kHz", ["16 kHz = 100531 rad/s"]),
+        ("roller", "friction_coefficient", 12, ["<= 2"]),
+        ("engagement", "damper_stiffness", "1e15 N*m/rad", ["1e+15 N m/rad"]),
+        ("engagement", "ramp_time", "2 d", ["86400 s"]),
+        ("roller", "wedge_angle", 11, ["a bare number is in rad"]),
+        ("engagement", "ambient_temperature", "5000 K", ["3000 K"]),
+        ("engagement", "driven_inertia", "inf", ["finite"]),
+    ],
+)
+def test_implausible_magnitudes_are_refused_naming_the_value_as_given(name, key, given, fragments):
+    _expect(_study(name, {key: given}), f"{name}.parameters.{key}", *fragments)
+
+
+def test_zero_is_judged_by_the_parameters_own_minimum():
+    sec = config.resolve(_study("engagement", {"air_gap": "0 mm", "stack_mass": 0}))["engagement"]
+    assert sec["fixed"]["air_gap"] == sec["fixed"]["stack_mass"] == 0.0
+    _expect(
+        _study("engagement", {"cushion_travel": "0 mm"}),
+        "engagement.parameters.cushion_travel",
+        "> 0",
+    )
+
+
+def _relation_cases():
+    """(study, parameters that break one relation for some scenario, the keys named)."""
+    return [
+        (
+            "diaphragm_spring",
+            {"sheet_thickness": 2.3},
+            "sheet_thickness",
+            "outer_radius",
+        ),
+        (
+            "engagement",
+            {"lining_inner_radius": "120 mm"},
+            "lining_inner_radius",
+            "lining_outer_radius",
+        ),
+        (
+            "diaphragm_spring",
+            {"lining_outer_radius": {"values": ["80 mm", "70 mm"]}},
+            "lining_inner_radius",
+            "lining_outer_radius",
+        ),
+        (
+            "centrifugal",
+            {"idle_speed": {"values": ["2000 rpm", "6000 rpm"]}},
+            "idle_speed",
+            "rated_speed",
+        ),
+        ("centrifugal", {"shoe_radius": "50 mm"}, "shoe_radius", "drum_radius"),
+        ("sprag", {"inner_bore_radius": "25 mm"}, "inner_bore_radius", "inner_race_radius"),
+        (
+            "sprag",
+            {"outer_race_radius": {"values": ["30 mm", "22 mm"]}},
+            "inner_race_radius",
+            "outer_race_radius",
+        ),
+        ("sprag", {"outer_rim_radius": "30 mm"}, "outer_race_radius", "outer_rim_radius"),
+        (
+            "diaphragm_spring",
+            {"load_radius_inner_offset": "20 mm", "load_radius_outer_offset": "8 mm"},
+            "load_radius_inner_offset",
+            "radius_ratio",
+        ),
+        (
+            "engagement",
+            {"end_time": "0.2 s", "ramp_time": {"values": ["0.1 s", "0.3 s"]}},
+            "end_time",
+            "ramp_time",
+        ),
+        (
+            "engagement",
+            {"end_time": "20 s", "fade_coefficient": {"values": [0, 0.002]}},
+            "end_time",
+            "fade_coefficient",
+        ),
+        (
+            "engagement",
+            {"temperature_limit": "35 degC"},
+            "temperature_limit",
+            "ambient_temperature",
+        ),
+        (
+            "engagement",
+            {"fade_coefficient": 0.002, "fade_onset_temperature": "30 degC"},
+            "fade_onset_temperature",
+            "ambient_temperature",
+        ),
+        ("roller", {"rollers": {"values": [12, 100]}}, "rollers", "contact_radius"),
+        ("roller", {"penetration_depth": "6 mm"}, "penetration_depth", "roller_diameter"),
+        (
+            "roller",
+            {"control_stop_time": {"values": ["1 ms", "5 ms", "inf"]}},
+            "control_stop_time",
+            "end_time",
+        ),
+    ]
+
+
+@pytest.mark.parametrize("name, params, first, other", _relation_cases())
+def test_a_relation_broken_for_some_scenario_is_refused_naming_both_keys(
+    name, params, first, other
+):
+    _expect(_study(name, params), f"{name}.parameters.{first}", f"'{name}.parameters.{other}' = ")
+
+
+STUDIES = ("diaphragm_spring", "engagement", "centrifugal", "sprag", "roller")
+
+
+@pytest.mark.parametrize("name", STUDIES)
+def test_relations_are_checked_at_the_worst_corner_of_the_design(name):
+    """A config passes the relation check exactly when every scenario of its grid meets every
+    relation (the relations are monotone in each parameter): random 2 x 2 x ... grids around the
+    seed design, each relation's parameters varied by up to a factor 3."""
+    from itertools import product
+
+    study = studies.get(name)
+    rng = np.random.default_rng(7)
+    outcomes = set()
+    for rel in study.relations:
+        for _ in range(25):
+            values = {}
+            for n in rel.names:
+                p = study.parameter(n)
+                d = p.default if np.isfinite(p.default) and p.default else 1e-3
+                values[n] = sorted({float(d * f) for f in rng.uniform(0.3, 3.0, 2)})
+            grid = [dict(zip(values, combo, strict=True)) for combo in product(*values.values())]
+            fails = any(not rel.holds(**g) for g in grid)
+            section = {
+                "name": name,
+                "fixed": {},
+                "factors": {n: {"values": v} for n, v in values.items()},
+            }
+            assert (studies.failed_relation(section, [rel]) is not None) == fails, (
+                rel.text,
+                values,
+            )
+            outcomes.add(fails)
+    assert outcomes == {True, False}  # (both met and broken relations were drawn)
+
+
+def test_a_zero_fade_coefficient_leaves_the_fade_relations_out():
+    sec = config.resolve(
+        _study("engagement", {"fade_onset_temperature": "30 degC", "end_time": "20 s"})
+    )
+    assert sec["engagement"]["fixed"]["fade_coefficient"] == 0.0
+
+
+# --- numbers as YAML 1.2 reads them, or refused; JSON; nesting ----------------------------------
+
+ROLLERS = (
+    "studies: [roller]\nroller:\n  design: factorial\n  parameters:\n    rollers: {values: [%s]}\n"
+)
+
+
+@pytest.mark.parametrize(
+    "text, yaml11, yaml12",
+    [
+        ("010", "8", "10"),  # octal in YAML 1.1
+        ("012", "10", "12"),
+        ("08", "'08'", "8"),
+        ("0o14", "'0o14'", "12"),
+        ("0b1100", "12", "'0b1100'"),
+        ("-0xc", "-12", "'-0xc'"),
+        ("1_2", "12", "'1_2'"),
+        ("1:12", "72", "'1:12'"),  # sexagesimal
+        ("1.2e1", "'1.2e1'", "12.0"),
+        ("12e0", "'12e0'", "12.0"),
+        ("+.5", "'+.5'", "0.5"),
+        ("-.5", "'-.5'", "-0.5"),
+        ("1_2.0", "12.0", "'1_2.0'"),
+        ("on", "true", "'on'"),
+        ("Off", "false", "'Off'"),
+        ("YES", "true", "'YES'"),
+        ("no", "false", "'no'"),
+        ("2024-01-12", "'2024-01-12'", "'2024-01-12'"),
+    ],
+)
+def test_a_number_yaml_11_and_12_read_differently_is_refused(tmp_path, text, yaml11, yaml12):
+    f = tmp_path / "c.yaml"
+    f.write_text(ROLLERS % text)
+    with pytest.raises(ConfigError) as exc:
+        config.read_file(f)
+    assert exc.value.key == "roller.parameters.rollers.values[0]"
+    assert f"{text} is read as" in str(exc.value) and f"write {yaml11}" in str(exc.value)
+    assert yaml12 in str(exc.value) and "\n" not in str(exc.value)
+
+
+@pytest.mark.parametrize(
+    "text", ["06", "12", "+12", "12.0", "1.2e+1", "0x0c", ".inf", "1.", "true"]
+)
+def test_a_number_both_read_alike_is_accepted(tmp_path, text):
+    f = tmp_path / "c.yaml"
+    f.write_text(ROLLERS % text)
+    assert config.read_file(f)["roller"]["parameters"]["rollers"]["values"][0] == yaml.safe_load(
+        text
+    )
+
+
+def test_a_key_yaml_11_reads_as_a_boolean_is_refused(tmp_path):
+    f = tmp_path / "c.yaml"
+    f.write_text("studies: [sprag]\nsprag: {design: factorial}\nreport: {on: 3}\n")
+    with pytest.raises(ConfigError, match="'report.on': the key on is read as the boolean true"):
+        config.read_file(f)
+
+
+def test_the_spellings_suggested_read_alike_in_yaml_11_and_12():
+    """Every spelling a refusal suggests is read the same by YAML 1.1 (PyYAML) and 1.2."""
+    import datetime
+
+    from hypothesis import given
+    from hypothesis import strategies as hs
+
+    from clutchlab._yaml_readings import spell, yaml12
+
+    def same(a, b):
+        return type(a) is type(b) and (a == b or (a != a and b != b))
+
+    @given(
+        hs.one_of(
+            hs.integers(-(10**20), 10**20),
+            hs.floats(allow_nan=True, allow_infinity=True),
+            hs.booleans(),
+            hs.none(),
+            hs.text(alphabet="0123456789abcdefxo_:.+-eE ", min_size=1, max_size=8),
+        )
+    )
+    def check(v):
+        text = spell(v)
+        read11 = yaml.safe_load(f"k: {text}")["k"]
+        plain = text[1:-1].replace("''", "'") if text.startswith("'") else None
+        assert same(read11, v)
+        assert same(yaml12(text), v) if plain is None else plain == v
+
+    check()
+    assert spell(datetime.date(2024, 1, 12)) == "'2024-01-12'"
+
+
+def test_a_json_config_indented_with_tabs_is_read_as_json(tmp_path):
+    import json
+
+    f = tmp_path / "c.json"
+    body = {
+        "studies": ["sprag"],
+        "sprag": {"design": "factorial", "parameters": {"torque": "500 N*m"}},
+    }
+    f.write_text(json.dumps(body, indent="\t"))
+    assert config.load(f)["sprag"]["fixed"]["torque"] == 500.0
+    f.write_text('{"studies": ["sprag"],\n\t"studies": ["roller"]}')
+    with pytest.raises(ConfigError, match="'studies': given twice"):
+        config.read_file(f)
+
+
+@pytest.mark.parametrize("depth", [17, 500, 100_000])
+@pytest.mark.parametrize("form", ["yaml", "json"])
+def test_deep_nesting_is_one_line_naming_the_file_or_key(tmp_path, depth, form):
+    f = tmp_path / f"c.{form}"
+    nest = "[" * depth + "]" * depth
+    f.write_text(
+        f"studies: [sprag]\nsprag: {{design: factorial}}\nx: {nest}\n"
+        if form == "yaml"
+        else f'{{"studies": ["sprag"], "sprag": {{"design": "factorial"}}, "x": {nest}}}'
+    )
+    with pytest.raises(ConfigError) as exc:
+        config.read_file(f)
+    assert exc.value.key in (str(f), "x" + "[0]" * config.MAX_DEPTH)
+    assert "\n" not in str(exc.value) and "nest" in str(exc.value)
+    cfg = {"studies": ["sprag"], "sprag": {"design": "factorial"}}
+    deep = cfg["sprag"]
+    for _ in range(depth if depth < 1000 else 50):
+        deep["parameters"] = {}
+        deep = deep["parameters"]
+    with pytest.raises(ConfigError, match="nests deeper"):
+        config.resolve(cfg)
+
+
+@pytest.mark.parametrize(
+    "entry, expect",
+    [
+        ("chunks=010", 10),  # Python int(): decimal, as YAML 1.2 reads it
+        ("chunks=1_0", 10),
+        ("max_scenarios=1e7", 10_000_000),
+        ("chunks=0x10", "chunks"),  # text: refused by the schema
+        ("chunks=on", "chunks"),
+        ("report={benchmark: on}", "report.benchmark"),  # nested values arrive as text
+        ("report={dpi: 100}", "report.dpi"),
+    ],
+)
+def test_snakemake_config_overrides_are_read_as_yaml_12_or_refused(raw, entry, expect):
+    """`snakemake --config key=value` is parsed by Snakemake (int(), float(), True/False, else YAML
+    with every scalar as text) and then resolved: a number reads as YAML 1.2 would, anything else
+    where a number or a boolean belongs is refused naming the key."""
+    from snakemake.cli import parse_config
+    from snakemake.utils import update_config
+
+    update_config(raw, parse_config([entry]))
+    if isinstance(expect, str):
+        with pytest.raises(ConfigError) as exc:
+            config.resolve(raw)
+        assert exc.value.key == expect
+    else:
+        key = entry.split("=")[0]
+        assert config.resolve(raw)[key] == expect if key != "chunks" else True
+        if key == "chunks":
+            assert config.resolve(raw)["engagement"]["chunks"] == expect
+
+
+def test_snakemake_config_override_of_a_quantity_reads_text_as_yaml_12(raw):
+    from snakemake.cli import parse_config
+    from snakemake.utils import update_config
+
+    update_config(raw, parse_config(["sprag={parameters: {sprags: 010, torque: 750 N*m}}"]))
+    assert config.resolve(raw)["sprag"]["fixed"]["sprags"] == 10.0  # not octal 8
+    update_config(raw, parse_config(["sprag={parameters: {sprags: 0b1100}}"]))
+    _expect(raw, "sprag.parameters.sprags", "0b1100")
+
+
+# --- late crashes refused at config time ---------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "results, fragment",
+    [
+        ("Snakefile", "existing file"),
+        ("Snakefile/out", "is a file"),
+        ("config", "config/ folder"),
+        ("config/results", "config/ folder"),
+        ("workflows/x", "workflows/ folder"),
+        ("/proc/clutchlab_results", "cannot be written"),
+    ],
+)
+def test_a_results_folder_that_cannot_take_results_is_refused(monkeypatch, results, fragment):
+    monkeypatch.chdir(ROOT)
+    _expect({**_study("sprag"), "results": results}, "results", fragment)
+
+
+def test_a_results_folder_that_can_take_results_is_accepted(monkeypatch, tmp_path):
+    monkeypatch.chdir(tmp_path)
+    assert config.resolve({**_study("sprag"), "results": "a/b/c"})["results"] == "a/b/c"
+    assert not (tmp_path / "a").exists()  # nothing made at config time
+
+
+def test_curves_is_a_whole_number_up_to_the_design_size():
+    sec = {"design": "sobol", "samples": 8, "parameters": {"torque": {"min": 100, "max": 200}}}
+    cfg = {"studies": ["sprag"], "sprag": sec}
+    for bad in (1e20, 9, 2.5):
+        sec["curves"] = bad
+        _expect(cfg, "sprag.curves")
+    sec["curves"] = 8
+    assert config.resolve(cfg)["sprag"]["curve_stride"] == 8
+
+
+@pytest.mark.parametrize("design", ["lhs", "sobol", "saltelli"])
+def test_a_sampled_design_without_a_factor_is_refused(design):
+    _expect(_study("sprag", design=design, samples=8), "sprag.parameters", "factor")
+    ok = _study(
+        "engagement", design=design, samples=8, options={"profile": {"values": ["ramp", "cubic"]}}
+    )
+    if design != "saltelli":  # (an option drawn per scenario is a factor of a sampled design)
+        assert config.resolve(ok)["engagement"]["option_factors"] == {"profile": ["ramp", "cubic"]}
+
+
+# --- any text: read, or refused in one line naming the file or key ------------------------------
+
+YAMLISH = [
+    "studies: [sprag]\n",
+    "sprag:\n",
+    "  design: factorial\n",
+    "a: ",
+    "b:",
+    " ",
+    "\n",
+    "\t",
+    "[",
+    "]",
+    "{",
+    "}",
+    ",",
+    ":",
+    "- ",
+    "&x ",
+    "*x",
+    "!!binary aGk=",
+    "!!set {a, b}",
+    "!!int ",
+    "!!float ",
+    "!!str ",
+    "? ",
+    "010",
+    "on",
+    "1e3",
+    "2024-01-01",
+    '"',
+    "'",
+    "#",
+    "<<: *x",
+    "~",
+    ".inf",
+    "---\n",
+    "%YAML 1.2\n",
+    "1:30",
+    "\x00",
+    "\ufeff",
+    "|\n",
+    '{"a": 1}',
+    "[[[[",
+]
+
+
+def test_any_text_is_read_or_refused_in_one_line(tmp_path):
+    """Config files made of YAML and JSON pieces (tags, anchors, tabs, NUL, BOM, directives):
+    read_file returns a mapping or raises one ConfigError line, never another exception
+    (PyYAML's constructor raised ValueError/IndexError for `!!int ` and a reader error for NUL)."""
+    from hypothesis import HealthCheck, example, given, settings
+    from hypothesis import strategies as hs
+
+    f = tmp_path / "c.yaml"
+
+    @settings(max_examples=300, deadline=None, suppress_health_check=list(HealthCheck))
+    @given(hs.lists(hs.sampled_from(YAMLISH), max_size=20))
+    @example(["!!int "])
+    @example(["!!float ", "studies: [sprag]\n"])
+    @example(["\x00"])
+    def check(parts):
+        f.write_text("".join(parts), encoding="utf-8")
+        try:
+            assert isinstance(config.read_file(f), dict)
+        except ConfigError as exc:
+            assert "\n" not in str(exc)
+
+    check()
+
+
+def test_any_quantity_text_converts_or_is_refused():
+    """A number followed by any string of unit pieces: a finite SI value or a UnitError (pint raised
+    OverflowError for m^1e308 while finding its root units)."""
+    from hypothesis import HealthCheck, example, given, settings
+    from hypothesis import strategies as hs
+
+    from clutchlab.units import UnitError, to_si
+
+    pieces = ["m", "mm", "Hz", "rpm", "deg", "degC", "delta_degC", "K", "J", "N", "*", "/", "^"]
+    pieces += ["**", "2", "-1", "(", ")", " ", "%", "rad", "s", "min", "kg", "1e308", "°", "²"]
+    units = ["m", "N m", "rad/s", "1", "K", "kg m^2", "N m/rad", "rad", "J", "1/K"]
+
+    @settings(max_examples=500, deadline=None, suppress_health_check=list(HealthCheck))
+    @given(hs.floats(allow_nan=False, width=64), hs.lists(hs.sampled_from(pieces), max_size=6))
+    @example(0.0, ["°", "^", "1e308"])
+    def check(number, parts):
+        for unit in units:
+            try:
+                assert np.isfinite(
+                    to_si(f"{number!r} {''.join(parts)}", unit, "absolute" if unit == "K" else None)
+                )
+            except UnitError:
+                pass
+
+    check()
+
+
+def test_stored_temperatures_say_their_kind():
+    """CF units_metadata: an absolute temperature (input or output) is on the scale, a rise and a
+    per-kelvin coefficient are differences; nothing else carries it."""
+    from clutchlab import doe, pipeline
+
+    sec = config.resolve(
+        _study(
+            "engagement",
+            {"ambient_temperature": {"values": ["30 degC", "40 degC"]}},
+            options={"driveline": "rigid"},
+        )
+    )["engagement"]
+    design = doe.build_design(sec)
+    assert design["ambient_temperature"].attrs["units_metadata"] == "temperature: on_scale"
+    assert design["temperature_limit"].attrs["units_metadata"] == "temperature: on_scale"
+    assert design["fade_coefficient"].attrs["units_metadata"] == "temperature: difference"
+    assert "units_metadata" not in design["ramp_time"].attrs
+    ds = pipeline.run_study(sec)
+    assert ds["bulk_temperature_rise"].attrs["units_metadata"] == "temperature: difference"
+    assert ds["peak_surface_temperature"].attrs["units_metadata"] == "temperature: on_scale"
+    assert ds["ambient_temperature"].attrs["units_metadata"] == "temperature: on_scale"
+    assert ds["ambient_temperature"].values == pytest.approx([303.15, 313.15])
+    for name, var in {**ds.coords, **ds.data_vars}.items():
+        if var.attrs.get("units") == "K":
+            assert var.attrs.get("units_metadata", "").startswith("temperature: "), name

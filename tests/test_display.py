@@ -4,6 +4,7 @@ absolute in degC and differences in K, and the constraint echo in the unit a use
 
 import numpy as np
 import pytest
+import xarray as xr
 
 from clutchlab import display
 from clutchlab.units import to_si
@@ -37,12 +38,19 @@ def test_engineering_units_of_the_issue():
 
 def test_temperatures_absolute_or_difference():
     """An absolute temperature in degC (offset -273.15), a difference (a rise) in K; the variable's
-    temperature_kind attribute wins over the name."""
+    CF units_metadata attribute wins over the name."""
     assert display.unit("K", "ambient_temperature").text == "degC"
     assert display.unit("K", "bulk_temperature_rise").text == "K"
     assert display.unit("K", "bulk_temperature_rise")(2.29) == 2.29
     assert display.unit("K", "anything", kind="difference").text == "K"
     assert display.unit("K", "x_rise", kind="absolute")(273.15) == pytest.approx(0.0, abs=1e-12)
+    ds = xr.Dataset(
+        {
+            "a_rise": ((), 1.0, {"units": "K", "units_metadata": "temperature: on_scale"}),
+            "b": ((), 1.0, {"units": "K", "units_metadata": "temperature: difference"}),
+        }
+    )
+    assert display.unit_of(ds, "a_rise").text == "degC" and display.unit_of(ds, "b").text == "K"
     u = display.unit("K", "peak_surface_temperature")  # written back into a config, pint reads it
     assert to_si(f"{u(473.15)!r} {u.text}", "K") == pytest.approx(473.15, rel=1e-14)
 

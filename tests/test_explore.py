@@ -239,7 +239,11 @@ def test_grid_decomposition_additive_and_interaction():
                 "design": "sobol",
                 "samples": 16,
                 "options": {"driveline": "compliant"},
-                "parameters": {"ramp_time": {"min": "0.05 s", "max": "1.5 s"}},
+                # (the window covers the longest ramp: a config refuses end_time <= ramp_time)
+                "parameters": {
+                    "ramp_time": {"min": "0.05 s", "max": "1.5 s"},
+                    "end_time": "1.6 s",
+                },
             },
         ),
     ],

@@ -300,3 +300,103 @@ def test_studies_never_import_the_report():
     assert sorted(report.FIGURE_MODULES) == sorted(studies.REGISTRY)
     for name in studies.REGISTRY:
         assert report.study_page_stems(name)
+
+
+def _single_factors():
+    """Every parameter of every study varied alone over two values near its seed value (a count
+    by 2, a choice over both, an infinite default over finite values), the rest at the seed."""
+    from clutchlab import studies
+
+    for name in ("diaphragm_spring", "engagement", "centrifugal", "sprag", "roller"):
+        for p in studies.get(name).parameters:
+            d = p.default
+            if p.choices is not None:
+                vals = list(p.choices)
+            elif not np.isfinite(d):
+                vals = [50.0, 100.0] if p.units == "rad/s" else [1.0, 2.0]
+            elif p.integer:
+                vals = [d, d + 2]
+            elif d == 0:
+                vals = [0.0, 1e-3 if p.units in ("m", "kg") else 0.01]
+            else:
+                vals = [d, d * 1.05]
+            if p.units == "K":
+                vals = [f"{v} K" for v in vals]
+            # one parameter per study in the quick suite (the diaphragm's friction coefficient
+            # crashed its pages), every one in the slow suite
+            quick = p.name in QUICK_SINGLE_FACTORS.get(name, ())
+            yield pytest.param(
+                name, p.name, vals, id=f"{name}-{p.name}", marks=() if quick else pytest.mark.slow
+            )
+
+
+QUICK_SINGLE_FACTORS = {
+    "diaphragm_spring": ("friction_coefficient",),
+    "engagement": ("ambient_temperature",),
+    "centrifugal": ("idle_speed",),
+    "sprag": ("rise_time",),
+    "roller": ("control_stop_time",),
+}
+
+
+@pytest.mark.parametrize("name, factor, values", list(_single_factors()))
+def test_pages_draw_with_any_single_factor_varied(name, factor, values):
+    """A factorial grid over any one parameter (the report's figures expect the default config's
+    factors) reaches every page of its study: its own, the answers and the sensitivity page."""
+    import matplotlib.pyplot as plt
+
+    from clutchlab import explore
+    from clutchlab.report import answers
+
+    sec = resolve(
+        {
+            "studies": [name],
+            name: {"design": "factorial", "parameters": {factor: {"values": values}}},
+        }
+    )[name]
+    ds = pipeline.run_study(sec)
+    assert ds[factor].size == len(values)
+    outputs = [o.split(":")[0] for o in sec["objectives"]] + list(sec["constraints"])
+    figs = [fig for _, fig in report.study_pages(name, ds)]
+    figs += [
+        answers.page(name, ds),
+        answers.sensitivity_page(name, explore.sensitivity(ds, outputs)),
+    ]
+    for fig in figs:
+        fig.canvas.draw()
+        plt.close(fig)
+
+
+@pytest.mark.parametrize(
+    "name",
+    [
+        "diaphragm_spring",
+        *(
+            pytest.param(n, marks=pytest.mark.slow)
+            for n in ("engagement", "centrifugal", "sprag", "roller")
+        ),
+    ],
+)
+def test_a_grid_of_no_factor_runs_in_chunks_to_its_report(tmp_path, name):
+    """A factorial section with no factor is a one-scenario study: its chunks (all but one empty)
+    merge and its report builds (no sensitivity page: nothing varies)."""
+    from clutchlab import doe
+
+    sec = resolve({"studies": [name], "chunks": 3, name: {"design": "factorial"}})[name]
+    design = store.write(doe.build_design(sec), tmp_path / f"{name}_design.h5")
+    design = store.load(design)
+    chunks = []
+    for i in range(sec["chunks"]):
+        chunks.append(tmp_path / f"{name}_{i}.h5")
+        store.write(
+            pipeline.run_chunk(design, sec["options"], 3, i), chunks[-1], with_checksum=True
+        )
+    out = tmp_path / f"{name}.h5"
+    pipeline.merge_to_file(design, chunks, out, sec["objectives"], sec["constraints"])
+    merged = store.load(out)
+    single = pipeline.run_study(sec)
+    assert merged["status"].size == 1 and int(merged["status"].values.ravel()[0]) == int(
+        single["status"]
+    )
+    written = report.build({name: out}, [], tmp_path / f"report_{name}")
+    assert (tmp_path / f"report_{name}" / "report.pdf").stat().st_size > 0 and written

@@ -29,3 +29,148 @@ def test_to_si(text, unit, expected):
 def test_bad_quantities(bad):
     with pytest.raises(UnitError):
         to_si(bad, "m")
+
+
+TWO_PI = 2 * math.pi
+
+
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        # a frequency without an angle is revolutions per time (x 2 pi)
+        ("91.67 Hz", 91.67 * TWO_PI),
+        ("0.09167 kHz", 91.67 * TWO_PI),
+        ("91670 mHz", 91.67 * TWO_PI),
+        ("91.67 1/s", 91.67 * TWO_PI),
+        ("91.67 s^-1", 91.67 * TWO_PI),
+        ("5500 1/min", 5500 * TWO_PI / 60),
+        ("5500 min^-1", 5500 * TWO_PI / 60),
+        # with an angle: as written
+        ("5500 rpm", 5500 * TWO_PI / 60),
+        ("91.67 rps", 91.67 * TWO_PI),
+        ("91.67 rev/s", 91.67 * TWO_PI),
+        ("5500 rev/min", 5500 * TWO_PI / 60),
+        ("5500 turn/min", 5500 * TWO_PI / 60),
+        ("91.67 cycle/s", 91.67 * TWO_PI),
+        ("360 deg/s", TWO_PI),
+        ("576 rad/s", 576.0),
+        ("576", 576.0),  # a bare number: SI rad/s
+    ],
+)
+def test_an_angular_speed_given_as_a_frequency_is_revolutions_per_time(text, expected):
+    assert to_si(text, "rad/s") == pytest.approx(expected, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    "text, kind, expected",
+    [
+        ("40 degC", "absolute", 313.15),
+        ("40 °C", "absolute", 313.15),
+        ("104 degF", "absolute", 313.15),
+        ("313.15 K", "absolute", 313.15),
+        ("563.67 degR", "absolute", 313.15),
+        ("-273.15 degC", "absolute", 0.0),
+        # a difference: degC, K and delta_degC alike, degF x 5/9, never an offset
+        ("10 degC", "difference", 10.0),
+        ("10 K", "difference", 10.0),
+        ("10 delta_degC", "difference", 10.0),
+        ("18 degF", "difference", 10.0),
+        ("18 delta_degF", "difference", 10.0),
+        (10, "difference", 10.0),
+        ("10", "difference", 10.0),
+    ],
+)
+def test_temperatures_are_read_by_their_kind(text, kind, expected):
+    assert to_si(text, "K", kind) == pytest.approx(expected, rel=1e-12, abs=1e-12)
+
+
+@pytest.mark.parametrize(
+    "text, unit, expected",
+    [
+        ("0.01 1/degC", "1/K", 0.01),  # inside a compound unit a temperature is a difference
+        ("0.01 1/degF", "1/K", 0.018),
+        ("40 W/(m^2*degC)", "W/(m^2*K)", 40.0),
+        ("40 W/(m^2*K)", "W/(m^2*K)", 40.0),
+    ],
+)
+def test_a_temperature_in_a_compound_unit_is_a_difference(text, unit, expected):
+    assert to_si(text, unit) == pytest.approx(expected, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    "bad, kind, fragment",
+    [
+        (40, "absolute", "needs a unit"),
+        (313.15, "absolute", "needs a unit"),
+        ("40", "absolute", "needs a unit"),
+        ("500 delta_degC", "absolute", "difference"),
+        ("900 delta_degF", "absolute", "difference"),
+        ("40 C", "absolute", "convertible"),  # coulomb
+    ],
+)
+def test_an_absolute_temperature_needs_a_unit_on_the_scale(bad, kind, fragment):
+    with pytest.raises(UnitError, match=fragment):
+        to_si(bad, "K", kind)
+
+
+def test_a_temperature_needs_its_kind():
+    with pytest.raises(ValueError):
+        to_si("40 degC", "K")
+
+
+@pytest.mark.parametrize(
+    "text, unit, kind, expected",
+    [
+        ("20 %", "1", None, 0.2),  # a percentage is a hundredth
+        ("200 permille", "1", None, 0.2),
+        ("0.2", "1", None, 0.2),
+        ("11 deg", "rad", None, math.radians(11)),
+        ("0.03 turn", "rad", None, 0.03 * TWO_PI),
+        ("11 grad", "rad", None, 11 * math.pi / 200),
+        (0.19, "rad", None, 0.19),
+        ("4498 N*m/rad", "N m/rad", None, 4498.0),
+        ("78.5 N*m/deg", "N m/rad", None, 78.5 * 180 / math.pi),
+        ("173 N*m", "N m", None, 173.0),
+        ("0.173 kN*m", "N m", None, 173.0),
+        ("127.6 lbf*ft", "N m", None, 127.6 * 1.3558179483314004),
+        ("17.64 kgf*m", "N m", None, 17.64 * 9.80665),
+        ("5.8 kJ", "J", None, 5800.0),  # work: J and N m alike
+        ("5.8 kN*m", "J", None, 5800.0),
+        ("5800 W*s", "J", None, 5800.0),
+        (12, "1", "count", 12.0),
+        ("12", "1", "count", 12.0),
+    ],
+)
+def test_units_of_the_right_kind(text, unit, kind, expected):
+    assert to_si(text, unit, kind) == pytest.approx(expected, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    "bad, unit, kind, fragment",
+    [
+        ("20 deg", "1", None, "angle"),  # pint: 0.349
+        ("0.35 rad", "1", None, "angle"),
+        ("0.1 rev", "1", None, "angle"),
+        ("20 °", "1", None, "angle"),
+        ("11 %", "rad", None, "angle"),
+        ("0.2 dimensionless", "rad", None, "angle"),
+        ("4498 N*m", "N m/rad", None, "no angle"),
+        ("100 1/s^2", "rad/s^2", None, "no angle"),
+        ("173 J", "N m", None, "not written as a torque"),  # pint: 173 N m
+        ("0.173 kJ", "N m", None, "not written as a torque"),
+        ("1e-4 kWh", "N m", None, "not written as a torque"),
+        ("173 W*s", "N m", None, "not written as a torque"),
+        ("173 kg*m^2/s^2", "N m", None, "not written as a torque"),
+        ("127.6 foot_pound", "N m", None, "not written as a torque"),
+        ("0.7 kg*m^2", "N m s^2", None, "not written as a torque"),
+        ("12 %", "1", "count", "count"),
+        ("12 dimensionless", "1", "count", "count"),
+        ("1.5 ton*m^2", "kg m^2", None, "short ton"),  # pint: the US short ton
+        ("134 hp", "W", None, "horsepower"),  # mechanical or metric?
+        ("2 tonf", "N", None, "tonne-force"),
+        ("2.3 mil", "m", None, "angle"),  # pint: an angular mil, not a thou
+    ],
+)
+def test_units_of_the_wrong_kind_are_refused(bad, unit, kind, fragment):
+    with pytest.raises(UnitError, match=fragment):
+        to_si(bad, unit, kind)

@@ -42,6 +42,9 @@ DEFAULT_MAX_SCENARIOS = 2**21
 # YAML nodes a config file may expand to (anchors and aliases counted as often as they are used):
 # the largest shipped config has a few hundred; an alias bomb has billions
 MAX_NODES = 100_000
+# levels of mappings and lists a config may nest (the deepest shipped config nests 6: a study's
+# friction_table or a factor's values list)
+MAX_DEPTH = 16
 
 
 class ConfigError(ValueError):
@@ -93,12 +96,30 @@ def _expanded_size(obj, memo=None) -> int:
 
 
 def read_file(path) -> dict:
-    """Read a config file as data: UTF-8 YAML (or JSON), safe types only, no key twice, no template.
+    """Read a config file as data: UTF-8 JSON or YAML, safe types only, no key twice, no template,
+    no scalar that YAML 1.1 and YAML 1.2 read differently.
 
-    Snakemake reads ``--configfile`` itself (its loader evaluates a file that starts with
-    ``__use_yte__: true`` as a YTE template, and keeps the last of a duplicated key): the default
-    workflow profile calls :func:`precheck_argv` before that, and the Snakefile reads every config
-    file again through this function, so what it refuses stops the run before any job.
+    Snakemake reads ``--configfile`` itself, as JSON if it can and else with PyYAML, a YAML 1.1
+    reader (``010`` is 8, ``on`` a boolean, ``1e-4`` text; its loader also evaluates a file that
+    starts with ``__use_yte__: true`` as a YTE template, and keeps the last of a duplicated key):
+    the default workflow profile calls :func:`precheck_argv` before that, and the Snakefile reads
+    every config file again through this function, so what it refuses stops the run before any
+    job. A JSON file is read as JSON (tabs and all), like Snakemake does.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The config file.
+
+    Returns
+    -------
+    dict
+        The file's data.
+
+    Raises
+    ------
+    ConfigError
+        Naming the file, or the key of a scalar read differently by YAML 1.1 and 1.2.
     """
     where = str(path)
     try:
@@ -115,14 +136,80 @@ def read_file(path) -> dict:
             "config file",
         ) from None
     try:
-        raw = yaml.load(text, Loader=_StrictLoader)
+        raw = _read_json(text)
+        if raw is _NOT_JSON:
+            raw = _read_yaml(text, where)
+    except RecursionError:
+        raise ConfigError(
+            where,
+            "nests brackets or indentation too deep to be read (a clutchlab config nests "
+            f"{MAX_DEPTH} levels at most)",
+            "config file",
+        ) from None
+    _check_data(raw, where)
+    return raw
+
+
+_NOT_JSON = object()
+
+
+def _read_json(text):
+    """The data of a JSON text (a key twice refused), or _NOT_JSON where the text is not JSON."""
+    import json
+
+    def pairs(items):
+        seen = set()
+        for key, _ in items:
+            if key in seen:
+                raise ConfigError(
+                    str(key), "given twice in one JSON object; JSON readers keep the last"
+                )
+            seen.add(key)
+        return dict(items)
+
+    try:
+        return json.loads(text, object_pairs_hook=pairs)
+    except json.JSONDecodeError:
+        return _NOT_JSON
+
+
+def _read_yaml(text, where):
+    """The data of a YAML text; refuses invalid YAML and any scalar YAML 1.1 reads otherwise than
+    YAML 1.2 (:mod:`clutchlab._yaml_readings`)."""
+    from ._yaml_readings import misreadings
+
+    loader = None
+    try:
+        loader = _StrictLoader(text)
+        node = loader.get_single_node()
+        raw = loader.construct_document(node) if node is not None else None
     except ConfigError:
         raise
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         at = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
-        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        problem = getattr(exc, "problem", None) or (str(exc).splitlines() or [""])[0]
         raise ConfigError(where, f"is not valid YAML{at}: {problem}", "config file") from None
+    except (ValueError, TypeError, IndexError, OverflowError) as exc:  # a tag's value (!!int x)
+        raise ConfigError(
+            where,
+            f"is not valid YAML: {type(exc).__name__}: {(str(exc).splitlines() or [''])[0]}",
+            "config file",
+        ) from None
+    finally:
+        if loader is not None:
+            loader.dispose()
+    if isinstance(raw, dict):  # (aliases are walked once: an alias bomb is refused below)
+        for key, problem in misreadings(node):
+            raise ConfigError(key, problem)
+    return raw
+
+
+def _check_data(raw, where) -> None:
+    """A config file's data: a mapping, not an alias bomb, not nested deeper than MAX_DEPTH, not a
+    template."""
+    from ._yaml_readings import deepest, path_text
+
     if raw is None:
         raise ConfigError(
             where,
@@ -135,6 +222,11 @@ def read_file(path) -> dict:
             f"must be a mapping of keys at the top level, got {type(raw).__name__}",
             "config file",
         )
+    deep = deepest(raw, MAX_DEPTH)
+    if deep is not None:
+        raise ConfigError(
+            path_text(deep), f"nests deeper than {MAX_DEPTH} levels (a config needs 6)"
+        )
     if _expanded_size(raw) > MAX_NODES:
         raise ConfigError(
             where,
@@ -146,7 +238,6 @@ def read_file(path) -> dict:
         raise ConfigError(
             "__use_yte__", "config files are data, not templates: clutchlab refuses YTE templating"
         )
-    return raw
 
 
 @functools.lru_cache(maxsize=1)
@@ -191,9 +282,12 @@ ACCURACY_RANGE = (1e-7, 1e-2)
 
 
 def _quantity(value, param, key, finite=False) -> float:
-    if param.allow_infinite and (
-        value == float("inf") or str(value).strip().lower() in ("inf", ".inf")
-    ):
+    """A parameter's value (as given in the config at ``key``) in SI, read by its unit and kind
+    and checked against its bounds and plausible magnitude."""
+    infinite = value == float("inf") or str(value).strip().lower() in ("inf", ".inf", "+inf")
+    if infinite and not param.allow_infinite:
+        raise ConfigError(key, f"must be finite, got {value!r} (inf means nothing here)")
+    if infinite:
         if finite:
             raise ConfigError(
                 key,
@@ -202,17 +296,18 @@ def _quantity(value, param, key, finite=False) -> float:
             )
         return float("inf")
     try:
-        v = to_si(value, param.units)
+        v = to_si(value, param.units, param.unit_kind)
     except UnitError as exc:
         raise ConfigError(key, str(exc)) from None
-    why = param.check(v)
+    why = param.check(v, value)
     if why:
         raise ConfigError(key, why)
     return v
 
 
 def _table(study, tname, spec, key) -> dict:
-    """A measured table of a study section in SI: {x name: [...], y name: [...]}, both finite, of equal
+    """A measured table of a study section in SI: {x name: [...], y name: [...]}, both finite and
+    of plausible magnitude (a column named like a parameter within its bounds too), of equal
     length, x increasing from ≥ 0, y > 0."""
     if tname not in study.tables:
         raise ConfigError(key, f"not read by the {study.name} study")
@@ -225,8 +320,9 @@ def _table(study, tname, spec, key) -> dict:
                 vals.append(to_si(v, units))
             except UnitError as exc:
                 raise ConfigError(f"{key}.{col}[{i}]", str(exc)) from None
-            if not np.isfinite(vals[-1]):
-                raise ConfigError(f"{key}.{col}[{i}]", f"must be finite, got {vals[-1]:g}")
+            why = _column_check(study, col, units, vals[-1], v)
+            if why:
+                raise ConfigError(f"{key}.{col}[{i}]", why)
         cols[col] = vals
     x, y = np.array(cols[xn]), np.array(cols[yn])
     if x.size != y.size:
@@ -238,6 +334,16 @@ def _table(study, tname, spec, key) -> dict:
     if np.any(y <= 0):
         raise ConfigError(f"{key}.{yn}", "must be > 0")
     return cols
+
+
+def _column_check(study, col, units, value, given) -> str | None:
+    """Why a table entry (SI ``value``, as ``given``) is implausible (a column named like one of
+    the study's parameters: outside that parameter's bounds), or None."""
+    try:
+        param = study.parameter(col)
+    except KeyError:
+        param = studies.Parameter(col, units, col, 0.0, minimum=None)
+    return param.check(value, given)
 
 
 def _count(section, key, name):
@@ -299,7 +405,14 @@ def _curve_stride(name, section, design, n) -> int:
                 "a factorial grid stores every scenario's curves (its figures read "
                 "them over the grid); a subset is for sampled designs",
             )
-        return _count(section, "curves", f"{name}.curves")
+        stride = _count(section, "curves", f"{name}.curves")
+        if not 1 <= stride <= max(n, 1):
+            raise ConfigError(
+                f"{name}.curves",
+                f"every how many scenarios to store curves: a whole number from 1 to the design's "
+                f"{n} scenarios, got {stride}",
+            )
+        return stride
     return 1 if design == "factorial" or n <= CURVES_ALL_MAX else -(-n // CURVE_DESIGNS)
 
 
@@ -337,10 +450,32 @@ def _resolve_study(
                     "not used by a factorial design (its scenarios are the "
                     "grid of the factors' values); remove it or choose design lhs/sobol",
                 )
+    _resolve_parameters(study, section, out, max_scenarios)
+    n = scenario_count(out)
+    if n > max_scenarios:
+        raise _ceiling(name, n, max_scenarios)
+    out["chunks"] = chunk_count(n, _chunking(section, f"{name}.") or default_chunks)
+    out["curve_stride"] = _curve_stride(name, section, design, n)
+    out["objectives"], out["constraints"] = _answers(study, section)
+    problem = studies.failed_relation(out, study.relations) or (
+        study.check_config(out) if study.check_config is not None else None
+    )
+    if problem:
+        raise ConfigError(*problem)
+    return out
+
+
+def _resolve_parameters(study, section: dict, out: dict, max_scenarios: int) -> None:
+    """A study section's parameters into ``out["fixed"]`` (SI; the seed design's value where not
+    given) and ``out["factors"]``; a sampled design needs a factor to sample."""
+    name, design = out["name"], out["design"]
     given = section.get("parameters", {}) or {}
     for param in study.parameters:
         key = f"{name}.parameters.{param.name}"
-        spec = given.get(param.name, param.default)
+        if param.name not in given:  # the seed design's value (SI, checked by the tests)
+            out["fixed"][param.name] = float(param.default)
+            continue
+        spec = given[param.name]
         if isinstance(spec, dict):
             out["factors"][param.name] = _factor(param, spec, design, key, name, max_scenarios)
         else:
@@ -349,17 +484,13 @@ def _resolve_study(
         raise ConfigError(
             f"{name}.parameters", "design 'saltelli' needs at least one factor (min/max)"
         )
-    n = scenario_count(out)
-    if n > max_scenarios:
-        raise _ceiling(name, n, max_scenarios)
-    out["chunks"] = chunk_count(n, _chunking(section, f"{name}.") or default_chunks)
-    out["curve_stride"] = _curve_stride(name, section, design, n)
-    out["objectives"], out["constraints"] = _answers(study, section)
-    if study.check_config is not None:
-        problem = study.check_config(out)
-        if problem:
-            raise ConfigError(*problem)
-    return out
+    if design != "factorial" and not out["factors"] and not out.get("option_factors"):
+        raise ConfigError(
+            f"{name}.parameters",
+            f"design '{design}' samples factors and this section has none (a min/max or values "
+            "for a parameter, or an option's values); for the one design of fixed values use "
+            "design factorial",
+        )
 
 
 def _resolve_options(study, section: dict, out: dict) -> None:
@@ -570,23 +701,26 @@ def _answers(study, section):
             )
     if len({o.partition(":")[0] for o in objectives}) != len(objectives):
         raise ConfigError(f"{name}.objectives", "an output given twice")
-    constraints = {}
     given = section.get("constraints")
-    for output, limit in (
-        given.items()
-        if given is not None
-        else ((k, {op: v}) for k, (op, v) in study.constraints.items())
-    ):
+    if given is None:  # the study's defaults (SI)
+        return objectives, {k: [op, float(v)] for k, (op, v) in study.constraints.items()}
+    constraints = {}
+    for output, limit in given.items():
         key = f"{name}.constraints.{output}"
         if output not in study.outputs:
             raise ConfigError(
                 key, "unknown output (choose from " + ", ".join(sorted(study.outputs)) + ")"
             )
         ((op, value),) = limit.items()
+        units, kind = study.output_units(output)
         try:
-            v = to_si(value, study.outputs[output])
+            v = to_si(value, units, kind)
         except UnitError as exc:
             raise ConfigError(f"{key}.{op}", str(exc)) from None
+        # a limit of implausible magnitude for its unit (zero and negative margins are fine)
+        why = studies.Parameter(output, units, output, 0.0, minimum=None, kind=kind).check(v, value)
+        if why:
+            raise ConfigError(f"{key}.{op}", why)
         constraints[output] = [op, v]
     return objectives, constraints
 
@@ -599,8 +733,69 @@ def _ceiling(name, n, max_scenarios) -> ConfigError:
     )
 
 
+# folders of the workflow's source tree (relative to the working folder) results may not be in
+SOURCE_FOLDERS = ("config", "workflows", "src")
+
+
+def _check_results(path: str) -> None:
+    """The results folder can be made and written, is not a file and not inside the source tree
+    (``config/`` holds the configs: a report or result written there mixes with them)."""
+    import os
+    import tempfile
+
+    full = os.path.realpath(path)
+    for part in SOURCE_FOLDERS:
+        src = os.path.realpath(part)
+        if os.path.isdir(src) and (full == src or full.startswith(src + os.sep)):
+            raise ConfigError(
+                "results",
+                f"{path!r} is inside the workflow's {part}/ folder; write results to a folder of "
+                "their own, e.g. 'results/my_study'",
+            )
+    if os.path.exists(full) and not os.path.isdir(full):
+        raise ConfigError("results", f"{path!r} is an existing file, not a folder")
+    parent = full
+    while not os.path.exists(parent):
+        parent = os.path.dirname(parent)
+    if not os.path.isdir(parent):
+        raise ConfigError("results", f"{path!r} cannot be made: {parent!r} is a file")
+    try:
+        with tempfile.TemporaryFile(dir=parent):
+            pass
+    except OSError as exc:
+        raise ConfigError(
+            "results",
+            f"{path!r} cannot be written: no file can be made in {parent!r} ({exc.strerror})",
+        ) from None
+
+
 def resolve(raw: dict) -> dict:
-    """Validate ``raw`` and return the resolved config (SI floats, defaults filled in)."""
+    """Validate ``raw`` and return the resolved config (SI floats, defaults filled in).
+
+    Parameters
+    ----------
+    raw : dict
+        The config as read (:func:`read_file`, or Snakemake's ``config`` with ``--config``
+        overrides).
+
+    Returns
+    -------
+    dict
+        The resolved config: per study its design, options, fixed values and factors in SI,
+        chunks, objectives and constraints.
+
+    Raises
+    ------
+    ConfigError
+        Naming the key of the first problem found.
+    """
+    from ._yaml_readings import deepest, path_text
+
+    deep = deepest(raw, MAX_DEPTH)
+    if deep is not None:
+        raise ConfigError(
+            path_text(deep), f"nests deeper than {MAX_DEPTH} levels (a config needs 6)"
+        )
     cfg = copy.deepcopy(dict(raw))
     validate_schema(cfg)
     default_chunks = _chunking(cfg, "") or ("chunks", DEFAULT_CHUNKS)
@@ -616,6 +811,7 @@ def resolve(raw: dict) -> dict:
             "must be one line of printable text (no newline, tab or control character)",
         )
     results_dir = cfg.get("results", "results")
+    _check_results(results_dir)
     resolved = {
         "studies": list(cfg["studies"]),
         "max_scenarios": max_scenarios,

@@ -8,9 +8,9 @@ config (``degC``, ``N*m``, ``kg*m^2``: it parses back with :func:`clutchlab.unit
 in CSV headers and limits; ``label``, the typeset one used on pages (``°C``, ``N·m``, ``kg·m²``).
 
 Temperatures: a stored ``K`` is either an absolute temperature (shown in °C, offset −273.15) or a
-difference (a rise: shown in K, no offset). The kind is the variable's ``temperature_kind``
-attribute (``absolute`` or ``difference``) where it has one, else the name: a name ending in
-``_rise`` is a difference, any other ``K`` quantity absolute.
+difference (a rise: shown in K, no offset). The kind is the variable's CF ``units_metadata``
+attribute (``temperature: on_scale`` or ``temperature: difference``) where it has one, else the
+name: a name ending in ``_rise`` is a difference, any other ``K`` quantity absolute.
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ __all__ = [
     "TABLE",
     "unit",
     "unit_of",
+    "temperature_kind",
     "value",
     "column",
     "label",
@@ -124,11 +125,20 @@ def unit(si_unit: str, name: str = "", kind: str | None = None) -> Unit:
 
 def unit_of(ds, name: str) -> Unit:
     """The display unit of variable or coordinate ``name`` of a Dataset (its ``units`` and
-    ``temperature_kind`` attributes); a flagged variable (status, an option's choice) has none."""
+    ``units_metadata`` attributes); a flagged variable (status, an option's choice) has none."""
     attrs = ds[name].attrs
     if "flag_meanings" in attrs:
         return Unit("", "")
-    return unit(attrs.get("units", "1"), name, attrs.get("temperature_kind"))
+    return unit(attrs.get("units", "1"), name, temperature_kind(attrs))
+
+
+def temperature_kind(attrs) -> str | None:
+    """ "absolute" or "difference" from a variable's CF ``units_metadata`` attribute; None where
+    it has none."""
+    meta = str(attrs.get("units_metadata", ""))
+    if "on_scale" in meta:
+        return "absolute"
+    return "difference" if "difference" in meta else None
 
 
 def value(ds, name: str, v=None):

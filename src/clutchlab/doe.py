@@ -27,7 +27,7 @@ __all__ = ["build_design", "saltelli_unit", "refine_samples", "option_factors", 
 
 
 def _param_attrs(param) -> dict:
-    return {"long_name": param.long_name, "units": param.units}
+    return param.attrs()
 
 
 def saltelli_unit(n, d, rng) -> np.ndarray:

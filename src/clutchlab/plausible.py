@@ -39,6 +39,9 @@ RANGES: dict[str, tuple[float, float]] = {
     "rad": (1e-9, 2 * np.pi),
     # absolute temperatures: 1 K to 3 000 K (past the melting point of steel)
     "K": (1.0, 3000.0),
+    # temperature differences (a rise; the key is not a unit: a difference is stored in K with
+    # units_metadata "temperature: difference"): a microkelvin to 3 000 K
+    "delta_K": (1e-6, 3000.0),
     "1/K": (1e-9, 10.0),
     "W/(m^2*K)": (1e-3, 1e6),
     "N m s^2": (1e-12, 1e6),

@@ -51,7 +51,6 @@ import numpy as np
 
 from . import _contact_kernel as _k
 from . import status as st
-from .contact import hertz_stiffness
 
 __all__ = [
     "computed_torque",

@@ -1,8 +1,28 @@
-"""Quantities written by engineers ("2.3 mm", "5500 rpm", "206 GPa") converted to SI.
+"""Quantities written by engineers ("2.3 mm", "5500 rpm", "206 GPa", "40 degC") converted to SI.
 
-A bare number is taken as already in SI. Parsing uses pint, the maintained standard for
-unit-aware arithmetic in Python; the registry is built lazily so that importing clutchlab
-(e.g. inside a chunk job) does not pay for it.
+A bare number is taken as already in SI, except where that cannot be what was meant (an absolute
+temperature: "40" is refused, give "40 degC" or "313.15 K"). Parsing uses pint, the maintained
+standard for unit-aware arithmetic in Python; the registry is built lazily so that importing
+clutchlab (e.g. inside a chunk job) does not pay for it.
+
+pint treats the radian as dimensionless and the joule as a newton metre, so it would read a
+friction coefficient of "20 deg" as 0.349, a speed of "91.67 Hz" as 91.67 rad/s and a torque of
+"173 J" as 173 N m. :func:`to_si` looks at the unit expression, not only at its dimension:
+
+* an angular speed (SI rad/s) given as a frequency without an angle (Hz, kHz, 1/s, 1/min) is
+  revolutions per time and multiplied by 2π; rpm, rps, rad/s, deg/s, rev/s, turn/min are read as
+  written;
+* an angle unit (deg, rad, rev) on a quantity without an angle is refused, and so is a unit
+  without an angle on an angle (an angle given as a bare number is SI, radians) or on another
+  quantity with an angle in it (N m/rad, rad/s²);
+* a torque (SI N m and its compounds) must be written as a force times a length (N*m, kN*m,
+  lbf*ft): an energy unit (J, kJ, kWh) is refused; an energy or work accepts J, kJ and N*m alike;
+* temperatures have a kind: an absolute temperature needs a unit (degC and degF are read with
+  their offset; a difference unit such as delta_degC is refused), a temperature difference reads
+  degC, K and delta_degC as the same difference and degF as 5/9 K (never an offset); inside a
+  compound unit (1/K, W/(m^2 K)) a temperature is always a difference;
+* a dimensionless quantity takes a bare number or a scale such as % (20 % = 0.2), ppm, permille;
+  a count takes a bare whole number only.
 """
 
 from __future__ import annotations
@@ -12,81 +32,212 @@ import math
 import numbers
 import re
 
-__all__ = ["UnitError", "to_si"]
+__all__ = ["UnitError", "to_si", "KINDS"]
 
 _REPLACE = {"·": "*", "⋅": "*", "²": "**2", "³": "**3", "⁴": "**4", "µ": "u", "μ": "u", "°": " deg"}
 
+#: what a quantity is beyond its SI unit: an absolute temperature or a temperature difference
+#: (SI unit K), a count (a whole number, SI unit 1, no unit accepted)
+KINDS = ("absolute", "difference", "count")
 
 # one number, then (optionally) a unit expression with no number in it: pint alone would evaluate
 # "2 3 mm" as 6 mm and "2,3 mm" as 23 mm, both silent misreads of what an engineer wrote
 _NUMBER = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(.*?)\s*$", re.S)
 
+# unit names whose meaning depends on the country (pint takes the US one): refused, with a spelling
+# that says which is meant
+_AMBIGUOUS = {
+    "ton": "the US short ton (907 kg) or the tonne? write t (tonne) or short_ton",
+    "tons": "the US short ton (907 kg) or the tonne? write t (tonne) or short_ton",
+    "tonf": "a short ton-force or a tonne-force? write kN (or tf: tonne-force)",
+    "ton_force": "a short ton-force or a tonne-force? write kN (or tf: tonne-force)",
+    "hp": "a mechanical (745.7 W) or a metric (735.5 W) horsepower? write W or kW",
+    "horsepower": "a mechanical (745.7 W) or a metric (735.5 W) horsepower? write W or kW",
+}
+
+# temperature units with an offset, and the difference each means inside a difference
+_OFFSET = {
+    "degree_Celsius": "delta_degree_Celsius",
+    "degree_Fahrenheit": "delta_degree_Fahrenheit",
+    "degree_Reaumur": "delta_degree_Reaumur",
+}
+
 
 class UnitError(ValueError):
-    """A quantity could not be parsed or has the wrong dimension."""
+    """A quantity could not be parsed, has the wrong dimension or a unit of the wrong kind."""
 
 
 @functools.lru_cache(maxsize=1)
 def _registry():
     import pint
 
-    return pint.UnitRegistry()
+    ureg = pint.UnitRegistry()
+    ureg.define("rev = revolution")  # rev/s, rev/min: read as written (revolutions)
+    return ureg
 
 
-def to_si(value, si_unit: str) -> float:
+def to_si(value, si_unit: str, kind: str | None = None) -> float:
     """Convert ``value`` to a float in ``si_unit``.
 
     Parameters
     ----------
     value : float, int or str
         A bare number (taken as SI already) or a string "number unit", e.g. ``"2.3 mm"``: exactly
-        one number (no comma, no arithmetic) followed by a unit expression (``"N m"``, ``"kg m^2"``).
+        one number (no comma, no arithmetic) followed by a unit expression (``"N m"``,
+        ``"kg m^2"``).
     si_unit : str
         Target SI unit in pint/UDUNITS spelling, e.g. ``"m"``, ``"Pa"``, ``"rad/s"``, ``"1"``.
+    kind : {None, "absolute", "difference", "count"}
+        ``"absolute"`` or ``"difference"`` for a temperature (``si_unit`` K; required there);
+        ``"count"`` for a whole number (no unit accepted).
+
+    Returns
+    -------
+    float
+        The value in ``si_unit`` (finite).
 
     Raises
     ------
     UnitError
-        If the string cannot be parsed or its dimension differs from ``si_unit``'s.
+        If the string cannot be parsed, its dimension differs from ``si_unit``'s or its unit is of
+        the wrong kind (see the module docstring).
     """
+    if si_unit == "K" and kind not in ("absolute", "difference"):
+        raise ValueError("a temperature (K) needs kind 'absolute' or 'difference'")
+    if kind not in (None, *KINDS):
+        raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
     if isinstance(value, bool):
         raise UnitError(f"expected a quantity, got the boolean {value!r}")
     if isinstance(value, numbers.Real):
-        out = float(value)
-    elif isinstance(value, str):
-        text = value.strip()
-        for old, new in _REPLACE.items():
-            text = text.replace(old, new)
-        if "," in text:
-            raise UnitError(
-                f"{value!r}: a comma is not read as a decimal point or a thousands separator; "
-                "write e.g. '2.3 mm'"
-            )
-        match = _NUMBER.fullmatch(text)
-        if match is None:
-            raise UnitError(
-                f"cannot parse quantity {value!r}: expected 'number unit', e.g. '2.3 mm'"
-            )
-        number, unit = float(match.group(1)), match.group(2)
-        if not unit:  # "3.7": a bare number, SI like 3.7
-            return _finite(number, value)
-        ureg = _registry()
-        try:
-            q = ureg.Quantity(number, ureg.parse_units(unit) if unit else "dimensionless")
-        except Exception as exc:  # pint raises several unrelated exception types
-            raise UnitError(f"cannot parse the unit of {value!r}: {exc}") from None
-        target = "dimensionless" if si_unit == "1" else si_unit
-        try:
-            out = float(q.to(target).magnitude)
-        except Exception:
-            raise UnitError(
-                f"{value!r} has units of {q.dimensionality}, expected something convertible to {si_unit!r}"
-            ) from None
-    else:
+        return _bare(float(value), value, si_unit, kind)
+    if not isinstance(value, str):
         raise UnitError(
             f"expected a number or a 'number unit' string, got {type(value).__name__} {value!r}"
         )
+    number, unit = _split(value)
+    if not unit:  # "3.7": a bare number, SI like 3.7
+        return _bare(number, value, si_unit, kind)
+    if kind == "count":
+        raise UnitError(f"{value!r}: a count is a bare whole number, without a unit")
+    try:
+        out = _convert(number, unit, value, si_unit, kind)
+    except UnitError:
+        raise
+    except Exception as exc:  # pint's arithmetic on an absurd unit (m^1e308: OverflowError, ...)
+        raise UnitError(f"cannot read the unit of {value!r}: {type(exc).__name__}") from None
     return _finite(out, value)
+
+
+def _split(value: str) -> tuple[float, str]:
+    """The number and the unit text of a "number unit" string."""
+    text = value.strip()
+    for old, new in _REPLACE.items():
+        text = text.replace(old, new)
+    if "," in text:
+        raise UnitError(
+            f"{value!r}: a comma is not read as a decimal point or a thousands separator; "
+            "write e.g. '2.3 mm'"
+        )
+    match = _NUMBER.fullmatch(text)
+    if match is None:
+        raise UnitError(f"cannot parse quantity {value!r}: expected 'number unit', e.g. '2.3 mm'")
+    return float(match.group(1)), match.group(2)
+
+
+def _bare(number: float, value, si_unit: str, kind) -> float:
+    if si_unit == "K" and kind == "absolute":
+        raise UnitError(
+            f"{value!r}: an absolute temperature needs a unit, e.g. '40 degC', '104 degF' or "
+            "'313.15 K' (a bare number would be kelvin)"
+        )
+    return _finite(number, value)
+
+
+def _convert(number: float, unit: str, value, si_unit: str, kind) -> float:
+    """``number`` in the unit expression ``unit`` converted to ``si_unit`` (kinds checked)."""
+    ureg = _registry()
+    for word in re.findall(r"[A-Za-z_]+", unit):
+        if word in _AMBIGUOUS:
+            raise UnitError(f"{value!r}: {_AMBIGUOUS[word]}")
+    try:
+        given = ureg.parse_units(unit)
+    except Exception as exc:  # pint raises several unrelated exception types
+        raise UnitError(f"cannot parse the unit of {value!r}: {exc}") from None
+    names = dict(given._units)
+    target = ureg.parse_units("dimensionless" if si_unit == "1" else si_unit)
+    factor = _angle_factor(ureg, given, target, value, si_unit)
+    if "newton" in dict(target._units) and "meter" in dict(target._units):
+        _check_torque(ureg, names, value)
+    if si_unit == "K":
+        given = _temperature_unit(ureg, names, value, kind)
+    try:
+        out = float(ureg.Quantity(number, given).to(target).magnitude)
+    except Exception:
+        raise UnitError(
+            f"{value!r} has units of {ureg.Quantity(1, given).dimensionality}, expected "
+            f"something convertible to {si_unit!r}"
+        ) from None
+    return out * factor
+
+
+def _radians(ureg, unit) -> int:
+    """Exponent of the radian in ``unit``'s root units (0: no angle in it)."""
+    return int(dict(ureg.get_root_units(unit)[1]._units).get("radian", 0))
+
+
+def _angle_factor(ureg, given, target, value, si_unit: str) -> float:
+    """1, or 2π for an angular speed given as a frequency; refuses an angle where none belongs
+    and a missing angle where one does."""
+    have, want = _radians(ureg, given), _radians(ureg, target)
+    if have == want:
+        return 1.0
+    time = dict(ureg.get_root_units(target)[1]._units).get("second", 0)
+    if have == 0 and want == 1 and time == -1 and len(target._units) <= 2:
+        return 2.0 * math.pi  # Hz, 1/s, 1/min, kHz: revolutions per time
+    if want == 0:
+        plain = "a plain number" if si_unit == "1" else f"{si_unit}, without an angle"
+        raise UnitError(
+            f"{value!r} has an angle in its unit and this quantity has none: pint would read the "
+            f"angle as a number (20 deg as 0.349); write {plain}"
+        )
+    if si_unit == "rad":
+        raise UnitError(
+            f"{value!r}: an angle takes an angle unit (deg, rad, rev) or a bare number (rad)"
+        )
+    raise UnitError(
+        f"{value!r} has no angle in its unit; write it with the angle, e.g. in {si_unit}"
+    )
+
+
+def _check_torque(ureg, names: dict, value) -> None:
+    """A torque is a force times a length: refuse an energy unit (J, kJ, kWh) or a unit without
+    a force in it (pint reads 173 J as 173 N m)."""
+    force = ureg.get_dimensionality("newton")
+    if not any(ureg.get_dimensionality(n) == force for n in names):
+        raise UnitError(
+            f"{value!r} is not written as a torque: give a force times a length (N*m, kN*m, "
+            "lbf*ft); J is an energy (accepted for work and energy, not for a torque)"
+        )
+
+
+def _temperature_unit(ureg, names: dict, value, kind: str):
+    """The unit a temperature of ``kind`` is read in: an absolute one refuses a difference unit;
+    a difference reads degC/degF as differences (no offset)."""
+    delta = [n for n in names if n.startswith("delta_")]
+    if kind == "absolute":
+        if delta:
+            raise UnitError(
+                f"{value!r} is a temperature difference, and this is an absolute temperature: "
+                "give e.g. '40 degC' or '313.15 K'"
+            )
+        return ureg.Unit(_container(names))
+    return ureg.Unit(_container({_OFFSET.get(n, n): e for n, e in names.items()}))
+
+
+def _container(names: dict):
+    from pint.util import UnitsContainer
+
+    return UnitsContainer(names)
 
 
 def _finite(out: float, value) -> float:

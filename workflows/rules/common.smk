@@ -39,8 +39,10 @@ def results(study):
 
 def sensitivity_files(study):
     """Sensitivity indices of a factorial study (its grid's variance decomposition) or a saltelli
-    design (Sobol indices); none for lhs/sobol samples."""
-    return [f"{RESULTS}/{study}/sensitivity.h5"] if RESOLVED[study]["design"] in ("factorial", "saltelli") else []
+    design (Sobol indices); none for lhs/sobol samples or a grid of no factor (one scenario)."""
+    design = RESOLVED[study]["design"]
+    grid = design == "factorial" and RESOLVED[study]["factors"]
+    return [f"{RESULTS}/{study}/sensitivity.h5"] if grid or design == "saltelli" else []
 
 
 def refine_source(study):

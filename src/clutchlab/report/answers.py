@@ -161,7 +161,7 @@ def limits_text(ds) -> str:
     parts = []
     for item in ds["constraint"].attrs.get("limits", "").split():
         output, op, value = item.split(":")
-        kind = ds[output].attrs.get("temperature_kind") if output in ds else None
+        kind = display.temperature_kind(ds[output].attrs) if output in ds else None
         si = ds[output].attrs.get("units", "1") if output in ds else "1"
         parts.append(display.limit_text(output, op, float(value), si, kind))
     return "; ".join(parts)

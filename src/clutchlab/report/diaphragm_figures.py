@@ -7,12 +7,15 @@ import numpy as np
 from matplotlib.colors import TwoSlopeNorm
 
 from .. import status as st
+from .. import studies
 from ..explore import flat
 from .common import (
     A4_LANDSCAPE,
     SCATTER_MAX,
     contour_level,
+    fixed_text,
     sampled_value_map,
+    seed_view,
     shown,
     with_curves,
 )
@@ -25,9 +28,14 @@ MARKERS = {
 }
 
 
-def _nearest(ds, **targets):
-    sel = {k: v for k, v in targets.items() if k in ds.dims}
-    return ds.sel(sel, method="nearest") if sel else ds
+def _seed(**targets) -> dict:
+    """The seed design (the study's defaults, lambda_B/lambda_C = 0.9) with ``targets``."""
+    return {**studies.get("diaphragm_spring").defaults, "operating_point_factor": 0.9, **targets}
+
+
+def _others(ds, keep) -> list[str]:
+    """Factor dimensions a page does not draw (selected at the seed design's value)."""
+    return [d for d in ds.dims if d in _seed() and d not in keep]
 
 
 def load_curves(ds):
@@ -50,17 +58,23 @@ def load_curves(ds):
             for d in ("sheet_thickness", "radius_ratio", "operating_point_factor")
             if d in ds.dims
         }
-        sub = _nearest(ds, **{"operating_point_factor": 0.9, **mid})
+        sub = seed_view(ds, _seed(**mid), keep=("cone_height_ratio",))
         if "cone_height_ratio" in sub.dims:
             members = [sub.isel(cone_height_ratio=i) for i in range(sub.sizes["cone_height_ratio"])]
         else:
             members = [sub]
+        others = [
+            d
+            for d in _others(ds, ("cone_height_ratio",))
+            if d not in ("sheet_thickness", "radius_ratio", "operating_point_factor")
+        ]
         fixed = ", ".join(
             [
                 f"h = {float(sub['sheet_thickness']) * 1e3:.3g} mm",
                 f"R/r = {float(sub['radius_ratio']):.3g}",
                 f"lambda_B/lambda_C = {float(sub['operating_point_factor']):.2g}",
             ]
+            + ([fixed_text(sub, others)] if others else [])
         )
     cmap = plt.get_cmap("viridis")
     for i, m in enumerate(members):
@@ -121,7 +135,9 @@ def reserve_map(ds):
             f"({int((~ok).sum())} with status not ok{' left out' if ok.size > SCATTER_MAX else ''})"
         )
         return fig
-    sub = _nearest(ds, operating_point_factor=0.9)
+    keep = ("cone_height_ratio", "sheet_thickness", "radius_ratio")
+    sub = seed_view(ds, _seed(), keep=keep)
+    others = [d for d in _others(ds, keep) if d != "operating_point_factor"]
     panels = sub["radius_ratio"].values if "radius_ratio" in sub.dims else [None]
     fig, axes = plt.subplots(1, len(panels), figsize=A4_LANDSCAPE, sharey=True, squeeze=False)
     rf_all = sub["reserve_factor"].values
@@ -165,7 +181,9 @@ def reserve_map(ds):
     )
     fig.suptitle(
         "Torque reserve factor at lambda_B = %.2g lambda_C; markers: status (no hump = no wear "
-        "compensation, snap-through, invalid)" % op_factor
+        "compensation, snap-through, invalid)"
+        % op_factor
+        + (f"\n{fixed_text(sub, others)}" if others else "")
     )
     return fig
 

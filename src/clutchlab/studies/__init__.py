@@ -19,11 +19,13 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import re
 from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 
+from .. import plausible
 from .. import status as st
 
 __all__ = [
@@ -35,6 +37,10 @@ __all__ = [
     "seed_design",
     "apply_valid_statuses",
     "ALL_STATUSES",
+    "units_metadata",
+    "Relation",
+    "value_range",
+    "failed_relation",
 ]
 
 ALL_STATUSES = "all"  # an output valid under every status (valid_statuses)
@@ -42,7 +48,14 @@ ALL_STATUSES = "all"  # an output valid under every status (valid_statuses)
 
 @dataclass(frozen=True)
 class Parameter:
-    """An input of a study: SI unit, description, default (the seed design) and bounds."""
+    """An input of a study: SI unit, description, default (the seed design) and bounds.
+
+    Besides its own bounds (``minimum``, ``maximum``, ``choices``, ``integer``) a value must have
+    a plausible magnitude for its SI unit (:mod:`clutchlab.plausible`; a zero is judged by the
+    parameter's own minimum, inf is allowed only with ``allow_infinite``), and a count at most
+    :data:`clutchlab.plausible.COUNT_MAX`. A temperature (SI unit K) has a ``kind``: "absolute"
+    (a temperature on the scale: ambient, a limit) or "difference" (a rise).
+    """
 
     name: str
     units: str
@@ -57,27 +70,153 @@ class Parameter:
     )
     integer: bool = False  # a count (sprags, rollers, shoes, friction faces)
     choices: tuple[float, ...] | None = None  # the only values allowed (e.g. drive direction +1/-1)
+    kind: str | None = None  # temperatures: "absolute" or "difference" (see clutchlab.units)
 
-    def check(self, value: float) -> str | None:
-        """Return why ``value`` is non-physical, or None if it is acceptable."""
+    def __post_init__(self):
+        if (self.units == "K") != (self.kind in ("absolute", "difference")):
+            raise ValueError(f"{self.name}: a temperature (K), and only one, has a kind")
+
+    @property
+    def unit_kind(self) -> str | None:
+        """The ``kind`` :func:`clutchlab.units.to_si` reads a value of this parameter with."""
+        return "count" if self.integer or self.choices is not None else self.kind
+
+    def attrs(self) -> dict:
+        """CF attributes of this parameter stored as a variable or coordinate (a temperature in a
+        compound unit, 1/K or W/(m^2*K), is a difference)."""
+        kind = self.kind or ("difference" if re.search(r"\bK\b", self.units) else None)
+        return {"long_name": self.long_name, "units": self.units, **units_metadata(kind)}
+
+    def check(self, value: float, given=None) -> str | None:
+        """Return why ``value`` [SI] is non-physical or implausible, or None if it is acceptable.
+
+        ``given`` is the value as the user wrote it ("2.3 Mm"), quoted in the message.
+        """
+        u = "" if self.units == "1" else f" {self.units}"
+        got = f"{value:g}{u}"
+        if (
+            given is not None
+            and not isinstance(given, bool)
+            and _text(given)
+            not in (
+                _text(value),
+                got,
+            )
+        ):
+            got = f"{_text(given)} = {got}"
         if self.choices is not None:
             if value not in self.choices:
-                return f"must be one of {', '.join(f'{c:g}' for c in self.choices)}, got {value:g}"
+                return f"must be one of {', '.join(f'{c:g}' for c in self.choices)}, got {got}"
             return None
-        if self.integer and value != round(value):
-            return f"must be a whole number (a count), got {value:g}"
-        u = "" if self.units == "1" else f" {self.units}"
+        if np.isinf(value) and not self.allow_infinite:
+            return f"must be finite, got {got}"
+        if self.integer and not (np.isfinite(value) and value == round(value)):
+            return f"must be a whole number (a count), got {got}"
+        why = self._bounds(value, got, u) or self._plausible(value, got, u)
+        if why and self.units == "rad" and not isinstance(given, str):
+            why += " (a bare number is in rad: write e.g. '38 deg')"
+        return why
+
+    def _bounds(self, value, got, u) -> str | None:
         if self.minimum is not None:
             bad = value < self.minimum if self.minimum_inclusive else value <= self.minimum
             if bad:
                 op = ">=" if self.minimum_inclusive else ">"
-                return f"must be {op} {self.minimum:g}{u}, got {value:g}{u}"
+                return f"must be {op} {self.minimum:g}{u}, got {got}"
         if self.maximum is not None:
             bad = value > self.maximum if self.maximum_inclusive else value >= self.maximum
             if bad:
                 op = "<=" if self.maximum_inclusive else "<"
-                return f"must be {op} {self.maximum:g}{u}, got {value:g}{u}"
+                return f"must be {op} {self.maximum:g}{u}, got {got}"
         return None
+
+    def _plausible(self, value, got, u) -> str | None:
+        """A magnitude outside :mod:`clutchlab.plausible`'s range of the unit (a typing or unit
+        slip: 2.3 Mm of sheet, 1e20 shoes); zero was judged by the bounds above."""
+        if value == 0 or np.isinf(value):
+            return None
+        lo, hi = (1.0, float(plausible.COUNT_MAX)) if self.integer else self.plausible_range
+        if lo <= abs(value) <= hi:
+            return None
+        what = " of a count" if self.integer else ""
+        return (
+            f"got {got}, outside the plausible range{what} ({lo:g} to {hi:g}{u} in magnitude): "
+            "a typing or unit slip?"
+        )
+
+    @property
+    def plausible_range(self) -> tuple[float, float]:
+        """(smallest non-zero, largest) plausible magnitude [SI] of this parameter's unit."""
+        if self.kind == "difference":
+            return plausible.bounds("delta_K")
+        return plausible.bounds(self.units)
+
+
+@dataclass(frozen=True)
+class Relation:
+    """A relation between parameters that the study's physics assumes for every scenario (a shoe
+    inside its drum, the idle speed below the rated one).
+
+    ``holds(**values)`` takes the parameters ``names`` in SI and is monotone in each, so that it
+    holds for every scenario of a design wherever it holds at the design's worst corner: per name
+    in ``worst``, "min" or "max" (the largest finite value: "max_finite") over the fixed value or
+    the factor's values or range. ``text`` says the relation for the message.
+    """
+
+    names: tuple[str, ...]
+    worst: tuple[str, ...]
+    holds: Callable
+    text: str
+
+
+def value_range(section: dict, name: str, finite: bool = False) -> tuple[float, float]:
+    """(smallest, largest) value of parameter ``name`` over the scenarios of a resolved study
+    section: its fixed value, or its factor's values or min/max (``finite``: inf left out)."""
+    if name in section["fixed"]:
+        vals = [section["fixed"][name]]
+    else:
+        spec = section["factors"][name]
+        vals = spec["values"] if "values" in spec else [spec["min"], spec["max"]]
+    if finite:
+        vals = [v for v in vals if np.isfinite(v)] or [-np.inf]
+    return min(vals), max(vals)
+
+
+def failed_relation(section: dict, relations) -> tuple[str, str] | None:
+    """(config key, problem) of the first relation that fails for some scenario of a resolved
+    study section (checked at the worst corner of its design, naming every parameter in it), or
+    None."""
+    study = get(section["name"])
+    for rel in relations:
+        corner = {}
+        for name, worst in zip(rel.names, rel.worst, strict=True):
+            lo, hi = value_range(section, name, finite=worst == "max_finite")
+            corner[name] = lo if worst == "min" else hi
+        with np.errstate(all="ignore"):
+            if bool(rel.holds(**corner)):
+                continue
+        at = ", ".join(
+            f"'{section['name']}.parameters.{n}' = {corner[n]:g}"
+            + ("" if study.parameter(n).units == "1" else f" {study.parameter(n).units}")
+            for n in rel.names
+        )
+        key = f"{section['name']}.parameters.{rel.names[0]}"
+        return key, f"must hold in every scenario: {rel.text}; it fails at {at}"
+    return None
+
+
+def units_metadata(kind: str | None) -> dict:
+    """CF ``units_metadata`` of a temperature of ``kind`` ("absolute": on the scale; "difference")
+    (CF 1.11, section 3.1.2), empty for anything else."""
+    if kind == "absolute":
+        return {"units_metadata": "temperature: on_scale"}
+    if kind == "difference":
+        return {"units_metadata": "temperature: difference"}
+    return {}
+
+
+def _text(v) -> str:
+    return v.strip() if isinstance(v, str) else f"{float(v):g}"
 
 
 @dataclass(frozen=True)
@@ -98,9 +237,13 @@ class Study:
     # resolved study section -> (key, problem) for a combination of values that cannot be read
     # physically (e.g. an odd roller count with the one-flank reading), or None
     check_config: Callable | None = None
+    # relations between parameters the physics assumes for every scenario (a config whose design
+    # breaks one for some scenario is refused, naming the parameters)
+    relations: tuple[Relation, ...] = ()
     # design answers (issue 15): the per-scenario outputs that objectives and constraints may name
-    # (name -> units), the default objectives ("name:min"/"name:max") and constraints
-    # (output -> ("max" or "min", limit in SI)), as the seed papers suggest
+    # (name -> units, or (units, kind) for a temperature: "absolute" or "difference"), the default
+    # objectives ("name:min"/"name:max") and constraints (output -> ("max" or "min", limit in
+    # SI)), as the seed papers suggest
     outputs: dict = field(default_factory=dict)
     objectives: tuple[str, ...] = ()
     constraints: dict = field(default_factory=dict)
@@ -121,6 +264,20 @@ class Study:
     # the status rule (module docstring): output -> the statuses under which its value means what
     # its long_name says (tuple of status names, or ALL_STATUSES); a float output not listed: ok
     valid_statuses: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        for name in self.outputs:
+            units, kind = self.output_units(name)
+            if (units == "K") != (kind in ("absolute", "difference")):
+                raise ValueError(
+                    f"{self.name} output {name}: a temperature (K), and only one, has a kind"
+                )
+
+    def output_units(self, name: str) -> tuple[str, str | None]:
+        """(SI units, kind) of an output objectives and constraints may name (kind: "absolute" or
+        "difference" for a temperature, else None)."""
+        spec = self.outputs[name]
+        return (spec, None) if isinstance(spec, str) else tuple(spec)
 
     def parameter(self, name: str) -> Parameter:
         for p in self.parameters:

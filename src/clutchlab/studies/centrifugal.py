@@ -20,7 +20,8 @@ import xarray as xr
 from .. import centrifugal as cf
 from .. import status as st
 from ..published import CENTRIFUGAL_CLUTCH
-from . import Parameter, Study, flat_inputs, register, seed_design
+from . import Parameter, Relation, Study, flat_inputs, register, seed_design
+from .diaphragm_spring import FRICTION_MAX
 
 RPM = np.pi / 30.0
 
@@ -32,7 +33,13 @@ PARAMETERS = (
     Parameter("shoe_radius", "m", "shoe centroid radius r", 0.034),
     Parameter("drum_radius", "m", "drum (clutch) radius R", 0.045),
     Parameter("spring_force", "N", "spring resultant per shoe F_s (preload)", 430.0),
-    Parameter("friction_coefficient", "1", "shoe-drum friction coefficient f", 0.4046),
+    Parameter(
+        "friction_coefficient",
+        "1",
+        "shoe-drum friction coefficient f",
+        0.4046,
+        maximum=FRICTION_MAX,
+    ),
     Parameter(
         "pressure_angle",
         "rad",
@@ -76,6 +83,23 @@ PARAMETERS = (
         "status; assumed: dry friction scatters by about 25 %)",
         0.25,
         minimum_inclusive=True,
+        maximum=10.0,  # a tenfold f: past any scatter of dry friction
+    ),
+)
+
+# relations the capacities and the release assume for every scenario (refused in a config)
+RELATIONS = (
+    Relation(
+        ("shoe_radius", "drum_radius"),
+        ("max", "min"),
+        lambda shoe_radius, drum_radius: shoe_radius < drum_radius,
+        "the shoe's centroid lies inside the drum (shoe_radius < drum_radius)",
+    ),
+    Relation(
+        ("idle_speed", "rated_speed"),
+        ("max", "min"),
+        lambda idle_speed, rated_speed: idle_speed < rated_speed,
+        "the engine idles below its rated speed (idle_speed < rated_speed)",
     ),
 )
 
@@ -436,6 +460,7 @@ STUDY = register(
         objectives=("reserve_factor:max", "release_time:min"),
         constraints={"reserve_factor": ("min", 1.2), "release_margin": ("min", 0.0)},
         valid_statuses=VALID_STATUSES,
+        relations=RELATIONS,
     )
 )
 compute = STUDY.compute  # the status rule applied (clutchlab.studies.apply_valid_statuses)

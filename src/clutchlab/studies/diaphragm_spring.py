@@ -18,9 +18,14 @@ from .. import diaphragm, driven_plate, engagement, friction
 from .. import status as st
 from ..published import DIAPHRAGM_CLUTCH
 from ..validation import Row, to_dataset
-from . import Parameter, Study, flat_inputs, register
+from . import Parameter, Relation, Study, flat_inputs, register
 
 MM = 1e-3
+# the largest friction coefficient of any dry or wet clutch pair (sintered metal, carbon: about 1;
+# above 2 a value is a slip, e.g. a percentage given as a number)
+FRICTION_MAX = 2.0
+# geometric ratios of a diaphragm spring (H/h, R/r): 10 is far past any spring
+RATIO_MAX = 10.0
 
 PARAMETERS = (
     Parameter("youngs_modulus", "Pa", "Young's modulus of the spring steel", 206e9),
@@ -33,10 +38,22 @@ PARAMETERS = (
         maximum_inclusive=False,
     ),
     Parameter("sheet_thickness", "m", "diaphragm sheet thickness h", 2.334 * MM),
-    Parameter("cone_height_ratio", "1", "inner cone height over sheet thickness H/h", 3.5 / 2.334),
+    # H/h: a hump for H/h > sqrt(2), snap-through from 2 sqrt(2); 10 is far past any spring
+    Parameter(
+        "cone_height_ratio",
+        "1",
+        "inner cone height over sheet thickness H/h",
+        3.5 / 2.334,
+        maximum=RATIO_MAX,
+    ),
     Parameter("outer_radius", "m", "outer radius R of the spring cone", 110 * MM),
     Parameter(
-        "radius_ratio", "1", "outer over inner radius of the spring cone R/r", 110 / 85, minimum=1.0
+        "radius_ratio",
+        "1",
+        "outer over inner radius of the spring cone R/r",
+        110 / 85,
+        minimum=1.0,
+        maximum=RATIO_MAX,
     ),
     Parameter(
         "load_radius_outer_offset",
@@ -59,7 +76,9 @@ PARAMETERS = (
         0.9,
         maximum=2.0,
     ),
-    Parameter("friction_coefficient", "1", "lining friction coefficient mu", 0.4),
+    Parameter(
+        "friction_coefficient", "1", "lining friction coefficient mu", 0.4, maximum=FRICTION_MAX
+    ),
     Parameter("lining_outer_radius", "m", "lining outer radius R2", 112.5 * MM),
     Parameter("lining_inner_radius", "m", "lining inner radius R1 (lining)", 75 * MM),
     Parameter("friction_faces", "1", "number of friction faces", 2.0, integer=True),
@@ -75,6 +94,36 @@ PARAMETERS = (
 )
 
 OPTIONS = {"friction_radius": ("uniform_pressure", "uniform_wear")}
+
+# relations the statics assume for every scenario (clutchlab.diaphragm.geometry_is_valid, the
+# lining annulus of clutchlab.friction): refused in a config, naming the parameters
+RELATIONS = (
+    Relation(
+        ("load_radius_inner_offset", "load_radius_outer_offset", "outer_radius", "radius_ratio"),
+        ("max", "max", "min", "min"),
+        lambda load_radius_inner_offset, load_radius_outer_offset, outer_radius, radius_ratio: (
+            outer_radius / radius_ratio + load_radius_inner_offset
+            < outer_radius - load_radius_outer_offset
+        ),
+        "the load points lie on the spring in order (fulcrum r1 = R/(R/r) + (r1 - r) inside the "
+        "pressure-plate point R1 = R - (R - R1))",
+    ),
+    Relation(
+        ("sheet_thickness", "outer_radius", "radius_ratio"),
+        ("max", "min", "min"),
+        lambda sheet_thickness, outer_radius, radius_ratio: (
+            sheet_thickness < outer_radius - outer_radius / radius_ratio
+        ),
+        "the spring is a thin annular plate (sheet_thickness below the annulus width R - R/(R/r); "
+        "a bare 2.3 is 2.3 m: write '2.3 mm')",
+    ),
+    Relation(
+        ("lining_inner_radius", "lining_outer_radius"),
+        ("max", "min"),
+        lambda lining_inner_radius, lining_outer_radius: lining_inner_radius < lining_outer_radius,
+        "the lining is an annulus (lining_inner_radius < lining_outer_radius)",
+    ),
+)
 
 CURVE_POINTS = np.linspace(0.0, 2.0, 81)
 
@@ -404,6 +453,7 @@ STUDY = register(
         constraints={"reserve_factor": ("min", 1.2)},
         options=OPTIONS,
         valid_statuses=VALID_STATUSES,
+        relations=RELATIONS,
     )
 )
 compute = STUDY.compute  # the status rule applied (clutchlab.studies.apply_valid_statuses)

@@ -35,8 +35,19 @@ import xarray as xr
 
 from .. import diaphragm, engagement, friction, heat
 from .. import status as st
-from . import Parameter, Study, flat_inputs, register, seed_design
+from .._engagement_kernel import SOE_TMAX
+from . import (
+    Parameter,
+    Relation,
+    Study,
+    flat_inputs,
+    register,
+    seed_design,
+    units_metadata,
+    value_range,
+)
 from .diaphragm_spring import PARAMETERS as SPRING_PARAMETERS
+from .diaphragm_spring import RELATIONS as SPRING_RELATIONS
 from .diaphragm_spring import spring_geometry
 
 PARAMETERS = SPRING_PARAMETERS + (
@@ -72,6 +83,7 @@ PARAMETERS = SPRING_PARAMETERS + (
         1.0,
         minimum=1.0,
         minimum_inclusive=True,
+        maximum=10.0,  # measured pairs: 1 to about 1.5
     ),
     Parameter(
         "stribeck_speed",
@@ -92,7 +104,12 @@ PARAMETERS = SPRING_PARAMETERS + (
         "damper_stiffness", "N m/rad", "damper angular stiffness C_a between hub and output", 4498.0
     ),
     Parameter(
-        "damping_ratio", "1", "damping ratio of the hub-output mode", 0.05, minimum_inclusive=True
+        "damping_ratio",
+        "1",
+        "damping ratio of the hub-output mode",
+        0.05,
+        minimum_inclusive=True,
+        maximum=100.0,  # (1: critical damping; 100 is a damper that no longer springs)
     ),
     Parameter(
         "air_gap",
@@ -103,7 +120,11 @@ PARAMETERS = SPRING_PARAMETERS + (
     ),
     Parameter("cushion_travel", "m", "lining cushion travel at full clamp (assumed)", 0.6e-3),
     Parameter(
-        "lever_ratio", "1", "finger lever ratio: bearing travel over plate lift (assumed)", 4.0
+        "lever_ratio",
+        "1",
+        "finger lever ratio: bearing travel over plate lift (assumed)",
+        4.0,
+        maximum=100.0,  # (diaphragm fingers: 3 to 5)
     ),
     Parameter(
         "end_time",
@@ -142,12 +163,14 @@ PARAMETERS = SPRING_PARAMETERS + (
         "K",
         "air in the clutch housing, and the parts before the first engagement (assumed: 40 C)",
         313.15,
+        kind="absolute",
     ),
     Parameter(
         "temperature_limit",
         "K",
         "material limit of the hottest part's bulk temperature (assumed: 250 C, organic linings)",
         523.15,
+        kind="absolute",
     ),
     # friction fade (issue 20 item 4; off by default): mu_k / (1 + beta (T_face - T_onset)+) while slipping
     Parameter(
@@ -164,6 +187,7 @@ PARAMETERS = SPRING_PARAMETERS + (
         "friction-face temperature at which fade begins (assumed: 200 C, "
         "organic linings; not below ambient_temperature)",
         473.15,
+        kind="absolute",
     ),
 )
 
@@ -223,6 +247,9 @@ OUTPUTS = {
         "temperature_limit (inf: never)",
     ),
 }
+# temperature outputs: on the scale or a difference (CF units_metadata, config constraints)
+TEMPERATURE_KINDS = {"bulk_temperature_rise": "difference", "peak_surface_temperature": "absolute"}
+ON_SCALE = units_metadata("absolute")
 HEAT = (
     "specific_friction_work",
     "peak_specific_friction_power",
@@ -407,18 +434,47 @@ def _fade_inputs(p):
     )
 
 
+# relations the engagement assumes for every scenario, besides the spring's and the lining's
+RELATIONS = SPRING_RELATIONS + (
+    Relation(
+        ("end_time", "ramp_time"),
+        ("min", "max"),
+        lambda end_time, ramp_time: end_time > ramp_time,
+        "the window searched for lock-up covers the clamp force's rise (end_time > ramp_time; "
+        "else never_locked would be the window's, not the design's)",
+    ),
+    Relation(
+        ("temperature_limit", "ambient_temperature"),
+        ("min", "max"),
+        lambda temperature_limit, ambient_temperature: temperature_limit > ambient_temperature,
+        "the material limit lies above the ambient temperature (else engagements_to_limit means "
+        "nothing)",
+    ),
+    Relation(
+        ("fade_onset_temperature", "ambient_temperature", "fade_coefficient"),
+        ("min", "max", "max"),
+        lambda fade_onset_temperature, ambient_temperature, fade_coefficient: (
+            fade_coefficient == 0 or fade_onset_temperature >= ambient_temperature
+        ),
+        "fade begins at or above the ambient temperature (where fade_coefficient > 0)",
+    ),
+    Relation(
+        ("end_time", "fade_coefficient"),
+        ("max", "max"),
+        lambda end_time, fade_coefficient: fade_coefficient == 0 or end_time <= SOE_TMAX,
+        f"with fade the face temperature's kernel covers the window (end_time <= {SOE_TMAX:g} s "
+        "where fade_coefficient > 0)",
+    ),
+)
+
+
 def check_config(section):
-    """The material limit must lie above the ambient temperature for every scenario (else
-    engagements_to_limit would mean nothing): refuse the config where the lowest limit is not above
-    the highest ambient. A friction table replaces the Stribeck law and is read relative to a fixed
-    friction_coefficient: refuse it with a Stribeck speed or a friction coefficient factor."""
+    """A friction table replaces the Stribeck law and is read relative to a fixed
+    friction_coefficient: refuse it with a Stribeck speed or a friction coefficient factor (the
+    relations between parameters: :data:`RELATIONS`)."""
 
     def bounds(name):
-        if name in section["fixed"]:
-            return section["fixed"][name], section["fixed"][name]
-        spec = section["factors"][name]
-        vals = spec["values"] if "values" in spec else (spec["min"], spec["max"])
-        return min(vals), max(vals)
+        return value_range(section, name)
 
     faces = (
         [section["fixed"]["friction_faces"]]
@@ -431,18 +487,6 @@ def check_config(section):
             "the heat of the engagement needs an even count (n/2 driven plates lined on both sides "
             "between flywheel, intermediate plates and pressure plate): give it as a value or a "
             f"list of even values, got {faces or section['factors']['friction_faces']}",
-        )
-    limit, ambient = bounds("temperature_limit"), bounds("ambient_temperature")
-    if not limit[0] > ambient[1]:
-        return (
-            "engagement.parameters.temperature_limit",
-            f"the material limit ({limit[0]:g} K) must lie above the ambient temperature ({ambient[1]:g} K)",
-        )
-    onset = bounds("fade_onset_temperature")
-    if bounds("fade_coefficient")[1] > 0 and not onset[0] >= ambient[1]:
-        return (
-            "engagement.parameters.fade_onset_temperature",
-            f"fade must begin at or above the ambient temperature ({onset[0]:g} K < {ambient[1]:g} K)",
         )
     if "friction_table" in section["options"]:
         if "friction_coefficient" in section["factors"]:
@@ -588,7 +632,11 @@ def compute(inputs, options=None) -> xr.Dataset:
     code = _status(res["status"], spring_bad, cap, hot)
     refused = np.isin(code, [st.CODE["invalid_geometry"], st.CODE["invalid_input"]])
     data = {
-        k: ("run", np.where(refused, np.nan, res[k]), {"units": u, "long_name": ln})
+        k: (
+            "run",
+            np.where(refused, np.nan, res[k]),
+            {"units": u, "long_name": ln, **units_metadata(TEMPERATURE_KINDS.get(k))},
+        )
         for k, (u, ln) in OUTPUTS.items()
     }
     data["hottest_part"] = (
@@ -728,6 +776,7 @@ def _trace_temperatures(p, times, tr, dim) -> dict:
             seq,
             {
                 "units": "K",
+                **ON_SCALE,
                 "long_name": f"bulk temperature of the {part.replace('_', ' ')} just after each engagement "
                 "in a row (design shown)",
             },
@@ -741,17 +790,17 @@ def _trace_temperatures(p, times, tr, dim) -> dict:
         "trace_surface_temperature": (
             dim,
             surface,
-            {"units": "K", "long_name": f"friction-face temperature {where}"},
+            {"units": "K", **ON_SCALE, "long_name": f"friction-face temperature {where}"},
         ),
         "trace_bulk_temperature": (
             dim,
             bulk,
-            {"units": "K", "long_name": f"bulk temperature {where}"},
+            {"units": "K", **ON_SCALE, "long_name": f"bulk temperature {where}"},
         ),
         "trace_peak_surface_temperature": (
             (),
             float(surface.max()),
-            {"units": "K", "long_name": f"peak friction-face temperature {where}"},
+            {"units": "K", **ON_SCALE, "long_name": f"peak friction-face temperature {where}"},
         ),
     }
 
@@ -773,8 +822,8 @@ STUDY = register(
             "peak_friction_torque": "N m",
             "specific_friction_work": "J/m^2",
             "peak_specific_friction_power": "W/m^2",
-            "bulk_temperature_rise": "K",
-            "peak_surface_temperature": "K",
+            "bulk_temperature_rise": ("K", "difference"),
+            "peak_surface_temperature": ("K", "absolute"),
             "accel_jump": "rad/s^2",
             "peak_jerk": "rad/s^3",
             "peak_bearing_force": "N",
@@ -802,6 +851,7 @@ STUDY = register(
         accuracy=ACCURACY,
         check_config=check_config,
         valid_statuses=VALID_STATUSES,
+        relations=RELATIONS,
     )
 )
 compute = STUDY.compute  # the status rule applied (clutchlab.studies.apply_valid_statuses)

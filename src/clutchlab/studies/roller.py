@@ -31,7 +31,8 @@ from .. import roller as rl
 from .. import status as st
 from ..contact import hertz_stiffness
 from ..published import ROLLER_CLUTCH
-from . import Parameter, Study, flat_inputs, register, seed_design
+from . import Parameter, Relation, Study, flat_inputs, register, seed_design
+from .diaphragm_spring import FRICTION_MAX
 
 RPM = rl.RPM
 PARAMETERS = (
@@ -55,11 +56,16 @@ PARAMETERS = (
     Parameter("roller_diameter", "m", "roller diameter d", 0.010),
     Parameter("roller_length", "m", "roller length b", 0.015),
     Parameter(
-        "friction_coefficient", "1", "static friction coefficient mu_A (every contact)", 0.12
+        "friction_coefficient",
+        "1",
+        "static friction coefficient mu_A (every contact)",
+        0.12,
+        maximum=FRICTION_MAX,
     ),
     Parameter("contact_radius", "m", "mean effective contact radius R_C", 0.150),
     Parameter("max_torque", "N m", "maximum transmitted torque T_i", 800.0),
-    Parameter("service_factor", "1", "K3 (K1 + K2) of eq. 1 (1848 / 800 N m)", 2.31),
+    # service factors of drivetrains are 1 to about 3; 20 is past any
+    Parameter("service_factor", "1", "K3 (K1 + K2) of eq. 1 (1848 / 800 N m)", 2.31, maximum=20.0),
     Parameter("rated_speed", "rad/s", "rated (driving ring) speed", 2000 * RPM),
     Parameter(
         "spring_force",
@@ -172,6 +178,33 @@ VALID_STATUSES = {
     **{k: _STATICS for k in OUTPUTS if k not in _DYNAMIC},
     **{k: ("ok", "above_allowable", "dynamic_overstress") for k in _DYNAMIC},
 }
+
+
+# relations the statics and the wedging dynamics assume for every scenario (refused in a config)
+RELATIONS = (
+    Relation(
+        ("rollers", "roller_diameter", "contact_radius"),
+        ("max", "max", "min"),
+        lambda rollers, roller_diameter, contact_radius: (
+            rollers * roller_diameter < 2 * np.pi * contact_radius
+        ),
+        "the rollers fit around the contact circle (rollers x roller_diameter < 2 pi "
+        "contact_radius)",
+    ),
+    Relation(
+        ("penetration_depth", "roller_diameter"),
+        ("max", "min"),
+        lambda penetration_depth, roller_diameter: penetration_depth < roller_diameter / 2,
+        "the contact's full-damping depth lies within the roller (penetration_depth < "
+        "roller_diameter / 2)",
+    ),
+    Relation(
+        ("control_stop_time", "end_time"),
+        ("max_finite", "min"),
+        lambda control_stop_time, end_time: control_stop_time < end_time,
+        "the release is simulated (a finite control_stop_time before end_time; inf: no release)",
+    ),
+)
 
 
 def check_config(section):
@@ -576,6 +609,7 @@ STUDY = register(
         },
         check_config=check_config,
         valid_statuses=VALID_STATUSES,
+        relations=RELATIONS,
     )
 )
 compute = STUDY.compute  # the status rule applied (clutchlab.studies.apply_valid_statuses)

@@ -26,7 +26,7 @@ import xarray as xr
 from .. import sprag as sp
 from .. import status as st
 from ..published import SPRAG_CLUTCH, SPRAG_TABLE2, SPRAG_TABLE2_SOURCE, SPRAG_TABLE2_UNITS
-from . import Parameter, Study, flat_inputs, register, seed_design
+from . import Parameter, Relation, Study, flat_inputs, register, seed_design
 
 MM = 1e-3
 _G = sp.SEED_GEOMETRY
@@ -80,7 +80,11 @@ PARAMETERS = (
         maximum_inclusive=False,
     ),
     Parameter(
-        "compliance_factor", "1", "deflection multiplier (1 physical; fitted to Table 2: 1.72)", 1.0
+        "compliance_factor",
+        "1",
+        "deflection multiplier (1 physical; fitted to Table 2: 1.72)",
+        1.0,
+        maximum=100.0,  # a hundredfold deflection: no longer the races' steel
     ),
     Parameter(
         "contact_allowable",
@@ -115,6 +119,24 @@ PARAMETERS = (
 )
 
 OPTIONS = {"compliance": ("physical", "seed002_fit"), "torque_source": ("given", "impact_peak")}
+
+
+def _inside(inner, outer, what):
+    return Relation(
+        (inner, outer),
+        ("max", "min"),
+        lambda **v: v[inner] < v[outer],
+        f"the radii are in order ({what}: {inner} < {outer})",
+    )
+
+
+# the races' radii in order from the bore out (eqs. 6-8 assume them); whether a sprag spans the
+# races (0 < R_i + r_i - (R_o - r_o) < Z) is a question of its design: a status per scenario
+RELATIONS = (
+    _inside("inner_bore_radius", "inner_race_radius", "the inner shaft's bore inside its race"),
+    _inside("inner_race_radius", "outer_race_radius", "the inner race inside the outer race"),
+    _inside("outer_race_radius", "outer_rim_radius", "the outer race inside its rim"),
+)
 
 _GEOMETRY = tuple(sp.SEED_GEOMETRY) + ("youngs_modulus", "poisson_ratio")
 _IMPACT = ("impact_power", "output_inertia", "impact_damping", "initial_speed")
@@ -413,6 +435,7 @@ STUDY = register(
         },
         options=OPTIONS,
         valid_statuses=VALID_STATUSES,
+        relations=RELATIONS,
     )
 )
 compute = STUDY.compute  # the status rule applied (clutchlab.studies.apply_valid_statuses)
