@@ -52,7 +52,9 @@ def test_temperatures_absolute_or_difference():
     )
     assert display.unit_of(ds, "a_rise").text == "degC" and display.unit_of(ds, "b").text == "K"
     u = display.unit("K", "peak_surface_temperature")  # written back into a config, pint reads it
-    assert to_si(f"{u(473.15)!r} {u.text}", "K", kind="absolute") == pytest.approx(473.15, rel=1e-14)
+    assert to_si(f"{u(473.15)!r} {u.text}", "K", kind="absolute") == pytest.approx(
+        473.15, rel=1e-14
+    )
 
 
 def test_constraint_echo_and_csv_columns():

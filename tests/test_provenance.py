@@ -174,9 +174,9 @@ def test_an_attribute_edit_in_a_chunk_is_found(own, tmp_path, where, edit, found
 
 @pytest.fixture
 def result(own, tmp_path):
-    """A merged result in the workflow's layout: results/diaphragm/spring.h5 beside results/work."""
+    """A merged result in the workflow's layout: results/diaphragm_spring/diaphragm_spring.h5 beside results/work."""
     sec, design, paths = own
-    out = tmp_path / "diaphragm" / "spring.h5"
+    out = tmp_path / "diaphragm_spring" / "diaphragm_spring.h5"
     _merge(sec, design, paths, out, config=study_config_text(sec))
     return out
 
@@ -349,7 +349,7 @@ def test_snakemake_finds_a_foreign_chunk_and_a_hand_edited_result(tmp_path):
 
     (wd / "tiny.yaml").write_text(yaml.safe_dump(tiny))
     run_snakemake(wd, "--configfile", "tiny.yaml")
-    result = wd / "results" / "diaphragm" / "spring.h5"
+    result = wd / "results" / "diaphragm_spring" / "diaphragm_spring.h5"
     before = xr.load_dataset(result, engine="h5netcdf")
     chunk = wd / "results" / "work" / STUDY / "chunk_0001.h5"
     foreign = _write_chunks(_section(youngs_modulus="200 GPa"), tmp_path / "other")[1]
@@ -371,7 +371,7 @@ def test_snakemake_finds_a_foreign_chunk_and_a_hand_edited_result(tmp_path):
     log = proc.stdout + proc.stderr
     assert proc.returncode != 0
     assert (
-        "results/diaphragm/spring.h5 does not match its checksum (changed after it was written: "
+        "results/diaphragm_spring/diaphragm_spring.h5 does not match its checksum (changed after it was written: "
         "clamp_load attributes); delete it and run snakemake again to recompute it" in log
     ), log
     assert not (wd / "results" / "report" / "report.pdf").exists()
@@ -380,3 +380,24 @@ def test_snakemake_finds_a_foreign_chunk_and_a_hand_edited_result(tmp_path):
     xr.testing.assert_identical(xr.load_dataset(result, engine="h5netcdf"), before)
     same = run_snakemake(wd, "--configfile", "tiny.yaml", "--dry-run")
     assert "Nothing to be done" in same.stdout + same.stderr
+
+
+def test_a_stored_result_is_identical_whatever_the_chunk_count(tmp_path):
+    """The chunk count says how a study runs, not what it is: the stored result (values, attributes,
+    checksums, config text) of one chunk and of five is the same file content."""
+    got = []
+    for chunks in (1, 5):
+        sec = resolve(
+            {
+                "studies": [STUDY],
+                "chunks": chunks,
+                STUDY: {"design": "factorial", "parameters": GRID},
+            }
+        )[STUDY]
+        paths = _write_chunks(sec, tmp_path / str(chunks), chunks=chunks)
+        out = tmp_path / str(chunks) / "result.h5"
+        design = store.load(tmp_path / str(chunks) / "design.h5")
+        _merge(sec, design, paths, out, config=study_config_text(sec))
+        got.append(store.load(out))
+    xr.testing.assert_identical(got[0], got[1])
+    assert got[0].attrs["clutchlab_checksum"] == got[1].attrs["clutchlab_checksum"]

@@ -140,7 +140,7 @@ def test_front_table_lists_front_designs_spread_along_it():
         and len(rows) <= answers.MAX_ROWS
     )
     assert header[4:] == [
-        "release_margin [N*m]",
+        "release_margin [-]",
         "reserve_factor_constraint_margin [-]",
         "release_margin_constraint_margin [-]",
     ]
@@ -380,7 +380,7 @@ def test_pages_draw_with_any_single_factor_varied(name, factor, values):
 def test_a_grid_of_no_factor_runs_in_chunks_to_its_report(tmp_path, name):
     """A factorial section with no factor is a one-scenario study: its chunks (all but one empty)
     merge and its report builds (no sensitivity page: nothing varies)."""
-    from clutchlab import doe
+    from clutchlab import doe, traces
 
     sec = resolve({"studies": [name], "chunks": 3, name: {"design": "factorial"}})[name]
     design = store.write(doe.build_design(sec), tmp_path / f"{name}_design.h5")
@@ -398,5 +398,10 @@ def test_a_grid_of_no_factor_runs_in_chunks_to_its_report(tmp_path, name):
     assert merged["status"].size == 1 and int(merged["status"].values.ravel()[0]) == int(
         single["status"]
     )
-    written = report.build({name: out}, [], tmp_path / f"report_{name}")
+    traced = store.write(  # the workflow's traces job: the design the pages show
+        traces.compute(merged, sec["options"]), tmp_path / f"{name}_traces.h5"
+    )
+    written = report.build(
+        {name: out}, [], tmp_path / f"report_{name}", traces_files={name: traced}
+    )
     assert (tmp_path / f"report_{name}" / "report.pdf").stat().st_size > 0 and written

@@ -866,6 +866,13 @@ def load(path) -> dict:
     return resolve(read_file(path))
 
 
+# how a study is split into jobs: not part of what a result is (a result is identical whatever the
+# chunk count; each chunk carries its index and count, checked at the merge)
+EXECUTION_KEYS = ("chunks",)
+
+
 def study_config_text(resolved_study: dict) -> str:
-    """YAML text of a resolved study section (stored as provenance in result files)."""
-    return yaml.safe_dump(resolved_study, sort_keys=True)
+    """YAML text of a resolved study section (stored as provenance in result files), without the
+    keys that only say how it is run (:data:`EXECUTION_KEYS`)."""
+    science = {k: v for k, v in resolved_study.items() if k not in EXECUTION_KEYS}
+    return yaml.safe_dump(science, sort_keys=True)

@@ -85,9 +85,10 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=N
 
     def compute(sel):
         part = {k: (v[sel] if np.ndim(v) else v) for k, v in inputs.items()}
-        if not any(np.ndim(v) for v in part.values()):  # a grid of no factor: its one scenario
-            m = len(range(n)[sel])  # (or none, in the other chunks) as arrays of the chunk's size
-            part = {k: np.full(m, v) for k, v in part.items()}
+        if not any(np.ndim(v) for v in part.values()) and not len(range(n)[sel]):
+            # a grid of no factor: its one scenario is in one chunk (scalars, as fixed inputs are
+            # everywhere), the other chunks hold none (empty arrays)
+            part = {k: np.full(0, v) for k, v in part.items()}
         if choices:
             return _compute_by_choice(
                 study, part, options, choices, {o: c[sel] for o, c in codes.items()}
