@@ -431,7 +431,7 @@ STUDY = register(
     Study(
         name="centrifugal",
         output="centrifugal/centrifugal.h5",
-        description="Centrifugal clutch with overrunning linkage: capacity, engagement, release (seed 001)",
+        description="Centrifugal clutch with overrunning linkage: capacity, engagement, release (source paper 001)",
         parameters=PARAMETERS,
         compute=compute,
         traces=seed_traces,

@@ -432,7 +432,7 @@ STUDY = register(
     Study(
         name="diaphragm_spring",
         output="diaphragm_spring/diaphragm_spring.h5",
-        description="Diaphragm-spring statics: Almen-Laszlo curve, clamp load, torque capacity (seed 000)",
+        description="Diaphragm-spring statics: Almen-Laszlo curve, clamp load, torque capacity (source paper 000)",
         parameters=PARAMETERS,
         compute=compute,
         model="closed form: Almen-Laszlo eq. (10) with analytic stationary points; capacity eqs. (13)-(14) corrected",

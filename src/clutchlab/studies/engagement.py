@@ -133,9 +133,9 @@ PARAMETERS = SPRING_PARAMETERS + (
         0.5,
     ),
     # heat (issue 20, clutchlab.heat): masses of seed 000 Table 3; the rest assumed (see heat.engagement_heat)
-    Parameter("flywheel_mass", "kg", "flywheel mass (seed 000 Table 3)", 10.3),
-    Parameter("pressure_plate_mass", "kg", "pressure plate mass (seed 000 Table 3)", 2.5),
-    Parameter("driven_plate_mass", "kg", "driven plate mass (seed 000 Table 3)", 1.9),
+    Parameter("flywheel_mass", "kg", "flywheel mass (source paper 000, Table 3)", 10.3),
+    Parameter("pressure_plate_mass", "kg", "pressure plate mass (source paper 000, Table 3)", 2.5),
+    Parameter("driven_plate_mass", "kg", "driven plate mass (source paper 000, Table 3)", 1.9),
     Parameter(
         "intermediate_plate_mass",
         "kg",
@@ -809,7 +809,7 @@ STUDY = register(
     Study(
         name="engagement",
         output="engagement/engagement.h5",
-        description="Diaphragm-spring clutch engagement: lock-up, slip work, jerk (seed 000)",
+        description="Diaphragm-spring clutch engagement: lock-up, slip work, jerk (source paper 000)",
         parameters=PARAMETERS,
         compute=compute,
         traces=seed_traces,

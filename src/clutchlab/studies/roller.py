@@ -574,7 +574,7 @@ STUDY = register(
     Study(
         name="roller",
         output="roller/roller.h5",
-        description="Roller-type controllable overrunning clutch: statics, self-locking, wedging dynamics (seed 003)",
+        description="Roller-type controllable overrunning clutch: statics, self-locking, wedging dynamics (source paper 003)",
         parameters=PARAMETERS,
         compute=compute,
         traces=seed_trace,

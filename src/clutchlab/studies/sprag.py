@@ -403,7 +403,7 @@ STUDY = register(
     Study(
         name="sprag",
         output="sprag/sprag.h5",
-        description="Sprag clutch: gripping angle with deflection, contact and shaft stresses, impact torque (seed 002)",
+        description="Sprag clutch: gripping angle with deflection, contact and shaft stresses, impact torque (source paper 002)",
         parameters=PARAMETERS,
         compute=compute,
         traces=impact_curves,
