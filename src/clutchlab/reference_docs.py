@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from . import studies
+from . import display, studies
 
 __all__ = [
     "STUDIES",
@@ -60,6 +60,7 @@ PUBLIC_MODULES = (
     "clutchlab.hardcases",
     "clutchlab.verify",
     "clutchlab.report",
+    "clutchlab.report.captions",
     "clutchlab.reference_docs",
 )
 
@@ -94,19 +95,26 @@ def _range(p: studies.Parameter) -> str:
 
 
 def _unit(units: str, kind: str | None = None) -> str:
-    unit = "1 (ratio)" if units == "1" else units
-    return f"{unit} ({kind})" if kind else unit
+    return f"{units} ({kind})" if kind else units
+
+
+def _shown(p: studies.Parameter) -> str:
+    """The default of ``p`` in the unit engineers read (:mod:`clutchlab.display`)."""
+    if p.integer or p.choices is not None:
+        return _num(p.default)
+    return display.text(p.default, display.unit(p.units, p.name, p.kind), fmt=".6g")
 
 
 def parameter_rows(name: str) -> list[dict]:
-    """Per parameter of study ``name``: name, unit (SI), default, allowed range, meaning, source,
-    role (design choice or operating condition)."""
+    """Per parameter of study ``name``: name, unit (SI), default (SI and as engineers read it),
+    allowed range, meaning, source, role (design choice or operating condition)."""
     study = studies.get(name)
     return [
         {
             "name": p.name,
             "unit": _unit(p.units, p.kind),
             "default": _num(p.default),
+            "shown": _shown(p),
             "range": _range(p),
             "meaning": p.long_name,
             "source": study.sources.get(p.name, ""),
@@ -220,6 +228,7 @@ def study_page(name: str) -> str:
                 "name": "name",
                 "unit": "unit",
                 "default": "default",
+                "shown": "default shown as",
                 "range": "allowed",
                 "meaning": "meaning",
                 "source": "source",
