@@ -218,3 +218,26 @@ def test_link_check_catches_a_broken_anchor(tmp_path):
     page.write_text("# Title\n\n## Units and kinds\n\n[x](#units-and-kinds) [y](#units)\n")
     anchors = _anchors(page)
     assert [t for t in _links(page) if t.lstrip("#") not in anchors] == ["#units"]
+
+
+def test_the_version_has_a_changelog_entry():
+    """The version is set once, in pyproject.toml (read at run time from the installed metadata);
+    each version has its entry in CHANGELOG.md."""
+    import tomllib
+
+    version = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["version"]
+    changelog = (ROOT / "CHANGELOG.md").read_text()
+    assert re.search(rf"^## {re.escape(version)} \(\d{{4}}-\d\d-\d\d\)$", changelog, re.M)
+    assert not re.search(
+        r"__version__\s*=\s*[\"']\d+\.\d+", (ROOT / "src/clutchlab/__init__.py").read_text()
+    )
+
+
+def test_every_config_key_has_a_meaning():
+    """Every key of the config file reference (top level, report, a study section) carries a
+    description in the schema, which editors show."""
+    schema = yaml.safe_load(SCHEMA.read_text())
+    rows = rd._schema_rows(schema["properties"]) + rd._schema_rows(
+        schema["$defs"]["study"]["properties"]
+    )
+    assert [r["key"] for r in rows if not r["meaning"].strip()] == []
