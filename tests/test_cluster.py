@@ -89,7 +89,7 @@ def test_the_rules_ask_for_what_clutchlab_cluster_computes(tmp_path):
 
 
 def test_the_slurm_profile_has_no_site_placeholders():
-    """Partition and account are the cluster's defaults unless a site sets them (README); the
+    """Partition and account are the cluster's defaults unless a site sets them (docs/scaling.md); the
     profile once shipped 'compute' and 'your_account', which a real cluster rejects."""
     text = (ROOT / "workflows/profiles/slurm/config.yaml").read_text()
     prof = yaml.safe_load(text)
@@ -101,7 +101,7 @@ def test_the_slurm_profile_has_no_site_placeholders():
 
 
 def test_the_slurm_extra_installs_the_tested_plugin():
-    """The README's `pip install -e ".[slurm]"`: the extra exists and asks for the plugin version the
+    """The documented `pip install -e ".[slurm]"`: the extra exists and asks for the plugin version the
     cluster tests ran (the test extra installs the same requirement)."""
     from importlib import metadata
 

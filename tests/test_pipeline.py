@@ -271,7 +271,7 @@ def test_interrupt_and_resume(tmp_path):
 
 
 def test_killed_run_unlock_and_resume(tmp_path):
-    """The README's recovery after a hard kill: the lock left behind, `snakemake --unlock`, rerun;
+    """The documented recovery after a hard kill (docs/outputs.md): the lock left behind, `snakemake --unlock`, rerun;
     no temporary file of the killed jobs survives the rerun."""
     wd = _workdir(tmp_path)
     cmd = [
@@ -487,7 +487,7 @@ def test_snakemakes_own_report_holds_every_page_with_its_caption(small_run):
 
     _snakemake(
         small_run, "--configfile", "config/small.yaml", "--report", "results/report.html"
-    )  # as the README
+    )  # as docs/outputs.md
     html = (small_run / "results/report.html").read_text()
     names = ["diaphragm_spring", "centrifugal", "sprag", "roller"]
     files = sorted(p.name for p in (small_run / "results/report").iterdir())

@@ -77,7 +77,7 @@ def _job_stats(log: str) -> dict:
 
 
 def test_small_config_on_slurm_equals_the_local_run(cluster, small_run, tmp_path):
-    """The README's cluster command, as written, on config/small.yaml: every job but the local
+    """The documented cluster command (docs/scaling.md), as written, on config/small.yaml: every job but the local
     target went through sbatch and completed on the cluster, the SLURM logs are under
     logs/slurm/, and every result file equals the local run's (values, status, attributes)."""
     import xarray as xr
@@ -181,7 +181,7 @@ def test_a_chunk_job_cancelled_by_slurm_is_reported_and_the_rerun_keeps_finished
 
 
 def test_a_site_sets_the_partition_on_the_command_line(cluster, tmp_path):
-    """The README's per-run partition command, as written (`main` is the CI cluster's partition):
+    """The documented per-run partition command (docs/scaling.md), as written (`main` is the CI cluster's partition):
     one study's result, each of its jobs submitted to that partition."""
     wd = snakemake_workdir(tmp_path)
     proc = _snakemake(

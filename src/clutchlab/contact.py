@@ -7,10 +7,10 @@ pull is cut to zero (a contact can push, never pull).
 
 References
 ----------
-[1] seed 003 section 3.1.2: contact stiffness 3.375e5 N/mm^1.5 (= (4/3)·E*·√(d/2) for a 10 mm
+.. [1] The source paper (003), section 3.1.2: contact stiffness 3.375e5 N/mm^1.5 (= (4/3)·E*·√(d/2) for a 10 mm
     steel roller on a flat), exponent 1.5, damping 2.1e3 N·s/mm.
-[2] MSC ADAMS/Solver IMPACT function (cubic STEP of the damping over the penetration depth).
-[3] Johnson, K. L., Contact Mechanics, 1985, section 11.4: Hertz impact of a mass m at speed v:
+.. [2] MSC ADAMS/Solver IMPACT function (cubic STEP of the damping over the penetration depth).
+.. [3] Johnson, K. L., Contact Mechanics, 1985, section 11.4: Hertz impact of a mass m at speed v:
     δ_max = (5mv²/(4k))^(2/5), contact time 2.9432·δ_max/v, restitution 1.
 """
 

@@ -1,7 +1,7 @@
 """Clutch engagement of a two-inertia driveline (seed 000 eqs. 1-2, 11, 12), batched.
 
 Engine side (eq. 1) J_e·dω_e/dt = T_e − T_c; driven side (eq. 2) J_v·dω_c/dt = T_c − T_m.
-While slipping T_c = sign(Δω)·μ(|Δω|)/μ_k · C(t) with the kinetic capacity
+While slipping T_c = sign(Δω)·μ(abs(Δω))/μ_k · C(t) with the kinetic capacity
 C(t) = C_max·p(t/t_r) (p a clamp profile: linear ramp, cubic or quintic smooth step, 1 after
 t_r); while stuck T_c is whatever keeps both sides together, as long as it stays within the
 static capacity (μ_s/μ_k)·C(t). The driven side stays parked at rest while the clutch torque is
@@ -926,7 +926,7 @@ def simulate(
         ``engine_torque`` (shared by all scenarios).
     friction_table : (slip speeds [rad/s], μ/μ_k [-]) or None
         The slipping friction law as a table (measured data, as the Modelica library's ``mu_pos``):
-        μ(|Δω|)/μ_k, linear between the points, constant beyond the ends; it replaces the Stribeck
+        μ(abs(Δω))/μ_k, linear between the points, constant beyond the ends; it replaces the Stribeck
         law (``stribeck_speed`` is then ignored). ``peak_capacity`` is the capacity at μ_k;
         sticking still holds up to ``static_ratio``·C. Shared by all scenarios.
     fade_coefficient, fade_onset, face_temperature_factor : array_like

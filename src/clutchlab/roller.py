@@ -402,16 +402,25 @@ def _check_options(rtol, max_steps, trace_points):
 def simulate(*, rtol=1e-8, max_steps=200_000, trace_index=None, trace_points=20_000, **scenario):
     """Wedging (and release) of the roller clutch for a batch of scenarios (broadcast arrays).
 
-    Parameters (keyword arrays)
-    ---------------------------
-    driving_speed [rad/s], load_torque [N m] (passive: opposes the driven ring's motion, holds it
-    at rest up to its value), wedge_inertia, driven_inertia [kg m^2],
-    contact_radius [m], rollers_loaded [1], wedge_angle [rad], friction_coefficient [1],
-    spring_force [N] (preload per roller), stiffness [N/m^exponent], exponent [1] (1.5),
-    damping [N s/m] (2.1e6), penetration_depth [m] (1e-4), control_stop_time [s] (inf: no
-    release), claw_clearance [m] (0), end_time [s] (2e-3), sync_tolerance [1] (0.01: engaged when
-    the driven ring first reaches 99 % of the driving speed), max_step [s]; rtol: integrator
-    tolerance.
+    Parameters
+    ----------
+    rtol : float
+        Integrator tolerance, in (0, 1).
+    max_steps : int
+        Step attempts a scenario may spend, a whole number in [1, 1e9].
+    trace_index : int or None
+        The scenario whose trace is returned.
+    trace_points : int
+        Points of the trace, in [0, 1e7].
+    **scenario : array_like
+        Keyword arrays, broadcast together: driving_speed [rad/s], load_torque [N m] (passive:
+        opposes the driven ring's motion, holds it at rest up to its value), wedge_inertia,
+        driven_inertia [kg m^2], contact_radius [m], rollers_loaded [1], wedge_angle [rad],
+        friction_coefficient [1], spring_force [N] (preload per roller), stiffness
+        [N/m^exponent], exponent [1] (1.5), damping [N s/m] (2.1e6), penetration_depth [m]
+        (1e-4), control_stop_time [s] (inf: no release), claw_clearance [m] (0), end_time [s]
+        (2e-3), sync_tolerance [1] (0.01: engaged when the driven ring first reaches 99 % of the
+        driving speed), max_step [s].
 
     Returns
     -------

@@ -271,8 +271,8 @@ def _chord_angles(psi, r_in, r_out):
 
 
 def _central_angle(oa, ob, z):
-    """ψ of the triangle OAB; the sprag's reach ends where |OA| = |OB| (ψ maximal, sprag radial):
-    beyond it (|OB| > |OA|) the angle is held at that maximum and the caller flags roll-over."""
+    """ψ of the triangle OAB; the sprag's reach ends where OA = OB (ψ maximal, sprag radial):
+    beyond it (OB > OA) the angle is held at that maximum and the caller flags roll-over."""
     ob = np.minimum(ob, oa)
     c = (oa * oa + ob * ob - z * z) / (2.0 * oa * ob)
     return np.arccos(np.clip(c, -1.0, 1.0))
@@ -287,7 +287,7 @@ def rest_geometry(
     centre_distance,
     **_,
 ):
-    """Unloaded ψ₀, V₀, W₀ [rad] and the radial overlap d₀ = |OA| − |OB| [m].
+    """Unloaded ψ₀, V₀, W₀ [rad] and the radial overlap d₀ = OA − OB [m].
 
     The sprag spans the races only for 0 < d₀ < Z (d₀ ≥ Z: it does not reach both races; d₀ ≤ 0: it
     stands past radial). Seed 002 geometry: ψ₀ = 0.642°, V₀ = 2.354°. NaN where a radius is not
@@ -470,7 +470,7 @@ def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **g
     (PHYSICS.md): loads along the contact chord N_i = T cot V/(n R̄_i), N_o = T cot W/(n R̄_o);
     races deflect as Lamé cylinders under the smeared pressure (:func:`race_deflections`); the
     contacts approach by Palmgren's line-contact law (:func:`contact_approach`); the deformed
-    |OA| = R̄_i + r̄_i, |OB| = R̄_o − r̄_o give ψ and tan V = R̄_o sin ψ/(R̄_o cos ψ − R̄_i).
+    OA = R̄_i + r̄_i, OB = R̄_o − r̄_o give ψ and tan V = R̄_o sin ψ/(R̄_o cos ψ − R̄_i).
     Deflection ``compliance_factor`` times the physical one (1 = physical; :func:`fit_compliance_factor`
     fits it to Table 2 at 750 N m: 1.726).
 

@@ -264,6 +264,9 @@ class Study:
     # the status rule (module docstring): output -> the statuses under which its value means what
     # its long_name says (tuple of status names, or ALL_STATUSES); a float output not listed: ok
     valid_statuses: dict = field(default_factory=dict)
+    # where each parameter's default comes from (parameter -> "source paper (000) Table 3", or
+    # "assumed: ..." with the reason); the reference pages show it
+    sources: dict = field(default_factory=dict)
 
     def __post_init__(self):
         for name in self.outputs:

@@ -427,11 +427,61 @@ def _release_rows():
     ]
 
 
+# where each parameter's default comes from (the reference pages show it)
+SOURCES = {
+    "shoes": (
+        "derived: z = 3 fits the source paper (001)'s springs (2 x 248 N x sin 60 deg = 430 "
+        "N); z is not printed"
+    ),
+    "shoe_mass": "the source paper (001), design inputs",
+    "shoe_radius": "the source paper (001), design inputs",
+    "drum_radius": "the source paper (001), design inputs",
+    "spring_force": "the source paper (001), design inputs",
+    "friction_coefficient": (
+        "derived: f tan(alpha) = 0.32587 from the source paper (001)'s M = 127.84 and M' = 65"
+        " N m at 5500 rpm (section 2.3, eqs. 1-2) with z = 3"
+    ),
+    "pressure_angle": (
+        "derived: alpha = 38.84 deg from the source paper (001)'s M and M' at 5500 rpm "
+        "(section 2.3, eqs. 1-2) with z = 3"
+    ),
+    "rated_speed": "the source paper (001), section 2.3: 5500 rpm",
+    "idle_speed": (
+        "the source paper (001), requirements: idle 1900-2100 rpm with the clutch disengaged "
+        "(the upper end)"
+    ),
+    "engine_torque": "the source paper (001), section 2.3: 68 N m at 5500 rpm",
+    "rated_passive_torque": (
+        "the source paper (001), section 2.3: back-drive torque 65.5 N m at 5500 rpm"
+    ),
+    "static_fraction": (
+        "assumed: 30 % of the passive torque is friction independent of speed, the rest grows"
+        " as speed squared; the source paper (001) prints only its value at 5500 rpm"
+    ),
+    "engine_inertia": "assumed: 0.02 kg m^2; the source paper (001) prints no inertias",
+    "rotor_inertia": (
+        "assumed: 0.5 kg m^2, the rotor referred to the clutch; the source paper (001) prints"
+        " no inertias"
+    ),
+    "rotor_load_torque": (
+        "assumed: 55 N m at rated speed; the source paper (001) prints no rotor load"
+    ),
+    "startup_time": (
+        "assumed: an 8 s ramp from 2000 rpm; the source paper (001) prints no start-up time"
+    ),
+    "friction_scatter": (
+        "assumed: dry friction scatters by about 25 % (lining friction classes span about 0.1)"
+    ),
+}
+
 STUDY = register(
     Study(
         name="centrifugal",
         output="centrifugal/centrifugal.h5",
-        description="Centrifugal clutch with overrunning linkage: capacity, engagement, release (seed 001)",
+        description=(
+            "Centrifugal clutch with overrunning linkage:"
+            " capacity, engagement, release (source paper 001)"
+        ),
         parameters=PARAMETERS,
         compute=compute,
         traces=seed_traces,
@@ -460,6 +510,7 @@ STUDY = register(
         objectives=("reserve_factor:max", "release_time:min"),
         constraints={"reserve_factor": ("min", 1.2), "release_margin": ("min", 0.0)},
         valid_statuses=VALID_STATUSES,
+        sources=SOURCES,
         relations=RELATIONS,
     )
 )

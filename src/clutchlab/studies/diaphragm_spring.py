@@ -428,11 +428,62 @@ def _engagement_rows() -> list[Row]:
     ]
 
 
+# where each parameter's default comes from (the reference pages show it)
+SPRING_SOURCES = {
+    "youngs_modulus": (
+        "assumed: spring steel (206 GPa); the source paper (000) prints no spring material"
+    ),
+    "poisson_ratio": (
+        "assumed: spring steel (0.3); the source paper (000) prints no spring material"
+    ),
+    "sheet_thickness": (
+        "assumed: the source paper (000) prints no spring dimensions; one spring that gives "
+        "its clamp load F_B = 2500 N at lambda_B = 0.9 lambda_C (section 5.1, eq. 10)"
+    ),
+    "cone_height_ratio": (
+        "assumed: H = 3.50 mm over h = 2.334 mm, a spring that gives the source paper (000)'s"
+        " F_B = 2500 N (section 5.1, eq. 10)"
+    ),
+    "outer_radius": (
+        "assumed: R = 110 mm, a spring that gives the source paper (000)'s F_B = 2500 N "
+        "(section 5.1, eq. 10)"
+    ),
+    "radius_ratio": (
+        "assumed: R/r = 110/85 mm, a spring that gives the source paper (000)'s F_B = 2500 N "
+        "(section 5.1, eq. 10)"
+    ),
+    "load_radius_outer_offset": (
+        "assumed: R1 = 108 mm, a spring that gives the source paper (000)'s F_B = 2500 N "
+        "(section 5.1, eq. 10)"
+    ),
+    "load_radius_inner_offset": (
+        "assumed: r1 = 86 mm, a spring that gives the source paper (000)'s F_B = 2500 N "
+        "(section 5.1, eq. 10)"
+    ),
+    "operating_point_factor": (
+        "the source paper (000), eq. (10) text: lambda_B = (0.8 to 1.0) lambda_C; 0.9 the middle"
+    ),
+    "friction_coefficient": "the source paper (000), Table 4",
+    "lining_outer_radius": "the source paper (000), Table 2 (D = 225 mm)",
+    "lining_inner_radius": "the source paper (000), Table 2 (d = 150 mm)",
+    "friction_faces": (
+        "the source paper (000), eqs. (13)-(14) corrected: a single-plate clutch has two faces"
+    ),
+    "stack_mass": (
+        "assumed: a horizontal shaft (0); the source paper (000)'s eq. (14) adds the stack "
+        "weight of a vertical one (Table 3 masses)"
+    ),
+    "max_engine_torque": "the source paper (000), Table 1",
+}
+
 STUDY = register(
     Study(
         name="diaphragm_spring",
         output="diaphragm_spring/diaphragm_spring.h5",
-        description="Diaphragm-spring statics: Almen-Laszlo curve, clamp load, torque capacity (seed 000)",
+        description=(
+            "Diaphragm-spring statics:"
+            " Almen-Laszlo curve, clamp load, torque capacity (source paper 000)"
+        ),
         parameters=PARAMETERS,
         compute=compute,
         model="closed form: Almen-Laszlo eq. (10) with analytic stationary points; capacity eqs. (13)-(14) corrected",
@@ -453,6 +504,7 @@ STUDY = register(
         constraints={"reserve_factor": ("min", 1.2)},
         options=OPTIONS,
         valid_statuses=VALID_STATUSES,
+        sources=SPRING_SOURCES,
         relations=RELATIONS,
     )
 )

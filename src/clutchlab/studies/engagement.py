@@ -48,7 +48,7 @@ from . import (
 )
 from .diaphragm_spring import PARAMETERS as SPRING_PARAMETERS
 from .diaphragm_spring import RELATIONS as SPRING_RELATIONS
-from .diaphragm_spring import spring_geometry
+from .diaphragm_spring import SPRING_SOURCES, spring_geometry
 
 PARAMETERS = SPRING_PARAMETERS + (
     Parameter("ramp_time", "s", "clamp force rise (engagement) time", 0.15, minimum_inclusive=True),
@@ -133,9 +133,9 @@ PARAMETERS = SPRING_PARAMETERS + (
         0.5,
     ),
     # heat (issue 20, clutchlab.heat): masses of seed 000 Table 3; the rest assumed (see heat.engagement_heat)
-    Parameter("flywheel_mass", "kg", "flywheel mass (seed 000 Table 3)", 10.3),
-    Parameter("pressure_plate_mass", "kg", "pressure plate mass (seed 000 Table 3)", 2.5),
-    Parameter("driven_plate_mass", "kg", "driven plate mass (seed 000 Table 3)", 1.9),
+    Parameter("flywheel_mass", "kg", "flywheel mass (source paper 000, Table 3)", 10.3),
+    Parameter("pressure_plate_mass", "kg", "pressure plate mass (source paper 000, Table 3)", 2.5),
+    Parameter("driven_plate_mass", "kg", "driven plate mass (source paper 000, Table 3)", 1.9),
     Parameter(
         "intermediate_plate_mass",
         "kg",
@@ -805,11 +805,73 @@ def _trace_temperatures(p, times, tr, dim) -> dict:
     }
 
 
+# where each parameter's default comes from (the reference pages show it)
+SOURCES = SPRING_SOURCES | {
+    "ramp_time": "the source paper (000), section 5.1, Fig. 7: the clamp load rises in 0.15 s",
+    "engine_speed": "the source paper (000), section 5.2, Fig. 8: 570 rad/s at lock-up",
+    "engine_inertia": (
+        "assumed: engine held at its speed (inf), what reproduces the source paper (000)'s "
+        "Fig. 8 (a free engine with 156 > 44 N m would keep accelerating)"
+    ),
+    "engine_torque": "the source paper (000), section 4 (after Table 4): drive torque 156 N m",
+    "driven_inertia": (
+        "assumed: inferred from the source paper (000)'s lock-up at 0.15 s and slip work "
+        "(section 5.2-5.3); the plate's own inertia, not printed"
+    ),
+    "load_torque": "the source paper (000), section 4 (after Table 4): load torque 44 N m",
+    "aero_coefficient": (
+        "assumed: no rotor drag (0), as the source paper (000)'s constant load torque"
+    ),
+    "static_ratio": "assumed: one friction coefficient (1), as the source paper (000)'s Table 4",
+    "stribeck_speed": (
+        "assumed: constant kinetic friction (inf), as the source paper (000)'s Table 4"
+    ),
+    "hub_fraction": (
+        "assumed: half the driven inertia on the plate hub; the source paper (000) prints no split"
+    ),
+    "damper_stiffness": "the source paper (000), Table 2, eq. (7): C_a = 13 T_j = 4498 N m/rad",
+    "damping_ratio": "assumed: 5 %; the source paper (000) prints no driveline damping",
+    "air_gap": (
+        "assumed: no free travel (0), the clamp ramp starting at first touch as in the source"
+        " paper (000)'s Fig. 7"
+    ),
+    "cushion_travel": "assumed: 0.6 mm; the source paper (000) prints no cushion",
+    "lever_ratio": "assumed: 4; the source paper (000) prints no lever ratio",
+    "end_time": (
+        "assumed: a 0.5 s window, beyond the source paper (000)'s lock-up at 0.15 s and the "
+        "default limit on lock-up time"
+    ),
+    "flywheel_mass": "the source paper (000), Table 3",
+    "pressure_plate_mass": "the source paper (000), Table 3",
+    "driven_plate_mass": "the source paper (000), Table 3",
+    "intermediate_plate_mass": (
+        "assumed: the pressure plate's 2.5 kg (the source paper (000), Table 3); only with "
+        "more than two faces"
+    ),
+    "heat_transfer_coefficient": "assumed: 40 W/(m^2 K), a closed clutch housing",
+    "cooling_area": "assumed: 0.1 m^2, both sides and rim of the hottest part",
+    "engagement_interval": "assumed: 60 s, a retried start",
+    "ambient_temperature": "assumed: 40 degC, air in the clutch housing",
+    "temperature_limit": (
+        "assumed: 250 degC, the service limit of organic linings (Limpert, Brake Design and "
+        "Safety, ch. 3)"
+    ),
+    "fade_coefficient": (
+        "assumed: no fade (0) unless given; the source paper (000) uses a constant friction "
+        "coefficient"
+    ),
+    "fade_onset_temperature": (
+        "assumed: 200 degC, organic linings (Limpert, Brake Design and Safety, ch. 3)"
+    ),
+}
+
 STUDY = register(
     Study(
         name="engagement",
         output="engagement/engagement.h5",
-        description="Diaphragm-spring clutch engagement: lock-up, slip work, jerk (seed 000)",
+        description=(
+            "Diaphragm-spring clutch engagement: lock-up, slip work, jerk (source paper 000)"
+        ),
         parameters=PARAMETERS,
         compute=compute,
         traces=seed_traces,
@@ -851,6 +913,7 @@ STUDY = register(
         accuracy=ACCURACY,
         check_config=check_config,
         valid_statuses=VALID_STATUSES,
+        sources=SOURCES,
         relations=RELATIONS,
     )
 )

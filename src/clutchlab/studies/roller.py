@@ -570,11 +570,55 @@ def _dynamics_rows(d):
     ]
 
 
+# where each parameter's default comes from (the reference pages show it)
+SOURCES = {
+    "rollers": "the source paper (003), Table 1",
+    "wedge_angle": "the source paper (003), Table 1: 11 deg",
+    "roller_diameter": "the source paper (003), Table 1",
+    "roller_length": "the source paper (003), Table 1",
+    "friction_coefficient": "the source paper (003), Table 1",
+    "contact_radius": "the source paper (003), Table 1",
+    "max_torque": "the source paper (003), section 2.2: T_c = 2.31 x 800 N m (eq. 1)",
+    "service_factor": "the source paper (003), section 2.2: 1848 / 800 N m (eq. 1)",
+    "rated_speed": "the source paper (003), section 3.1.2: the driving ring at 2000 rpm",
+    "spring_force": "the source paper (003), Table 1",
+    "youngs_modulus": (
+        "assumed: GCr15 bearing steel (206 GPa); the source paper (003) names the steel, not "
+        "its modulus"
+    ),
+    "poisson_ratio": "assumed: GCr15 bearing steel (0.3)",
+    "density": "assumed: steel (7850 kg/m^3)",
+    "contact_allowable": (
+        "the source paper (003), section 2.2: 3041-3247 MPa for 10^6 wedging cycles (the lower end)"
+    ),
+    "wedge_inertia": "assumed: 1e-5 kg m^2; the source paper (003) prints no inertias",
+    "driven_inertia": "assumed: 1e-2 kg m^2; the source paper (003) prints no inertias",
+    "contact_damping": "the source paper (003), section 3.1.2: 2.1e3 N s/mm",
+    "penetration_depth": "assumed: 0.1 mm, ADAMS' usual value for the IMPACT function",
+    "sync_tolerance": "assumed: engaged at 99 % of the driving speed",
+    "control_stop_time": (
+        "assumed: the control ring stopped at 1 ms, after the source paper (003)'s 0.197 ms "
+        "engagement (section 3.2)"
+    ),
+    "claw_clearance": "assumed: 1 mm free travel of the control-ring claws",
+    "end_time": (
+        "assumed: 3 ms, covering the engagement and the source paper (003)'s 1.3 ms release "
+        "(section 3.3)"
+    ),
+    "drive_direction": (
+        "assumed: the forward driving direction (+1) of the source paper (003)'s simulation "
+        "(section 3.1.2)"
+    ),
+}
+
 STUDY = register(
     Study(
         name="roller",
         output="roller/roller.h5",
-        description="Roller-type controllable overrunning clutch: statics, self-locking, wedging dynamics (seed 003)",
+        description=(
+            "Roller-type controllable overrunning clutch:"
+            " statics, self-locking, wedging dynamics (source paper 003)"
+        ),
         parameters=PARAMETERS,
         compute=compute,
         traces=seed_trace,
@@ -611,6 +655,7 @@ STUDY = register(
         },
         check_config=check_config,
         valid_statuses=VALID_STATUSES,
+        sources=SOURCES,
         relations=RELATIONS,
     )
 )

@@ -399,11 +399,51 @@ def _statics_rows(compliance, tag, tolerance):
     return rows
 
 
+# where each parameter's default comes from (the reference pages show it)
+SOURCES = {
+    "torque": "the source paper (002), Table 2: peak torque 750 N m",
+    "sprags": "the source paper (002), Table 1",
+    "sprag_length": "the source paper (002), Table 1",
+    "centre_distance": "the source paper (002), Table 1",
+    "sprag_inner_radius": "the source paper (002), Table 1",
+    "sprag_outer_radius": "the source paper (002), Table 1",
+    "inner_bore_radius": "the source paper (002), Table 1",
+    "inner_race_radius": "the source paper (002), Table 1",
+    "outer_race_radius": "the source paper (002), Table 1",
+    "outer_rim_radius": "the source paper (002), Table 1",
+    "youngs_modulus": "assumed: bearing steel (206 GPa); the source paper (002) prints no modulus",
+    "poisson_ratio": "assumed: steel (0.3); the source paper (002) prints none",
+    "compliance_factor": (
+        "model choice: 1 is the physical deflection; the fit to the source paper (002)'s "
+        "Table 2 at 750 N m (1.72) is option compliance: seed002_fit"
+    ),
+    "contact_allowable": "the source paper (002), Table 2 (allowable)",
+    "shaft_allowable": "the source paper (002), Table 2 (allowable)",
+    "gripping_angle_allowable": "the source paper (002), Table 2 (allowable), section 2.2",
+    "impact_power": "assumed: 100 kW starter turbine; the source paper (002) prints no power",
+    "output_inertia": (
+        "assumed: chosen so that the impact torque reaches 750 N m at t0 = 0.1 s from rest "
+        "(the source paper (002), eqs. 1-5, Table 2)"
+    ),
+    "impact_damping": (
+        "assumed: chosen so that sqrt(P0 C) equals the rated 267.5 N m (the source paper "
+        "(002), eqs. 1-5)"
+    ),
+    "initial_speed": "assumed: the output starts from rest",
+    "rise_time": (
+        "assumed: 0.1 s, the finite rise time the source paper (002)'s impact model needs "
+        "(T(0) is infinite from rest)"
+    ),
+}
+
 STUDY = register(
     Study(
         name="sprag",
         output="sprag/sprag.h5",
-        description="Sprag clutch: gripping angle with deflection, contact and shaft stresses, impact torque (seed 002)",
+        description=(
+            "Sprag clutch:"
+            " gripping angle with deflection, contact and shaft stresses, impact torque (source paper 002)"
+        ),
         parameters=PARAMETERS,
         compute=compute,
         traces=impact_curves,
@@ -435,6 +475,7 @@ STUDY = register(
         },
         options=OPTIONS,
         valid_statuses=VALID_STATUSES,
+        sources=SOURCES,
         relations=RELATIONS,
     )
 )
