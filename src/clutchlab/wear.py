@@ -21,8 +21,9 @@ W = W(x). The engagements the allowance lasts are N = ∫₀^Δ dx/δ(x) = (A/q_
 integrated by Simpson's rule over the new, half-worn and fully worn engagements; for a constant
 W this is exactly N = Δ·A/(q_V·W) (the allowance volume over the wear of one engagement).
 
-Thermal duty (:func:`clutchlab.heat.max_engagement_rate`). A part that heats by ΔT per engagement and cools by Newton's law (time constant τ)
-between engagements t_i apart reaches the periodic state ΔT/(1 − exp(−t_i/τ)) just after each
+Thermal duty (:func:`clutchlab.heat.max_engagement_rate`). A part that heats by ΔT per
+engagement and cools by Newton's law (time constant τ) between engagements t_i apart reaches
+the periodic state ΔT/(1 − exp(−t_i/τ)) just after each
 (:func:`clutchlab.heat.periodic_temperature`). It stays at or under the margin M (material limit
 minus ambient) for t_i ≥ −τ·ln(1 − ΔT/M), so the largest engagement rate is
 1/t_i = −1/(τ·ln(1 − ΔT/M)); 0 where one engagement alone reaches M (ΔT ≥ M), inf where an
