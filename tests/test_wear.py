@@ -135,7 +135,9 @@ def _rigid(**extra):
 def test_life_with_the_clamp_load_following_the_wear_against_the_engagement_by_engagement_sum():
     """The study's life (Simpson's rule over the new, half and fully worn engagements) against
     engaging the clutch one engagement after another, each at the clamp load of the wear so far
-    (q_V raised to 2e-11 m³/J so that the allowance lasts some 2 000 engagements)."""
+    (q_V raised to 2e-11 m³/J so that the allowance lasts some 260 engagements). Measured:
+    Simpson's rule over three engagements is within 0.10 % of the sum for B at 0.8 λ_C (the slip
+    work rising 11.5 % over the wear), 0.04 % at 0.9 λ_C, 0.014 % at λ_C."""
     study = get("engagement")
     q = 2e-11
     inputs = _rigid(specific_wear_rate=q, operating_point_factor=0.8)
@@ -159,10 +161,12 @@ def test_life_with_the_clamp_load_following_the_wear_against_the_engagement_by_e
             ramp_time=inputs["ramp_time"],
             t_end=inputs["end_time"],
         )
-        worn += q * float(r["slip_work"][0]) / area
+        step = q * float(r["slip_work"][0]) / area
+        worn += step
         n += 1
-    # the sum counts whole engagements (the last one overshoots the allowance by < 1)
-    assert float(ds.life_engagements) == pytest.approx(n, abs=1.5, rel=2e-3)
+    # the last engagement overshoots the allowance: count the fraction of it that was needed
+    exact = n - (worn - allowance) / step
+    assert float(ds.life_engagements) == pytest.approx(exact, rel=1.5e-3)
     assert float(ds.slip_work_worn) > float(ds.slip_work)  # less clamp load, more slip
 
 

@@ -74,6 +74,11 @@ def load_curves(ds):
                 f"R/r = {float(sub['radius_ratio']):.3g}",
                 f"lambda_B/lambda_C = {float(sub['operating_point_factor']):.2g}",
             ]
+            + (
+                [f"wear allowance = {float(sub['wear_allowance']) * 1e3:.3g} mm"]
+                if "wear_allowance" in sub and sub["wear_allowance"].ndim == 0
+                else []
+            )
             + ([fixed_text(sub, others)] if others else [])
         )
     cmap = plt.get_cmap("viridis")
@@ -106,8 +111,8 @@ def load_curves(ds):
     ax.set_xlabel("deflection at the pressure-plate load point lambda [mm]")
     ax.set_ylabel("spring load F [kN]")
     ax.set_title(
-        "Diaphragm spring load-deflection curves, Almen-Laszlo eq. (10) of seed 000; shaded: the "
-        "operating point's travel as the lining wears\n" + fixed
+        "Diaphragm spring load-deflection curves, Almen-Laszlo eq. (10) of seed 000 (shaded: the "
+        "wear travel)\n" + fixed
     )
     ax.legend(ncol=2, fontsize=8, loc="upper left")
     ax.grid(alpha=0.3)

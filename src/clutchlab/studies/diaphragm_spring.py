@@ -518,7 +518,8 @@ STUDY = register(
         # the lining's state (new: uniform pressure; worn in: uniform wear) is a condition of its life
         conditions=("max_engine_torque", "stack_mass", "friction_radius"),
         objectives=("reserve_factor:max", "load_peak:min"),
-        constraints={"reserve_factor": ("min", 1.2)},
+        # ... new and at the end of the wear allowance (the spring's operating point worn towards A)
+        constraints={"reserve_factor": ("min", 1.2), "reserve_factor_worn": ("min", 1.2)},
         options=OPTIONS,
         valid_statuses=VALID_STATUSES,
         relations=RELATIONS,

@@ -946,6 +946,14 @@ STUDY = register(
             "peak_jerk": "rad/s^3",
             "peak_bearing_force": "N",
             "clamp_load": "N",
+            # over the clutch's life (clutchlab.wear)
+            "clamp_load_worn": "N",
+            "peak_capacity_worn": "N m",
+            "lockup_time_worn": "s",
+            "slip_work_worn": "J",
+            "wear_per_engagement": "m",
+            "life_engagements": "1",
+            "max_engagement_rate": "1/s",
         },
         # seed 000: a cool (little slip work) and smooth (little jerk) engagement, locked within 0.5 s
         conditions=(
@@ -965,7 +973,8 @@ STUDY = register(
             )
         },
         objectives=("slip_work:min", "peak_jerk:min"),
-        constraints={"lockup_time": ("max", 0.5)},
+        # ... new and at the end of the wear allowance (less clamp load: a longer engagement)
+        constraints={"lockup_time": ("max", 0.5), "lockup_time_worn": ("max", 0.5)},
         accuracy=ACCURACY,
         check_config=check_config,
         valid_statuses=VALID_STATUSES,
