@@ -250,3 +250,43 @@ def test_a_wear_rate_in_engineers_units_is_read_as_meant():
     )["engagement"]
     assert section["fixed"]["specific_wear_rate"] == pytest.approx(wear.SPECIFIC_WEAR_RATE)
     assert section["fixed"]["wear_allowance"] == pytest.approx(1e-3)
+
+
+def test_a_refused_wear_allowance_is_invalid_input_and_leaves_the_others_bit_identical():
+    study = get("diaphragm_spring")
+    allowance = np.array([1.5 * MM, np.nan, 0.5 * MM])
+    ds = study.compute(study.defaults | {"wear_allowance": allowance})
+    assert list(ds.status.values) == [st.CODE["ok"], st.CODE["invalid_input"], st.CODE["ok"]]
+    assert np.isnan(ds.reserve_factor_worn.values[1]) and np.isnan(ds.clamp_load.values[1])
+    alone = study.compute(study.defaults | {"wear_allowance": np.array([0.5 * MM])})
+    for name in ("clamp_load_worn", "reserve_factor_least", "clamp_load"):
+        assert ds[name].values[2] == alone[name].values[0]
+
+
+def test_the_load_curve_page_draws_the_wear_travel_from_b_to_the_worn_point():
+    import matplotlib.pyplot as plt
+
+    from clutchlab import pipeline
+    from clutchlab.report import diaphragm_figures
+
+    section = config.resolve(
+        {
+            "studies": ["diaphragm_spring"],
+            "diaphragm_spring": {
+                "design": "factorial",
+                "parameters": {"cone_height_ratio": {"values": [1.5, 1.8]}},
+            },
+        }
+    )["diaphragm_spring"]
+    ds = pipeline.run_study(section)
+    fig = diaphragm_figures.load_curves(ds)
+    bands = [ln for ln in fig.axes[0].lines if ln.get_linewidth() == 6 and len(ln.get_xdata())]
+    assert len(bands) == 2
+    for band, ratio in zip(bands, (1.5, 1.8), strict=True):
+        m = ds.sel(cone_height_ratio=ratio)
+        x, y = band.get_xdata(), band.get_ydata()
+        assert x[0] == pytest.approx(float(m.deflection_worn) * 1e3, rel=1e-12)
+        assert x[-1] == pytest.approx(float(m.deflection_operating) * 1e3, rel=1e-12)
+        assert y[0] == pytest.approx(float(m.clamp_load_worn) / 1e3, rel=1e-12)
+        assert y[-1] == pytest.approx(float(m.clamp_load) / 1e3, rel=1e-12)
+    plt.close(fig)

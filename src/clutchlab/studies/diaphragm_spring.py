@@ -3,7 +3,10 @@
 Inputs are the spring geometry (thickness h, cone-height ratio H/h, radius ratio R/r and the
 load-point offsets), the release-bearing operating point factor λ_B/λ_C, and the lining and
 friction data. Outputs: characteristic points A/C/D/B of eq. (10), clamp load at B, torque
-capacity (eqs. 13–14 corrected), reserve factor and the load–deflection curve of each spring.
+capacity (eqs. 13–14 corrected), reserve factor and the load–deflection curve of each spring;
+over the wear allowance (the operating point worn from λ_B to λ_B − Δ on the spring's curve,
+:mod:`clutchlab.wear`) the clamp load, capacity and reserve factor half and fully worn and the
+least over the wear.
 
 Model: closed form (eq. 10 is a cubic in λ; its stationary points are roots of a quadratic).
 No solver is involved.

@@ -11,6 +11,13 @@ lifts (1 − p)·(g + c) (air gap g, lining cushion travel c) and the clamp forc
 F_B·max(0, 1 − κ(1 − p)) with κ = (g + c)/c (g = 0: the profile itself); the diaphragm curve gives
 F_B and the release-bearing force over the travel (``peak_bearing_force``).
 
+Over the clutch's life (:mod:`clutchlab.wear`, docs/wear.md): the clutch is engaged again with
+the lining worn by half and by all of ``wear_allowance`` (the clamp load at λ_B − Δ/2 and λ_B − Δ
+on the spring's curve, the same model as the first engagement); the lining wear per engagement
+q_V·W/A of each gives the life in engagements (Simpson's rule over the three), their heat the
+largest engagement rate the cooling allows. A scenario whose first engagement is ok but whose worn
+one does not lock has status ``worn_not_locked``.
+
 Model choice (recorded in the ``model_used`` attribute of the result): option ``driveline``
 ``compliant`` (default: needed for the output jerk of the efficiency-smoothness trade-off) or
 ``rigid``; a rigid driveline with constant μ, no rotor drag and a held engine uses the closed
