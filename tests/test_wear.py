@@ -290,3 +290,28 @@ def test_the_load_curve_page_draws_the_wear_travel_from_b_to_the_worn_point():
         assert y[0] == pytest.approx(float(m.clamp_load_worn) / 1e3, rel=1e-12)
         assert y[-1] == pytest.approx(float(m.clamp_load) / 1e3, rel=1e-12)
     plt.close(fig)
+
+
+def test_life_outputs_are_objectives_and_constraints_in_engineers_units():
+    section = config.resolve(
+        {
+            "studies": ["engagement"],
+            "engagement": {
+                "design": "factorial",
+                "parameters": {},
+                "objectives": ["life_engagements:max", "slip_work:min"],
+                "constraints": {"max_engagement_rate": {"min": "100 1/h"}},
+            },
+        }
+    )["engagement"]
+    assert section["constraints"]["max_engagement_rate"][1] == pytest.approx(100 / 3600.0)
+    assert display_unit("max_engagement_rate", "1/s")(1 / 36.0) == pytest.approx(100.0)
+    assert display_unit("specific_wear_rate", "m^3/J")(wear.SPECIFIC_WEAR_RATE) == pytest.approx(
+        0.2
+    )
+
+
+def display_unit(name, units):
+    from clutchlab import display
+
+    return display.unit(units, name)
