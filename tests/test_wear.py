@@ -74,17 +74,18 @@ def test_the_diaphragm_study_reports_new_half_and_worn_states_to_rounding():
 
 
 def test_a_spring_on_the_falling_branch_keeps_its_load_one_on_the_rising_branch_loses_it():
-    """The reason for the falling branch (seed 000, Fig. 6): B at λ_C past the hump A keeps the
-    clamp load within 5 % over 1 mm of wear; B at 0.6 λ_C, before A, loses more than 30 %."""
+    """The reason for the falling branch (seed 000, Fig. 6): over the default 1.5 mm allowance, B
+    at λ_C past the hump A keeps the clamp load within 8 % (measured: +1.6 % at A, −6.9 % at the
+    end); B at 0.6 λ_C, before A, loses more than half (measured 66.7 %)."""
     pts = {k: float(v) for k, v in friction_free_points().items()}
     lam_a = pts["deflection_A"]
     falling, rising = _lam_b(1.0), _lam_b(0.6)
     assert falling > lam_a > rising
-    travel = np.linspace(0.0, 1.0 * MM, 101)
+    travel = np.linspace(0.0, 1.5 * MM, 301)
     keep = wear.worn_clamp_load(travel, deflection_operating=falling, **SPRING)
     lose = wear.worn_clamp_load(travel, deflection_operating=rising, **SPRING)
-    assert np.all(np.abs(keep / keep[0] - 1) < 0.05)
-    assert lose[-1] / lose[0] < 0.7 and np.all(np.diff(lose) < 0)
+    assert np.all(np.abs(keep / keep[0] - 1) < 0.08)
+    assert lose[-1] / lose[0] < 0.5 and np.all(np.diff(lose) < 0)
     # past the hump the falling-branch spring first gains load (towards A), then loses it
     assert keep.max() == pytest.approx(pts["load_A"], rel=1e-6)
 
