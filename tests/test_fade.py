@@ -314,7 +314,10 @@ def test_study_with_fade_runs_the_event_solver_and_fades():
     )
     off, on = ds.sel(fade_coefficient=0.0), ds.sel(fade_coefficient=0.05)
     assert int(off["model"]) == 0 and int(on["model"]) == 1  # closed form, rigid event solver
-    assert int(on["status"]) == 0
+    # the faded clutch locks new (0.37 s), but worn by the 1.5 mm allowance (16 % less clamp load)
+    # it fades further and no longer locks within end_time: its first engagement's numbers stand
+    assert int(off["status"]) == st.CODE["ok"]
+    assert int(on["status"]) == st.CODE["worn_not_locked"]
     assert float(on["lockup_time"]) > 1.05 * float(off["lockup_time"])
     assert float(on["slip_work"]) > float(off["slip_work"])
     heat_sum = sum(float(on[f"heat_{p}"]) for p in ("flywheel", "pressure_plate", "driven_plate"))

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from clutchlab import heat
+from clutchlab import status as st
 
 E_IRON = float(heat.effusivity(**heat.MATERIALS["cast_iron"]))
 
@@ -142,7 +143,9 @@ def test_heat_into_the_parts_equals_the_slip_work_in_the_default_study():
     pressure plate and driven plate sums to the slip work within 1e-9 relative; the per-area
     loading is the slip work and peak power over the friction area of both faces."""
     ds = _default_engagement()
-    ok = ds["status"] == 0
+    # the first engagement's heat: every scenario whose first engagement is ok (worn_not_locked:
+    # the clutch worn by the allowance no longer locks, its first engagement's numbers stand)
+    ok = ds["status"].isin([0, st.CODE["worn_not_locked"]])
     assert int(ok.sum()) > 100
     total = ds["heat_flywheel"] + ds["heat_pressure_plate"] + ds["heat_driven_plate"]
     assert float(abs(total / ds["slip_work"] - 1).where(ok).max()) < 1e-9

@@ -15,7 +15,17 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as hs
 
 from clutchlab import centrifugal as cf
-from clutchlab import contact, diaphragm, driven_plate, engagement, friction, heat, roller, sprag
+from clutchlab import (
+    contact,
+    diaphragm,
+    driven_plate,
+    engagement,
+    friction,
+    heat,
+    roller,
+    sprag,
+    wear,
+)
 from clutchlab import status as st
 
 RPM = np.pi / 30
@@ -285,6 +295,28 @@ def test_bad_scenarios_never_disturb_good_ones(solver, data):
 
 # helpers that return plain arrays (or tuples of them): good scenarios (arrays of 4), bad values
 # per input, the call; a bad scenario gives NaN in every output
+# the seed spring (PHYSICS.md) at four operating points and wears, for the wear helpers
+_WEAR_SPRING = dict(
+    wear=[1.5e-3, 0.0, 3e-3, 0.5e-3],
+    deflection_operating=[2.772e-3, 2.464e-3, 3.08e-3, 2.0e-3],
+    youngs_modulus=[206e9] * 4,
+    poisson_ratio=[0.3] * 4,
+    sheet_thickness=[2.334e-3] * 4,
+    cone_height=[3.5e-3] * 4,
+    outer_radius=[0.110] * 4,
+    inner_radius=[0.085] * 4,
+    load_radius_outer=[0.108] * 4,
+    load_radius_inner=[0.086] * 4,
+)
+_WEAR_BAD = dict(
+    wear=[NAN, -1e-3, INF],
+    deflection_operating=[NAN, -1e-3, 0.0],
+    youngs_modulus=[NAN, -206e9, 0.0],
+    poisson_ratio=[0.5, NAN],
+    cone_height=[-3.5e-3],
+    load_radius_outer=[0.2],  # outside the spring
+)
+
 HELPERS = {
     "heat.bulk_rise": (
         dict(heat=[2.7e3, 1e3, 0.0, 5e3], mass=[10.3, 2.5, 1.9, 10.3], specific_heat=[500.0] * 4),
@@ -309,6 +341,52 @@ HELPERS = {
         ),
         dict(rise=[NAN, -2.0], interval=[-60.0, 0.0], time_constant=[NAN, -1.0]),
         lambda kw: heat.sequence_temperatures(**kw, engagements=5),
+    ),
+    "heat.max_engagement_rate": (
+        dict(rise=[2.0, 0.5, 0.0, 250.0], time_constant=[400.0] * 4, margin=[210.0] * 4),
+        dict(rise=[NAN, -2.0, 1e300], time_constant=[0.0, -1.0, INF], margin=[0.0, -10.0, NAN]),
+        lambda kw: heat.max_engagement_rate(**kw),
+    ),
+    "wear.worn_deflection": (
+        dict(deflection_operating=[2.8e-3, 3e-3, 2e-3, 1e-3], wear=[1.5e-3, 0.0, 3e-3, 0.5e-3]),
+        dict(deflection_operating=[NAN, -1e-3, 0.0, 1e300], wear=[NAN, -1e-3, INF, 1e300]),
+        lambda kw: wear.worn_deflection(**kw),
+    ),
+    "wear.worn_clamp_load": (_WEAR_SPRING, _WEAR_BAD, lambda kw: wear.worn_clamp_load(**kw)),
+    "wear.least_clamp_load": (
+        {("wear_allowance" if k == "wear" else k): v for k, v in _WEAR_SPRING.items()},
+        {("wear_allowance" if k == "wear" else k): v for k, v in _WEAR_BAD.items()},
+        lambda kw: wear.least_clamp_load(**kw),
+    ),
+    "wear.wear_per_engagement": (
+        dict(
+            slip_work=[6e3, 0.0, 2e4, 100.0],
+            specific_wear_rate=[5.6e-14, 1e-13, 5.6e-14, 1e-12],
+            outer_radius=[0.1125, 0.1, 0.2, 0.09],
+            inner_radius=[0.075, 0.05, 0.1, 0.08],
+        ),
+        dict(
+            slip_work=[NAN, -1.0, 1e300],
+            specific_wear_rate=[0.0, -1e-13, 1.0, NAN],
+            outer_radius=[0.05, NAN],
+            inner_radius=[0.2, -0.1],
+        ),
+        lambda kw: wear.wear_per_engagement(**kw),
+    ),
+    "wear.life_engagements": (
+        dict(
+            wear_allowance=[1.5e-3, 0.0, 3e-3, 1e-3],
+            wear_new=[1.5e-8, 2e-8, 1e-9, 0.0],
+            wear_half=[1.6e-8, 2e-8, 1e-9, 1e-8],
+            wear_worn=[1.8e-8, 2e-8, 2e-9, 1e-8],
+        ),
+        dict(
+            wear_allowance=[NAN, -1e-3, 1e300],
+            wear_new=[NAN, -1e-8, INF],
+            wear_half=[-1e-9],
+            wear_worn=[NAN, 1e300],
+        ),
+        lambda kw: wear.life_engagements(**kw),
     ),
     "heat.engagements_to_limit": (
         dict(
@@ -591,6 +669,7 @@ def test_every_public_function_is_screened():
         roller=roller,
         contact=contact,
         driven_plate=driven_plate,
+        wear=wear,
     )
     covered = set(HELPERS) | set(NOT_HELPERS)
     missing = [

@@ -76,6 +76,9 @@ TABLE: dict[str, Unit] = {
     "W/m^2": Unit("kW/m^2", "kW/m²", 1e-3),
     "W/(m^2 K)": Unit("W/(m^2*K)", "W/(m²·K)"),
     "1/K": Unit("1/K", "1/K"),
+    # a rate of engagements: per hour; a specific wear rate (VDI 2241's q_V) in cm³/kWh
+    "1/s": Unit("1/h", "1/h", 3600.0),
+    "m^3/J": Unit("cm^3/(kW*h)", "cm³/kWh", 3.6e12),
     "1": Unit("-", "-"),
 }
 #: temperatures: an absolute one in °C, a difference (a rise) in K

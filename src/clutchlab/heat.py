@@ -57,6 +57,7 @@ __all__ = [
     "sequence_temperatures",
     "periodic_temperature",
     "engagements_to_limit",
+    "max_engagement_rate",
     "engagement_heat",
     "face_temperature_rise",
     "part_effusivities",
@@ -367,6 +368,42 @@ def _engagements_to_limit(*, rise, interval, time_constant, margin):
     return np.where(np.isfinite(rise) & (rise >= 0) & np.isfinite(margin), n, np.nan)
 
 
+def max_engagement_rate(rise, time_constant, margin):
+    """Largest engagement rate [1/s] at which the periodic bulk temperature just after each
+    engagement (:func:`periodic_temperature`) stays at or under the margin M: the periodic state
+    ΔT/(1 − exp(−t_i/τ)) ≤ M for t_i ≥ −τ·ln(1 − ΔT/M), so the rate is 1/t_i (× 3600 for
+    engagements per hour). The engagement's own duration is neglected against t_i.
+
+    Parameters
+    ----------
+    rise : array_like
+        Bulk temperature rise ΔT of one engagement [K], ≥ 0.
+    time_constant : array_like
+        Cooling time constant τ = m c/(h A) [s], > 0.
+    margin : array_like
+        M, material limit minus ambient [K], > 0.
+
+    Returns
+    -------
+    numpy.ndarray
+        Rate [1/s]: 0 where ΔT ≥ M (one engagement alone reaches the limit), inf where ΔT = 0;
+        NaN where an input is not finite, of the wrong sign or implausible
+        (:mod:`clutchlab.plausible`).
+    """
+    inputs = dict(rise=rise, time_constant=time_constant, margin=margin)
+    return st.nan_screened(_max_engagement_rate, inputs, _domain(inputs))
+
+
+def _max_engagement_rate(*, rise, time_constant, margin):
+    rise, tau, margin = np.broadcast_arrays(
+        np.asarray(rise, dtype=float), np.asarray(time_constant, float), np.asarray(margin, float)
+    )
+    x = rise / margin
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rate = -1.0 / (tau * np.log1p(-x))  # (log1p: exact for a small rise)
+    return np.where(x >= 1.0, 0.0, np.where(rise == 0, np.inf, rate))
+
+
 # the parts of a dry clutch that take the friction heat (codes of ``hottest_part``: append only),
 # and their materials (driven plate: its faces are the linings; its heat capacity mostly the steel
 # carrier's; intermediate plates of a multi-plate clutch: cast iron, like the pressure plate)
@@ -418,12 +455,21 @@ def _engagement_heat(
         "driven_plate": driven_plate_mass,
         "intermediate_plate": intermediate_plate_mass,
     }
-    rises, capacities = [], []
+    rises, capacities, rates = [], [], []
     for part in PARTS:  # heat into each plate of the kind, and its bulk rise
         out[f"heat_{part}"] = shares[part] * slip_work
         capacity = masses[part] * MATERIALS[BULK_MATERIAL[part]]["specific_heat"]
         rises.append(out[f"heat_{part}"] / capacity)
         capacities.append(capacity * np.ones_like(slip_work))
+        rates.append(  # the rate this part allows (every part cools through the same h A)
+            _max_engagement_rate(
+                rise=rises[-1],
+                time_constant=capacity / (heat_transfer_coefficient * cooling_area),
+                margin=temperature_margin,
+            )
+        )
+    # the binding part's: the largest rate that keeps every part's periodic state under the margin
+    out["max_engagement_rate"] = np.min(np.stack(rates), axis=0)
     rise = np.stack(rises)
     hottest = np.argmax(rise, axis=0)
     capacity = np.choose(hottest, capacities)
@@ -465,7 +511,10 @@ def engagement_heat(
     into :data:`PARTS`); ``engagements_to_limit``: engagements in a row, ``engagement_interval`` [s]
     apart, after which that part's bulk temperature first exceeds ambient by ``temperature_margin``
     [K] (material limit minus ambient), cooling by Newton's law with time constant
-    m c/(h A) (h ``heat_transfer_coefficient`` [W/(m² K)], A ``cooling_area`` [m²]); inf if never.
+    m c/(h A) (h ``heat_transfer_coefficient`` [W/(m² K)], A ``cooling_area`` [m²]); inf if never;
+    ``max_engagement_rate`` [1/s]: the largest rate of engagements at which no part's periodic
+    bulk temperature exceeds ambient by more than the margin (:func:`max_engagement_rate` of each
+    part, the smallest; every part cooled through the same h A; inf where no heat).
 
     Defaults: masses of seed 000 Table 3 (flywheel 10.3 kg, pressure plate 2.5 kg, driven plate
     1.9 kg); h = 40 W/(m² K) (assumed: air moved by the spinning parts in a closed bell housing),

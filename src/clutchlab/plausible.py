@@ -63,6 +63,11 @@ RANGES: dict[str, tuple[float, float]] = {
     # linear spring rates; Hertz contact stiffness k of k·δ^1.5 (3.4e5 N/mm^1.5 = 1.1e10 in SI)
     "N/m": (1e-3, 1e13),
     "N/m^1.5": (1.0, 1e15),
+    # specific wear rate of a friction lining (worn volume per friction work, VDI 2241 q_V):
+    # 0.2 cm^3/kWh is 5.6e-14 m^3/J; 1e-18 to 1e-9 spans every dry and wet pair and then some
+    "m^3/J": (1e-18, 1e-9),
+    # a rate of events (engagements per hour: 1/h = 2.8e-4 1/s): one a year to a kilohertz
+    "1/s": (1e-8, 1e3),
     # dimensionless parameters: ratios and coefficients; narrower per parameter (a friction
     # coefficient <= 2, a count <= COUNT_MAX)
     "1": (1e-12, 1e6),

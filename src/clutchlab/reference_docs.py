@@ -41,6 +41,7 @@ PUBLIC_MODULES = (
     "clutchlab.driven_plate",
     "clutchlab.engagement",
     "clutchlab.heat",
+    "clutchlab.wear",
     "clutchlab.centrifugal",
     "clutchlab.sprag",
     "clutchlab.roller",

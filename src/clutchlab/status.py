@@ -29,6 +29,7 @@ FLAGS = {
     14: "invalid_input",
     15: "near_jam",
     16: "dynamic_overstress",
+    17: "worn_not_locked",
 }
 CODE = {meaning: code for code, meaning in FLAGS.items()}
 DTYPE = np.int8

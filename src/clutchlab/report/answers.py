@@ -92,6 +92,30 @@ def best_text(ds) -> str:
     return ", ".join(parts) + " -> " + ", ".join(goals)
 
 
+#: what the best design does over its life, where a study has it (clutchlab.wear): the reserve
+#: at the end of the wear allowance and its least over the wear, the life in engagements, the
+#: largest engagement rate the cooling allows, the last engagement's lock-up time
+LIFE = (
+    "reserve_factor_worn",
+    "reserve_factor_least",
+    "life_engagements",
+    "max_engagement_rate",
+    "lockup_time_worn",
+)
+
+
+def life_text(ds) -> str:
+    """The best design's numbers over its life (:data:`LIFE`, those the study has) in one line in
+    the units engineers read; "" where the study has none or no design is best."""
+    from ..traces import best_design
+
+    names = [n for n in LIFE if n in ds]
+    i = best_design(ds) if names and "pareto_rank" in ds else None
+    if i is None:
+        return ""
+    return ", ".join(_value_text(ds, n, _flat(ds, n)[i]).replace(" ", " = ", 1) for n in names)
+
+
 # a sampled (continuous) factor's best value within this share of its range of a bound sits "at
 # the edge" of the range
 EDGE_SHARE = 0.02
@@ -265,6 +289,10 @@ def page(name, ds):
         va="bottom",
     )
     _front_table(ax_t, ds)
+    life = life_text(ds)
+    if life:  # the best design over its life (wear allowance, lining life, engagement rate)
+        fig.text(0.06, 0.925, textwrap.shorten("best design over its life: " + life, 190),
+                 fontsize=8, va="top")  # fmt: skip
     n = feas.size
     fig.suptitle(
         f"Design answers, study '{name}': {int(feas.sum())} of {n} designs feasible "

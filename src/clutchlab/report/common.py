@@ -123,7 +123,7 @@ def page_ranges(numbers, stems) -> str:
 def _study_lines(name, ds, numbers, job_seconds, model=True) -> list[str]:
     """The summary's lines of one study (long lines are wrapped by the caller)."""
     from . import status_counts
-    from .answers import best_text, edge_notes
+    from .answers import best_text, edge_notes, life_text
 
     dims = " x ".join(f"{d} ({ds.sizes[d]})" for d in ds["status"].dims)
     if list(ds["status"].dims) == ["run"]:  # a sampled design: its factors
@@ -142,6 +142,8 @@ def _study_lines(name, ds, numbers, job_seconds, model=True) -> list[str]:
     ]
     if "pareto_rank" in ds:
         lines.append("best compromise: " + best_text(ds))
+        if life_text(ds):  # its reserve at the end of wear, lining life, engagements per hour
+            lines.append("over its life: " + life_text(ds))
         if not ds.attrs.get("shown_reason", "the run's best").startswith("the run's best"):
             lines.append("trace pages: " + shown_name(ds))
         notes = edge_notes(ds, short=True)

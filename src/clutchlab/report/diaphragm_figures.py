@@ -74,6 +74,11 @@ def load_curves(ds):
                 f"R/r = {float(sub['radius_ratio']):.3g}",
                 f"lambda_B/lambda_C = {float(sub['operating_point_factor']):.2g}",
             ]
+            + (
+                [f"wear allowance = {float(sub['wear_allowance']) * 1e3:.3g} mm"]
+                if "wear_allowance" in sub and sub["wear_allowance"].ndim == 0
+                else []
+            )
             + ([fixed_text(sub, others)] if others else [])
         )
     cmap = plt.get_cmap("viridis")
@@ -88,6 +93,7 @@ def load_curves(ds):
             label=f"H/h = {ratio:.2f}"
             + ("" if int(m["status"]) == 0 else f" ({st.FLAGS[int(m['status'])]})"),
         )
+        _wear_travel(ax, m, color)
         for p, (marker, _) in MARKERS.items():
             key = {"A": "peak", "C": "flat", "D": "valley", "B": "operating"}[p]
             x, y = (
@@ -98,15 +104,37 @@ def load_curves(ds):
                 ax.plot(x * 1e3, y / 1e3, marker, color=color, ms=6, mec="k", mew=0.6)
     for p, (marker, name) in MARKERS.items():
         ax.plot([], [], marker, color="w", mec="k", label=name)
+    if "deflection_worn" in ds:
+        ax.plot([], [], color="0.3", lw=4, alpha=0.35, label="wear travel B -> worn")
+        ax.plot([], [], "P", color="w", mec="k", label="fully worn")
     ax.axhline(0, color="0.5", lw=0.6)
     ax.set_xlabel("deflection at the pressure-plate load point lambda [mm]")
     ax.set_ylabel("spring load F [kN]")
     ax.set_title(
-        "Diaphragm spring load-deflection curves, Almen-Laszlo eq. (10) of seed 000\n" + fixed
+        "Diaphragm spring load-deflection curves, Almen-Laszlo eq. (10) of seed 000 (shaded: the "
+        "wear travel)\n" + fixed
     )
     ax.legend(ncol=2, fontsize=8, loc="upper left")
     ax.grid(alpha=0.3)
     return fig
+
+
+def _wear_travel(ax, m, color):
+    """The operating point's path as the lining wears (from B at λ_B to λ_B − Δ on the member's
+    curve; its stored samples in between) and the fully worn point, where the result has them."""
+    if "deflection_worn" not in m:
+        return
+    lam_b, lam_w = float(m["deflection_operating"]), float(m["deflection_worn"])
+    load_b, load_w = float(m["clamp_load"]), float(m["clamp_load_worn"])
+    if not all(np.isfinite(v) for v in (lam_b, lam_w, load_b, load_w)):
+        return
+    lam_w = max(lam_w, 0.0)  # (an unloaded spring: at λ = 0, no load)
+    x, y = np.asarray(m["curve_deflection"]), np.asarray(m["curve_load"])
+    inside = (x > lam_w) & (x < lam_b)
+    xs = np.concatenate([[lam_w], x[inside], [lam_b]])
+    ys = np.concatenate([[load_w], y[inside], [load_b]])
+    ax.plot(xs * 1e3, ys / 1e3, color=color, lw=6, alpha=0.35, solid_capstyle="butt")
+    ax.plot(lam_w * 1e3, load_w / 1e3, "P", color=color, ms=8, mec="k", mew=0.6)
 
 
 def reserve_map(ds):

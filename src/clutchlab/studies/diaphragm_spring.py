@@ -3,7 +3,10 @@
 Inputs are the spring geometry (thickness h, cone-height ratio H/h, radius ratio R/r and the
 load-point offsets), the release-bearing operating point factor λ_B/λ_C, and the lining and
 friction data. Outputs: characteristic points A/C/D/B of eq. (10), clamp load at B, torque
-capacity (eqs. 13–14 corrected), reserve factor and the load–deflection curve of each spring.
+capacity (eqs. 13–14 corrected), reserve factor and the load–deflection curve of each spring;
+over the wear allowance (the operating point worn from λ_B to λ_B − Δ on the spring's curve,
+:mod:`clutchlab.wear`) the clamp load, capacity and reserve factor half and fully worn and the
+least over the wear.
 
 Model: closed form (eq. 10 is a cubic in λ; its stationary points are roots of a quadratic).
 No solver is involved.
@@ -14,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .. import diaphragm, driven_plate, engagement, friction
+from .. import diaphragm, driven_plate, engagement, friction, wear
 from .. import status as st
 from ..published import DIAPHRAGM_CLUTCH
 from ..validation import Row, to_dataset
@@ -91,6 +94,16 @@ PARAMETERS = (
         minimum_inclusive=True,
     ),
     Parameter("max_engine_torque", "N m", "engine maximum torque T_emax", 173.0),
+    # the lining wear the clutch must take (all faces together): the pressure plate follows it and
+    # the operating point moves from B towards A on the spring's curve (clutchlab.wear)
+    Parameter(
+        "wear_allowance",
+        "m",
+        "lining wear allowance, all friction faces together (assumed: 1.5 mm)",
+        1.5 * MM,
+        minimum_inclusive=True,
+        maximum=20 * MM,  # (a dry lining is 3 to 5 mm thick per face)
+    ),
 )
 
 OPTIONS = {"friction_radius": ("uniform_pressure", "uniform_wear")}
@@ -148,7 +161,7 @@ def spring_geometry(p) -> dict:
     )
 
 
-def _capacity_status(code, capacity, reserve, p):
+def _capacity_status(code, capacity, reserve, p, worn):
     """The spring's status, and where the spring has numbers (ok, monotone_no_hump, snap_through)
     but the capacity or reserve factor has none: ``invalid_geometry`` for swapped lining radii,
     ``invalid_input`` for inputs the friction model refuses (μ, faces, stack mass, engine torque
@@ -156,9 +169,59 @@ def _capacity_status(code, capacity, reserve, p):
     numbers = np.isin(code, [st.CODE[k] for k in ("ok", "monotone_no_hump", "snap_through")])
     lining_bad = ~(p["lining_inner_radius"] < p["lining_outer_radius"])
     missing = ~np.isfinite(capacity) | ~np.isfinite(reserve)
+    for v in worn.values():  # (the wear allowance refused: no end-of-wear numbers)
+        missing |= np.isnan(v)
     code = np.where(numbers & lining_bad, st.CODE["invalid_geometry"], code)
     code = np.where(numbers & ~lining_bad & missing, st.CODE["invalid_input"], code)
     return code.astype(st.DTYPE)
+
+
+def wear_states(p, spring, pts, assumption="uniform_pressure") -> dict:
+    """Clamp load, torque capacity and reserve factor of the half-worn and the fully worn clutch
+    (the operating point at λ_B − Δ/2 and λ_B − Δ on the spring's curve, Δ = ``wear_allowance``;
+    :func:`clutchlab.wear.worn_clamp_load`), the deflection at full wear and the least reserve
+    factor over the whole wear travel, for flat parameter arrays ``p``."""
+    out = {}
+    lam_b = pts["deflection_B"]
+    loads = {
+        "half": wear.worn_clamp_load(
+            0.5 * p["wear_allowance"], deflection_operating=lam_b, **spring
+        ),
+        "worn": wear.worn_clamp_load(p["wear_allowance"], deflection_operating=lam_b, **spring),
+        "least": wear.least_clamp_load(p["wear_allowance"], deflection_operating=lam_b, **spring),
+    }
+    for state, load in loads.items():
+        cap = friction.torque_capacity(
+            load,
+            p["friction_coefficient"],
+            p["lining_outer_radius"],
+            p["lining_inner_radius"],
+            faces=p["friction_faces"],
+            assumption=assumption,
+            stack_mass=p["stack_mass"],
+        )
+        out[f"clamp_load_{state}"] = load
+        out[f"torque_capacity_{state}"] = cap
+        out[f"reserve_factor_{state}"] = friction.reserve_factor(cap, p["max_engine_torque"])
+    out["deflection_worn"] = wear.worn_deflection(lam_b, p["wear_allowance"])
+    return out
+
+
+WEAR_OUTPUTS = {
+    "clamp_load_half": ("N", "clamp load at half the wear allowance"),
+    "clamp_load_worn": ("N", "clamp load at the full wear allowance (end of wear)"),
+    "clamp_load_least": ("N", "least clamp load over the wear travel"),
+    "torque_capacity_half": ("N m", "torque capacity at half the wear allowance"),
+    "torque_capacity_worn": ("N m", "torque capacity at the full wear allowance (end of wear)"),
+    "torque_capacity_least": ("N m", "least torque capacity over the wear travel"),
+    "reserve_factor_half": ("1", "reserve factor at half the wear allowance"),
+    "reserve_factor_worn": ("1", "reserve factor at the full wear allowance (end of wear)"),
+    "reserve_factor_least": ("1", "least reserve factor over the wear travel"),
+    "deflection_worn": (
+        "m",
+        "spring deflection at the full wear allowance, lambda_B - wear (<= 0: spring unloaded)",
+    ),
+}
 
 
 def compute(inputs, options=None) -> xr.Dataset:
@@ -182,7 +245,8 @@ def compute(inputs, options=None) -> xr.Dataset:
         stack_mass=p["stack_mass"],
     )
     reserve = friction.reserve_factor(capacity, p["max_engine_torque"])
-    code = _capacity_status(code, capacity, reserve, p)
+    worn = wear_states(p, spring, pts, assumption)
+    code = _capacity_status(code, capacity, reserve, p, worn)
 
     lam_curve = pts["deflection_C"][:, None] * CURVE_POINTS[None, :]
     load_curve = diaphragm.almen_laszlo_load(
@@ -193,6 +257,7 @@ def compute(inputs, options=None) -> xr.Dataset:
     refused = np.isin(code, [st.CODE["invalid_input"], st.CODE["invalid_geometry"]])
     pts = {k: (np.where(refused, np.nan, v) if k != "status" else v) for k, v in pts.items()}
     capacity, reserve = np.where(refused, np.nan, capacity), np.where(refused, np.nan, reserve)
+    worn = {k: np.where(refused, np.nan, v) for k, v in worn.items()}
     lam_curve = np.where(refused[:, None], np.nan, lam_curve)
     load_curve = np.where(refused[:, None], np.nan, load_curve)
 
@@ -240,6 +305,7 @@ def compute(inputs, options=None) -> xr.Dataset:
             load_curve,
             _attrs("spring load on the curve (eq. 10)", "N"),
         ),
+        **{k: (run, worn[k], _attrs(ln, u)) for k, (u, ln) in WEAR_OUTPUTS.items()},
         "status": (
             run,
             code,
@@ -279,6 +345,7 @@ VALID_STATUSES = {
             "reserve_factor",
             "curve_deflection",
             "curve_load",
+            *WEAR_OUTPUTS,
         )
     },
     **{
@@ -474,6 +541,10 @@ SPRING_SOURCES = {
         "weight of a vertical one (Table 3 masses)"
     ),
     "max_engine_torque": "the source paper (000), Table 1",
+    "wear_allowance": (
+        "assumed: 1.5 mm of lining over all faces, of the order of a dry clutch's usable rivet "
+        "depth; the source paper (000) places B at 0.8-1.0 lambda_C for the wear travel"
+    ),
 }
 
 STUDY = register(
@@ -495,13 +566,18 @@ STUDY = register(
             "load_peak": "N",
             "load_valley": "N",
             "deflection_operating": "m",
+            "clamp_load_worn": "N",
+            "torque_capacity_worn": "N m",
+            "reserve_factor_worn": "1",
+            "reserve_factor_least": "1",
         },
         # torque reserve against the peak release force the bearing must overcome (load at the hump A;
         # the clamp load itself is proportional to the reserve, no trade-off); seed 000 takes beta >= 1.2
         # the lining's state (new: uniform pressure; worn in: uniform wear) is a condition of its life
         conditions=("max_engine_torque", "stack_mass", "friction_radius"),
         objectives=("reserve_factor:max", "load_peak:min"),
-        constraints={"reserve_factor": ("min", 1.2)},
+        # ... new and at the end of the wear allowance (the spring's operating point worn towards A)
+        constraints={"reserve_factor": ("min", 1.2), "reserve_factor_worn": ("min", 1.2)},
         options=OPTIONS,
         valid_statuses=VALID_STATUSES,
         sources=SPRING_SOURCES,

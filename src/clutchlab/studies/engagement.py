@@ -11,6 +11,13 @@ lifts (1 − p)·(g + c) (air gap g, lining cushion travel c) and the clamp forc
 F_B·max(0, 1 − κ(1 − p)) with κ = (g + c)/c (g = 0: the profile itself); the diaphragm curve gives
 F_B and the release-bearing force over the travel (``peak_bearing_force``).
 
+Over the clutch's life (:mod:`clutchlab.wear`, docs/wear.md): the clutch is engaged again with
+the lining worn by half and by all of ``wear_allowance`` (the clamp load at λ_B − Δ/2 and λ_B − Δ
+on the spring's curve, the same model as the first engagement); the lining wear per engagement
+q_V·W/A of each gives the life in engagements (Simpson's rule over the three), their heat the
+largest engagement rate the cooling allows. A scenario whose first engagement is ok but whose worn
+one does not lock has status ``worn_not_locked``.
+
 Model choice (recorded in the ``model_used`` attribute of the result): option ``driveline``
 ``compliant`` (default: needed for the output jerk of the efficiency-smoothness trade-off) or
 ``rigid``; a rigid driveline with constant μ, no rotor drag and a held engine uses the closed
@@ -33,7 +40,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .. import diaphragm, engagement, friction, heat
+from .. import diaphragm, engagement, friction, heat, wear
 from .. import status as st
 from .._engagement_kernel import SOE_TMAX
 from . import (
@@ -172,6 +179,14 @@ PARAMETERS = SPRING_PARAMETERS + (
         523.15,
         kind="absolute",
     ),
+    # lining wear per engagement (clutchlab.wear): worn volume = q_V x friction work, VDI 2241
+    Parameter(
+        "specific_wear_rate",
+        "m^3/J",
+        "specific wear rate q_V of the lining, worn volume per friction work (assumed: "
+        "0.2 cm^3/kWh, a resin-bonded dry lining; VDI 2241)",
+        wear.SPECIFIC_WEAR_RATE,
+    ),
     # friction fade (issue 20 item 4; off by default): mu_k / (1 + beta (T_face - T_onset)+) while slipping
     Parameter(
         "fade_coefficient",
@@ -246,6 +261,28 @@ OUTPUTS = {
         "engagements in a row until the hottest part's bulk temperature reaches "
         "temperature_limit (inf: never)",
     ),
+    "clamp_load_worn": ("N", "clamp load at the full wear allowance (eq. 10 at lambda_B - wear)"),
+    "peak_capacity_worn": ("N m", "kinetic torque capacity at the full wear allowance"),
+    "lockup_time_worn": ("s", "lock-up time of the last engagement (full wear allowance)"),
+    "slip_work_worn": ("J", "slip work of the last engagement (full wear allowance)"),
+    "wear_per_engagement": (
+        "m",
+        "lining wear of the first engagement, all faces together (q_V x slip work / face area)",
+    ),
+    "wear_per_engagement_worn": (
+        "m",
+        "lining wear of the last engagement (full wear allowance), all faces together",
+    ),
+    "life_engagements": (
+        "1",
+        "engagements until the lining has worn the wear allowance (the clamp load following "
+        "the wear; Simpson's rule over the new, half and fully worn engagements)",
+    ),
+    "max_engagement_rate": (
+        "1/s",
+        "largest rate of engagements keeping every part's periodic bulk temperature under "
+        "temperature_limit, new to fully worn",
+    ),
 }
 # temperature outputs: on the scale or a difference (CF units_metadata, config constraints)
 TEMPERATURE_KINDS = {"bulk_temperature_rise": "difference", "peak_surface_temperature": "absolute"}
@@ -270,10 +307,34 @@ HEAT = (
 # (the compliant model's largest jerk follows the lock-up) or a count of engagements to the limit
 # (an engagement that never ends); truncated (an event after end_time would change them) and
 # not_converged: only the statics
-_STATICS = ("ok", "never_locked", "not_converged", "truncated")
-_WINDOW = ("ok", "never_locked")
+_STATICS = ("ok", "never_locked", "not_converged", "truncated", "worn_not_locked")
+_WINDOW = ("ok", "never_locked", "worn_not_locked")
+# worn_not_locked: the first engagement is ok, the half or fully worn one does not lock: the first
+# engagement's numbers stand; the life and the worn engagement's do not
+_FIRST = ("ok", "worn_not_locked")
 VALID_STATUSES = {
-    **{k: _STATICS for k in ("clamp_load", "peak_capacity", "peak_bearing_force")},
+    **{
+        k: _STATICS
+        for k in (
+            "clamp_load",
+            "peak_capacity",
+            "peak_bearing_force",
+            "clamp_load_worn",
+            "peak_capacity_worn",
+        )
+    },
+    **{
+        k: _FIRST
+        for k in (
+            "lockup_time",
+            "lockup_speed",
+            "clamp_force_at_lockup",
+            "accel_jump",
+            "peak_jerk",
+            "engagements_to_limit",
+            "wear_per_engagement",
+        )
+    },
     **{
         k: _WINDOW
         for k in (
@@ -292,8 +353,8 @@ VALID_STATUSES = {
             "hottest_part",
         )
     },
-    # ok only: lockup_time, lockup_speed, clamp_force_at_lockup, accel_jump, peak_jerk,
-    # engagements_to_limit (the default of a float output); model and solver counts: every status
+    # ok only (the default of a float output): the last engagement's lock-up time, slip work and
+    # wear, the life and the engagement rate; model and solver counts: every status
 }
 
 
@@ -332,6 +393,18 @@ def capacity(p, options, with_points=False):
         **spring_geometry(p), operating_point_factor=p["operating_point_factor"]
     )
     force = pts["load_B"]
+    cap = capacity_of(force, p, options)
+    # a spring whose load points are off it, or swapped lining radii: no geometry, no capacity
+    spring_bad = (pts["status"] == st.CODE["invalid_geometry"]) | ~(
+        p["lining_inner_radius"] < p["lining_outer_radius"]
+    )
+    out = force, np.where(spring_bad, 0.0, cap), spring_bad
+    return out + (pts,) if with_points else out
+
+
+def capacity_of(force, p, options):
+    """Peak kinetic capacity [N m] at the clamp load ``force`` [N] (eqs. 13-14 corrected, or eq. 14
+    as printed per the option ``capacity_formula``), for flat parameter arrays ``p``."""
     if options["capacity_formula"] == "eq14_as_printed":
         cap = friction.torque_capacity_eq14_as_printed(
             force,
@@ -349,23 +422,60 @@ def capacity(p, options, with_points=False):
             faces=p["friction_faces"],
             stack_mass=p["stack_mass"],
         )
-    # a spring whose load points are off it, or swapped lining radii: no geometry, no capacity
-    spring_bad = (pts["status"] == st.CODE["invalid_geometry"]) | ~(
-        p["lining_inner_radius"] < p["lining_outer_radius"]
-    )
-    out = force, np.where(spring_bad, 0.0, cap), spring_bad
-    return out + (pts,) if with_points else out
+    return cap
 
 
-def _status(solver_status, spring_bad, cap, hot):
+def _status(solver_status, spring_bad, cap, hot, life):
     """The scenario's status: invalid_geometry where the spring or the lining has no geometry;
     invalid_input where the spring or friction inputs give no capacity (NaN) or, where the
-    engagement itself is ok, where the heat model refuses its inputs (masses, cooling, interval,
-    temperature margin, face count: the heat outputs would be NaN under ok); else the solver's."""
+    engagement itself is ok, where the heat or wear model refuses its inputs (masses, cooling,
+    interval, temperature margin, face count, wear rate and allowance: their outputs would be NaN
+    under ok); worn_not_locked where the first engagement is ok but the half or fully worn one
+    does not lock (``life["worn_status"]``); else the solver's."""
     code = np.where(spring_bad, st.CODE["invalid_geometry"], solver_status)
     code = np.where(~spring_bad & ~np.isfinite(cap), st.CODE["invalid_input"], code)
     heat_refused = (code == st.CODE["ok"]) & (hot["status"] != st.CODE["ok"])
-    return np.where(heat_refused, hot["status"], code).astype(st.DTYPE)
+    code = np.where(heat_refused, hot["status"], code)
+    ok = code == st.CODE["ok"]
+    code = np.where(ok & life["wear_refused"], st.CODE["invalid_input"], code)
+    ok = code == st.CODE["ok"]
+    code = np.where(ok & life["worn_not_locked"], st.CODE["worn_not_locked"], code)
+    return code.astype(st.DTYPE)
+
+
+def _life(p, pts, options, closed, res) -> dict:
+    """The clutch over its wear allowance (:mod:`clutchlab.wear`): the half and fully worn
+    engagements (the clamp load at λ_B − Δ/2 and λ_B − Δ on the spring's curve, the same model as
+    the first), the wear per engagement of each from its slip work, the life in engagements
+    (Simpson's rule over the three), and the largest engagement rate over the three engagements'
+    heat; ``worn_not_locked`` where a worn engagement is not ok, ``wear_refused`` where the wear
+    model refuses its inputs."""
+    spring = spring_geometry(p)
+    q, ro, ri = p["specific_wear_rate"], p["lining_outer_radius"], p["lining_inner_radius"]
+    per = [wear.wear_per_engagement(res["slip_work"], q, ro, ri)]
+    rates = [_heat(p, res["slip_work"], res["peak_slip_power"])["max_engagement_rate"]]
+    out = {"worn_not_locked": np.zeros(per[0].shape, dtype=bool)}
+    for fraction, tag in ((0.5, "half"), (1.0, "worn")):
+        force = wear.worn_clamp_load(
+            fraction * p["wear_allowance"], deflection_operating=pts["deflection_B"], **spring
+        )
+        cap = capacity_of(force, p, options)
+        with np.errstate(invalid="ignore"):
+            run = _engage(p, np.where(cap >= 0, cap, 0.0), options, closed)
+        out["worn_not_locked"] |= run["status"] != st.CODE["ok"]
+        per.append(wear.wear_per_engagement(run["slip_work"], q, ro, ri))
+        rates.append(_heat(p, run["slip_work"], run["peak_slip_power"])["max_engagement_rate"])
+        if tag == "worn":
+            out.update(clamp_load_worn=force, peak_capacity_worn=cap)
+            out.update(lockup_time_worn=run["lockup_time"], slip_work_worn=run["slip_work"])
+    out["wear_per_engagement"], out["wear_per_engagement_worn"] = per[0], per[2]
+    out["life_engagements"] = wear.life_engagements(p["wear_allowance"], *per)
+    out["max_engagement_rate"] = np.minimum(np.minimum(rates[0], rates[1]), rates[2])
+    with np.errstate(invalid="ignore"):
+        out["wear_refused"] = ~(
+            (q > 0) & np.isfinite(p["wear_allowance"]) & (p["wear_allowance"] >= 0)
+        ) | ~np.isfinite(per[0])
+    return out
 
 
 def tolerances(accuracy):
@@ -576,6 +686,32 @@ def compute(inputs, options=None) -> xr.Dataset:
     model = np.where(
         closed, MODEL["closed_form"], MODEL["rigid_events" if rigid else "compliant_events"]
     )
+    res = _engage(p, cap, options, closed)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        res["clamp_force_at_lockup"] = np.where(
+            cap > 0, res["capacity_at_lockup"] / cap * force, np.nan
+        )
+    res["clamp_load"], res["peak_capacity"] = force, cap
+    with np.errstate(invalid="ignore"):
+        res["peak_bearing_force"] = np.max(bearing_force(p, pts), axis=1)
+    hot = _heat(p, res["slip_work"], res["peak_slip_power"])
+    res.update({k: hot[k] for k in HEAT})
+    # the friction face's peak (flash) temperature from the slip power history (the event solver's
+    # samples, or the closed form's exact slip power sampled on its pieces)
+    flash = np.where(hot["status"] != 0, np.nan, res.get("flash_peak", np.full(model.size, np.nan)))
+    res["peak_surface_temperature"] = p["ambient_temperature"] + heat.face_temperature_rise(
+        flash, p["lining_outer_radius"], p["lining_inner_radius"], p["friction_faces"]
+    )
+    life = _life(p, pts, options, closed, res)
+    res.update(life)
+    code = _status(res["status"], spring_bad, cap, hot, life)
+    return _dataset(res, code, hot, model, inputs, options)
+
+
+def _engage(p, cap, options, closed) -> dict:
+    """One engagement of every scenario at the peak capacity ``cap`` [N m]: the closed form where
+    ``closed``, the event solver elsewhere (the outputs of :data:`OUTPUTS` they give, the solver's
+    status, capacity at lock-up, the flash integral's peak and the solver statistics)."""
     kw = _solver_inputs(p, cap, options)
     res = {}
     for mask, closed_form in ((closed, True), (~closed, False)):
@@ -614,22 +750,11 @@ def compute(inputs, options=None) -> xr.Dataset:
                 res.setdefault(k, np.zeros(mask.size, dtype=np.asarray(part[k]).dtype))[mask] = (
                     part[k]
                 )
-    with np.errstate(invalid="ignore", divide="ignore"):
-        res["clamp_force_at_lockup"] = np.where(
-            cap > 0, res["capacity_at_lockup"] / cap * force, np.nan
-        )
-    res["clamp_load"], res["peak_capacity"] = force, cap
-    with np.errstate(invalid="ignore"):
-        res["peak_bearing_force"] = np.max(bearing_force(p, pts), axis=1)
-    hot = _heat(p, res["slip_work"], res["peak_slip_power"])
-    res.update({k: hot[k] for k in HEAT})
-    # the friction face's peak (flash) temperature from the slip power history (the event solver's
-    # samples, or the closed form's exact slip power sampled on its pieces)
-    flash = np.where(hot["status"] != 0, np.nan, res.get("flash_peak", np.full(model.size, np.nan)))
-    res["peak_surface_temperature"] = p["ambient_temperature"] + heat.face_temperature_rise(
-        flash, p["lining_outer_radius"], p["lining_inner_radius"], p["friction_faces"]
-    )
-    code = _status(res["status"], spring_bad, cap, hot)
+    return res
+
+
+def _dataset(res, code, hot, model, inputs, options) -> xr.Dataset:
+    """The study's result Dataset of the computed outputs ``res`` and status ``code``."""
     refused = np.isin(code, [st.CODE["invalid_geometry"], st.CODE["invalid_input"]])
     data = {
         k: (
@@ -807,6 +932,10 @@ def _trace_temperatures(p, times, tr, dim) -> dict:
 
 # where each parameter's default comes from (the reference pages show it)
 SOURCES = SPRING_SOURCES | {
+    "specific_wear_rate": (
+        "assumed: 0.2 cm^3/kWh, of the order VDI 2241 gives for organic dry linings (not checked "
+        "against its table); replace it with the lining maker's value"
+    ),
     "ramp_time": "the source paper (000), section 5.1, Fig. 7: the clamp load rises in 0.15 s",
     "engine_speed": "the source paper (000), section 5.2, Fig. 8: 570 rad/s at lock-up",
     "engine_inertia": (
@@ -890,6 +1019,14 @@ STUDY = register(
             "peak_jerk": "rad/s^3",
             "peak_bearing_force": "N",
             "clamp_load": "N",
+            # over the clutch's life (clutchlab.wear)
+            "clamp_load_worn": "N",
+            "peak_capacity_worn": "N m",
+            "lockup_time_worn": "s",
+            "slip_work_worn": "J",
+            "wear_per_engagement": "m",
+            "life_engagements": "1",
+            "max_engagement_rate": "1/s",
         },
         # seed 000: a cool (little slip work) and smooth (little jerk) engagement, locked within 0.5 s
         conditions=(
@@ -909,7 +1046,8 @@ STUDY = register(
             )
         },
         objectives=("slip_work:min", "peak_jerk:min"),
-        constraints={"lockup_time": ("max", 0.5)},
+        # ... new and at the end of the wear allowance (less clamp load: a longer engagement)
+        constraints={"lockup_time": ("max", 0.5), "lockup_time_worn": ("max", 0.5)},
         accuracy=ACCURACY,
         check_config=check_config,
         valid_statuses=VALID_STATUSES,
