@@ -121,15 +121,54 @@ def build_design(resolved_study: dict) -> xr.Dataset:
             coords[name] = ("run", codes, option_attrs(name, labels))
     for name, value in resolved_study["fixed"].items():
         data[name] = ((), float(value), _param_attrs(study.parameter(name)))
+    crossed = _crossed(study, resolved_study, coords, data)
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update(_provenance(resolved_study))
-    ds.attrs["factors"] = " ".join([*factors, *choices])
+    ds.attrs["factors"] = " ".join([*factors, *choices, *crossed])
+    if crossed:  # the operating conditions every design must work at (robust answers)
+        ds.attrs["conditions"] = " ".join(resolved_study["robust"]["conditions"])
     ds.attrs["option_factors"] = " ".join(choices)
     ds.attrs["curve_stride"] = int(resolved_study.get("curve_stride", 1))
     if kind == "refine":
         ds.attrs["refine_from"] = resolved_study["refine"]["from"]
         ds.attrs["refine_within"] = first["pareto_rank"].attrs.get("ranked_within", "")
     return ds
+
+
+def _crossed(study, resolved_study: dict, coords: dict, data: dict) -> list[str]:
+    """A robust study's ``noise`` dimension (the last of its grid): its draws' index, each noise
+    parameter's draws and the draws' weights (:func:`clutchlab.robust.noise_draws`); [] for a
+    study that is not robust."""
+    from . import robust as rb
+
+    spec = resolved_study.get("robust")
+    if not spec:
+        return []
+    draws, weight = rb.noise_draws(spec, resolved_study["seed"])
+    coords[rb.NOISE_DIM] = (
+        rb.NOISE_DIM,
+        np.arange(weight.size),
+        {
+            "long_name": "noise draw (the corners of the noise box first, then samples)",
+            "units": "1",
+        },
+    )
+    data["noise_weight"] = (
+        rb.NOISE_DIM,
+        weight,
+        {"long_name": "weight of the draw in probabilities (0: a corner)", "units": "1"},
+    )
+    for name, values in draws.items():
+        param = study.parameter(name)
+        relative = spec["noise"][name]["relative"]
+        attrs = (
+            {"long_name": f"relative deviation of the {param.long_name} (noise)", "units": "1"}
+            if relative
+            else {**_param_attrs(param), "long_name": f"{param.long_name} (noise)"}
+        )
+        attrs["relative"] = int(relative)
+        data[rb.noise_variable(name)] = (rb.NOISE_DIM, np.asarray(values, float), attrs)
+    return [rb.NOISE_DIM]
 
 
 def option_attrs(name: str, labels) -> dict:

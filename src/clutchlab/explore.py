@@ -39,6 +39,7 @@ __all__ = [
     "grid_variance_decomposition",
     "sobol_indices",
     "sensitivity",
+    "robust",
 ]
 
 
@@ -183,6 +184,8 @@ def condition_factors(ds) -> tuple[list[str], list[str]]:
 
     conditions = studies.get(ds.attrs["study"]).conditions if "study" in ds.attrs else ()
     dims = ds["status"].dims
+    if "noise" in dims:  # a robust study: its conditions and each noise draw (robust answers)
+        conditions = (*ds.attrs.get("conditions", "").split(), "noise")
     factors = ds.attrs.get("factors", "").split()
     kept = ds.attrs.get("refine_within", "").split()
     options = ds.attrs.get(
@@ -675,3 +678,57 @@ def sensitivity(ds, outputs) -> xr.Dataset:
             "title": ds.attrs.get("title", ""),
         },
     )
+
+
+def robust(ds, objectives=None, constraints=None, **settings):
+    """Robust answers of a stored crossed study result (design × conditions × noise), over its
+    design factors only (:func:`clutchlab.robust.answers`): per objective its worst case, mean
+    and quantile; per constraint its worst margin and its probability of violation at each
+    condition with a Wilson interval; ``robust_feasible``, ``robust_rank`` and where each worst
+    case occurs.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A stored result of a robust study (a ``noise`` dimension), e.g. ``clutchlab.store.load``
+        or a lazily opened file: only the columns the answers need are read.
+    objectives : list of str or None
+        "name:min" / "name:max"; None: the study's stored objectives.
+    constraints : dict or None
+        Output -> ("max" or "min", limit [SI]); None: the study's stored constraints.
+    **settings
+        Overrides of the stored robust settings: ``quantile``, ``max_failure_probability``,
+        ``objectives`` ("worst" or "quantile"), ``conditions`` (list of dimensions).
+
+    Returns
+    -------
+    xarray.Dataset
+        Labelled DataArrays over the design factors (units and long_name on each).
+
+    Raises
+    ------
+    ValueError
+        ``ds`` is not a crossed result (no ``noise`` dimension).
+    """
+    import yaml
+
+    from . import robust as rb
+    from .config import ROBUST_DEFAULTS
+
+    if rb.NOISE_DIM not in ds.dims or "noise_weight" not in ds:
+        raise ValueError("not a robust study result: it has no 'noise' dimension and draws")
+    section = yaml.safe_load(ds.attrs["config"]) if "config" in ds.attrs else {}
+    stored = dict(section.get("robust") or {})
+    stored.setdefault("conditions", ds.attrs.get("conditions", "").split())
+    for key in ("quantile", "max_failure_probability", "objectives"):
+        stored.setdefault(key, ROBUST_DEFAULTS[key])
+    stored.update(settings)
+    if objectives is None:
+        objectives = section.get("objectives") or ds["pareto_rank"].attrs["objectives"].split()
+    if constraints is None:
+        constraints = section.get("constraints", {})
+    constraints = {k: tuple(v) for k, v in constraints.items()}
+    names = ["status", "noise_weight"] + [o.split(":")[0] for o in objectives] + list(constraints)
+    names += [v for v in ds.data_vars if ds[v].dims == (rb.NOISE_DIM,)]
+    columns = ds[list(dict.fromkeys(names))].load()
+    return rb.answers(columns, list(objectives), constraints, stored)

@@ -62,8 +62,24 @@ def chunk_inputs(design: xr.Dataset, chunks: int, i: int) -> tuple[np.ndarray, d
         for f in factors:
             inputs[f] = design[f].values[sl]
     for name, var in design.data_vars.items():
-        inputs[name] = float(var.values)
+        if var.ndim == 0:  # (a robust design's noise draws are applied by run_chunk)
+            inputs[name] = float(var.values)
     return idx, inputs
+
+
+def _with_noise(design: xr.Dataset, inputs: dict) -> dict:
+    """A chunk's inputs for its study: a robust design's noise draws applied
+    (:func:`clutchlab.robust.apply_noise`), the draw index left out."""
+    from . import robust as rb
+
+    if rb.NOISE_DIM not in design.dims:
+        return inputs
+    inputs = dict(inputs)
+    index = np.asarray(inputs.pop(rb.NOISE_DIM), dtype=np.int64)
+    names = [v[: -len("_noise")] for v in design.data_vars if v.endswith("_noise")]
+    draws = {n: design[rb.noise_variable(n)].values for n in names}
+    relative = {n: bool(design[rb.noise_variable(n)].attrs["relative"]) for n in names}
+    return rb.apply_noise(inputs, draws, relative, index)
 
 
 # a chunk of more than PROGRESS_MIN scenarios runs as PROGRESS_BATCHES batches with a progress line
@@ -83,8 +99,10 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=N
     start = time.perf_counter()
     n = idx.size
 
+    physical = _with_noise(design, inputs)
+
     def compute(sel):
-        part = {k: (v[sel] if np.ndim(v) else v) for k, v in inputs.items()}
+        part = {k: (v[sel] if np.ndim(v) else v) for k, v in physical.items()}
         if not any(np.ndim(v) for v in part.values()):  # a grid of no factor: its one scenario
             m = len(range(n)[sel])  # (or none, in the other chunks) as arrays of the chunk's size
             part = {k: np.full(m, v) for k, v in part.items()}
@@ -391,6 +409,7 @@ def merge_to_file(
     *,
     config: str | None = None,
     source: str | None = None,
+    robust_path=None,
 ) -> None:
     """Merge chunk files into the study's result file without holding the study in memory.
 
@@ -429,6 +448,9 @@ def merge_to_file(
         design's.
     source : str or None
         The current package source hash; None: :func:`clutchlab.source_hash`.
+    robust_path : path or None
+        Where a robust (crossed) study writes its robust answers (:func:`clutchlab.explore.robust`,
+        sealed with its checksum), read from the few columns they need of the sealed result.
     """
     from . import explore, store
 
@@ -455,6 +477,10 @@ def merge_to_file(
     if sensitivity_path is not None:
         outputs = [o.split(":")[0] for o in objectives] + list(constraints)
         store.write(explore.sensitivity(columns, outputs), sensitivity_path, with_checksum=True)
+    if robust_path is not None:
+        with xr.open_dataset(path, engine=store.ENGINE) as lazy:
+            answers = explore.robust(lazy, list(objectives), constraints)
+        store.write(answers, robust_path, with_checksum=True)
 
 
 def _load_chunk(p, design, position: int, count: int, checked: tuple) -> xr.Dataset:
