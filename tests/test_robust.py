@@ -1,0 +1,242 @@
+"""Robust studies: crossed designs (design × conditions × noise) and their robust answers."""
+
+import itertools
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from clutchlab import doe, explore, pipeline, store, studies
+from clutchlab import robust as rb
+from clutchlab.config import resolve
+
+NOMINAL_MU = 0.35
+SCATTER = 0.2
+
+
+def _engagement(noise_samples=256, limit="0.5 s", **parameters):
+    section = {
+        "design": "factorial",
+        "options": {"driveline": "rigid"},
+        "parameters": {"ramp_time": {"values": ["0.15 s"]}, **parameters},
+        "noise": {"friction_coefficient": {"scatter": f"±{100 * SCATTER:g} %"}},
+        "noise_samples": noise_samples,
+        "objectives": ["slip_work:min", "lockup_time:min"],
+        "constraints": {"lockup_time": {"max": limit}},
+    }
+    section["parameters"].setdefault("friction_coefficient", NOMINAL_MU)
+    return resolve({"studies": ["engagement"], "engagement": section})["engagement"]
+
+
+def _lockup(sec, mu) -> np.ndarray:
+    """Lock-up times [s] of the study's nominal design at friction coefficients ``mu``."""
+    inputs = dict(sec["fixed"])
+    inputs["ramp_time"] = sec["factors"]["ramp_time"]["values"][0]
+    inputs["friction_coefficient"] = np.asarray(mu, dtype=float)
+    return studies.get("engagement").compute(inputs, sec["options"])["lockup_time"].values
+
+
+def _run(sec, chunks=1):
+    design = doe.build_design(sec)
+    parts = [pipeline.run_chunk(design, sec["options"], chunks, i) for i in range(chunks)]
+    return pipeline.merge(design, parts)
+
+
+def test_noise_draws_have_the_corners_first_and_the_same_draws_for_every_design():
+    sec = _engagement(noise_samples=8, sheet_thickness={"values": ["2.2 mm", "2.4 mm"]})
+    design = doe.build_design(sec)
+    d = design["friction_coefficient_noise"].values
+    assert design.sizes["noise"] == 2 + 8
+    np.testing.assert_array_equal(d[:2], [-SCATTER, SCATTER])
+    assert ((d[2:] > -SCATTER) & (d[2:] < SCATTER)).all()
+    np.testing.assert_array_equal(design["noise_weight"].values, [0, 0] + [1 / 8] * 8)
+    # a scrambled Sobol' sample: one point in each eighth of the interval
+    cells = np.floor((d[2:] + SCATTER) / (2 * SCATTER) * 8)
+    np.testing.assert_array_equal(np.sort(cells), np.arange(8))
+    ds = _run(sec)
+    mu = ds["friction_coefficient"].values
+    # each scenario ran at the design's mu times (1 + its draw): lock-up at draw k the same as the
+    # API's at that mu, for both sheet thicknesses
+    got = ds["lockup_time"].isel(sheet_thickness=0).values.reshape(-1)
+    want = _lockup(sec | {"fixed": {**sec["fixed"], "sheet_thickness": 2.2e-3}}, mu * (1 + d))
+    np.testing.assert_allclose(got, want, rtol=1e-12)
+
+
+def test_violation_probability_and_worst_case_of_a_closed_form_case():
+    """Acceptance: rigid engagement, held engine, mu uniform over ±20 % of 0.35. Lock-up time
+    falls monotonically with mu, so P(lock-up > limit) is the share of the mu interval below the
+    mu that locks up exactly at the limit (found by bisection to 1e-13 on the API); the estimate
+    from 256 scrambled Sobol' draws lies within its Wilson interval (and within 2/256 of it), and
+    the worst case equals the lower corner's lock-up to 1e-12."""
+    lo, hi = NOMINAL_MU * (1 - SCATTER), NOMINAL_MU * (1 + SCATTER)
+    probe = _engagement()
+    t_lo, t_hi = _lockup(probe, [lo, hi])
+    assert t_lo > t_hi  # monotone: less friction, later lock-up
+    limit = float(np.round(t_hi + 0.3 * (t_lo - t_hi), 4))
+    sec = _engagement(limit=f"{limit} s")
+    a, b = lo, hi  # bisection for the mu locking up exactly at the limit
+    for _ in range(80):
+        m = 0.5 * (a + b)
+        a, b = (m, b) if _lockup(sec, [m])[0] > limit else (a, m)
+        if b - a < 1e-13:
+            break
+    exact = (0.5 * (a + b) - lo) / (hi - lo)
+    answers = explore.robust(_run(sec))
+    p = float(answers["violation_probability"].squeeze())
+    low = float(answers["violation_probability_low"].squeeze())
+    high = float(answers["violation_probability_high"].squeeze())
+    print(f"P(lock-up > {limit} s): exact {exact:.6f}, estimated {p:.6f} [{low:.4f}, {high:.4f}]")
+    assert low <= exact <= high, (low, exact, high)
+    assert abs(p - exact) <= 2 / 256, (p, exact)
+    worst = float(answers["worst_lockup_time"].squeeze())
+    assert worst == pytest.approx(t_lo, rel=1e-12, abs=0)
+    assert int(answers["binding_noise"].sel(answer="lockup_time").squeeze()) == 0  # lower corner
+    assert float(answers["failure_probability"].squeeze()) == p
+    assert int(answers["robust_feasible"].squeeze()) == 0  # 1 % allowed, about 30 % fails
+
+
+def _brute_rank(f, include):
+    """Pareto ranks by peeling non-dominated sets with the O(N²) definition (−1 excluded)."""
+    rank = np.full(len(f), -1)
+    left = [i for i in range(len(f)) if include[i] and np.isfinite(f[i]).all()]
+    r = 0
+    while left:
+        front = [i for i in left if not any(explore.dominates(f[j], f[i]) for j in left)]
+        rank[front] = r
+        left = [i for i in left if i not in front]
+        r += 1
+    return rank
+
+
+@pytest.mark.parametrize("m", [2, 3, 4])
+@pytest.mark.parametrize("which", ["worst", "quantile"])
+def test_robust_answers_against_brute_force(m, which):
+    """Robust answers of a synthetic crossed result (4×5 designs, 3 conditions, 2 corners and 8
+    samples; integer objectives, so ties; failed scenarios) against loops over every design."""
+    rng = np.random.default_rng(m)
+    shape = (4, 5, 3, 10)
+    status = np.where(rng.random(shape) < 0.02, 3, 0).astype(np.int8)
+    data = {
+        "status": (("a", "b", "load", "noise"), status),
+        "noise_weight": ("noise", np.r_[0.0, 0.0, np.full(8, 1 / 8)]),
+        "mu_noise": ("noise", np.linspace(-0.2, 0.2, 10), {"units": "1"}),
+    }
+    for j in range(m):
+        v = rng.integers(0, 4, shape).astype(float)
+        data[f"y{j}"] = (("a", "b", "load", "noise"), np.where(status == 0, v, np.nan))
+    data["c"] = (("a", "b", "load", "noise"), np.where(status == 0, rng.random(shape), np.nan))
+    ds = xr.Dataset(
+        data, coords={"a": np.arange(4.0), "b": np.arange(5.0), "load": [1.0, 2.0, 3.0]}
+    )
+    objectives = [f"y{j}:{'min' if j % 2 == 0 else 'max'}" for j in range(m)]
+    robust = {
+        "conditions": ["load"],
+        "quantile": 0.75,
+        "max_failure_probability": 0.125,
+        "objectives": which,
+    }
+    got = rb.answers(ds, objectives, {"c": ("max", 0.9)}, robust)
+    cols, feasible = np.zeros((20, m)), np.zeros(20, bool)
+    for k, (i, j) in enumerate(itertools.product(range(4), range(5))):
+        failed = status[i, j] != 0
+        bad = failed | ~(ds["c"].values[i, j] <= 0.9)
+        p = bad[:, 2:].mean(axis=1)
+        np.testing.assert_array_equal(got["failure_probability"].values[i, j], p)
+        feasible[k] = (p <= 0.125).all()
+        for q, obj in enumerate(objectives):
+            name, sense = obj.split(":")
+            sign = 1.0 if sense == "min" else -1.0
+            y = sign * ds[name].values[i, j]
+            per_condition = [np.quantile(y[c, 2:], 0.75, method="inverted_cdf") for c in range(3)]
+            worst = np.nan if failed.any() else y.max()
+            quant = np.nan if failed.any() else max(per_condition)
+            np.testing.assert_array_equal(got[f"worst_{name}"].values[i, j], sign * worst)
+            np.testing.assert_array_equal(got[f"quantile_{name}"].values[i, j], sign * quant)
+            cols[k, q] = worst if which == "worst" else quant
+    np.testing.assert_array_equal(got["robust_feasible"].values.reshape(-1), feasible)
+    np.testing.assert_array_equal(
+        got["robust_rank"].values.reshape(-1), _brute_rank(cols, feasible)
+    )
+    assert (got["robust_rank"].values >= 0).any() and (got["robust_rank"].values == -1).any()
+
+
+def test_binding_condition_and_noise_locate_the_worst_case():
+    sec = _engagement(
+        noise_samples=8,
+        sheet_thickness={"values": ["2.2 mm", "2.4 mm"]},
+        driven_inertia={"values": ["0.02 kg*m^2", "0.04 kg*m^2"]},
+        load_torque={"values": ["20 N*m", "44 N*m"]},
+    )
+    ds = _run(sec)
+    got = explore.robust(ds)
+    assert set(got["robust_rank"].dims) == {"sheet_thickness", "ramp_time"}
+    for t in got["sheet_thickness"].values:
+        at = dict(
+            sheet_thickness=t,
+            driven_inertia=float(
+                got["binding_driven_inertia"].sel(answer="lockup_time", sheet_thickness=t).squeeze()
+            ),
+            load_torque=float(
+                got["binding_load_torque"].sel(answer="lockup_time", sheet_thickness=t).squeeze()
+            ),
+            noise=int(got["binding_noise"].sel(answer="lockup_time", sheet_thickness=t).squeeze()),
+        )
+        worst = float(got["worst_lockup_time"].sel(sheet_thickness=t).squeeze())
+        assert float(ds["lockup_time"].sel(at).squeeze()) == worst
+        assert worst == float(ds["lockup_time"].sel(sheet_thickness=t).max())
+    # the heavier inertia and the higher load lock up last, at the lowest friction (corner 0)
+    assert (got["binding_driven_inertia"].sel(answer="lockup_time") == 0.04).all()
+    assert (got["binding_load_torque"].sel(answer="lockup_time") == 44.0).all()
+    assert (got["binding_friction_coefficient_noise"].sel(answer="lockup_time") == -SCATTER).all()
+
+
+def test_robust_answers_are_identical_for_one_chunk_and_seven(tmp_path):
+    sec = _engagement(
+        noise_samples=8,
+        sheet_thickness={"values": ["2.2 mm", "2.4 mm", "2.6 mm"]},
+        driven_inertia={"values": ["0.02 kg*m^2", "0.04 kg*m^2"]},
+    )
+    design = doe.build_design(sec)
+    results = []
+    for chunks in (1, 7):
+        paths = []
+        for i in range(chunks):
+            paths.append(tmp_path / f"chunk_{chunks}_{i}.h5")
+            store.write(
+                pipeline.run_chunk(design, sec["options"], chunks, i), paths[-1], with_checksum=True
+            )
+        out, robust_path = tmp_path / f"out_{chunks}.h5", tmp_path / f"robust_{chunks}.h5"
+        pipeline.merge_to_file(
+            design, paths, out, sec["objectives"], sec["constraints"], robust_path=robust_path
+        )
+        results.append(store.load_verified(robust_path))
+    xr.testing.assert_identical(results[0], results[1])
+    xr.testing.assert_identical(results[0].drop_attrs(), explore.robust(_run(sec)).drop_attrs())
+
+
+def test_a_study_without_robust_keys_is_unchanged():
+    """Existing configs: no noise dimension, no robust section, the same config text."""
+    sec = resolve(
+        {
+            "studies": ["engagement"],
+            "engagement": {
+                "design": "factorial",
+                "parameters": {"ramp_time": {"values": [0.1, 0.2]}},
+            },
+        }
+    )["engagement"]
+    assert "robust" not in sec
+    assert "noise" not in doe.build_design(sec).dims
+    with pytest.raises(ValueError, match="not a robust study"):
+        explore.robust(_run(sec))
+
+
+def test_wilson_interval_against_its_closed_form():
+    """Wilson (1927): for k = 0 the bounds are 0 and z²/(n + z²)."""
+    lo, hi = rb.wilson_interval(0, 100)
+    z = 1.959963984540054
+    assert lo == pytest.approx(0.0, abs=1e-15) and hi == pytest.approx(
+        z * z / (100 + z * z), rel=1e-12
+    )
+    lo, hi = rb.wilson_interval(50, 100)
+    assert 0.5 - lo == pytest.approx(hi - 0.5, rel=1e-12)
