@@ -40,6 +40,8 @@ __all__ = [
     "sobol_indices",
     "sensitivity",
     "robust",
+    "best_robust",
+    "robust_scenario",
 ]
 
 
@@ -732,3 +734,53 @@ def robust(ds, objectives=None, constraints=None, **settings):
     names += [v for v in ds.data_vars if ds[v].dims == (rb.NOISE_DIM,)]
     columns = ds[list(dict.fromkeys(names))].load()
     return rb.answers(columns, list(objectives), constraints, stored)
+
+
+def best_robust(answers) -> int | None:
+    """Flat index (over the design factors) of the best robust design: of the robust front
+    (``robust_rank`` 0), the one nearest the ideal point of its robust objectives (worst case or
+    quantile, as ranked), each normalised over the robust-feasible designs (best 0, worst 1).
+    None without a robust front.
+
+    Parameters
+    ----------
+    answers : xarray.Dataset
+        Robust answers (:func:`robust`).
+    """
+    rank = answers["robust_rank"].values.reshape(-1)
+    if not (rank == 0).any():
+        return None
+    which = answers["robust_rank"].attrs["robust_objectives"]
+    cols = []
+    for item in answers["robust_rank"].attrs["objectives"].split():
+        name, sense = item.split(":")
+        v = answers[f"{which}_{name}"].values.reshape(-1).astype(float)
+        cols.append(v if sense == "min" else -v)
+    f = np.stack(cols, axis=1)
+    ok = rank >= 0
+    lo, hi = f[ok].min(axis=0), f[ok].max(axis=0)
+    norm = (f - lo) / np.where(hi > lo, hi - lo, 1.0)
+    d = np.where(rank == 0, np.sqrt((norm**2).sum(axis=1)), np.inf)
+    return int(np.argmin(d))
+
+
+def robust_scenario(ds, answers, j, answer=None) -> tuple[int, str]:
+    """Flat scenario index of a crossed result ``ds`` where design ``j`` (flat over the design
+    factors of ``answers``) meets its binding condition and noise draw: where the worst case of
+    ``answer`` occurs (default: the first constrained output, else the first objective); and
+    that answer's name."""
+    names = list(answers["answer"].values)
+    if answer is None:
+        constrained = list(answers["constraint"].values) if "constraint" in answers.coords else []
+        answer = constrained[0] if constrained else names[0]
+    design = list(answers["robust_rank"].dims)
+    at = np.unravel_index(j, answers["robust_rank"].shape)
+    index = []
+    for dim in ds["status"].dims:
+        if dim in design:
+            index.append(int(at[design.index(dim)]))
+            continue
+        value = answers[f"binding_{dim}"].sel(answer=answer).values[at]
+        where = np.flatnonzero(ds[dim].values == value)
+        index.append(int(where[0]))
+    return int(np.ravel_multi_index(index, ds["status"].shape)), str(answer)
