@@ -240,3 +240,53 @@ def test_wilson_interval_against_its_closed_form():
     )
     lo, hi = rb.wilson_interval(50, 100)
     assert 0.5 - lo == pytest.approx(hi - 0.5, rel=1e-12)
+
+
+def test_sampled_design_points_crossed_and_refined_near_the_robust_front(tmp_path):
+    """Sobol design points × a condition grid × noise draws: merged by file (3 chunks) as in
+    memory; a refining stage samples near the robust front, with the first stage's conditions
+    and the same noise draws."""
+    raw = {
+        "design": "sobol",
+        "samples": 16,
+        "seed": 3,
+        "options": {"driveline": "rigid"},
+        "parameters": {
+            "sheet_thickness": {"min": "2.1 mm", "max": "2.6 mm"},
+            "ramp_time": {"min": "0.05 s", "max": "0.3 s"},
+            "driven_inertia": {"values": ["0.021 kg*m^2", "0.05 kg*m^2"]},
+        },
+        "noise": {"friction_coefficient": {"scatter": "±20 %"}},
+        "noise_samples": 8,
+    }
+    sec = resolve({"studies": ["engagement"], "engagement": raw})["engagement"]
+    design = doe.build_design(sec)
+    assert dict(design.sizes) == {"point": 16, "driven_inertia": 2, "noise": 10}
+    paths = []
+    for i in range(3):
+        paths.append(tmp_path / f"chunk_{i}.h5")
+        store.write(pipeline.run_chunk(design, sec["options"], 3, i), paths[-1], with_checksum=True)
+    first = tmp_path / "engagement.h5"
+    pipeline.merge_to_file(
+        design, paths, first, sec["objectives"], sec["constraints"], robust_path=tmp_path / "r.h5"
+    )
+    answers = store.load_verified(tmp_path / "r.h5")
+    assert answers["robust_rank"].dims == ("point",)
+    np.testing.assert_array_equal(answers["sheet_thickness"].values, design["sheet_thickness"])
+    merged = pipeline.merge(design, [store.load(p) for p in paths])
+    xr.testing.assert_identical(answers.drop_attrs(), explore.robust(merged).drop_attrs())
+    refine = {"design": "refine", "refine": {"from": str(first)}, "samples": 8, "seed": 1}
+    second = resolve(
+        {"studies": ["engagement"], "results": str(tmp_path / "second"), "engagement": refine}
+    )["engagement"]
+    d2 = doe.build_design(second)
+    assert dict(d2.sizes) == {"point": 8, "driven_inertia": 2, "noise": 10}
+    np.testing.assert_array_equal(
+        d2["friction_coefficient_noise"].values, design["friction_coefficient_noise"].values
+    )
+    np.testing.assert_array_equal(d2["driven_inertia"].values, design["driven_inertia"].values)
+    # each new design lies within the box around a robust front design
+    h = d2["sheet_thickness"].attrs["refine_halfwidth"] * (2.6e-3 - 2.1e-3)
+    front = answers["sheet_thickness"].values[answers["robust_rank"].values == 0]
+    gap = np.abs(d2["sheet_thickness"].values[:, None] - front[None, :]).min(axis=1)
+    assert (gap <= h * (1 + 1e-9)).all()

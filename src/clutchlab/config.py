@@ -366,6 +366,10 @@ def scenario_count(resolved_study: dict) -> int:
     if design == "saltelli":
         d = len(resolved_study["factors"]) + len(resolved_study.get("option_factors", {}))
         return resolved_study["samples"] * (d + 2)
+    robust = resolved_study.get("robust")
+    if robust:  # sampled design points x the conditions' grid x the noise draws
+        grid = [len(resolved_study["factors"][c]["values"]) for c in robust["conditions"]]
+        return resolved_study["samples"] * int(np.prod(grid, dtype=np.int64)) * noise_count(robust)
     return resolved_study["samples"]
 
 
@@ -533,11 +537,12 @@ def _resolve_robust(study, section: dict, out: dict, roles: dict) -> dict | None
                 "read by a robust study only ('robust: false')",
             )
         return None
-    if out["design"] != "factorial":
+    if out["design"] == "saltelli" or out.get("option_factors"):
         raise ConfigError(
             f"{name}.design",
-            "a robust study crosses a factorial grid of designs with its conditions and noise "
-            f"draws; design '{out['design']}' is not supported for it yet (use factorial)",
+            "a robust study crosses its designs (a factorial grid, or lhs/sobol samples) with "
+            "its conditions and noise draws; saltelli designs and options drawn per scenario "
+            "are not crossed",
         )
     settings = dict(ROBUST_DEFAULTS, **(asked if isinstance(asked, dict) else {}))
     conditions = [
@@ -545,6 +550,16 @@ def _resolve_robust(study, section: dict, out: dict, roles: dict) -> dict | None
         for f in out["factors"]
         if roles.get(f, "condition" if f in study.conditions else "design") == "condition"
     ]
+    for c in conditions:
+        if "values" not in out["factors"][c]:
+            raise ConfigError(
+                f"{name}.parameters.{c}",
+                "an operating condition of a sampled robust design is a grid every design point "
+                "meets: give its 'values'",
+            )
+    own = [f for f in out["factors"] if f not in conditions]
+    if out["design"] != "factorial" and not own:
+        raise ConfigError(f"{name}.parameters", "a sampled robust design needs a design factor")
     given = section["noise"] if "noise" in section else study.noise
     noise = {
         p: _noise(study, p, spec, out, f"{name}.noise.{p}") for p, spec in (given or {}).items()
@@ -878,10 +893,11 @@ def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -
             },
         }
     )
-    if out["samples"] > max_scenarios:
-        raise _ceiling(name, out["samples"], max_scenarios)
-    out["chunks"] = chunk_count(out["samples"], _chunking(section, f"{name}.") or default_chunks)
-    out["curve_stride"] = _curve_stride(name, section, "refine", out["samples"])
+    n = scenario_count(out)
+    if n > max_scenarios:
+        raise _ceiling(name, n, max_scenarios)
+    out["chunks"] = chunk_count(n, _chunking(section, f"{name}.") or default_chunks)
+    out["curve_stride"] = _curve_stride(name, section, "refine", n)
     return out
 
 

@@ -52,6 +52,8 @@ def build_design(resolved_study: dict) -> xr.Dataset:
     """The design Dataset of a resolved study section (see :func:`clutchlab.config.resolve`)."""
     study = studies.get(resolved_study["name"])
     kind = resolved_study["design"]
+    if resolved_study.get("robust") and kind != "factorial":
+        return _crossed_points(study, resolved_study)
     factors = resolved_study["factors"]
     choices = resolved_study.get("option_factors", {})  # categorical options drawn per scenario
     coords, data = {}, {}
@@ -98,20 +100,7 @@ def build_design(resolved_study: dict) -> xr.Dataset:
         coords["run"] = ("run", np.arange(n), {"long_name": "scenario index", "units": "1"})
         for j, (name, spec) in enumerate(factors.items()):
             u = unit[:, j]
-            if (
-                "values" in spec
-            ):  # a discrete factor (a count, a list): each value on an equal share of [0, 1)
-                values = np.asarray(spec["values"], dtype=float)
-                vals = values[np.minimum((u * values.size).astype(np.int64), values.size - 1)]
-                coords[name] = ("run", vals, _param_attrs(study.parameter(name)))
-                continue
-            lo, hi = spec["min"], spec["max"]
-            vals = (
-                np.exp(np.log(lo) + u * np.log(hi / lo))
-                if spec["scale"] == "log"
-                else lo + u * (hi - lo)
-            )
-            coords[name] = ("run", vals, _param_attrs(study.parameter(name)))
+            coords[name] = ("run", _from_unit(spec, u), _param_attrs(study.parameter(name)))
         for j, (name, labels) in enumerate(
             choices.items(), start=len(factors)
         ):  # each on an equal share
@@ -133,6 +122,110 @@ def build_design(resolved_study: dict) -> xr.Dataset:
         ds.attrs["refine_from"] = resolved_study["refine"]["from"]
         ds.attrs["refine_within"] = first["pareto_rank"].attrs.get("ranked_within", "")
     return ds
+
+
+def _from_unit(spec: dict, u) -> np.ndarray:
+    """A sampled factor's values at the unit interval's points ``u``: a discrete factor (a count,
+    a list) takes each value on an equal share of [0, 1); a range maps linearly or by log."""
+    if "values" in spec:
+        values = np.asarray(spec["values"], dtype=float)
+        return values[np.minimum((u * values.size).astype(np.int64), values.size - 1)]
+    lo, hi = spec["min"], spec["max"]
+    if spec["scale"] == "log":
+        return np.exp(np.log(lo) + u * np.log(hi / lo))
+    return lo + u * (hi - lo)
+
+
+POINT_DIM = "point"  # the design points of a crossed sampled design (a grid dimension of indices)
+
+
+def _crossed_points(study, rs: dict) -> xr.Dataset:
+    """The design of a robust study whose design points are sampled (lhs, sobol) or refined:
+    dimensions ``point`` (the design points, each factor a variable on it), its conditions' grid
+    and ``noise``; a refined design keeps the first stage's conditions and noise draws."""
+    from . import robust as rb
+
+    conds = rs["robust"]["conditions"]
+    own = {k: v for k, v in rs["factors"].items() if k not in conds}
+    rng = np.random.default_rng(rs["seed"])
+    n = rs["samples"]
+    coords = {POINT_DIM: (POINT_DIM, np.arange(n), {"long_name": "design point", "units": "1"})}
+    data = {}
+    for c in conds:
+        coords[c] = (
+            c,
+            np.asarray(rs["factors"][c]["values"], float),
+            _param_attrs(study.parameter(c)),
+        )
+    if rs["design"] == "refine":
+        from . import store
+
+        first = store.load(rs["refine"]["from"])
+        values, halfwidth = refine_samples(front_view(first), {**rs, "factors": own}, rng)
+        for name in own:
+            attrs = {**_param_attrs(study.parameter(name)), "refine_halfwidth": halfwidth[name]}
+            data[name] = (POINT_DIM, values[name], attrs)
+        coords[rb.NOISE_DIM] = first[rb.NOISE_DIM]
+        for v in first.data_vars:
+            if first[v].dims == (rb.NOISE_DIM,):
+                data[v] = first[v].variable
+        crossed = [rb.NOISE_DIM]
+    else:
+        from scipy.stats import qmc
+
+        d = len(own)
+        gen = (
+            qmc.LatinHypercube(d=d, rng=rng)
+            if rs["design"] == "lhs"
+            else qmc.Sobol(d=d, scramble=True, rng=rng)
+        )
+        unit = gen.random(n)
+        for j, (name, spec) in enumerate(own.items()):
+            data[name] = (
+                POINT_DIM,
+                _from_unit(spec, unit[:, j]),
+                _param_attrs(study.parameter(name)),
+            )
+        crossed = _crossed(study, rs, coords, data)
+    for name, value in rs["fixed"].items():
+        data[name] = ((), float(value), _param_attrs(study.parameter(name)))
+    ds = xr.Dataset(data, coords=coords)
+    ds.attrs.update(_provenance(rs))
+    ds.attrs["factors"] = " ".join([POINT_DIM, *conds, *crossed])
+    ds.attrs["design_factors"] = " ".join(own)
+    ds.attrs["option_factors"] = ""
+    ds.attrs["curve_stride"] = int(rs.get("curve_stride", 1))
+    ds.attrs["conditions"] = " ".join(conds)
+    if rs["design"] == "refine":
+        ds.attrs["refine_from"] = rs["refine"]["from"]
+        ds.attrs["refine_within"] = ""
+    return ds
+
+
+def front_view(first: xr.Dataset) -> xr.Dataset:
+    """A stored result as :func:`refine_samples` reads it: itself, or for a robust (crossed)
+    result its robust answers over the design factors (the robust front as ``pareto_rank``, the
+    robust objectives as the objectives, design points on ``run``)."""
+    from . import explore
+    from . import robust as rb
+
+    if rb.NOISE_DIM not in first.dims:
+        return first
+    answers = explore.robust(first)
+    which = answers["robust_rank"].attrs["robust_objectives"]
+    objectives = answers["robust_rank"].attrs["objectives"].split()
+    rank = answers["robust_rank"]
+    view = xr.Dataset(
+        {
+            "status": xr.zeros_like(rank, dtype=np.int8),
+            "pareto_rank": rank.assign_attrs(objectives=" ".join(objectives), ranked_within=""),
+            **{o.split(":")[0]: answers[f"{which}_{o.split(':')[0]}"] for o in objectives},
+        },
+        attrs=dict(first.attrs),
+    )
+    if POINT_DIM in view.dims:
+        view = view.swap_dims({POINT_DIM: "run"}).drop_vars(POINT_DIM, errors="ignore")
+    return view
 
 
 def _crossed(study, resolved_study: dict, coords: dict, data: dict) -> list[str]:

@@ -732,6 +732,7 @@ def robust(ds, objectives=None, constraints=None, **settings):
     constraints = {k: tuple(v) for k, v in constraints.items()}
     names = ["status", "noise_weight"] + [o.split(":")[0] for o in objectives] + list(constraints)
     names += [v for v in ds.data_vars if ds[v].dims == (rb.NOISE_DIM,)]
+    names += ds.attrs.get("design_factors", "").split()  # a sampled design's, on its points
     columns = ds[list(dict.fromkeys(names))].load()
     return rb.answers(columns, list(objectives), constraints, stored)
 

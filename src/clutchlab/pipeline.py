@@ -32,9 +32,15 @@ def _factors(design: xr.Dataset) -> list[str]:
     return design.attrs["factors"].split()
 
 
+def _gridded(design: xr.Dataset) -> bool:
+    """A design whose scenarios are a grid of its factors' dimensions: a factorial design, or a
+    robust study's crossed design (design points × conditions × noise draws)."""
+    return design.attrs["design"] == "factorial" or "noise" in design.dims
+
+
 def n_scenarios(design: xr.Dataset) -> int:
     """Number of scenarios in a design."""
-    if design.attrs["design"] == "factorial":
+    if _gridded(design):
         return int(np.prod([design.sizes[f] for f in _factors(design)], dtype=np.int64))
     return int(design.sizes["run"])
 
@@ -53,18 +59,21 @@ def chunk_inputs(design: xr.Dataset, chunks: int, i: int) -> tuple[np.ndarray, d
     idx = np.arange(sl.start, sl.stop)
     factors = _factors(design)
     inputs = {}
-    if design.attrs["design"] == "factorial":
+    if _gridded(design):
         shape = tuple(design.sizes[f] for f in factors)
         sub = np.unravel_index(idx, shape) if factors else ()
-        for f, s in zip(factors, sub):
+        for f, s in zip(factors, sub, strict=True):
             inputs[f] = design[f].values[s]
+        at = dict(zip(factors, sub, strict=True))
     else:
         for f in factors:
             inputs[f] = design[f].values[sl]
     for name, var in design.data_vars.items():
-        if var.ndim == 0:  # (a robust design's noise draws are applied by run_chunk)
+        if var.ndim == 0:
             inputs[name] = float(var.values)
-    return idx, inputs
+        elif var.dims == ("point",):  # a crossed design's sampled design points
+            inputs[name] = var.values[at["point"]]
+    return idx, inputs  # (a robust design's noise draws are applied by run_chunk)
 
 
 def _with_noise(design: xr.Dataset, inputs: dict) -> dict:
@@ -75,6 +84,7 @@ def _with_noise(design: xr.Dataset, inputs: dict) -> dict:
     if rb.NOISE_DIM not in design.dims:
         return inputs
     inputs = dict(inputs)
+    inputs.pop("point", None)  # (the index of a sampled design point)
     index = np.asarray(inputs.pop(rb.NOISE_DIM), dtype=np.int64)
     names = [v[: -len("_noise")] for v in design.data_vars if v.endswith("_noise")]
     draws = {n: design[rb.noise_variable(n)].values for n in names}
@@ -378,7 +388,7 @@ def merge(
     for key in CHUNK_ATTRS:
         ds.attrs.pop(key, None)
     factors = _factors(design)
-    if design.attrs["design"] == "factorial":
+    if _gridded(design):
         shape = tuple(design.sizes[f] for f in factors)
         out = {}
         for name, var in ds.data_vars.items():
@@ -456,7 +466,7 @@ def merge_to_file(
 
     constraints = dict(constraints or {})
     design_hash = _design_hash(design, config, source)
-    factorial = design.attrs["design"] == "factorial"
+    factorial = _gridded(design)
     grid = {f: design[f] for f in _factors(design)} if factorial else None
     with store.atomic(path) as tmp:
         with store.StreamWriter(

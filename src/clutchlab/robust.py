@@ -224,6 +224,9 @@ def answers(ds, objectives, constraints, robust) -> xr.Dataset:
     cshape = tuple(ds.sizes[c] for c in conds)
     coords = {d: ds[d] for d in design}
     coords.update({c: ds[c] for c in conds})
+    for v in ds.data_vars:  # a sampled design's factors, on its design points
+        if ds[v].ndim and set(ds[v].dims) <= set(design):
+            coords[v] = ds[v]
     ok = _cube(ds, "status", order, nd) == st.CODE["ok"]
     out, worst_at = {}, {}
     cols = []
