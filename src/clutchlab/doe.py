@@ -52,7 +52,7 @@ def build_design(resolved_study: dict) -> xr.Dataset:
     """The design Dataset of a resolved study section (see :func:`clutchlab.config.resolve`)."""
     study = studies.get(resolved_study["name"])
     kind = resolved_study["design"]
-    if resolved_study.get("robust") and kind != "factorial":
+    if _sampled_robust(resolved_study):
         return _crossed_points(study, resolved_study)
     factors = resolved_study["factors"]
     choices = resolved_study.get("option_factors", {})  # categorical options drawn per scenario
@@ -134,6 +134,11 @@ def _from_unit(spec: dict, u) -> np.ndarray:
     if spec["scale"] == "log":
         return np.exp(np.log(lo) + u * np.log(hi / lo))
     return lo + u * (hi - lo)
+
+
+def _sampled_robust(resolved_study: dict) -> bool:
+    """A robust study whose design points are sampled or refined (not a factorial grid)."""
+    return bool(resolved_study.get("robust")) and resolved_study["design"] != "factorial"
 
 
 POINT_DIM = "point"  # the design points of a crossed sampled design (a grid dimension of indices)
