@@ -51,9 +51,14 @@ def saltelli_unit(n, d, rng) -> np.ndarray:
 def build_design(resolved_study: dict) -> xr.Dataset:
     """The design Dataset of a resolved study section (see :func:`clutchlab.config.resolve`)."""
     study = studies.get(resolved_study["name"])
-    kind = resolved_study["design"]
     if _sampled_robust(resolved_study):
         return _crossed_points(study, resolved_study)
+    return _design(study, resolved_study)
+
+
+def _design(study, resolved_study: dict) -> xr.Dataset:
+    """A factorial grid (crossed with its noise draws for a robust study) or samples on run."""
+    kind = resolved_study["design"]
     factors = resolved_study["factors"]
     choices = resolved_study.get("option_factors", {})  # categorical options drawn per scenario
     coords, data = {}, {}
