@@ -134,7 +134,9 @@ def wilson_interval(k, n, confidence=CONFIDENCE) -> tuple[np.ndarray, np.ndarray
     p = k / n
     centre = (p + z * z / (2 * n)) / (1 + z * z / n)
     half = z / (1 + z * z / n) * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
-    return np.clip(centre - half, 0.0, 1.0), np.clip(centre + half, 0.0, 1.0)
+    lo = np.where(k == 0, 0.0, np.clip(centre - half, 0.0, 1.0))  # (exact at the ends: round-off)
+    hi = np.where(k == n, 1.0, np.clip(centre + half, 0.0, 1.0))
+    return lo, hi
 
 
 def _layout(ds, robust):

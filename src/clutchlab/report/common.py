@@ -120,8 +120,9 @@ def page_ranges(numbers, stems) -> str:
     return ("pages " if len(pages) > 1 else "page ") + ", ".join(runs)
 
 
-def _study_lines(name, ds, numbers, job_seconds, model=True) -> list[str]:
-    """The summary's lines of one study (long lines are wrapped by the caller)."""
+def _study_lines(name, ds, numbers, job_seconds, model=True, robust=None) -> list[str]:
+    """The summary's lines of one study (long lines are wrapped by the caller); a robust study's
+    robust front and best robust design first (``robust``: its robust answers)."""
     from . import status_counts
     from .answers import best_text, edge_notes
 
@@ -140,8 +141,13 @@ def _study_lines(name, ds, numbers, job_seconds, model=True) -> list[str]:
         f"{n} scenarios, design {ds.attrs.get('design')} over {dims}{jobs}",
         (f"model: {ds.attrs.get('model', '')}; " if model else "") + status,
     ]
+    if robust is not None:
+        from .robust import summary_lines
+
+        lines += summary_lines(robust)
     if "pareto_rank" in ds:
-        lines.append("best compromise: " + best_text(ds))
+        lead = "per operating condition and noise draw, best compromise: " if robust else ""
+        lines.append((lead or "best compromise: ") + best_text(ds))
         if not ds.attrs.get("shown_reason", "the run's best").startswith("the run's best"):
             lines.append("trace pages: " + shown_name(ds))
         notes = edge_notes(ds, short=True)
@@ -155,7 +161,7 @@ def _study_lines(name, ds, numbers, job_seconds, model=True) -> list[str]:
     return lines
 
 
-def title_page(title, version, results, validations, numbers=None, job_seconds=None):
+def title_page(title, version, results, validations, numbers=None, job_seconds=None, robust=None):
     """The summary page: per study what was run (and how long its jobs took: ``job_seconds``,
     study -> (jobs, seconds)), its status counts, its best compromise design (values in the units
     engineers read), the factors it sits at the edge of, and the pages that show it (``numbers``:
@@ -183,7 +189,10 @@ def title_page(title, version, results, validations, numbers=None, job_seconds=N
     height = A4_LANDSCAPE[1] * 72  # pt
     avail = (top - 0.05) - 0.07
     for size, model in ((9.5, True), (9.0, True), (8.5, True), (8.0, True), (8.0, False)):
-        blocks = [_study_lines(n, ds, numbers, job_seconds, model) for n, ds in results.items()]
+        blocks = [
+            _study_lines(n, ds, numbers, job_seconds, model, (robust or {}).get(n))
+            for n, ds in results.items()
+        ]
         chars = int(0.9 * A4_LANDSCAPE[0] * 72 / (0.53 * size))
         wrapped = [
             [w for line in b for w in textwrap.wrap(line, chars, subsequent_indent="    ")]
