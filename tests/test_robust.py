@@ -235,9 +235,7 @@ def test_wilson_interval_against_its_closed_form():
     """Wilson (1927): for k = 0 the bounds are 0 and z²/(n + z²)."""
     lo, hi = rb.wilson_interval(0, 100)
     z = 1.959963984540054
-    assert lo == 0.0 and hi == pytest.approx(
-        z * z / (100 + z * z), rel=1e-12
-    )
+    assert lo == 0.0 and hi == pytest.approx(z * z / (100 + z * z), rel=1e-12)
     lo, hi = rb.wilson_interval(50, 100)
     assert 0.5 - lo == pytest.approx(hi - 0.5, rel=1e-12)
 
@@ -290,3 +288,43 @@ def test_sampled_design_points_crossed_and_refined_near_the_robust_front(tmp_pat
     front = answers["sheet_thickness"].values[answers["robust_rank"].values == 0]
     gap = np.abs(d2["sheet_thickness"].values[:, None] - front[None, :]).min(axis=1)
     assert (gap <= h * (1 + 1e-9)).all()
+
+
+@pytest.mark.slow
+def test_the_default_runs_best_robust_design_meets_every_limit_through_the_api():
+    """Acceptance: the default study's engagement (config/config.yaml, a crossed robust study),
+    its best robust design called through the API at every operating condition and at both ends
+    of its friction coefficient's ±20 % interval meets every constraint; the binding condition is
+    the one where its margin is least."""
+    from pathlib import Path
+
+    from clutchlab import config
+
+    sec = config.load(Path(__file__).parents[1] / "config" / "config.yaml")["engagement"]
+    ds = _run(sec)
+    answers = explore.robust(ds)
+    j = explore.best_robust(answers)
+    assert j is not None
+    at = np.unravel_index(j, answers["robust_rank"].shape)
+    design = {
+        d: float(answers[d].values[i]) for d, i in zip(answers["robust_rank"].dims, at, strict=True)
+    }
+    study = studies.get("engagement")
+    margins = {}
+    for inertia, load, end in itertools.product(
+        ds["driven_inertia"].values, ds["load_torque"].values, (-SCATTER, SCATTER)
+    ):
+        inputs = {**sec["fixed"], **design, "driven_inertia": inertia, "load_torque": load}
+        inputs["friction_coefficient"] = design["friction_coefficient"] * (1 + end)
+        out = study.compute({k: np.atleast_1d(v) for k, v in inputs.items()}, sec["options"])
+        assert int(out["status"].values[0]) == 0
+        for output, (op, limit) in sec["constraints"].items():
+            v = float(out[output].values[0])
+            margins[(inertia, load, end)] = explore.constraint_margin(v, op, limit)
+            assert margins[(inertia, load, end)] >= 0, (output, v, inertia, load, end)
+    worst = min(margins, key=margins.get)
+    binding = answers.isel(dict(zip(answers["robust_rank"].dims, at, strict=True)))
+    answer = str(list(sec["constraints"])[0])
+    assert float(binding["binding_driven_inertia"].sel(answer=answer)) == worst[0]
+    assert float(binding["binding_load_torque"].sel(answer=answer)) == worst[1]
+    assert float(binding["binding_friction_coefficient_noise"].sel(answer=answer)) == worst[2]

@@ -98,7 +98,9 @@ def shown_name(ds) -> str:
     (why it is the one) with its factor values; the status where it is not ok."""
     if "shown_index" not in ds.attrs or int(ds.attrs["shown_index"]) < 0:
         return "no design of this run to show: " + ds.attrs.get("shown_reason", "no traces")
-    if ds.attrs.get("shown_reason", "").startswith("the run's best"):
+    if ds.attrs.get("shown_reason", "").startswith("the run's best robust"):
+        what = "the run's best robust design at its binding condition"
+    elif ds.attrs.get("shown_reason", "").startswith("the run's best"):
         what = "the run's best design"
     else:
         what = "the run's design nearest the ideal point (no feasible design)"
