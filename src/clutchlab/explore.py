@@ -734,7 +734,11 @@ def robust(ds, objectives=None, constraints=None, **settings):
     names += [v for v in ds.data_vars if ds[v].dims == (rb.NOISE_DIM,)]
     names += ds.attrs.get("design_factors", "").split()  # a sampled design's, on its points
     columns = ds[list(dict.fromkeys(names))].load()
-    return rb.answers(columns, list(objectives), constraints, stored)
+    out = rb.answers(columns, list(objectives), constraints, stored)
+    for key in ("config", "clutchlab_source", "clutchlab_design_hash", "clutchlab_version"):
+        if key in ds.attrs:  # the provenance of the result they were asked of
+            out.attrs[key] = ds.attrs[key]
+    return out
 
 
 def best_robust(answers) -> int | None:
