@@ -230,8 +230,30 @@ def answers(ds, objectives, constraints, robust) -> xr.Dataset:
         if ds[v].ndim and set(ds[v].dims) <= set(design):
             coords[v] = ds[v]
     ok = _cube(ds, "status", order, nd) == st.CODE["ok"]
-    out, worst_at = {}, {}
-    cols = []
+    out, cols, worst_at = _objective_answers(ds, objectives, robust, (order, nd, design, shape))
+    names = list(constraints)
+    wm, vp, violated = _constraint_answers(ds, constraints, ok, samples, (order, nd), worst_at)
+    n = int(samples.sum())
+    fail = violated[:, :, samples].sum(axis=2)
+    feasible = (fail / n <= robust["max_failure_probability"]).all(axis=1)
+    if cols:
+        rank = explore.pareto_rank(np.stack(cols, axis=1), feasible)
+    else:
+        rank = np.full(feasible.shape, -1, np.int64)
+    out.update(_probabilities(names, wm, vp, fail, n, design, conds, shape, cshape))
+    out.update(_verdicts(feasible, rank, design, shape, objectives, robust))
+    out.update(_binding(ds, worst_at, conds, order, design, shape))
+    res = xr.Dataset(out, coords=coords).assign_coords(_answer_coords(worst_at, constraints))
+    res.attrs.update(_summary_attrs(ds, robust, conds, n))
+    return res
+
+
+def _objective_answers(ds, objectives, robust, layout):
+    """Per objective its worst case, mean and quantile over the design factors; the columns the
+    robust ranks compare; where each worst case occurs."""
+    order, nd, design, shape = layout
+    weight = ds["noise_weight"].values
+    out, cols, worst_at = {}, [], {}
     for item in objectives:
         name, sense = item.split(":")
         sign = 1.0 if sense == "min" else -1.0
@@ -250,78 +272,82 @@ def answers(ds, objectives, constraints, robust) -> xr.Dataset:
             )
         cols.append((worst if robust["objectives"] == "worst" else quant).reshape(-1))
         worst_at[name] = _argworst(v)
+    return out, cols, worst_at
+
+
+def _constraint_answers(ds, constraints, ok, samples, layout, worst_at):
+    """Per constraint the worst margin and the violating samples per condition (a failed status
+    violates); every scenario's violation of any constraint; where each worst margin occurs
+    (added to ``worst_at``)."""
+    from . import explore
+
+    order, nd = layout
     violated = ~ok
-    names = list(constraints)
     wm, vp = [], []
-    for output in names:
-        op, limit = constraints[output]
+    for output, (op, limit) in constraints.items():
         m = explore.constraint_margin(_cube(ds, output, order, nd), op, limit)
         with np.errstate(invalid="ignore"):
             bad = ~ok | np.isnan(m) | (m < 0)
-        violated |= bad
+        violated = violated | bad
         m = np.where(ok, m, np.nan)
         wm.append(np.where(np.isnan(m).any(axis=(1, 2)), np.nan, np.nanmin(m, axis=(1, 2))))
         vp.append(bad[:, :, samples].sum(axis=2))
         worst_at[output] = _argworst(-m)
-    n = int(samples.sum())
-    fail = violated[:, :, samples].sum(axis=2)
-    p_fail = fail / n
-    feasible = (p_fail <= robust["max_failure_probability"]).all(axis=1)
-    if cols:
-        f = np.stack(cols, axis=1)
-        rank = explore.pareto_rank(f, feasible)
-    else:
-        rank = np.full(feasible.shape, -1, np.int64)
-    out.update(_probabilities(names, wm, vp, fail, n, design, conds, shape, cshape))
-    out["robust_feasible"] = (
-        design,
-        feasible.reshape(shape).astype(np.int8),
-        {
-            "long_name": "probability of failure (a constraint violated or status not ok) at "
-            f"most {robust['max_failure_probability']:g} at every operating condition",
-            "units": "1",
-            "flag_values": np.array([0, 1], np.int8),
-            "flag_meanings": "not_robust robust",
-        },
-    )
-    out["robust_rank"] = (
-        design,
-        rank.reshape(shape),
-        {
-            "long_name": "Pareto rank among robust-feasible designs over their "
-            f"{robust['objectives']} objectives (0: the robust front; -1: excluded)",
-            "units": "1",
-            "objectives": " ".join(objectives),
-            "robust_objectives": robust["objectives"],
-        },
-    )
-    out.update(_binding(ds, worst_at, conds, order, design, shape))
-    res = xr.Dataset(out, coords=coords)
-    res = res.assign_coords(
-        answer=(
+    return wm, vp, violated
+
+
+def _verdicts(feasible, rank, design, shape, objectives, robust) -> dict:
+    """``robust_feasible`` and ``robust_rank`` over the design factors."""
+    return {
+        "robust_feasible": (
+            design,
+            feasible.reshape(shape).astype(np.int8),
+            {
+                "long_name": "probability of failure (a constraint violated or status not ok) at "
+                f"most {robust['max_failure_probability']:g} at every operating condition",
+                "units": "1",
+                "flag_values": np.array([0, 1], np.int8),
+                "flag_meanings": "not_robust robust",
+            },
+        ),
+        "robust_rank": (
+            design,
+            rank.reshape(shape),
+            {
+                "long_name": "Pareto rank among robust-feasible designs over their "
+                f"{robust['objectives']} objectives (0: the robust front; -1: excluded)",
+                "units": "1",
+                "objectives": " ".join(objectives),
+                "robust_objectives": robust["objectives"],
+            },
+        ),
+    }
+
+
+def _answer_coords(worst_at, constraints) -> dict:
+    """The ``answer`` and ``constraint`` coordinates of the robust answers."""
+    coords = {
+        "answer": (
             "answer",
             np.array(list(worst_at), dtype=object),
             {
-                "long_name": "objective or "
-                "constrained output whose worst case the binding values locate",
+                "long_name": "objective or constrained output whose worst case the binding "
+                "values locate",
                 "units": "1",
             },
         )
-    )
-    if names:
-        res = res.assign_coords(
-            constraint=(
-                "constraint",
-                np.array(names, dtype=object),
-                {
-                    "long_name": "constrained output",
-                    "units": "1",
-                    "limits": " ".join(f"{k}:{op}:{v:.6g}" for k, (op, v) in constraints.items()),
-                },
-            )
+    }
+    if constraints:
+        coords["constraint"] = (
+            "constraint",
+            np.array(list(constraints), dtype=object),
+            {
+                "long_name": "constrained output",
+                "units": "1",
+                "limits": " ".join(f"{k}:{op}:{v:.6g}" for k, (op, v) in constraints.items()),
+            },
         )
-    res.attrs.update(_summary_attrs(ds, robust, conds, n))
-    return res
+    return coords
 
 
 def _probabilities(names, wm, vp, fail, n, design, conds, shape, cshape) -> dict:
