@@ -194,11 +194,9 @@ def test_refinement_moves_the_engagement_front_with_fewer_scenarios(tmp_path):
     grid crossed with the friction's scatter: refining a robust study is tested in
     tests/test_robust.py; here the grid alone, each condition's own front.)"""
     raw = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["engagement"]
-    raw = {k: v for k, v in raw.items() if k not in ("noise", "noise_samples", "robust")}
-    raw["parameters"] = {
-        k: {f: x for f, x in v.items() if f != "role"} if isinstance(v, dict) else v
-        for k, v in raw["parameters"].items()
-    }
+    from conftest import without_robust
+
+    raw = without_robust(raw)
     path = _first_stage(tmp_path, raw)
     refine = yaml.safe_load((ROOT / "config" / "refine.yaml").read_text())["engagement"]
     refine["refine"]["from"] = str(path)
