@@ -48,6 +48,18 @@ def write_first_stage(path, study="engagement"):
 ROOT = Path(__file__).resolve().parents[1]
 
 
+def without_robust(section: dict) -> dict:
+    """A study section of a config without its robust keys (noise, noise_samples, robust, roles):
+    the grid alone, each operating condition ranked on its own (robust studies:
+    tests/test_robust.py)."""
+    out = {k: v for k, v in section.items() if k not in ("noise", "noise_samples", "robust")}
+    out["parameters"] = {
+        k: {f: x for f, x in v.items() if f != "role"} if isinstance(v, dict) else v
+        for k, v in (section.get("parameters") or {}).items()
+    }
+    return out
+
+
 def snakemake_workdir(tmp_path: Path) -> Path:
     """A working folder with the workflow (Snakefile, workflows, config) as a user's clone has it."""
     import shutil

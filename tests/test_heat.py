@@ -132,9 +132,12 @@ def _default_engagement():
 
     from conftest import ROOT
 
+    from conftest import without_robust
+
     cfg = yaml.safe_load((ROOT / "config/config.yaml").read_text())
+    section = without_robust(cfg["engagement"])  # the grid at the nominal friction (seed design)
     return pipeline.run_study(
-        config.resolve({"studies": ["engagement"], "engagement": cfg["engagement"]})["engagement"]
+        config.resolve({"studies": ["engagement"], "engagement": section})["engagement"]
     )
 
 

@@ -68,8 +68,10 @@ def _variants():
     full = yaml.safe_load(
         (Path(__file__).resolve().parents[1] / "config" / "config.yaml").read_text()
     )
+    from conftest import without_robust
+
     for name in full["studies"]:
-        sec = full[name]
+        sec = without_robust(full[name])  # (robust pages: tests/test_robust.py)
         params = sec.get("parameters") or {}
         factors = [k for k, v in params.items() if isinstance(v, dict)]
         # (a sampled design needs a factor to sample)
@@ -213,7 +215,9 @@ def _sampled_section(name):
 
     from clutchlab import studies
 
-    raw = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())[name]
+    from conftest import without_robust
+
+    raw = without_robust(yaml.safe_load((ROOT / "config" / "config.yaml").read_text())[name])
     params = {}
     for key, spec in raw["parameters"].items():
         if isinstance(spec, dict) and not studies.get(name).parameter(key).integer:

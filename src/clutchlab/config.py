@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import copy
 import functools
+import re
 from importlib.resources import files
 
 import numpy as np
@@ -361,10 +362,14 @@ def scenario_count(resolved_study: dict) -> int:
     if design == "factorial":
         return int(
             np.prod([len(f["values"]) for f in resolved_study["factors"].values()], dtype=np.int64)
-        )
+        ) * noise_count(resolved_study.get("robust"))
     if design == "saltelli":
         d = len(resolved_study["factors"]) + len(resolved_study.get("option_factors", {}))
         return resolved_study["samples"] * (d + 2)
+    robust = resolved_study.get("robust")
+    if robust:  # sampled design points x the conditions' grid x the noise draws
+        grid = [len(resolved_study["factors"][c]["values"]) for c in robust["conditions"]]
+        return resolved_study["samples"] * int(np.prod(grid, dtype=np.int64)) * noise_count(robust)
     return resolved_study["samples"]
 
 
@@ -450,14 +455,17 @@ def _resolve_study(
                     "not used by a factorial design (its scenarios are the "
                     "grid of the factors' values); remove it or choose design lhs/sobol",
                 )
-    _resolve_parameters(study, section, out, max_scenarios)
+    roles = _resolve_parameters(study, section, out, max_scenarios)
+    robust = _resolve_robust(study, section, out, roles)
+    if robust is not None:
+        out["robust"] = robust
     n = scenario_count(out)
     if n > max_scenarios:
         raise _ceiling(name, n, max_scenarios)
     out["chunks"] = chunk_count(n, _chunking(section, f"{name}.") or default_chunks)
     out["curve_stride"] = _curve_stride(name, section, design, n)
     out["objectives"], out["constraints"] = _answers(study, section)
-    problem = studies.failed_relation(out, study.relations) or (
+    problem = studies.failed_relation(_noise_widened(out), study.relations) or (
         study.check_config(out) if study.check_config is not None else None
     )
     if problem:
@@ -470,6 +478,7 @@ def _resolve_parameters(study, section: dict, out: dict, max_scenarios: int) -> 
     given) and ``out["factors"]``; a sampled design needs a factor to sample."""
     name, design = out["name"], out["design"]
     given = section.get("parameters", {}) or {}
+    roles = {}
     for param in study.parameters:
         key = f"{name}.parameters.{param.name}"
         if param.name not in given:  # the seed design's value (SI, checked by the tests)
@@ -477,6 +486,9 @@ def _resolve_parameters(study, section: dict, out: dict, max_scenarios: int) -> 
             continue
         spec = given[param.name]
         if isinstance(spec, dict):
+            if "role" in spec:
+                roles[param.name] = spec["role"]
+                spec = {k: v for k, v in spec.items() if k != "role"}
             out["factors"][param.name] = _factor(param, spec, design, key, name, max_scenarios)
         else:
             out["fixed"][param.name] = _quantity(spec, param, key)
@@ -491,6 +503,206 @@ def _resolve_parameters(study, section: dict, out: dict, max_scenarios: int) -> 
             "for a parameter, or an option's values); for the one design of fixed values use "
             "design factorial",
         )
+    return roles
+
+
+ROBUST_KEYS = ("robust", "noise", "noise_samples")
+ROBUST_DEFAULTS = {"quantile": 0.95, "max_failure_probability": 0.01, "objectives": "worst"}
+DEFAULT_NOISE_SAMPLES = 64
+
+
+def noise_count(robust) -> int:
+    """Noise draws of a resolved robust section (None: not robust, one draw): the 2^k corners of
+    the k noise parameters' box and the Sobol' samples, or the one nominal draw of no noise."""
+    if not robust:
+        return 1
+    k = len(robust["noise"])
+    return 2**k + robust["noise_samples"] if k else 1
+
+
+def _resolve_robust(study, section: dict, out: dict, roles: dict) -> dict | None:
+    """The robust settings of a study section (None where it asks for no robust answer: no
+    ``robust``, ``noise``, ``noise_samples`` or ``role`` key): its operating conditions (factors
+    of role condition, the study's conditions by default), noise (the config's, else the
+    study's defaults; :func:`_noise`) and answer settings."""
+    name = out["name"]
+    asked = section.get("robust", None)
+    if asked is False or (asked is None and not roles and not set(section) & set(ROBUST_KEYS)):
+        for key in ("noise", "noise_samples"):
+            if key in section:
+                raise ConfigError(f"{name}.{key}", "read by a robust study only ('robust: false')")
+        if roles:
+            raise ConfigError(
+                f"{name}.parameters.{next(iter(roles))}.role",
+                "read by a robust study only ('robust: false')",
+            )
+        return None
+    if out["design"] == "saltelli" or out.get("option_factors"):
+        raise ConfigError(
+            f"{name}.design",
+            "a robust study crosses its designs (a factorial grid, or lhs/sobol samples) with "
+            "its conditions and noise draws; saltelli designs and options drawn per scenario "
+            "are not crossed",
+        )
+    settings = dict(ROBUST_DEFAULTS, **(asked if isinstance(asked, dict) else {}))
+    conditions = [
+        f
+        for f in out["factors"]
+        if roles.get(f, "condition" if f in study.conditions else "design") == "condition"
+    ]
+    for c in conditions:
+        if "values" not in out["factors"][c]:
+            raise ConfigError(
+                f"{name}.parameters.{c}",
+                "an operating condition of a sampled robust design is a grid every design point "
+                "meets: give its 'values'",
+            )
+    own = [f for f in out["factors"] if f not in conditions]
+    if out["design"] != "factorial" and not own:
+        raise ConfigError(f"{name}.parameters", "a sampled robust design needs a design factor")
+    given = section["noise"] if "noise" in section else study.noise
+    noise = {
+        p: _noise(study, p, spec, out, f"{name}.noise.{p}") for p, spec in (given or {}).items()
+    }
+    samples = DEFAULT_NOISE_SAMPLES if noise else 0
+    if "noise_samples" in section:
+        samples = _count(section, "noise_samples", f"{name}.noise_samples")
+        if not noise or samples < 2 or samples & (samples - 1):
+            raise ConfigError(
+                f"{name}.noise_samples",
+                f"must be a power of 2 (a scrambled Sobol' sequence), at least 2, with a noise "
+                f"to draw; got {samples}" + ("" if noise else " and no noise"),
+            )
+    for p in noise:
+        for other, value in study.noise_replaces.get(p, {}).items():
+            if other not in out["factors"] and other not in (section.get("parameters") or {}):
+                out["fixed"][other] = float(value)
+    return {**settings, "conditions": conditions, "noise": noise, "noise_samples": samples}
+
+
+_SCATTER = re.compile(r"^\s*(?:±|\+-|\+/-)\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*%\s*$")
+_PERCENT = re.compile(r"^\s*([-+]?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(%?)\s*$")
+
+
+def _relative(value, key) -> float:
+    """A relative deviation: a bare fraction (-0.2) or a percentage ("-20 %")."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+        raise ConfigError(key, f"a relative deviation: a fraction or 'N %', got {value!r}")
+    if isinstance(value, str):
+        m = _PERCENT.match(value)
+        if not m:
+            raise ConfigError(key, f"a relative deviation: a fraction or 'N %', got {value!r}")
+        value = float(m.group(1)) / (100.0 if m.group(2) else 1.0)
+    if not np.isfinite(value):
+        raise ConfigError(key, f"must be finite, got {value!r}")
+    return float(value)
+
+
+def _noise(study, p: str, spec: dict, out: dict, key: str) -> dict:
+    """One noise parameter in SI: {"relative": bool, "min", "max", "dist", "centre", "sd"}
+    (relative: fractions of the design's value; absolute: the parameter's SI value)."""
+    try:
+        param = study.parameter(p)
+    except KeyError:
+        raise ConfigError(key, f"not a parameter of the {study.name} study") from None
+    if param.integer or param.choices is not None:
+        raise ConfigError(key, "a count or a choice cannot scatter continuously")
+    kinds = [k for k in ("scatter", "relative", "min") if k in spec]
+    if len(kinds) != 1 or ("min" in spec) != ("max" in spec):
+        raise ConfigError(key, "give one of scatter: '±N %', relative: [lo, hi], or min and max")
+    dist = spec.get("dist", "uniform")
+    if kinds[0] == "min":
+        if p in out["factors"]:
+            raise ConfigError(
+                key,
+                "absolute bounds make the parameter the noise itself, and it is a factor of the "
+                "design: give its scatter relative to the design's value (scatter or relative)",
+            )
+        lo = _quantity(spec["min"], param, f"{key}.min", finite=True)
+        hi = _quantity(spec["max"], param, f"{key}.max", finite=True)
+        conv = lambda v, k: _quantity(v, param, k, finite=True)  # noqa: E731
+        relative = False
+    else:
+        if kinds[0] == "scatter":
+            text = spec["scatter"]
+            m = _SCATTER.match(text) if isinstance(text, str) else None
+            if not m:
+                raise ConfigError(
+                    f"{key}.scatter", f"write it as '±N %' (e.g. '±20 %'), got {text!r}"
+                )
+            lo, hi = -float(m.group(1)) / 100.0, float(m.group(1)) / 100.0
+        else:
+            lo, hi = (_relative(v, f"{key}.relative[{i}]") for i, v in enumerate(spec["relative"]))
+        if lo <= -1.0:
+            raise ConfigError(
+                key, f"a relative deviation below -100 % (got {lo:.4g}) changes the sign"
+            )
+        conv = lambda v, k: _relative(v, k)  # noqa: E731
+        relative = True
+        _check_relative(param, out, lo, hi, key)
+    if not lo < hi:
+        raise ConfigError(key, f"the lower bound ({lo:g}) must be below the upper ({hi:g})")
+    return {
+        "relative": relative,
+        "min": lo,
+        "max": hi,
+        "dist": dist,
+        **_shape(spec, dist, lo, hi, conv, key),
+    }
+
+
+def _shape(spec, dist, lo, hi, conv, key) -> dict:
+    """The centre (mode of a triangular, mean of a truncated normal) and sd of a noise."""
+    if "sd" in spec and dist != "normal":
+        raise ConfigError(f"{key}.sd", f"read by dist normal only (this noise is {dist})")
+    if "mode" in spec and dist == "uniform":
+        raise ConfigError(f"{key}.mode", "read by dist normal or triangular only")
+    centre = conv(spec["mode"], f"{key}.mode") if "mode" in spec else 0.5 * (lo + hi)
+    if not lo <= centre <= hi:
+        raise ConfigError(
+            f"{key}.mode", f"must lie within the bounds {lo:g} to {hi:g}, got {centre:g}"
+        )
+    out = {"centre": centre}
+    if dist == "normal":
+        if "sd" not in spec:
+            raise ConfigError(f"{key}.sd", "required for dist normal (truncated at the bounds)")
+        sd = conv(spec["sd"], f"{key}.sd")
+        if not sd > 0:
+            raise ConfigError(f"{key}.sd", f"must be > 0, got {sd:g}")
+        out["sd"] = sd
+    return out
+
+
+def _check_relative(param, out, lo, hi, key) -> None:
+    """The design's values of ``param`` scattered by [lo, hi] stay physical and plausible."""
+    a, b = studies.value_range(out, param.name, finite=True)
+    for v in (a * (1 + lo), a * (1 + hi), b * (1 + lo), b * (1 + hi)):
+        why = param.check(float(v))
+        if why:
+            raise ConfigError(key, f"the scattered value {why}")
+
+
+def _noise_widened(out: dict) -> dict:
+    """A resolved section whose noise parameters range over their scattered values (relations
+    are checked at the worst corner of design, conditions and noise together)."""
+    robust = out.get("robust")
+    if not robust or not robust["noise"]:
+        return out
+    wide = {**out, "fixed": dict(out["fixed"]), "factors": dict(out["factors"])}
+    for p, spec in robust["noise"].items():
+        if spec["relative"]:
+            a, b = studies.value_range(out, p)
+            vals = [
+                a * (1 + spec["min"]),
+                a * (1 + spec["max"]),
+                b * (1 + spec["min"]),
+                b * (1 + spec["max"]),
+            ]
+        else:
+            vals = [spec["min"], spec["max"]]
+        wide["fixed"].pop(p, None)
+        wide["factors"][p] = {"min": min(vals), "max": max(vals)}
+    return wide
 
 
 def _resolve_options(study, section: dict, out: dict) -> None:
@@ -681,10 +893,11 @@ def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -
             },
         }
     )
-    if out["samples"] > max_scenarios:
-        raise _ceiling(name, out["samples"], max_scenarios)
-    out["chunks"] = chunk_count(out["samples"], _chunking(section, f"{name}.") or default_chunks)
-    out["curve_stride"] = _curve_stride(name, section, "refine", out["samples"])
+    n = scenario_count(out)
+    if n > max_scenarios:
+        raise _ceiling(name, n, max_scenarios)
+    out["chunks"] = chunk_count(n, _chunking(section, f"{name}.") or default_chunks)
+    out["curve_stride"] = _curve_stride(name, section, "refine", n)
     return out
 
 

@@ -51,6 +51,13 @@ def saltelli_unit(n, d, rng) -> np.ndarray:
 def build_design(resolved_study: dict) -> xr.Dataset:
     """The design Dataset of a resolved study section (see :func:`clutchlab.config.resolve`)."""
     study = studies.get(resolved_study["name"])
+    if _sampled_robust(resolved_study):
+        return _crossed_points(study, resolved_study)
+    return _design(study, resolved_study)
+
+
+def _design(study, resolved_study: dict) -> xr.Dataset:
+    """A factorial grid (crossed with its noise draws for a robust study) or samples on run."""
     kind = resolved_study["design"]
     factors = resolved_study["factors"]
     choices = resolved_study.get("option_factors", {})  # categorical options drawn per scenario
@@ -98,20 +105,7 @@ def build_design(resolved_study: dict) -> xr.Dataset:
         coords["run"] = ("run", np.arange(n), {"long_name": "scenario index", "units": "1"})
         for j, (name, spec) in enumerate(factors.items()):
             u = unit[:, j]
-            if (
-                "values" in spec
-            ):  # a discrete factor (a count, a list): each value on an equal share of [0, 1)
-                values = np.asarray(spec["values"], dtype=float)
-                vals = values[np.minimum((u * values.size).astype(np.int64), values.size - 1)]
-                coords[name] = ("run", vals, _param_attrs(study.parameter(name)))
-                continue
-            lo, hi = spec["min"], spec["max"]
-            vals = (
-                np.exp(np.log(lo) + u * np.log(hi / lo))
-                if spec["scale"] == "log"
-                else lo + u * (hi - lo)
-            )
-            coords[name] = ("run", vals, _param_attrs(study.parameter(name)))
+            coords[name] = ("run", _from_unit(spec, u), _param_attrs(study.parameter(name)))
         for j, (name, labels) in enumerate(
             choices.items(), start=len(factors)
         ):  # each on an equal share
@@ -121,15 +115,163 @@ def build_design(resolved_study: dict) -> xr.Dataset:
             coords[name] = ("run", codes, option_attrs(name, labels))
     for name, value in resolved_study["fixed"].items():
         data[name] = ((), float(value), _param_attrs(study.parameter(name)))
+    crossed = _crossed(study, resolved_study, coords, data)
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update(_provenance(resolved_study))
-    ds.attrs["factors"] = " ".join([*factors, *choices])
+    ds.attrs["factors"] = " ".join([*factors, *choices, *crossed])
+    if crossed:  # the operating conditions every design must work at (robust answers)
+        ds.attrs["conditions"] = " ".join(resolved_study["robust"]["conditions"])
     ds.attrs["option_factors"] = " ".join(choices)
     ds.attrs["curve_stride"] = int(resolved_study.get("curve_stride", 1))
     if kind == "refine":
         ds.attrs["refine_from"] = resolved_study["refine"]["from"]
         ds.attrs["refine_within"] = first["pareto_rank"].attrs.get("ranked_within", "")
     return ds
+
+
+def _from_unit(spec: dict, u) -> np.ndarray:
+    """A sampled factor's values at the unit interval's points ``u``: a discrete factor (a count,
+    a list) takes each value on an equal share of [0, 1); a range maps linearly or by log."""
+    if "values" in spec:
+        values = np.asarray(spec["values"], dtype=float)
+        return values[np.minimum((u * values.size).astype(np.int64), values.size - 1)]
+    lo, hi = spec["min"], spec["max"]
+    if spec["scale"] == "log":
+        return np.exp(np.log(lo) + u * np.log(hi / lo))
+    return lo + u * (hi - lo)
+
+
+def _sampled_robust(resolved_study: dict) -> bool:
+    """A robust study whose design points are sampled or refined (not a factorial grid)."""
+    return bool(resolved_study.get("robust")) and resolved_study["design"] != "factorial"
+
+
+POINT_DIM = "point"  # the design points of a crossed sampled design (a grid dimension of indices)
+
+
+def _crossed_points(study, rs: dict) -> xr.Dataset:
+    """The design of a robust study whose design points are sampled (lhs, sobol) or refined:
+    dimensions ``point`` (the design points, each factor a variable on it), its conditions' grid
+    and ``noise``; a refined design keeps the first stage's conditions and noise draws."""
+    from . import robust as rb
+
+    conds = rs["robust"]["conditions"]
+    own = {k: v for k, v in rs["factors"].items() if k not in conds}
+    rng = np.random.default_rng(rs["seed"])
+    n = rs["samples"]
+    coords = {POINT_DIM: (POINT_DIM, np.arange(n), {"long_name": "design point", "units": "1"})}
+    data = {}
+    for c in conds:
+        coords[c] = (
+            c,
+            np.asarray(rs["factors"][c]["values"], float),
+            _param_attrs(study.parameter(c)),
+        )
+    if rs["design"] == "refine":
+        from . import store
+
+        first = store.load(rs["refine"]["from"])
+        values, halfwidth = refine_samples(front_view(first), {**rs, "factors": own}, rng)
+        for name in own:
+            attrs = {**_param_attrs(study.parameter(name)), "refine_halfwidth": halfwidth[name]}
+            data[name] = (POINT_DIM, values[name], attrs)
+        coords[rb.NOISE_DIM] = first[rb.NOISE_DIM]
+        for v in first.data_vars:
+            if first[v].dims == (rb.NOISE_DIM,):
+                data[v] = first[v].variable
+        crossed = [rb.NOISE_DIM]
+    else:
+        from scipy.stats import qmc
+
+        d = len(own)
+        gen = (
+            qmc.LatinHypercube(d=d, rng=rng)
+            if rs["design"] == "lhs"
+            else qmc.Sobol(d=d, scramble=True, rng=rng)
+        )
+        unit = gen.random(n)
+        for j, (name, spec) in enumerate(own.items()):
+            data[name] = (
+                POINT_DIM,
+                _from_unit(spec, unit[:, j]),
+                _param_attrs(study.parameter(name)),
+            )
+        crossed = _crossed(study, rs, coords, data)
+    for name, value in rs["fixed"].items():
+        data[name] = ((), float(value), _param_attrs(study.parameter(name)))
+    ds = xr.Dataset(data, coords=coords)
+    ds.attrs.update(_provenance(rs))
+    ds.attrs["factors"] = " ".join([POINT_DIM, *conds, *crossed])
+    ds.attrs["design_factors"] = " ".join(own)
+    ds.attrs["option_factors"] = ""
+    ds.attrs["curve_stride"] = int(rs.get("curve_stride", 1))
+    ds.attrs["conditions"] = " ".join(conds)
+    if rs["design"] == "refine":
+        ds.attrs["refine_from"] = rs["refine"]["from"]
+        ds.attrs["refine_within"] = ""
+    return ds
+
+
+def front_view(first: xr.Dataset) -> xr.Dataset:
+    """A stored result as :func:`refine_samples` reads it: itself, or for a robust (crossed)
+    result its robust answers over the design factors (the robust front as ``pareto_rank``, the
+    robust objectives as the objectives, design points on ``run``)."""
+    from . import explore
+    from . import robust as rb
+
+    if rb.NOISE_DIM not in first.dims:
+        return first
+    answers = explore.robust(first)
+    which = answers["robust_rank"].attrs["robust_objectives"]
+    objectives = answers["robust_rank"].attrs["objectives"].split()
+    rank = answers["robust_rank"]
+    view = xr.Dataset(
+        {
+            "status": xr.zeros_like(rank, dtype=np.int8),
+            "pareto_rank": rank.assign_attrs(objectives=" ".join(objectives), ranked_within=""),
+            **{o.split(":")[0]: answers[f"{which}_{o.split(':')[0]}"] for o in objectives},
+        },
+        attrs=dict(first.attrs),
+    )
+    if POINT_DIM in view.dims:
+        view = view.swap_dims({POINT_DIM: "run"}).drop_vars(POINT_DIM, errors="ignore")
+    return view
+
+
+def _crossed(study, resolved_study: dict, coords: dict, data: dict) -> list[str]:
+    """A robust study's ``noise`` dimension (the last of its grid): its draws' index, each noise
+    parameter's draws and the draws' weights (:func:`clutchlab.robust.noise_draws`); [] for a
+    study that is not robust."""
+    from . import robust as rb
+
+    spec = resolved_study.get("robust")
+    if not spec:
+        return []
+    draws, weight = rb.noise_draws(spec, resolved_study["seed"])
+    coords[rb.NOISE_DIM] = (
+        rb.NOISE_DIM,
+        np.arange(weight.size),
+        {
+            "long_name": "noise draw (the corners of the noise box first, then samples)",
+            "units": "1",
+        },
+    )
+    data["noise_weight"] = (
+        rb.NOISE_DIM,
+        weight,
+        {"long_name": "weight of the draw in probabilities (0: a corner)", "units": "1"},
+    )
+    for name, values in draws.items():
+        param = study.parameter(name)
+        relative = spec["noise"][name]["relative"]
+        attrs = (
+            {"long_name": f"relative deviation of the {param.long_name} (noise)", "units": "1"}
+            if relative
+            else {**_param_attrs(param), "long_name": f"{param.long_name} (noise)"}
+        )
+        attrs["relative"] = int(relative)
+        data[rb.noise_variable(name)] = (rb.NOISE_DIM, np.asarray(values, float), attrs)
+    return [rb.NOISE_DIM]
 
 
 def option_attrs(name: str, labels) -> dict:

@@ -39,6 +39,9 @@ __all__ = [
     "grid_variance_decomposition",
     "sobol_indices",
     "sensitivity",
+    "robust",
+    "best_robust",
+    "robust_scenario",
 ]
 
 
@@ -183,6 +186,8 @@ def condition_factors(ds) -> tuple[list[str], list[str]]:
 
     conditions = studies.get(ds.attrs["study"]).conditions if "study" in ds.attrs else ()
     dims = ds["status"].dims
+    if "noise" in dims:  # a robust study: its conditions and each noise draw (robust answers)
+        conditions = (*ds.attrs.get("conditions", "").split(), "noise")
     factors = ds.attrs.get("factors", "").split()
     kept = ds.attrs.get("refine_within", "").split()
     options = ds.attrs.get(
@@ -675,3 +680,112 @@ def sensitivity(ds, outputs) -> xr.Dataset:
             "title": ds.attrs.get("title", ""),
         },
     )
+
+
+def robust(ds, objectives=None, constraints=None, **settings):
+    """Robust answers of a stored crossed study result (design × conditions × noise), over its
+    design factors only (:func:`clutchlab.robust.answers`): per objective its worst case, mean
+    and quantile; per constraint its worst margin and its probability of violation at each
+    condition with a Wilson interval; ``robust_feasible``, ``robust_rank`` and where each worst
+    case occurs.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A stored result of a robust study (a ``noise`` dimension), e.g. ``clutchlab.store.load``
+        or a lazily opened file: only the columns the answers need are read.
+    objectives : list of str or None
+        "name:min" / "name:max"; None: the study's stored objectives.
+    constraints : dict or None
+        Output -> ("max" or "min", limit [SI]); None: the study's stored constraints.
+    **settings
+        Overrides of the stored robust settings: ``quantile``, ``max_failure_probability``,
+        ``objectives`` ("worst" or "quantile"), ``conditions`` (list of dimensions).
+
+    Returns
+    -------
+    xarray.Dataset
+        Labelled DataArrays over the design factors (units and long_name on each).
+
+    Raises
+    ------
+    ValueError
+        ``ds`` is not a crossed result (no ``noise`` dimension).
+    """
+    import yaml
+
+    from . import robust as rb
+    from .config import ROBUST_DEFAULTS
+
+    if rb.NOISE_DIM not in ds.dims or "noise_weight" not in ds:
+        raise ValueError("not a robust study result: it has no 'noise' dimension and draws")
+    section = yaml.safe_load(ds.attrs["config"]) if "config" in ds.attrs else {}
+    stored = dict(section.get("robust") or {})
+    stored.setdefault("conditions", ds.attrs.get("conditions", "").split())
+    for key in ("quantile", "max_failure_probability", "objectives"):
+        stored.setdefault(key, ROBUST_DEFAULTS[key])
+    stored.update(settings)
+    if objectives is None:
+        objectives = section.get("objectives") or ds["pareto_rank"].attrs["objectives"].split()
+    if constraints is None:
+        constraints = section.get("constraints", {})
+    constraints = {k: tuple(v) for k, v in constraints.items()}
+    names = ["status", "noise_weight"] + [o.split(":")[0] for o in objectives] + list(constraints)
+    names += [v for v in ds.data_vars if ds[v].dims == (rb.NOISE_DIM,)]
+    names += ds.attrs.get("design_factors", "").split()  # a sampled design's, on its points
+    columns = ds[list(dict.fromkeys(names))].load()
+    out = rb.answers(columns, list(objectives), constraints, stored)
+    for key in ("config", "clutchlab_source", "clutchlab_design_hash", "clutchlab_version"):
+        if key in ds.attrs:  # the provenance of the result they were asked of
+            out.attrs[key] = ds.attrs[key]
+    return out
+
+
+def best_robust(answers) -> int | None:
+    """Flat index (over the design factors) of the best robust design: of the robust front
+    (``robust_rank`` 0), the one nearest the ideal point of its robust objectives (worst case or
+    quantile, as ranked), each normalised over the robust-feasible designs (best 0, worst 1).
+    None without a robust front.
+
+    Parameters
+    ----------
+    answers : xarray.Dataset
+        Robust answers (:func:`robust`).
+    """
+    rank = answers["robust_rank"].values.reshape(-1)
+    if not (rank == 0).any():
+        return None
+    which = answers["robust_rank"].attrs["robust_objectives"]
+    cols = []
+    for item in answers["robust_rank"].attrs["objectives"].split():
+        name, sense = item.split(":")
+        v = answers[f"{which}_{name}"].values.reshape(-1).astype(float)
+        cols.append(v if sense == "min" else -v)
+    f = np.stack(cols, axis=1)
+    ok = rank >= 0
+    lo, hi = f[ok].min(axis=0), f[ok].max(axis=0)
+    norm = (f - lo) / np.where(hi > lo, hi - lo, 1.0)
+    d = np.where(rank == 0, np.sqrt((norm**2).sum(axis=1)), np.inf)
+    return int(np.argmin(d))
+
+
+def robust_scenario(ds, answers, j, answer=None) -> tuple[int, str]:
+    """Flat scenario index of a crossed result ``ds`` where design ``j`` (flat over the design
+    factors of ``answers``) meets its binding condition and noise draw: where the worst case of
+    ``answer`` occurs (default: the first constrained output, else the first objective); and
+    that answer's name."""
+    names = list(answers["answer"].values)
+    if answer is None:
+        constrained = list(answers["constraint"].values) if "constraint" in answers.coords else []
+        answer = constrained[0] if constrained else names[0]
+    design = list(answers["robust_rank"].dims)
+    at = np.unravel_index(j, answers["robust_rank"].shape)
+    index = []
+    for dim in ds["status"].dims:
+        if dim in design:
+            index.append(int(at[design.index(dim)]))
+            continue
+        value = answers[f"binding_{dim}"].sel(answer=answer).values[at]
+        where = np.flatnonzero(ds[dim].values == value)
+        index.append(int(where[0]))
+    return int(np.ravel_multi_index(index, ds["status"].shape)), str(answer)

@@ -32,9 +32,15 @@ def _factors(design: xr.Dataset) -> list[str]:
     return design.attrs["factors"].split()
 
 
+def _gridded(design: xr.Dataset) -> bool:
+    """A design whose scenarios are a grid of its factors' dimensions: a factorial design, or a
+    robust study's crossed design (design points × conditions × noise draws)."""
+    return design.attrs["design"] == "factorial" or "noise" in design.dims
+
+
 def n_scenarios(design: xr.Dataset) -> int:
     """Number of scenarios in a design."""
-    if design.attrs["design"] == "factorial":
+    if _gridded(design):
         return int(np.prod([design.sizes[f] for f in _factors(design)], dtype=np.int64))
     return int(design.sizes["run"])
 
@@ -53,17 +59,37 @@ def chunk_inputs(design: xr.Dataset, chunks: int, i: int) -> tuple[np.ndarray, d
     idx = np.arange(sl.start, sl.stop)
     factors = _factors(design)
     inputs = {}
-    if design.attrs["design"] == "factorial":
+    if _gridded(design):
         shape = tuple(design.sizes[f] for f in factors)
         sub = np.unravel_index(idx, shape) if factors else ()
-        for f, s in zip(factors, sub):
+        for f, s in zip(factors, sub, strict=True):
             inputs[f] = design[f].values[s]
+        at = dict(zip(factors, sub, strict=True))
     else:
         for f in factors:
             inputs[f] = design[f].values[sl]
     for name, var in design.data_vars.items():
-        inputs[name] = float(var.values)
-    return idx, inputs
+        if var.ndim == 0:
+            inputs[name] = float(var.values)
+        elif var.dims == ("point",):  # a crossed design's sampled design points
+            inputs[name] = var.values[at["point"]]
+    return idx, inputs  # (a robust design's noise draws are applied by run_chunk)
+
+
+def _with_noise(design: xr.Dataset, inputs: dict) -> dict:
+    """A chunk's inputs for its study: a robust design's noise draws applied
+    (:func:`clutchlab.robust.apply_noise`), the draw index left out."""
+    from . import robust as rb
+
+    if rb.NOISE_DIM not in design.dims:
+        return inputs
+    inputs = dict(inputs)
+    inputs.pop("point", None)  # (the index of a sampled design point)
+    index = np.asarray(inputs.pop(rb.NOISE_DIM), dtype=np.int64)
+    names = [v[: -len("_noise")] for v in design.data_vars if v.endswith("_noise")]
+    draws = {n: design[rb.noise_variable(n)].values for n in names}
+    relative = {n: bool(design[rb.noise_variable(n)].attrs["relative"]) for n in names}
+    return rb.apply_noise(inputs, draws, relative, index)
 
 
 # a chunk of more than PROGRESS_MIN scenarios runs as PROGRESS_BATCHES batches with a progress line
@@ -83,8 +109,10 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=N
     start = time.perf_counter()
     n = idx.size
 
+    physical = _with_noise(design, inputs)
+
     def compute(sel):
-        part = {k: (v[sel] if np.ndim(v) else v) for k, v in inputs.items()}
+        part = {k: (v[sel] if np.ndim(v) else v) for k, v in physical.items()}
         if not any(np.ndim(v) for v in part.values()) and not len(range(n)[sel]):
             # a grid of no factor: its one scenario is in one chunk (scalars, as fixed inputs are
             # everywhere), the other chunks hold none (empty arrays)
@@ -361,7 +389,7 @@ def merge(
     for key in CHUNK_ATTRS:
         ds.attrs.pop(key, None)
     factors = _factors(design)
-    if design.attrs["design"] == "factorial":
+    if _gridded(design):
         shape = tuple(design.sizes[f] for f in factors)
         out = {}
         for name, var in ds.data_vars.items():
@@ -392,6 +420,7 @@ def merge_to_file(
     *,
     config: str | None = None,
     source: str | None = None,
+    robust_path=None,
 ) -> None:
     """Merge chunk files into the study's result file without holding the study in memory.
 
@@ -430,12 +459,15 @@ def merge_to_file(
         design's.
     source : str or None
         The current package source hash; None: :func:`clutchlab.source_hash`.
+    robust_path : path or None
+        Where a robust (crossed) study writes its robust answers (:func:`clutchlab.explore.robust`,
+        sealed with its checksum), read from the few columns they need of the sealed result.
     """
     from . import explore, store
 
     constraints = dict(constraints or {})
     design_hash = _design_hash(design, config, source)
-    factorial = design.attrs["design"] == "factorial"
+    factorial = _gridded(design)
     grid = {f: design[f] for f in _factors(design)} if factorial else None
     with store.atomic(path) as tmp:
         with store.StreamWriter(
@@ -456,6 +488,10 @@ def merge_to_file(
     if sensitivity_path is not None:
         outputs = [o.split(":")[0] for o in objectives] + list(constraints)
         store.write(explore.sensitivity(columns, outputs), sensitivity_path, with_checksum=True)
+    if robust_path is not None:
+        with xr.open_dataset(path, engine=store.ENGINE) as lazy:
+            answers = explore.robust(lazy, list(objectives), constraints)
+        store.write(answers, robust_path, with_checksum=True)
 
 
 def _load_chunk(p, design, position: int, count: int, checked: tuple) -> xr.Dataset:

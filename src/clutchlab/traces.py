@@ -59,6 +59,16 @@ def shown_design(ds) -> tuple[int | None, str]:
     -------
     (int or None, str)
     """
+    if "noise" in ds.dims and "noise_weight" in ds:  # a robust study: its best robust design
+        answers = explore.robust(ds)
+        j = explore.best_robust(answers)
+        if j is not None:
+            i, answer = explore.robust_scenario(ds, answers, j)
+            return i, (
+                "the run's best robust design (the robust front design nearest the ideal point "
+                f"of its {answers['robust_rank'].attrs['robust_objectives']} objectives), at its "
+                f"binding condition and noise draw (where its {answer} is worst)"
+            )
     i = explore.best_compromise(ds)
     if i is not None:
         return i, "the run's best compromise (the feasible front design nearest the ideal point)"
@@ -128,6 +138,13 @@ def design_inputs(ds, i) -> tuple[dict, dict]:
             chosen[name] = ds[name].attrs["flag_meanings"].split()[int(v)]
         else:
             inputs[name] = float(v)
+    if "noise" in inputs:  # a robust study: the scenario's noise draw applied, as its chunk did
+        k = int(inputs.pop("noise"))
+        for v in ds.data_vars:
+            if ds[v].dims == ("noise",) and v != "noise_weight":
+                p = v[: -len("_noise")]
+                d = float(ds[v].values[k])
+                inputs[p] = inputs[p] * (1.0 + d) if ds[v].attrs.get("relative") else d
     return inputs, chosen
 
 
@@ -138,11 +155,24 @@ def design_text(ds, i) -> str:
     for name in _factors(ds):
         v = explore.flat(ds, name)[i]
         meanings = ds[name].attrs.get("flag_meanings", "").split()
+        if name == "noise":  # a robust study's noise draw: each noise parameter's deviation
+            parts += [_noise_text(ds, n, int(v)) for n in ds.data_vars if ds[n].dims == ("noise",)]
+            continue
         if meanings:
             parts.append(f"{name} = {meanings[int(v)]}")
         else:
             parts.append(f"{name} = {display.text(v, display.unit_of(ds, name))}")
     return ", ".join(parts) if parts else "the run's one design"
+
+
+def _noise_text(ds, name, k) -> str:
+    """One noise parameter's draw ``k`` as engineers read it (a relative one in %)."""
+    if name == "noise_weight":
+        return f"noise draw {k}" + (" (a corner)" if ds[name].values[k] == 0 else "")
+    d = float(ds[name].values[k])
+    if ds[name].attrs.get("relative"):
+        return f"{name} {100 * d:+.1f} %"
+    return f"{name} = {display.text(d, display.unit_of(ds, name))}"
 
 
 def is_paper_design(ds, i) -> bool:
@@ -209,6 +239,9 @@ def needed(ds) -> list[str]:
     names += [o.split(":")[0] for o in _objectives(ds)]
     names += [p.name for p in _parameters(ds) if p.name in ds.data_vars and ds[p.name].ndim == 0]
     names += [f for f in _factors(ds) if f in ds.data_vars]
+    names += [v for v in ds.data_vars if ds[v].dims == ("noise",)]  # a robust study's draws
+    if "noise" in ds.dims and "constraint_margin" in ds:  # its constrained outputs
+        names += [str(c) for c in ds["constraint"].values]
     return [n for n in dict.fromkeys(names) if n in ds.variables]
 
 

@@ -45,6 +45,11 @@ def sensitivity_files(study):
     return [f"{RESULTS}/{study}/sensitivity.h5"] if grid or design == "saltelli" else []
 
 
+def robust_files(study):
+    """Robust answers of a robust (crossed) study, beside its result; none otherwise."""
+    return [f"{RESULTS}/{study}/robust.h5"] if RESOLVED[study].get("robust") else []
+
+
 def refine_source(study):
     """The first-stage result a design-refine study samples near (an input of its design)."""
     return RESOLVED[study]["refine"]["from"]

@@ -10,6 +10,7 @@ from clutchlab.bench.numerics import files as _numerics_files
 from clutchlab.report import captions as _captions
 
 REPORT_DIR = f"{RESULTS}/report"
+ROBUST = [s for s in STUDIES if robust_files(s)]  # robust studies: their robust page leads
 BENCHMARK_PAGE = RESOLVED["report"]["benchmark"]  # the engagement work-precision page (runs the benchmark)
 HARD_CASES = RESOLVED["report"]["hard_cases"]  # the hard-case table of the studies run
 NUMERICS = [f"{RESULTS}/numerics/{f}" for f in _numerics_files(STUDIES)] if RESOLVED["report"]["numerics"] else []
@@ -17,8 +18,8 @@ NUMERICS = [f"{RESULTS}/numerics/{f}" for f in _numerics_files(STUDIES)] if RESO
 REPORT_FILES = [f"{REPORT_DIR}/report.pdf"] + ([f"{REPORT_DIR}/validation.csv"] if VALIDATED else []) + [
     f"{REPORT_DIR}/{stem}.png"
     for stem in _figure_stems(STUDIES, BENCHMARK_PAGE, [s for s in STUDIES if sensitivity_files(s)], REFINED,
-                              HARD_CASES, bool(NUMERICS))
-] + [f"{REPORT_DIR}/{f}" for f in _answer_files(STUDIES, REFINED)] + (
+                              HARD_CASES, bool(NUMERICS), ROBUST)
+] + [f"{REPORT_DIR}/{f}" for f in _answer_files(STUDIES, REFINED, ROBUST)] + (
     [f"{REPORT_DIR}/hard_cases.csv"] if HARD_CASES else [])
 # Snakemake's own HTML report (`snakemake --report report.html`): every report file with its caption
 # (clutchlab.report.captions, written to .snakemake/clutchlab_captions when the workflow is parsed)
@@ -29,6 +30,7 @@ rule report:
     input:
         studies=[results(s) for s in STUDIES],
         sensitivity=[f for s in STUDIES for f in sensitivity_files(s)],
+        robust=[f for s in STUDIES for f in robust_files(s)],
         validation=[f"{RESULTS}/{s}/validation.h5" for s in VALIDATED],
         traces=[f"{RESULTS}/{s}/traces.h5" for s in TRACED],
         benchmark=[f"{RESULTS}/benchmark/engagement_benchmark.csv"] if BENCHMARK_PAGE else [],
@@ -43,6 +45,7 @@ rule report:
     params:
         names=STUDIES,
         sensitivity_names=[s for s in STUDIES if sensitivity_files(s)],
+        robust_names=ROBUST,
         refined_names=REFINED,
         traced_names=TRACED,
         title=RESOLVED["report"]["title"],

@@ -48,6 +48,7 @@ for _study in STUDIES:
         output:
             results(_study),
             sensitivity_files(_study),
+            robust_files(_study),
         benchmark:
             f"{WORK}/{_study}/benchmark/merge.tsv"
         params:

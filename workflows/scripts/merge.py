@@ -8,7 +8,7 @@ sm = snakemake  # noqa: F821
 # changed, cut or foreign chunk is removed and named, and the next run recomputes it. Each is
 # written into its region of the pre-sized result file; then the design answers (feasibility,
 # constraint margins, Pareto rank), the result's own checksum and, for factorial and saltelli
-# designs, the sensitivity indices
+# designs, the sensitivity indices; for a robust study its robust answers (robust.h5)
 try:
     pipeline.merge_to_file(
         store.load_verified(sm.input.design),
@@ -16,9 +16,10 @@ try:
         sm.output[0],
         list(sm.params.objectives),
         dict(sm.params.constraints),
-        sm.output[1] if len(sm.output) > 1 else None,
+        next((p for p in sm.output if p.endswith("sensitivity.h5")), None),
         config=sm.params.config,
         source=sm.params.source,
+        robust_path=next((p for p in sm.output if p.endswith("robust.h5")), None),
     )
 except store.CorruptChunk as exc:  # a chunk or the design, named and removed: the next run
     # recomputes it

@@ -37,7 +37,7 @@ def verify_inputs():
         path: {"config": sm.params.configs[name], "source": sm.params.source}
         for name, path in zip(sm.params.names, sm.input.studies, strict=True)
     }
-    for p in sm.input.sensitivity:
+    for p in [*sm.input.sensitivity, *sm.input.robust]:
         expected[p] = {}
     for p in sm.input.refined:  # (a result of this run too is checked as one)
         expected.setdefault(p, {"design": False, "action": first_stage})
@@ -60,6 +60,7 @@ report.build(
     sensitivity_files=dict(zip(sm.params.sensitivity_names, sm.input.sensitivity)),
     refine_files=dict(zip(sm.params.refined_names, sm.input.refined)),
     traces_files=dict(zip(sm.params.traced_names, sm.input.traces)),
+    robust_files=dict(zip(sm.params.robust_names, sm.input.robust)),
     hard_cases_file=sm.input.hard_cases[0] if sm.input.hard_cases else None,
     numerics_dir=Path(sm.input.numerics[0]).parent if sm.input.numerics else None,
     job_seconds={s: t for s in sm.params.names if (t := job_seconds(s))},

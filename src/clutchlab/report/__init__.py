@@ -56,7 +56,13 @@ def study_pages(name: str, ds) -> list:
 
 
 def figure_stems(
-    study_names, benchmark=False, sensitivity=(), refined=(), hard_cases=False, numerics=False
+    study_names,
+    benchmark=False,
+    sensitivity=(),
+    refined=(),
+    hard_cases=False,
+    numerics=False,
+    robust=(),
 ) -> list[str]:
     """PNG stems the report produces for these studies (for Snakemake outputs); a sensitivity page
     for the studies in ``sensitivity`` (factorial grids), a refinement page for those in ``refined``
@@ -68,6 +74,7 @@ def figure_stems(
         f"{name}_{s}"
         for name in study_names
         for s in (
+            *(["robust"] if name in robust else []),
             *study_page_stems(name),
             "answers",
             *(["sensitivity"] if name in sensitivity else []),
@@ -84,11 +91,14 @@ def figure_stems(
     )
 
 
-def answer_files(study_names, refined=()) -> list[str]:
-    """The front tables the report writes (one CSV per study) and the refinement tables."""
-    return [f"{name}_pareto.csv" for name in study_names] + [
-        f"{name}_refinement.csv" for name in refined
-    ]
+def answer_files(study_names, refined=(), robust=()) -> list[str]:
+    """The front tables the report writes (one CSV per study), the refinement tables and the
+    robust fronts."""
+    return (
+        [f"{name}_pareto.csv" for name in study_names]
+        + [f"{name}_refinement.csv" for name in refined]
+        + [f"{name}_robust.csv" for name in study_names if name in robust]
+    )
 
 
 class Page:
@@ -99,11 +109,19 @@ class Page:
         self.stem, self.draw, self.pdf_pages, self.n_pdf = stem, draw, pdf_pages, n_pdf
 
 
-def _study_pages(name, ds, sensitivity_files, refine_files, outdir) -> list[Page]:
-    """A study's pages (drawn later, one at a time) and its CSV files (written now)."""
+def _study_pages(name, ds, sensitivity_files, refine_files, outdir, robust=None) -> list[Page]:
+    """A study's pages (drawn later, one at a time) and its CSV files (written now); a robust
+    study's robust answers (``robust``) lead."""
     from functools import partial
 
-    pages = [Page(f"{name}_{stem}", partial(draw, ds)) for stem, draw in _pages_of(name).items()]
+    from . import robust as robust_pages
+
+    pages = []
+    if robust is not None:
+        pages.append(Page(f"{name}_robust", partial(robust_pages.page, name, robust)))
+        with store.atomic(outdir / f"{name}_robust.csv") as tmp:
+            robust_pages.write_csv(robust, tmp)
+    pages += [Page(f"{name}_{stem}", partial(draw, ds)) for stem, draw in _pages_of(name).items()]
     pages.append(Page(f"{name}_answers", partial(answers.page, name, ds)))
     if name in sensitivity_files:
         se = store.load(sensitivity_files[name])
@@ -140,6 +158,7 @@ def build(
     numerics_dir=None,
     job_seconds=None,
     traces_files=None,
+    robust_files=None,
 ) -> list[Path]:
     """Build the report from stored results.
 
@@ -169,6 +188,10 @@ def build(
         Study name -> its ``traces.h5`` (:mod:`clutchlab.traces`): the traces of the design its
         pages show. Without one, a study's pages compute nothing: they take the traces already in
         its Dataset (an in-memory :func:`clutchlab.pipeline.run_study`), if any.
+    robust_files : dict or None
+        Study name -> its ``robust.h5`` (a robust study's answers, :func:`clutchlab.explore.robust`):
+        its robust page leads its pages, the summary leads with its robust front, and
+        ``<study>_robust.csv`` lists the robust front designs.
     outdir : path
         Folder for ``report.pdf``, ``validation.csv`` and the PNGs. PNG and CSV files in it that
         this report does not write (pages of an earlier run of another config) are removed.
@@ -186,9 +209,12 @@ def build(
     for name, path in (traces_files or {}).items():
         results[name] = tr.attach(results[name], store.load(path))
     validations = [store.load(p) for p in validation_files]
+    robust = {name: store.load(p) for name, p in (robust_files or {}).items()}
     pages = []
     for name, ds in results.items():
-        pages += _study_pages(name, ds, sensitivity_files or {}, refine_files or {}, outdir)
+        pages += _study_pages(
+            name, ds, sensitivity_files or {}, refine_files or {}, outdir, robust.get(name)
+        )
     if benchmark_csv is not None:
         from ..bench.engagement import read_rows, work_precision_figure
 
@@ -218,11 +244,15 @@ def build(
         0,
         Page(
             "title",
-            lambda: title_page(title, __version__, results, validations, numbers, job_seconds),
+            lambda: title_page(
+                title, __version__, results, validations, numbers, job_seconds, robust
+            ),
         ),
     )
     written = _write_pages(pages, outdir, title, dpi)
-    tables = answer_files(results, refine_files or {}) + (["validation.csv"] if validations else [])
+    tables = answer_files(results, refine_files or {}, robust) + (
+        ["validation.csv"] if validations else []
+    )
     _remove_stale(
         outdir, [p.name for p in written] + tables + ["hard_cases.csv"] * bool(hard_cases_file)
     )

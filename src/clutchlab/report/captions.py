@@ -55,6 +55,12 @@ GENERIC = {
     "pareto.csv": "The Pareto front designs of study {study}: factors, objectives, constrained outputs and "
     "constraint margins, in the units engineers read (each column header names its unit).",
     "refinement.csv": "Hypervolume before and after the refinement of study {study}.",
+    "robust": "Robust answers of study {study}: every design's worst-case (or quantile) objectives over its "
+    "operating conditions and the noise, the designs whose probability of failure is within the allowed at "
+    "every condition, the robust front, and the best robust design's probability of failure at each condition "
+    "with its 95 % Wilson interval and the condition where it binds.",
+    "robust.csv": "The robust front designs of study {study}: factors, worst-case and quantile objectives, "
+    "highest probability of failure with its interval and the binding condition and noise draw.",
     "numerics": "Work-precision of the solver study {study} runs, against per-scenario scipy, measured in this run "
     "on a small sample, with the speed ratio at equal error.",
 }

@@ -98,7 +98,9 @@ def shown_name(ds) -> str:
     (why it is the one) with its factor values; the status where it is not ok."""
     if "shown_index" not in ds.attrs or int(ds.attrs["shown_index"]) < 0:
         return "no design of this run to show: " + ds.attrs.get("shown_reason", "no traces")
-    if ds.attrs.get("shown_reason", "").startswith("the run's best"):
+    if ds.attrs.get("shown_reason", "").startswith("the run's best robust"):
+        what = "the run's best robust design at its binding condition"
+    elif ds.attrs.get("shown_reason", "").startswith("the run's best"):
         what = "the run's best design"
     else:
         what = "the run's design nearest the ideal point (no feasible design)"
@@ -120,8 +122,9 @@ def page_ranges(numbers, stems) -> str:
     return ("pages " if len(pages) > 1 else "page ") + ", ".join(runs)
 
 
-def _study_lines(name, ds, numbers, job_seconds, model=True) -> list[str]:
-    """The summary's lines of one study (long lines are wrapped by the caller)."""
+def _study_lines(name, ds, numbers, job_seconds, model=True, robust=None) -> list[str]:
+    """The summary's lines of one study (long lines are wrapped by the caller); a robust study's
+    robust front and best robust design first (``robust``: its robust answers)."""
     from . import status_counts
     from .answers import best_text, edge_notes, life_text
 
@@ -140,8 +143,13 @@ def _study_lines(name, ds, numbers, job_seconds, model=True) -> list[str]:
         f"{n} scenarios, design {ds.attrs.get('design')} over {dims}{jobs}",
         (f"model: {ds.attrs.get('model', '')}; " if model else "") + status,
     ]
+    if robust is not None:
+        from .robust import summary_lines
+
+        lines += summary_lines(robust)
     if "pareto_rank" in ds:
-        lines.append("best compromise: " + best_text(ds))
+        lead = "per operating condition and noise draw, best compromise: " if robust else ""
+        lines.append((lead or "best compromise: ") + best_text(ds))
         if life_text(ds):  # its reserve at the end of wear, lining life, engagements per hour
             lines.append("over its life: " + life_text(ds))
         if not ds.attrs.get("shown_reason", "the run's best").startswith("the run's best"):
@@ -157,7 +165,7 @@ def _study_lines(name, ds, numbers, job_seconds, model=True) -> list[str]:
     return lines
 
 
-def title_page(title, version, results, validations, numbers=None, job_seconds=None):
+def title_page(title, version, results, validations, numbers=None, job_seconds=None, robust=None):
     """The summary page: per study what was run (and how long its jobs took: ``job_seconds``,
     study -> (jobs, seconds)), its status counts, its best compromise design (values in the units
     engineers read), the factors it sits at the edge of, and the pages that show it (``numbers``:
@@ -185,7 +193,10 @@ def title_page(title, version, results, validations, numbers=None, job_seconds=N
     height = A4_LANDSCAPE[1] * 72  # pt
     avail = (top - 0.05) - 0.07
     for size, model in ((9.5, True), (9.0, True), (8.5, True), (8.0, True), (8.0, False)):
-        blocks = [_study_lines(n, ds, numbers, job_seconds, model) for n, ds in results.items()]
+        blocks = [
+            _study_lines(n, ds, numbers, job_seconds, model, (robust or {}).get(n))
+            for n, ds in results.items()
+        ]
         chars = int(0.9 * A4_LANDSCAPE[0] * 72 / (0.53 * size))
         wrapped = [
             [w for line in b for w in textwrap.wrap(line, chars, subsequent_indent="    ")]

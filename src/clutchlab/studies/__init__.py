@@ -258,6 +258,14 @@ class Study:
     # design a run's pages show, every input given as a scalar; computed once per study after the
     # merge (clutchlab.traces, the workflow's traces job)
     traces: Callable | None = None
+    # a robust study's default noise (clutchlab.config: used where the config asks for a robust
+    # study and gives no ``noise``): parameter -> noise spec as a config writes it, e.g.
+    # {"friction_coefficient": {"scatter": "±20 %"}}
+    noise: dict = field(default_factory=dict)
+    # fixed values a robust study with a given noise uses unless the config gives them: noise
+    # parameter -> {parameter: SI value} (the centrifugal's friction_scatter is 0 where the noise
+    # draws the friction coefficient itself)
+    noise_replaces: dict = field(default_factory=dict)
     # measured tables a study section may give (config key -> ((x name, x units), (y name, y units),
     # description)); resolved to SI lists and passed to compute as options[key]
     tables: dict = field(default_factory=dict)

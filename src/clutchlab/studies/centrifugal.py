@@ -496,6 +496,11 @@ STUDY = register(
             "idle_capacity": "N m",
         },
         # seed 001: carry the rotor with reserve, let go quickly after an engine failure
+        # a robust study's default noise: the shoe lining's friction scatters by about ±20 %;
+        # its draws test jamming directly (the upper corner is the near_jam question), so
+        # friction_scatter is 0 there unless the config gives it
+        noise={"friction_coefficient": {"scatter": "±20 %"}},
+        noise_replaces={"friction_coefficient": {"friction_scatter": 0.0}},
         conditions=(
             "rated_speed",
             "idle_speed",

@@ -574,6 +574,12 @@ STUDY = register(
         # torque reserve against the peak release force the bearing must overcome (load at the hump A;
         # the clamp load itself is proportional to the reserve, no trade-off); seed 000 takes beta >= 1.2
         # the lining's state (new: uniform pressure; worn in: uniform wear) is a condition of its life
+        # a robust study's default noise: the spring's sheet-thickness and cone-height
+        # tolerances on the clamp load (±1.5 % and ±2 %, spring-steel strip and forming, assumed)
+        noise={
+            "sheet_thickness": {"scatter": "±1.5 %"},
+            "cone_height_ratio": {"scatter": "±2 %"},
+        },
         conditions=("max_engine_torque", "stack_mass", "friction_radius"),
         objectives=("reserve_factor:max", "load_peak:min"),
         # ... new and at the end of the wear allowance (the spring's operating point worn towards A)

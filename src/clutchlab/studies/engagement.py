@@ -1045,6 +1045,9 @@ STUDY = register(
                 "measured kinetic friction coefficient over slip speed (replaces the Stribeck law)",
             )
         },
+        # a robust study's default noise: dry friction scatters by about ±20 % with temperature,
+        # wear and humidity (the lining's nominal mu is a design choice, its scatter is not)
+        noise={"friction_coefficient": {"scatter": "±20 %"}},
         objectives=("slip_work:min", "peak_jerk:min"),
         # ... new and at the end of the wear allowance (less clamp load: a longer engagement)
         constraints={"lockup_time": ("max", 0.5), "lockup_time_worn": ("max", 0.5)},

@@ -636,6 +636,12 @@ STUDY = register(
         },
         # seed 003: fast engagement at low contact stress; self-locking, sigma_H within the 3041 MPa
         # lower end of the allowable range, engaged within 1 ms
+        # a robust study's default noise: friction ±20 % (self-locking of the wedge) and the
+        # roller's diameter tolerance (±2 µm on 10 mm, a ground roller's grade, assumed)
+        noise={
+            "friction_coefficient": {"scatter": "±20 %"},
+            "roller_diameter": {"scatter": "±0.02 %"},
+        },
         conditions=(
             "max_torque",
             "service_factor",

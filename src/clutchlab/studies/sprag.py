@@ -459,6 +459,13 @@ STUDY = register(
             "contact_stress_inner": "Pa",
         },
         # seed 002 Table 2: every allowable met (margins >= 0); the largest contact and grip margins
+        # a robust study's default noise: manufacturing tolerances of the sprag geometry
+        # (±0.1 % of the arc radii and the centre distance, about ±10 µm: ground sprags, assumed)
+        noise={
+            "sprag_inner_radius": {"scatter": "±0.1 %"},
+            "sprag_outer_radius": {"scatter": "±0.1 %"},
+            "centre_distance": {"scatter": "±0.1 %"},
+        },
         conditions=(
             "torque",
             "impact_power",

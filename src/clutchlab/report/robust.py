@@ -1,0 +1,287 @@
+"""Report pages of a robust study: the robust front and the best robust design first.
+
+Drawn from the robust answers stored beside a robust study's result (``robust.h5``,
+:func:`clutchlab.explore.robust`): the worst-case (or quantile) objectives of every design, the
+robust-feasible designs and the robust front, the best robust design
+(:func:`clutchlab.explore.best_robust`) with its probability of failure at each operating
+condition and its Wilson interval, and the condition and noise draw where its worst case occurs.
+"""
+
+from __future__ import annotations
+
+import textwrap
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from .. import display, explore
+from .common import A4_LANDSCAPE
+
+__all__ = ["page", "best_text", "summary_lines", "write_csv", "front_rows"]
+
+MAX_ROWS = 12  # robust front designs in the page's table (all of them in the CSV)
+
+
+def _design_dims(ra) -> list[str]:
+    return list(ra["robust_rank"].dims)
+
+
+def _factors(ra) -> list[str]:
+    """The design factors of the robust answers: grid dimensions, or the sampled factors on
+    ``point``."""
+    dims = _design_dims(ra)
+    sampled = [
+        c for c in ra.coords if c not in dims and ra[c].dims and set(ra[c].dims) <= set(dims)
+    ]
+    return [d for d in dims if d != "point"] + sampled
+
+
+def _flat(ra, name) -> np.ndarray:
+    dims = _design_dims(ra)
+    return ra[name].broadcast_like(ra["robust_rank"]).transpose(*dims).values.reshape(-1)
+
+
+def _objectives(ra) -> list[tuple[str, str]]:
+    return [tuple(o.split(":")) for o in ra["robust_rank"].attrs["objectives"].split()]
+
+
+def _which(ra) -> str:
+    return ra["robust_rank"].attrs["robust_objectives"]
+
+
+def _v(ra, name, v) -> str:
+    return display.text(v, display.unit_of(ra, name))
+
+
+def design_text(ra, j) -> str:
+    """Design ``j``'s factor values in engineers' units."""
+    return ", ".join(f"{f} = {_v(ra, f, _flat(ra, f)[j])}" for f in _factors(ra))
+
+
+def _failure(ra, j) -> tuple[float, float, float, dict]:
+    """Design ``j``'s highest probability of failure over the conditions, its Wilson bounds and
+    the condition where it occurs ({condition: value})."""
+    conds = ra.attrs.get("conditions", "").split()
+    nd = int(np.prod([ra.sizes[d] for d in _design_dims(ra)], dtype=np.int64))
+    p, lo, hi = (
+        ra[v].transpose(*_design_dims(ra), *conds).values.reshape(nd, -1)[j]
+        for v in ("failure_probability", "failure_probability_low", "failure_probability_high")
+    )
+    k = int(np.argmax(p))
+    at = np.unravel_index(k, tuple(ra.sizes[c] for c in conds)) if conds else ()
+    where = {c: float(ra[c].values[i]) for c, i in zip(conds, at, strict=True)}
+    return float(p[k]), float(lo[k]), float(hi[k]), where
+
+
+def _binding_answer(ra) -> str:
+    """The answer whose worst case the pages locate: the first constraint, else objective."""
+    names = [str(a) for a in ra["answer"].values]
+    constrained = [str(c) for c in ra["constraint"].values] if "constraint" in ra.coords else []
+    return constrained[0] if constrained else names[0]
+
+
+def binding_text(ra, j, answer=None, lead=True) -> str:
+    """Where design ``j``'s worst case of ``answer`` occurs (default: its first constraint, else
+    its first objective): the condition values and the noise draw."""
+    answer = answer or _binding_answer(ra)
+    parts = []
+    for c in ra.attrs.get("conditions", "").split():
+        v = _v(ra, f"binding_{c}", _flat_answer(ra, ra[f"binding_{c}"].sel(answer=answer))[j])
+        parts.append(f"{c} = {v}" if lead else v)
+    for var in ra.data_vars:
+        if var.startswith("binding_") and var.endswith("_noise") and var != "binding_noise":
+            d = _flat_answer(ra, ra[var].sel(answer=answer))[j]
+            name = var[len("binding_") : -len("_noise")]
+            if ra[var].attrs.get("units", "1") == "1":
+                parts.append(f"{name} {100 * d:+.1f} %")
+            else:
+                parts.append(f"{name} = {_v(ra, var, d)}")
+    return (f"{answer} worst at " if lead else "") + ", ".join(parts)
+
+
+def _flat_answer(ra, da) -> np.ndarray:
+    return da.transpose(*_design_dims(ra)).values.reshape(-1)
+
+
+def best_text(ra) -> str:
+    """The best robust design, its worst-case and quantile objectives, its highest probability of
+    failure with its interval and condition, and where its worst case binds."""
+    j = explore.best_robust(ra)
+    if j is None:
+        return "no robust design: " + _none_reason(ra)
+    q = ra.attrs.get("quantile", 0.95)
+    objs = "; ".join(
+        f"{name} worst {_v(ra, f'worst_{name}', _flat(ra, f'worst_{name}')[j])}, "
+        f"{q:g}-quantile {_v(ra, f'quantile_{name}', _flat(ra, f'quantile_{name}')[j])}"
+        for name, _ in _objectives(ra)
+    )
+    p, lo, hi, where = _failure(ra, j)
+    at = ", ".join(f"{c} = {_v(ra, c, v)}" for c, v in where.items())
+    return (
+        f"{design_text(ra, j)}: {objs}; highest probability of failure {100 * p:.2g} % "
+        f"(95 % interval {100 * lo:.2g}-{100 * hi:.2g} %{', at ' + at if at else ''}); "
+        + binding_text(ra, j)
+    )
+
+
+def _none_reason(ra) -> str:
+    feas = _flat(ra, "robust_feasible").astype(bool)
+    limit = ra.attrs.get("max_failure_probability", 0.01)
+    return (
+        f"no design fails with probability at most {100 * limit:.2g} % at every condition"
+        if not feas.any()
+        else "the robust-feasible designs have no finite robust objectives"
+    )
+
+
+def summary_lines(ra) -> list[str]:
+    """The summary page's lines of a robust study (before its per-condition answers)."""
+    feas = _flat(ra, "robust_feasible").astype(bool)
+    rank = _flat(ra, "robust_rank")
+    conds = ra.attrs.get("conditions", "").split()
+    ncond = int(np.prod([ra.sizes[c] for c in conds], dtype=np.int64)) if conds else 1
+    noise = ra.attrs.get("noise_parameters", "") or "none"
+    return [
+        f"robust: {int(feas.sum())} of {feas.size} designs fail with probability at most "
+        f"{100 * ra.attrs.get('max_failure_probability', 0.01):.2g} % at each of {ncond} "
+        f"operating conditions ({', '.join(conds) or 'none'}) over "
+        f"{ra.attrs.get('noise_samples', 0)} noise samples of {noise}; "
+        f"{int((rank == 0).sum())} on the robust front ({_which(ra)} objectives)",
+        "best robust design: " + best_text(ra),
+    ]
+
+
+def front_rows(ra) -> tuple[list[str], list[list[str]]]:
+    """(header, rows) of the robust front designs along the first objective."""
+    rank = _flat(ra, "robust_rank")
+    front = np.flatnonzero(rank == 0)
+    if not front.size:
+        return [], []
+    first = _objectives(ra)[0][0]
+    front = front[np.argsort(_flat(ra, f"{_which(ra)}_{first}")[front], kind="stable")]
+    factors = _factors(ra)
+    header = [display.column(f, display.unit_of(ra, f)) for f in factors]
+    cols = [f"{w}_{n}" for n, _ in _objectives(ra) for w in ("worst", "quantile")]
+    header += [display.column(c, display.unit_of(ra, c)) for c in cols]
+    conds = " / ".join([*ra.attrs.get("conditions", "").split(), "noise"])
+    header += ["P(failure) max [%]", "95 % interval [%]", f"{_binding_answer(ra)} worst at {conds}"]
+    rows = []
+    for j in front:
+        p, lo, hi, _ = _failure(ra, j)
+        row = [format(display.unit_of(ra, f)(_flat(ra, f)[j]), ".4g") for f in factors]
+        row += [format(display.unit_of(ra, c)(_flat(ra, c)[j]), ".4g") for c in cols]
+        row += [f"{100 * p:.2g}", f"{100 * lo:.2g}-{100 * hi:.2g}", binding_text(ra, j, lead=False)]
+        rows.append(row)
+    return header, rows
+
+
+def write_csv(ra, path) -> None:
+    """The robust front designs as CSV (every one), units in the column headers."""
+    import csv
+
+    header, rows = front_rows(ra)
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(header or ["no robust front design"])
+        w.writerows(rows)
+
+
+def page(name, ra):
+    """The robust answers of a study: every design's robust objectives (robust-feasible designs
+    and the robust front marked, the best robust design starred), the best robust design's
+    probability of failure at each condition with its interval, and the robust front's table."""
+    fig = plt.figure(figsize=A4_LANDSCAPE)
+    grid = fig.add_gridspec(
+        2, 2, height_ratios=[1.3, 1.0], top=0.8, bottom=0.03, wspace=0.3, hspace=0.35
+    )
+    _front_panel(fig.add_subplot(grid[0, 0]), ra)
+    _failure_panel(fig.add_subplot(grid[0, 1]), ra)
+    ax = fig.add_subplot(grid[1, :])
+    ax.set_axis_off()
+    header, rows = front_rows(ra)
+    if rows:
+        short = [r[:-1] + [textwrap.shorten(r[-1], 70)] for r in rows[:MAX_ROWS]]
+        widths = [0.075] * (len(header) - 1) + [0.3]
+        table = ax.table(
+            cellText=short,
+            colLabels=[
+                textwrap.fill(h, 13 if k < len(header) - 1 else 60) for k, h in enumerate(header)
+            ],
+            colWidths=[w / sum(widths) for w in widths],
+            loc="upper center",
+            cellLoc="center",
+        )
+        table.auto_set_font_size(False)
+        table.set_fontsize(6.5)
+        table.scale(1.0, 1.5)
+    else:
+        ax.text(0.5, 0.5, "no robust front: " + _none_reason(ra), ha="center", fontsize=10)
+    feas = _flat(ra, "robust_feasible").astype(bool)
+    rank = _flat(ra, "robust_rank")
+    fig.suptitle(
+        f"Robust answers, study '{name}': {int(feas.sum())} of {feas.size} designs meet every "
+        f"limit with probability of failure at most "
+        f"{100 * ra.attrs.get('max_failure_probability', 0.01):.2g} % at every operating "
+        f"condition; {int((rank == 0).sum())} on the robust front"
+        + (f" (table: {min(len(rows), MAX_ROWS)}; {name}_robust.csv)" if rows else ""),
+        fontsize=11,
+    )
+    fig.text(0.06, 0.905, textwrap.fill("best robust design: " + best_text(ra), 200),
+             fontsize=8, va="top")  # fmt: skip
+    return fig
+
+
+def _front_panel(ax, ra) -> None:
+    objs = _objectives(ra)
+    which = _which(ra)
+    (ox, sx), (oy, sy) = (objs + objs)[:2]
+    x = display.unit_of(ra, f"{which}_{ox}")(_flat(ra, f"{which}_{ox}"))
+    y = display.unit_of(ra, f"{which}_{oy}")(_flat(ra, f"{which}_{oy}"))
+    feas = _flat(ra, "robust_feasible").astype(bool)
+    rank = _flat(ra, "robust_rank")
+    ax.scatter(x[~feas], y[~feas], s=8, color="0.75", label="not robust")
+    ax.scatter(x[feas], y[feas], s=10, color="tab:blue", label="robust-feasible")
+    front = np.flatnonzero(rank == 0)
+    front = front[np.argsort(x[front])]
+    ax.plot(x[front], y[front], "o-", color="tab:red", ms=4, label="robust front")
+    j = explore.best_robust(ra)
+    if j is not None:
+        ax.plot(x[j], y[j], "*", color="k", ms=14, label="best robust design")
+    for setter, o, s in ((ax.set_xlabel, ox, sx), (ax.set_ylabel, oy, sy)):
+        u = display.unit_of(ra, f"{which}_{o}")
+        setter(f"{which} {o.replace('_', ' ')} [{u.label}] ({s})", fontsize=8)
+    ax.tick_params(labelsize=8)
+    ax.legend(fontsize=7)
+    ax.set_title(f"{which}-case objectives over conditions and noise", fontsize=9)
+
+
+def _failure_panel(ax, ra) -> None:
+    j = explore.best_robust(ra)
+    conds = ra.attrs.get("conditions", "").split()
+    if j is None:
+        ax.set_axis_off()
+        ax.text(0.5, 0.5, "no robust design", ha="center")
+        return
+    nd = int(np.prod([ra.sizes[d] for d in _design_dims(ra)], dtype=np.int64))
+    p, lo, hi = (
+        100 * ra[v].transpose(*_design_dims(ra), *conds).values.reshape(nd, -1)[j]
+        for v in ("failure_probability", "failure_probability_low", "failure_probability_high")
+    )
+    labels = []
+    for k in range(p.size):
+        at = np.unravel_index(k, tuple(ra.sizes[c] for c in conds)) if conds else ()
+        labels.append(
+            "\n".join(_v(ra, c, ra[c].values[i]) for c, i in zip(conds, at, strict=True))
+            or "nominal"
+        )
+    ax.bar(range(p.size), p, color="tab:blue")
+    err = [np.maximum(p - lo, 0.0), np.maximum(hi - p, 0.0)]
+    ax.errorbar(range(p.size), p, yerr=err, fmt="none", color="k", capsize=4)
+    ax.axhline(100 * ra.attrs.get("max_failure_probability", 0.01), color="tab:red", ls="--",
+               label="allowed")  # fmt: skip
+    ax.set_xticks(range(p.size), labels, fontsize=7)
+    ax.set_xlabel(" / ".join(conds) or "no operating condition", fontsize=8)
+    ax.set_ylabel("probability of failure [%] (95 % Wilson interval)", fontsize=8)
+    ax.set_title("best robust design at each operating condition", fontsize=9)
+    ax.legend(fontsize=7)
+    ax.tick_params(labelsize=7)

@@ -1,0 +1,330 @@
+"""Robust studies: crossed designs (design × conditions × noise) and their robust answers."""
+
+import itertools
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from clutchlab import doe, explore, pipeline, store, studies
+from clutchlab import robust as rb
+from clutchlab.config import resolve
+
+NOMINAL_MU = 0.35
+SCATTER = 0.2
+
+
+def _engagement(noise_samples=256, limit="0.5 s", **parameters):
+    section = {
+        "design": "factorial",
+        "options": {"driveline": "rigid"},
+        "parameters": {"ramp_time": {"values": ["0.15 s"]}, **parameters},
+        "noise": {"friction_coefficient": {"scatter": f"±{100 * SCATTER:g} %"}},
+        "noise_samples": noise_samples,
+        "objectives": ["slip_work:min", "lockup_time:min"],
+        "constraints": {"lockup_time": {"max": limit}},
+    }
+    section["parameters"].setdefault("friction_coefficient", NOMINAL_MU)
+    return resolve({"studies": ["engagement"], "engagement": section})["engagement"]
+
+
+def _lockup(sec, mu) -> np.ndarray:
+    """Lock-up times [s] of the study's nominal design at friction coefficients ``mu``."""
+    inputs = dict(sec["fixed"])
+    inputs["ramp_time"] = sec["factors"]["ramp_time"]["values"][0]
+    inputs["friction_coefficient"] = np.asarray(mu, dtype=float)
+    return studies.get("engagement").compute(inputs, sec["options"])["lockup_time"].values
+
+
+def _run(sec, chunks=1):
+    design = doe.build_design(sec)
+    parts = [pipeline.run_chunk(design, sec["options"], chunks, i) for i in range(chunks)]
+    return pipeline.merge(design, parts)
+
+
+def test_noise_draws_have_the_corners_first_and_the_same_draws_for_every_design():
+    sec = _engagement(noise_samples=8, sheet_thickness={"values": ["2.2 mm", "2.4 mm"]})
+    design = doe.build_design(sec)
+    d = design["friction_coefficient_noise"].values
+    assert design.sizes["noise"] == 2 + 8
+    np.testing.assert_array_equal(d[:2], [-SCATTER, SCATTER])
+    assert ((d[2:] > -SCATTER) & (d[2:] < SCATTER)).all()
+    np.testing.assert_array_equal(design["noise_weight"].values, [0, 0] + [1 / 8] * 8)
+    # a scrambled Sobol' sample: one point in each eighth of the interval
+    cells = np.floor((d[2:] + SCATTER) / (2 * SCATTER) * 8)
+    np.testing.assert_array_equal(np.sort(cells), np.arange(8))
+    ds = _run(sec)
+    mu = ds["friction_coefficient"].values
+    # each scenario ran at the design's mu times (1 + its draw): lock-up at draw k the same as the
+    # API's at that mu, for both sheet thicknesses
+    got = ds["lockup_time"].isel(sheet_thickness=0).values.reshape(-1)
+    want = _lockup(sec | {"fixed": {**sec["fixed"], "sheet_thickness": 2.2e-3}}, mu * (1 + d))
+    np.testing.assert_allclose(got, want, rtol=1e-12)
+
+
+def test_violation_probability_and_worst_case_of_a_closed_form_case():
+    """Acceptance: rigid engagement, held engine, mu uniform over ±20 % of 0.35. Lock-up time
+    falls monotonically with mu, so P(lock-up > limit) is the share of the mu interval below the
+    mu that locks up exactly at the limit (found by bisection to 1e-13 on the API); the estimate
+    from 256 scrambled Sobol' draws lies within its Wilson interval (and within 2/256 of it), and
+    the worst case equals the lower corner's lock-up to 1e-12."""
+    lo, hi = NOMINAL_MU * (1 - SCATTER), NOMINAL_MU * (1 + SCATTER)
+    probe = _engagement()
+    t_lo, t_hi = _lockup(probe, [lo, hi])
+    assert t_lo > t_hi  # monotone: less friction, later lock-up
+    limit = float(np.round(t_hi + 0.3 * (t_lo - t_hi), 4))
+    sec = _engagement(limit=f"{limit} s")
+    a, b = lo, hi  # bisection for the mu locking up exactly at the limit
+    for _ in range(80):
+        m = 0.5 * (a + b)
+        a, b = (m, b) if _lockup(sec, [m])[0] > limit else (a, m)
+        if b - a < 1e-13:
+            break
+    exact = (0.5 * (a + b) - lo) / (hi - lo)
+    answers = explore.robust(_run(sec))
+    p = float(answers["violation_probability"].squeeze())
+    low = float(answers["violation_probability_low"].squeeze())
+    high = float(answers["violation_probability_high"].squeeze())
+    print(f"P(lock-up > {limit} s): exact {exact:.6f}, estimated {p:.6f} [{low:.4f}, {high:.4f}]")
+    assert low <= exact <= high, (low, exact, high)
+    assert abs(p - exact) <= 2 / 256, (p, exact)
+    worst = float(answers["worst_lockup_time"].squeeze())
+    assert worst == pytest.approx(t_lo, rel=1e-12, abs=0)
+    assert int(answers["binding_noise"].sel(answer="lockup_time").squeeze()) == 0  # lower corner
+    assert float(answers["failure_probability"].squeeze()) == p
+    assert int(answers["robust_feasible"].squeeze()) == 0  # 1 % allowed, about 30 % fails
+
+
+def _brute_rank(f, include):
+    """Pareto ranks by peeling non-dominated sets with the O(N²) definition (−1 excluded)."""
+    rank = np.full(len(f), -1)
+    left = [i for i in range(len(f)) if include[i] and np.isfinite(f[i]).all()]
+    r = 0
+    while left:
+        front = [i for i in left if not any(explore.dominates(f[j], f[i]) for j in left)]
+        rank[front] = r
+        left = [i for i in left if i not in front]
+        r += 1
+    return rank
+
+
+@pytest.mark.parametrize("m", [2, 3, 4])
+@pytest.mark.parametrize("which", ["worst", "quantile"])
+def test_robust_answers_against_brute_force(m, which):
+    """Robust answers of a synthetic crossed result (4×5 designs, 3 conditions, 2 corners and 8
+    samples; integer objectives, so ties; failed scenarios) against loops over every design."""
+    rng = np.random.default_rng(m)
+    shape = (4, 5, 3, 10)
+    status = np.where(rng.random(shape) < 0.02, 3, 0).astype(np.int8)
+    data = {
+        "status": (("a", "b", "load", "noise"), status),
+        "noise_weight": ("noise", np.r_[0.0, 0.0, np.full(8, 1 / 8)]),
+        "mu_noise": ("noise", np.linspace(-0.2, 0.2, 10), {"units": "1"}),
+    }
+    for j in range(m):
+        v = rng.integers(0, 4, shape).astype(float)
+        data[f"y{j}"] = (("a", "b", "load", "noise"), np.where(status == 0, v, np.nan))
+    data["c"] = (("a", "b", "load", "noise"), np.where(status == 0, rng.random(shape), np.nan))
+    ds = xr.Dataset(
+        data, coords={"a": np.arange(4.0), "b": np.arange(5.0), "load": [1.0, 2.0, 3.0]}
+    )
+    objectives = [f"y{j}:{'min' if j % 2 == 0 else 'max'}" for j in range(m)]
+    robust = {
+        "conditions": ["load"],
+        "quantile": 0.75,
+        "max_failure_probability": 0.125,
+        "objectives": which,
+    }
+    got = rb.answers(ds, objectives, {"c": ("max", 0.9)}, robust)
+    cols, feasible = np.zeros((20, m)), np.zeros(20, bool)
+    for k, (i, j) in enumerate(itertools.product(range(4), range(5))):
+        failed = status[i, j] != 0
+        bad = failed | ~(ds["c"].values[i, j] <= 0.9)
+        p = bad[:, 2:].mean(axis=1)
+        np.testing.assert_array_equal(got["failure_probability"].values[i, j], p)
+        feasible[k] = (p <= 0.125).all()
+        for q, obj in enumerate(objectives):
+            name, sense = obj.split(":")
+            sign = 1.0 if sense == "min" else -1.0
+            y = sign * ds[name].values[i, j]
+            per_condition = [np.quantile(y[c, 2:], 0.75, method="inverted_cdf") for c in range(3)]
+            worst = np.nan if failed.any() else y.max()
+            quant = np.nan if failed.any() else max(per_condition)
+            np.testing.assert_array_equal(got[f"worst_{name}"].values[i, j], sign * worst)
+            np.testing.assert_array_equal(got[f"quantile_{name}"].values[i, j], sign * quant)
+            cols[k, q] = worst if which == "worst" else quant
+    np.testing.assert_array_equal(got["robust_feasible"].values.reshape(-1), feasible)
+    np.testing.assert_array_equal(
+        got["robust_rank"].values.reshape(-1), _brute_rank(cols, feasible)
+    )
+    assert (got["robust_rank"].values >= 0).any() and (got["robust_rank"].values == -1).any()
+
+
+def test_binding_condition_and_noise_locate_the_worst_case():
+    sec = _engagement(
+        noise_samples=8,
+        sheet_thickness={"values": ["2.2 mm", "2.4 mm"]},
+        driven_inertia={"values": ["0.02 kg*m^2", "0.04 kg*m^2"]},
+        load_torque={"values": ["20 N*m", "44 N*m"]},
+    )
+    ds = _run(sec)
+    got = explore.robust(ds)
+    assert set(got["robust_rank"].dims) == {"sheet_thickness", "ramp_time"}
+    for t in got["sheet_thickness"].values:
+        at = dict(
+            sheet_thickness=t,
+            driven_inertia=float(
+                got["binding_driven_inertia"].sel(answer="lockup_time", sheet_thickness=t).squeeze()
+            ),
+            load_torque=float(
+                got["binding_load_torque"].sel(answer="lockup_time", sheet_thickness=t).squeeze()
+            ),
+            noise=int(got["binding_noise"].sel(answer="lockup_time", sheet_thickness=t).squeeze()),
+        )
+        worst = float(got["worst_lockup_time"].sel(sheet_thickness=t).squeeze())
+        assert float(ds["lockup_time"].sel(at).squeeze()) == worst
+        assert worst == float(ds["lockup_time"].sel(sheet_thickness=t).max())
+    # the heavier inertia and the higher load lock up last, at the lowest friction (corner 0)
+    assert (got["binding_driven_inertia"].sel(answer="lockup_time") == 0.04).all()
+    assert (got["binding_load_torque"].sel(answer="lockup_time") == 44.0).all()
+    assert (got["binding_friction_coefficient_noise"].sel(answer="lockup_time") == -SCATTER).all()
+
+
+def test_robust_answers_are_identical_for_one_chunk_and_seven(tmp_path):
+    sec = _engagement(
+        noise_samples=8,
+        sheet_thickness={"values": ["2.2 mm", "2.4 mm", "2.6 mm"]},
+        driven_inertia={"values": ["0.02 kg*m^2", "0.04 kg*m^2"]},
+    )
+    design = doe.build_design(sec)
+    results = []
+    for chunks in (1, 7):
+        paths = []
+        for i in range(chunks):
+            paths.append(tmp_path / f"chunk_{chunks}_{i}.h5")
+            store.write(
+                pipeline.run_chunk(design, sec["options"], chunks, i), paths[-1], with_checksum=True
+            )
+        out, robust_path = tmp_path / f"out_{chunks}.h5", tmp_path / f"robust_{chunks}.h5"
+        pipeline.merge_to_file(
+            design, paths, out, sec["objectives"], sec["constraints"], robust_path=robust_path
+        )
+        results.append(store.load_verified(robust_path))
+    xr.testing.assert_identical(results[0], results[1])
+    xr.testing.assert_identical(results[0].drop_attrs(), explore.robust(_run(sec)).drop_attrs())
+
+
+def test_a_study_without_robust_keys_is_unchanged():
+    """Existing configs: no noise dimension, no robust section, the same config text."""
+    sec = resolve(
+        {
+            "studies": ["engagement"],
+            "engagement": {
+                "design": "factorial",
+                "parameters": {"ramp_time": {"values": [0.1, 0.2]}},
+            },
+        }
+    )["engagement"]
+    assert "robust" not in sec
+    assert "noise" not in doe.build_design(sec).dims
+    with pytest.raises(ValueError, match="not a robust study"):
+        explore.robust(_run(sec))
+
+
+def test_wilson_interval_against_its_closed_form():
+    """Wilson (1927): for k = 0 the bounds are 0 and z²/(n + z²)."""
+    lo, hi = rb.wilson_interval(0, 100)
+    z = 1.959963984540054
+    assert lo == 0.0 and hi == pytest.approx(z * z / (100 + z * z), rel=1e-12)
+    lo, hi = rb.wilson_interval(50, 100)
+    assert 0.5 - lo == pytest.approx(hi - 0.5, rel=1e-12)
+
+
+def test_sampled_design_points_crossed_and_refined_near_the_robust_front(tmp_path):
+    """Sobol design points × a condition grid × noise draws: merged by file (3 chunks) as in
+    memory; a refining stage samples near the robust front, with the first stage's conditions
+    and the same noise draws."""
+    raw = {
+        "design": "sobol",
+        "samples": 16,
+        "seed": 3,
+        "options": {"driveline": "rigid"},
+        "parameters": {
+            "sheet_thickness": {"min": "2.1 mm", "max": "2.6 mm"},
+            "ramp_time": {"min": "0.05 s", "max": "0.3 s"},
+            "driven_inertia": {"values": ["0.021 kg*m^2", "0.05 kg*m^2"]},
+        },
+        "noise": {"friction_coefficient": {"scatter": "±20 %"}},
+        "noise_samples": 8,
+    }
+    sec = resolve({"studies": ["engagement"], "engagement": raw})["engagement"]
+    design = doe.build_design(sec)
+    assert dict(design.sizes) == {"point": 16, "driven_inertia": 2, "noise": 10}
+    paths = []
+    for i in range(3):
+        paths.append(tmp_path / f"chunk_{i}.h5")
+        store.write(pipeline.run_chunk(design, sec["options"], 3, i), paths[-1], with_checksum=True)
+    first = tmp_path / "engagement.h5"
+    pipeline.merge_to_file(
+        design, paths, first, sec["objectives"], sec["constraints"], robust_path=tmp_path / "r.h5"
+    )
+    answers = store.load_verified(tmp_path / "r.h5")
+    assert answers["robust_rank"].dims == ("point",)
+    np.testing.assert_array_equal(answers["sheet_thickness"].values, design["sheet_thickness"])
+    merged = pipeline.merge(design, [store.load(p) for p in paths])
+    xr.testing.assert_identical(answers.drop_attrs(), explore.robust(merged).drop_attrs())
+    refine = {"design": "refine", "refine": {"from": str(first)}, "samples": 8, "seed": 1}
+    second = resolve(
+        {"studies": ["engagement"], "results": str(tmp_path / "second"), "engagement": refine}
+    )["engagement"]
+    d2 = doe.build_design(second)
+    assert dict(d2.sizes) == {"point": 8, "driven_inertia": 2, "noise": 10}
+    np.testing.assert_array_equal(
+        d2["friction_coefficient_noise"].values, design["friction_coefficient_noise"].values
+    )
+    np.testing.assert_array_equal(d2["driven_inertia"].values, design["driven_inertia"].values)
+    # each new design lies within the box around a robust front design
+    h = d2["sheet_thickness"].attrs["refine_halfwidth"] * (2.6e-3 - 2.1e-3)
+    front = answers["sheet_thickness"].values[answers["robust_rank"].values == 0]
+    gap = np.abs(d2["sheet_thickness"].values[:, None] - front[None, :]).min(axis=1)
+    assert (gap <= h * (1 + 1e-9)).all()
+
+
+@pytest.mark.slow
+def test_the_default_runs_best_robust_design_meets_every_limit_through_the_api():
+    """Acceptance: the default study's engagement (config/config.yaml, a crossed robust study),
+    its best robust design called through the API at every operating condition and at both ends
+    of its friction coefficient's ±20 % interval meets every constraint; the binding condition is
+    the one where its margin is least."""
+    from pathlib import Path
+
+    from clutchlab import config
+
+    sec = config.load(Path(__file__).parents[1] / "config" / "config.yaml")["engagement"]
+    ds = _run(sec)
+    answers = explore.robust(ds)
+    j = explore.best_robust(answers)
+    assert j is not None
+    at = np.unravel_index(j, answers["robust_rank"].shape)
+    design = {
+        d: float(answers[d].values[i]) for d, i in zip(answers["robust_rank"].dims, at, strict=True)
+    }
+    study = studies.get("engagement")
+    margins = {}
+    for inertia, load, end in itertools.product(
+        ds["driven_inertia"].values, ds["load_torque"].values, (-SCATTER, SCATTER)
+    ):
+        inputs = {**sec["fixed"], **design, "driven_inertia": inertia, "load_torque": load}
+        inputs["friction_coefficient"] = design["friction_coefficient"] * (1 + end)
+        out = study.compute({k: np.atleast_1d(v) for k, v in inputs.items()}, sec["options"])
+        assert int(out["status"].values[0]) == 0
+        for output, (op, limit) in sec["constraints"].items():
+            v = float(out[output].values[0])
+            margins[(inertia, load, end)] = explore.constraint_margin(v, op, limit)
+            assert margins[(inertia, load, end)] >= 0, (output, v, inertia, load, end)
+    worst = min(margins, key=margins.get)
+    binding = answers.isel(dict(zip(answers["robust_rank"].dims, at, strict=True)))
+    answer = str(list(sec["constraints"])[0])
+    assert float(binding["binding_driven_inertia"].sel(answer=answer)) == worst[0]
+    assert float(binding["binding_load_torque"].sel(answer=answer)) == worst[1]
+    assert float(binding["binding_friction_coefficient_noise"].sel(answer=answer)) == worst[2]
