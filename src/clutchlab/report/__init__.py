@@ -140,6 +140,7 @@ def build(
     numerics_dir=None,
     job_seconds=None,
     traces_files=None,
+    explorers=None,
 ) -> list[Path]:
     """Build the report from stored results.
 
@@ -169,6 +170,10 @@ def build(
         Study name -> its ``traces.h5`` (:mod:`clutchlab.traces`): the traces of the design its
         pages show. Without one, a study's pages compute nothing: they take the traces already in
         its Dataset (an in-memory :func:`clutchlab.pipeline.run_study`), if any.
+    explorers : dict or None
+        Study name -> the file name of its explorer (:mod:`clutchlab.report.explorer`) in
+        ``outdir``: the summary page links it. Given, explorers of other studies in ``outdir``
+        (an earlier run of another config) are removed.
     outdir : path
         Folder for ``report.pdf``, ``validation.csv`` and the PNGs. PNG and CSV files in it that
         this report does not write (pages of an earlier run of another config) are removed.
@@ -218,13 +223,17 @@ def build(
         0,
         Page(
             "title",
-            lambda: title_page(title, __version__, results, validations, numbers, job_seconds),
+            lambda: title_page(
+                title, __version__, results, validations, numbers, job_seconds, explorers
+            ),
         ),
     )
     written = _write_pages(pages, outdir, title, dpi)
     tables = answer_files(results, refine_files or {}) + (["validation.csv"] if validations else [])
     _remove_stale(
-        outdir, [p.name for p in written] + tables + ["hard_cases.csv"] * bool(hard_cases_file)
+        outdir,
+        [p.name for p in written] + tables + ["hard_cases.csv"] * bool(hard_cases_file),
+        explorers,
     )
     return written + [outdir / "report.pdf"]
 
@@ -261,12 +270,16 @@ def _write_pages(pages, outdir, title, dpi) -> list[Path]:
     return written
 
 
-def _remove_stale(outdir, keep) -> None:
+def _remove_stale(outdir, keep, explorers=None) -> None:
     """Remove the PNG and CSV files of ``outdir`` that this report did not write (the pages of
-    another config run into the same folder earlier), so the folder holds this run's report."""
-    keep = set(keep)
+    another config run into the same folder earlier), so the folder holds this run's report; with
+    ``explorers`` (study -> file name) also the explorers of other studies."""
+    keep = set(keep) | set((explorers or {}).values())
     for path in outdir.iterdir():
-        if path.suffix in (".png", ".csv") and path.name not in keep and path.is_file():
+        stale = path.suffix in (".png", ".csv") or (
+            explorers is not None and path.name.endswith("_explorer.html")
+        )
+        if stale and path.name not in keep and path.is_file():
             path.unlink()
 
 
