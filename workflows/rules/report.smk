@@ -40,6 +40,9 @@ for _study, _page in EXPLORERS.items():
             results(_study),
         output:
             report(_page, caption=_CAPTION_FILES[_page], category=_study),
+        params:
+            config=study_config(_study),  # the result is verified against its own config
+            source=SOURCE,
         resources:
             runtime=10,
             mem_mb=2000,

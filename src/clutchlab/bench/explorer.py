@@ -5,8 +5,8 @@
 no browser is downloaded) and writes per page: its size on disk, the designs it holds, the time
 until the page is drawn and its API ready (from the start of navigation), the share of it spent
 reading plotly.js and the data, and the time a brush takes (a range on the first axis, until the
-count and the scatter are redrawn). WebGL is Chromium's software renderer (SwiftShader): a
-machine with a GPU draws faster.
+count and the scatter are redrawn), and saves a screenshot of each beside ``OUT.csv``. WebGL is
+Chromium's software renderer (SwiftShader): a machine with a GPU draws faster.
 
 ``python -m clutchlab.bench.explorer --sizes OUT.csv RESULT.h5 N1 N2 ...`` writes the explorer
 of one stored result at each page size (designs held) into a temporary folder and measures each:
@@ -102,12 +102,15 @@ def brush_ms(driver) -> float:
     )
 
 
-def measure(pages) -> list[dict]:
-    """Open each page in a fresh headless Chromium and measure it."""
+def measure(pages, shots=None) -> list[dict]:
+    """Open each page in a fresh headless Chromium and measure it; with ``shots`` (a folder) save
+    a screenshot of each page as drawn, before the brush (``<page>.png``)."""
     rows = []
     for page in pages:
         with browser() as driver:
             t = open_page(driver, page)
+            if shots is not None:
+                driver.save_screenshot(str(Path(shots) / f"{Path(page).stem}.png"))
             n = driver.execute_script("return window.clutchlabExplorer.total();")
             size = driver.execute_script("return window.clutchlabExplorer.studySize();")
             rows.append(
@@ -146,7 +149,7 @@ def main(argv=None) -> None:
             write_rows(measure(sizes(result, counts, tmp)), out)
         return
     out, pages = argv[0], argv[1:]
-    write_rows(measure(pages), out)
+    write_rows(measure(pages, shots=Path(out).parent), out)
 
 
 if __name__ == "__main__":
