@@ -6,6 +6,7 @@ import io
 import json
 import os
 import re
+import time
 
 import numpy as np
 import pandas as pd
@@ -153,7 +154,7 @@ def test_page_is_self_contained_and_carries_the_values(tmp_path):
 
 def test_caption_of_an_explorer():
     text = captions.caption("sprag_explorer.html", ["sprag"])
-    assert "Interactive explorer of study sprag" in text and "100,000" in text
+    assert "Interactive explorer of study sprag" in text and "10,000" in text
     assert captions.category("sprag_explorer.html", ["sprag"]) == "sprag"
 
 
@@ -188,6 +189,27 @@ def _not_blank(png: bytes) -> float:
     return float((img.min(axis=2) < 0.9).mean())
 
 
+def _drag_first_axis(driver, ds) -> None:
+    """A brush drawn with the mouse on the first axis: the count is pandas' count for the range
+    the plot took from the drag."""
+    from selenium.webdriver.common.action_chains import ActionChains
+
+    brush = driver.execute_script(
+        "return document.querySelectorAll('#parcoords .axis-brush .background')[0];"
+    )
+    height = driver.execute_script("return arguments[0].getBoundingClientRect().height;", brush)
+    chain = ActionChains(driver).move_to_element_with_offset(brush, 0, int(-0.2 * height))
+    chain.click_and_hold().move_by_offset(0, int(0.5 * height)).release().perform()
+    time.sleep(0.5)
+    lo, hi = driver.execute_script(
+        "return document.getElementById('parcoords').data[0].dimensions[0].constraintrange;"
+    )
+    name = explorer.axes(ds)[0].name
+    expected = _expected(ds, {name: (lo, hi)})
+    assert expected.size < ds["status"].size  # the designs at the axis' ends are outside
+    assert driver.execute_script("return window.clutchlabExplorer.count();") == expected.size
+
+
 def _check_page(driver, ds, path, shots):
     bx.open_page(driver, path)
     severe = [e["message"] for e in driver.get_log("browser") if e["level"] == "SEVERE"]
@@ -198,10 +220,13 @@ def _check_page(driver, ds, path, shots):
     assert driver.execute_script(api + "count();") == n
     names = [a.name for a in explorer.axes(ds)]
     assert driver.execute_script(api + "axes();") == names
-    drawn = driver.execute_script(
-        "return document.querySelectorAll('#parcoords .y-axis').length;"
-    )  # the axes plotly drew
-    assert drawn == len(names)
+    drawn = "return document.querySelectorAll('#parcoords .y-axis').length;"  # as plotly drew
+    shown = explorer.page_data(ds)["axes"]
+    assert driver.execute_script(drawn) == sum(a["shown"] for a in shown)
+    if not all(a["shown"] for a in shown):  # the other outputs shown on demand
+        driver.find_element("id", "alloutputs").click()
+        time.sleep(0.5)
+        assert driver.execute_script(drawn) == len(names)
     text = driver.find_element("id", "count").text
     assert text == f"{n} of {n} designs"
     # a brush on the first objective (its middle), then also on the first factor

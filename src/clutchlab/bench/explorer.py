@@ -54,6 +54,7 @@ def browser():
         raise RuntimeError("no chromium and chromedriver on this machine (apt: chromium-driver)")
     options = webdriver.ChromeOptions()
     options.binary_location = found[0]
+    options.page_load_strategy = "none"  # a large page draws for long: wait for its API instead
     for flag in FLAGS:
         options.add_argument(flag)
     options.set_capability("goog:loggingPrefs", {"browser": "ALL"})

@@ -116,7 +116,7 @@
 
   function parcoordsTrace() {
     const dims = AXES.map((a) => {
-      const d = { label: a.label, values: a.values, range: a.range };
+      const d = { label: a.label, values: a.values, range: a.range, visible: a.shown };
       if (a.tickvals) { d.tickvals = a.tickvals; d.ticktext = a.ticktext; }
       return d;
     });
@@ -238,7 +238,8 @@
     ready: false, readyMs: null, startMs: START,
     setRange: setRange, clearRanges: clearRanges,
     count: () => selected.length, total: () => N, studySize: () => DATA.studySize,
-    axes: () => AXES.map((a) => a.name), selected: () => Array.from(selected, (i) => DESIGN[i]),
+    axes: () => AXES.map((a) => a.name), shownAxes: () => AXES.filter((a) => a.shown).map((a) => a.name),
+    selected: () => Array.from(selected, (i) => DESIGN[i]),
     csv: csv,
   };
   window.clutchlabExplorer = api;
@@ -256,9 +257,14 @@
   options(sy, numericAxes, DATA.scatter[1] || DATA.scatter[0]);
   options(cs, COLOURS.map((c, i) => [String(i), c[0]]), "0");
   colour = COLOURS[0][1]();
-  const width = Math.max(1100, 95 * AXES.length);
-  Plotly.newPlot(pc, [parcoordsTrace()], { width: width, height: 520,
-    margin: { t: 110, l: 70, r: 130, b: 30 } }, { responsive: false })
+  const all = document.getElementById("alloutputs");
+  all.checked = AXES.every((a) => a.shown);
+  all.disabled = all.checked;
+  function width() {
+    return Math.max(900, 95 * AXES.filter((a) => a.shown).length);
+  }
+  Plotly.newPlot(pc, [parcoordsTrace()], { width: width(), height: 520,
+    margin: { t: 110, l: 70, r: 200, b: 30 } }, { responsive: false })
     .then(() => {
       api.parcoordsMs = performance.now();
       pc.on("plotly_restyle", () => { update(); });
@@ -276,6 +282,13 @@
         Plotly.restyle(pc, { line: [line] }, [0]);
       };
       document.getElementById("reset").onclick = clearRanges;
+      all.onchange = () => {  // the outputs that are neither objective nor constrained
+        const attr = {};
+        AXES.forEach((a, k) => {
+          if (a.role === "output") { a.shown = all.checked; attr["dimensions[" + k + "].visible"] = a.shown; }
+        });
+        Plotly.update(pc, attr, { width: width() }, [0]);
+      };
       document.getElementById("download").onclick = download;
       api.readyMs = performance.now();
       api.ready = true;

@@ -34,11 +34,15 @@ from ..explore import flat
 
 __all__ = ["MAX_DESIGNS", "Axis", "axes", "sample", "page", "write"]
 
-#: designs a page holds at most: measured in headless Chromium (software WebGL) on the million run
-#: (docs/explorer.md): up to this many a page opens in a few seconds and a brush redraws fluently
-MAX_DESIGNS = 100_000
+#: designs a page holds at most, from pages of the million run at 2 000 to 20 000 designs measured
+#: in headless Chromium with software WebGL (docs/explorer.md): drawing time grows with designs ×
+#: axes shown, and beyond this a brush takes longer than reading the page
+MAX_DESIGNS = 10_000
 #: where a NaN sits below an axis' range, as a share of the range
 NAN_BAND = 0.08
+#: a study with more axes than this shows its other outputs (neither objective nor constrained)
+#: hidden at first ("all outputs" shows them): software WebGL draws time ∝ axes × lines
+SHOWN_AXES = 14
 
 
 @dataclass
@@ -234,13 +238,16 @@ def page_data(ds, limit=MAX_DESIGNS, seed=0) -> dict:
     objectives = [a.name for a in ax if a.role == "objective"]
     numeric = [a.name for a in ax if not a.codes and a.role != "rank"]
     first = (objectives + [n for n in numeric if n not in objectives])[:2]
+    specs = [dict(a.spec(), values=_b64(a.values)) for a in ax]
+    for spec in specs:
+        spec["shown"] = len(specs) <= SHOWN_AXES or spec["role"] != "output"
     return {
         "study": ds.attrs.get("study", ""),
         "title": ds.attrs.get("title", ""),
         "studySize": int(ds["status"].size),
         "note": _note(ds, rows, seed),
         "design": _b64(rows),
-        "axes": [dict(a.spec(), values=_b64(a.values)) for a in ax],
+        "axes": specs,
         "scatter": first,
         "grouped": ds["pareto_rank"].attrs.get("ranked_within", "") if "pareto_rank" in ds else "",
         "flagOk": st.CODE["ok"],
@@ -322,6 +329,7 @@ its values. NaN: below an axis' range. clutchlab {version}.</div>
 <label>colour <select id="colour"></select></label>
 <label>scatter x <select id="sx"></select></label>
 <label>y <select id="sy"></select></label>
+<label><input type="checkbox" id="alloutputs"> all outputs</label>
 <button id="reset">clear ranges</button>
 <button id="download">download selection (CSV)</button>
 </div>
