@@ -227,6 +227,8 @@ def _check_page(driver, ds, path, shots):
         driver.find_element("id", "alloutputs").click()
         time.sleep(0.5)
         assert driver.execute_script(drawn) == len(names)
+    ringed = "return document.getElementById('scatter').data[1].x.length;"  # the front drawn
+    assert driver.execute_script(ringed) == int((flat(ds, "pareto_rank") == 0).sum())
     text = driver.find_element("id", "count").text
     assert text == f"{n} of {n} designs"
     # a brush on the first objective (its middle), then also on the first factor

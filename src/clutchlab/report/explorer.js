@@ -143,21 +143,15 @@
     const c = colour.color;
     const col = new Float64Array(selected.length);
     for (let i = 0; i < selected.length; i++) col[i] = c[selected[i]];
-    const f = front();
-    const fx = pick(ax, f), fy = pick(ay, f);
+    const f = sortedFrontFor();  // one front: along x, drawn as a line
     const lineFront = !DATA.grouped && ax.role === "objective" && ay.role === "objective";
-    if (lineFront) {  // one front: drawn as a line along x
-      const order = Array.from(f.keys()).sort((p, q) => fx[p] - fx[q]);
-      order.forEach((p, i) => { f[i] = f[p]; });
-    }
     const marker = { size: 5, color: col, colorscale: colour.colorscale, showscale: false };
     if (colour.cmin !== undefined) { marker.cmin = colour.cmin; marker.cmax = colour.cmax; }
     return [
       { type: "scattergl", mode: "markers", name: "designs", x: pick(ax, selected),
         y: pick(ay, selected), marker: marker, hoverinfo: "x+y" },
       { type: "scattergl", mode: lineFront ? "lines+markers" : "markers", name: "Pareto front",
-        x: lineFront ? pick(ax, f.slice().sort((p, q) => ax.values[p] - ax.values[q])) : fx,
-        y: lineFront ? pick(ay, f.slice().sort((p, q) => ax.values[p] - ax.values[q])) : fy,
+        x: pick(ax, f), y: pick(ay, f),
         marker: { size: 8, color: "rgba(0,0,0,0)", line: { color: "black", width: 1.5 } },
         line: { color: "black", width: 1 }, hoverinfo: "x+y" },
     ];
