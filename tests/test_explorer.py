@@ -261,6 +261,7 @@ def _check_page(driver, ds, path, shots):
     )
 
 
+@pytest.mark.slow  # end to end: a Snakemake run of config/small.yaml, then Chromium
 def test_small_run_explorers_in_chromium(small_run, tmp_path):
     """Each explorer of config/small.yaml's run in headless Chromium: no console error, every
     design and axis, brushes reduce the count to pandas' count for the same ranges, the CSV of
