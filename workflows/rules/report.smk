@@ -21,9 +21,34 @@ REPORT_FILES = [f"{REPORT_DIR}/report.pdf"] + ([f"{REPORT_DIR}/validation.csv"] 
                               HARD_CASES, bool(NUMERICS), ROBUST)
 ] + [f"{REPORT_DIR}/{f}" for f in _answer_files(STUDIES, REFINED, ROBUST)] + (
     [f"{REPORT_DIR}/hard_cases.csv"] if HARD_CASES else [])
+# the interactive explorer of each study (one self-contained HTML page; clutchlab.report.explorer)
+EXPLORERS = {s: f"{REPORT_DIR}/{s}_explorer.html" for s in STUDIES}
 # Snakemake's own HTML report (`snakemake --report report.html`): every report file with its caption
 # (clutchlab.report.captions, written to .snakemake/clutchlab_captions when the workflow is parsed)
-_CAPTION_FILES = _captions.write(".snakemake/clutchlab_captions", REPORT_FILES, STUDIES)
+_CAPTION_FILES = _captions.write(
+    ".snakemake/clutchlab_captions", REPORT_FILES + list(EXPLORERS.values()), STUDIES
+)
+
+
+for _study, _page in EXPLORERS.items():
+
+    rule:
+        # one job per study: its merged result -> <study>_explorer.html (every design, or a sample
+        # with every front design beyond clutchlab.report.explorer.MAX_DESIGNS)
+        name:
+            f"explorer_{_study}"
+        input:
+            results(_study),
+        output:
+            report(_page, caption=_CAPTION_FILES[_page], category=_study),
+        params:
+            config=study_config(_study),  # the result is verified against its own config
+            source=SOURCE,
+        resources:
+            runtime=10,
+            mem_mb=2000,
+        script:
+            "../scripts/explorer.py"
 
 
 rule report:
@@ -37,6 +62,7 @@ rule report:
         refined=[refine_source(s) for s in REFINED],
         hard_cases=[f"{RESULTS}/numerics/hard_cases.h5"] if HARD_CASES else [],
         numerics=NUMERICS,
+        explorers=list(EXPLORERS.values()),  # the summary page links them
     output:
         [report(f, caption=_CAPTION_FILES[f], category=_captions.category(Path(f).name, STUDIES))
          for f in REPORT_FILES],

@@ -64,4 +64,5 @@ report.build(
     hard_cases_file=sm.input.hard_cases[0] if sm.input.hard_cases else None,
     numerics_dir=Path(sm.input.numerics[0]).parent if sm.input.numerics else None,
     job_seconds={s: t for s in sm.params.names if (t := job_seconds(s))},
+    explorers={s: Path(f).name for s, f in zip(sm.params.names, sm.input.explorers, strict=True)},
 )

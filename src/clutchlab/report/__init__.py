@@ -159,6 +159,7 @@ def build(
     job_seconds=None,
     traces_files=None,
     robust_files=None,
+    explorers=None,
 ) -> list[Path]:
     """Build the report from stored results.
 
@@ -192,6 +193,10 @@ def build(
         Study name -> its ``robust.h5`` (a robust study's answers, :func:`clutchlab.explore.robust`):
         its robust page leads its pages, the summary leads with its robust front, and
         ``<study>_robust.csv`` lists the robust front designs.
+    explorers : dict or None
+        Study name -> the file name of its explorer (:mod:`clutchlab.report.explorer`) in
+        ``outdir``: the summary page links it. Given, explorers of other studies in ``outdir``
+        (an earlier run of another config) are removed.
     outdir : path
         Folder for ``report.pdf``, ``validation.csv`` and the PNGs. PNG and CSV files in it that
         this report does not write (pages of an earlier run of another config) are removed.
@@ -245,7 +250,7 @@ def build(
         Page(
             "title",
             lambda: title_page(
-                title, __version__, results, validations, numbers, job_seconds, robust
+                title, __version__, results, validations, numbers, job_seconds, robust, explorers
             ),
         ),
     )
@@ -254,7 +259,9 @@ def build(
         ["validation.csv"] if validations else []
     )
     _remove_stale(
-        outdir, [p.name for p in written] + tables + ["hard_cases.csv"] * bool(hard_cases_file)
+        outdir,
+        [p.name for p in written] + tables + ["hard_cases.csv"] * bool(hard_cases_file),
+        explorers,
     )
     return written + [outdir / "report.pdf"]
 
@@ -291,12 +298,16 @@ def _write_pages(pages, outdir, title, dpi) -> list[Path]:
     return written
 
 
-def _remove_stale(outdir, keep) -> None:
+def _remove_stale(outdir, keep, explorers=None) -> None:
     """Remove the PNG and CSV files of ``outdir`` that this report did not write (the pages of
-    another config run into the same folder earlier), so the folder holds this run's report."""
-    keep = set(keep)
+    another config run into the same folder earlier), so the folder holds this run's report; with
+    ``explorers`` (study -> file name) also the explorers of other studies."""
+    keep = set(keep) | set((explorers or {}).values())
     for path in outdir.iterdir():
-        if path.suffix in (".png", ".csv") and path.name not in keep and path.is_file():
+        stale = path.suffix in (".png", ".csv") or (
+            explorers is not None and path.name.endswith("_explorer.html")
+        )
+        if stale and path.name not in keep and path.is_file():
             path.unlink()
 
 

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from .explorer import MAX_DESIGNS
+
 __all__ = ["caption", "category", "write"]
 
 FIGURES = {
@@ -54,6 +56,12 @@ GENERIC = {
     "per operating condition.",
     "pareto.csv": "The Pareto front designs of study {study}: factors, objectives, constrained outputs and "
     "constraint margins, in the units engineers read (each column header names its unit).",
+    "explorer.html": "Interactive explorer of study {study} (open it in a browser; no network "
+    "needed): every design on parallel coordinates of its factors, objectives, constrained and other "
+    "outputs, status, feasibility and Pareto rank, in the units engineers read; drag along an axis to "
+    "keep a range, the linked scatter of any two quantities (front marked) and the count follow; "
+    "hover a design for its values; the selection downloads as CSV. A study above "
+    f"{MAX_DESIGNS:,} designs shows a stated sample with every front design.",
     "refinement.csv": "Hypervolume before and after the refinement of study {study}.",
     "robust": "Robust answers of study {study}: every design's worst-case (or quantile) objectives over its "
     "operating conditions and the noise, the designs whose probability of failure is within the allowed at "

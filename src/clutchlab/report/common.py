@@ -122,9 +122,15 @@ def page_ranges(numbers, stems) -> str:
     return ("pages " if len(pages) > 1 else "page ") + ", ".join(runs)
 
 
-def _study_lines(name, ds, numbers, job_seconds, model=True, robust=None) -> list[str]:
+EXPLORER_LINE = "interactive explorer (open in a browser): "
+
+
+def _study_lines(
+    name, ds, numbers, job_seconds, model=True, robust=None, explorer=None
+) -> list[str]:
     """The summary's lines of one study (long lines are wrapped by the caller); a robust study's
-    robust front and best robust design first (``robust``: its robust answers)."""
+    robust front and best robust design first (``robust``: its robust answers); ``explorer``: the
+    file name of its explorer beside the PDF, linked."""
     from . import status_counts
     from .answers import best_text, edge_notes, life_text
 
@@ -162,16 +168,28 @@ def _study_lines(name, ds, numbers, job_seconds, model=True, robust=None) -> lis
         lines.append(
             page_ranges(numbers, stems) + ": " + ", ".join(s[len(name) + 1 :] for s in stems)
         )
+    if explorer:
+        lines.append(EXPLORER_LINE + explorer)
     return lines
 
 
-def title_page(title, version, results, validations, numbers=None, job_seconds=None, robust=None):
+def title_page(
+    title,
+    version,
+    results,
+    validations,
+    numbers=None,
+    job_seconds=None,
+    robust=None,
+    explorers=None,
+):
     """The summary page: per study what was run (and how long its jobs took: ``job_seconds``,
     study -> (jobs, seconds)), its status counts, its best compromise design (values in the units
-    engineers read), the factors it sits at the edge of, and the pages that show it (``numbers``:
-    page stem -> (first, last) page of the PDF); the validation verdict and the pages of its table.
-    Text 8 pt or more, inside the page."""
-    numbers = numbers or {}
+    engineers read), the factors it sits at the edge of, the pages that show it (``numbers``:
+    page stem -> (first, last) page of the PDF) and its interactive explorer (``explorers``: study
+    -> file name beside the PDF, a link in the PDF); the validation verdict and the pages of its
+    table. Text 8 pt or more, inside the page."""
+    numbers, explorers = numbers or {}, explorers or {}
     fig = plt.figure(figsize=A4_LANDSCAPE)
     # the title is the user's text: drawn as written ("$" is not mathtext), wrapped to the page
     head = textwrap.wrap(title, 70)
@@ -194,7 +212,9 @@ def title_page(title, version, results, validations, numbers=None, job_seconds=N
     avail = (top - 0.05) - 0.07
     for size, model in ((9.5, True), (9.0, True), (8.5, True), (8.0, True), (8.0, False)):
         blocks = [
-            _study_lines(n, ds, numbers, job_seconds, model, (robust or {}).get(n))
+            _study_lines(
+                n, ds, numbers, job_seconds, model, (robust or {}).get(n), explorers.get(n)
+            )
             for n, ds in results.items()
         ]
         chars = int(0.9 * A4_LANDSCAPE[0] * 72 / (0.53 * size))
@@ -208,7 +228,11 @@ def title_page(title, version, results, validations, numbers=None, job_seconds=N
     y = top - 0.05
     for block in wrapped:
         for k, line in enumerate(block):
-            fig.text(0.05, y, line, fontsize=size, weight="bold" if k == 0 else None, va="top")
+            url = line[len(EXPLORER_LINE) :] if line.startswith(EXPLORER_LINE) else None
+            fig.text(
+                0.05, y, line, fontsize=size, weight="bold" if k == 0 else None, va="top",
+                url=url, color="tab:blue" if url else None,
+            )  # fmt: skip
             y -= step
         y -= 0.6 * step
     fig.text(
