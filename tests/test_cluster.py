@@ -8,7 +8,6 @@ import sys
 import yaml
 
 from clutchlab import cluster, config
-
 from conftest import ROOT
 
 
@@ -116,7 +115,8 @@ def test_the_slurm_extra_installs_the_tested_plugin():
 def test_benchmark_helpers():
     """benchmark_slurm's share of the wall time with no job running, and one chunk job of
     benchmark_resources (a fresh process, as the chunk rule runs it)."""
-    from clutchlab.bench import resources as benchmark_resources, slurm as benchmark_slurm
+    from clutchlab.bench import resources as benchmark_resources
+    from clutchlab.bench import slurm as benchmark_slurm
 
     assert benchmark_slurm.idle_share([(0, 1), (2, 3)], 0, 4) == 0.5
     assert (

@@ -341,7 +341,7 @@ def test_study_records_its_tolerances():
     assert ds.attrs["accuracy"] == 1e-5
     assert (ds.attrs["rtol"], ds.attrs["atol"]) == pytest.approx((1e-6, 1e-8), rel=1e-12)
     assert "closed form" in ds.attrs["model_used"]
-    for bad, why in ((1e-9, "within"), (0.5, "within"), ("tight", "number")):
+    for bad, _why in ((1e-9, "within"), (0.5, "within"), ("tight", "number")):
         with pytest.raises(config.ConfigError, match="engagement.accuracy"):
             config.resolve(
                 {"studies": ["engagement"], "engagement": {"design": "factorial", "accuracy": bad}}

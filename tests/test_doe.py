@@ -90,7 +90,7 @@ def test_chunk_slices_partition():
     for n, k in [(10, 3), (5, 8), (1_000_000, 200)]:
         sl = [pipeline.chunk_slice(n, k, i) for i in range(k)]
         assert sl[0].start == 0 and sl[-1].stop == n
-        assert all(a.stop == b.start for a, b in zip(sl, sl[1:]))
+        assert all(a.stop == b.start for a, b in zip(sl, sl[1:], strict=False))
         sizes = [s.stop - s.start for s in sl]
         assert max(sizes) - min(sizes) <= 1
 
@@ -245,7 +245,8 @@ def test_streamed_merge_memory_follows_the_chunk_not_the_study(tmp_path):
     study_bytes = store.load(tmp_path / "out.h5").nbytes
     assert study_bytes > 14 * chunk_bytes
     print(
-        f"chunk {chunk_bytes / 1e6:.1f} MB, study {study_bytes / 1e6:.1f} MB, streamed merge peak {streamed / 1e6:.1f} MB"
+        f"chunk {chunk_bytes / 1e6:.1f} MB, study {study_bytes / 1e6:.1f} MB, "
+        f"streamed merge peak {streamed / 1e6:.1f} MB"
     )
     assert streamed < 4 * chunk_bytes, (streamed, chunk_bytes, study_bytes)
 
@@ -352,7 +353,7 @@ def test_curves_of_a_subset_of_a_large_sampled_design(tmp_path, name):
     for n, v in full.data_vars.items():
         if n not in curves and "run" in v.dims:
             np.testing.assert_array_equal(got[n].values, v.values)
-    for stem, fig in study_pages(name, got):
+    for _stem, fig in study_pages(name, got):
         fig.canvas.draw()
         plt.close(fig)
     big = {**base, "samples": 2**15}
@@ -491,10 +492,12 @@ def test_options_drawn_per_scenario(tmp_path, name, options, factor):
         assert set(np.unique(one[o].values)) == set(range(len(labels)))  # every choice drawn
     seen = 0
     for combo in {tuple(int(codes[o][k]) for o in options) for k in range(16)}:
-        sel = np.flatnonzero(np.all([codes[o] == c for o, c in zip(options, combo)], axis=0))
+        sel = np.flatnonzero(
+            np.all([codes[o] == c for o, c in zip(options, combo, strict=False)], axis=0)
+        )
         alone = study.compute(
             {k: (v[sel] if np.ndim(v) else v) for k, v in inputs.items()},
-            {**sec["options"], **{o: options[o][c] for o, c in zip(options, combo)}},
+            {**sec["options"], **{o: options[o][c] for o, c in zip(options, combo, strict=False)}},
         )
         for var in study.outputs:
             np.testing.assert_array_equal(one[var].values[sel], alone[var].values)

@@ -5,9 +5,9 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from clutchlab.bench import engagement as benchmark
 from clutchlab import engagement as eng
 from clutchlab import status as st
+from clutchlab.bench import engagement as benchmark
 from clutchlab.published import DIAPHRAGM_CLUTCH as PUB
 
 # Seed 000 reproduction (PHYSICS.md): engine held at 570 rad/s, capacity ramped 0 -> 239.3 N m
@@ -223,7 +223,7 @@ def test_event_location_over_long_steps():
         if nv > 1.0:
             n_failed += 1
             continue
-        root = brentq(lambda x: 500.0 - step(t, y, x)[2][k.H], 1e-9, h, xtol=1e-15)
+        root = brentq(lambda x: 500.0 - step(t, y, x)[2][k.H], 1e-9, h, xtol=1e-15)  # noqa: B023 (called in this iteration)
         assert abs(500.0 - w[2][k.H]) <= 1e-9 * 500.0
         assert abs(t + tau - t_lock) <= abs(t + root - t_lock) + 5e-4
         n_iterated += n_re > 1

@@ -114,7 +114,8 @@ def test_fade_against_the_exact_kernel_reference(beta, onset):
 
 @pytest.mark.parametrize("compliant", [False, True])
 def test_negligible_fade_leaves_the_engagement_unchanged(compliant):
-    """β = 1e-9 /K (the smallest plausible): the mechanical results equal the run without fade (which solves the compliant
+    """β = 1e-9 /K (the smallest plausible): the mechanical results equal the run without fade
+    (which solves the compliant
     model's linear phases in closed form; with fade every slipping phase is integrated, 15 more
     states) to the tolerance; the state's peak face temperature equals the exact-kernel Duhamel
     integral of the solver's own power history within 1e-4."""

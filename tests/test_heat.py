@@ -129,10 +129,7 @@ def _default_engagement():
     import yaml
 
     from clutchlab import config, pipeline
-
-    from conftest import ROOT
-
-    from conftest import without_robust
+    from conftest import ROOT, without_robust
 
     cfg = yaml.safe_load((ROOT / "config/config.yaml").read_text())
     section = without_robust(cfg["engagement"])  # the grid at the nominal friction (seed design)
@@ -248,7 +245,8 @@ def test_duhamel_peak_of_the_kernel_coarse_to_fine_equals_every_sample():
 )
 def test_study_peak_surface_temperature_against_a_dense_trace(case):
     """peak_surface_temperature comes from the solver's own slip power history (sampled every ramp
-    time / 48 and at least 64 times a slip while slipping, exact Duhamel segments; the closed form: its exact slip power at 96
+    time / 48 and at least 64 times a slip while slipping, exact Duhamel segments; the closed form:
+    its exact slip power at 96
     points a piece); the reference is Duhamel's integral of the same model's trace at 3 201 points:
     the rise above ambient within 5e-4 relative."""
     from clutchlab.studies import engagement as es

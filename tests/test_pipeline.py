@@ -8,8 +8,8 @@ import sys
 import time
 from pathlib import Path
 
-import pytest
 import numpy as np
+import pytest
 import xarray as xr
 
 from clutchlab.published import CENTRIFUGAL_CLUTCH, ROLLER_CLUTCH, SPRAG_TABLE2
@@ -346,7 +346,6 @@ def test_every_config_runs_with_any_chunk_count(name, tmp_path, monkeypatch):
     import yaml
 
     from clutchlab import config, doe, pipeline
-
     from conftest import refine_sources
 
     wd = _workdir(tmp_path)
@@ -372,7 +371,7 @@ def test_every_config_runs_with_any_chunk_count(name, tmp_path, monkeypatch):
         out = wd / resolved["results"]
         assert (out / "report/report.pdf").stat().st_size > 0
         for s, n in sizes.items():
-            from clutchlab import studies, store
+            from clutchlab import store, studies
 
             ds = store.load(out / studies.get(s).output)
             assert int(ds["status"].size) == n, (s, chunks)

@@ -15,7 +15,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def test_seed000_validation_rows_all_pass():
     v = diaphragm_spring.validation()
-    failed = [str(q) for q, ok in zip(v["quantity"].values, v["passed"].values) if not ok]
+    failed = [
+        str(q) for q, ok in zip(v["quantity"].values, v["passed"].values, strict=False) if not ok
+    ]
     assert not failed
     assert v.sizes["row"] >= 10
 
@@ -62,8 +64,9 @@ def test_report_pages(tmp_path, design):
 def _variants():
     """Each study of config/config.yaml with no factor, and with each of its first three factors
     alone (the others fixed at their seed values)."""
-    import yaml
     from pathlib import Path
+
+    import yaml
 
     full = yaml.safe_load(
         (Path(__file__).resolve().parents[1] / "config" / "config.yaml").read_text()
@@ -214,7 +217,6 @@ def _sampled_section(name):
     import yaml
 
     from clutchlab import studies
-
     from conftest import without_robust
 
     raw = without_robust(yaml.safe_load((ROOT / "config" / "config.yaml").read_text())[name])

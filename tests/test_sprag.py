@@ -108,7 +108,7 @@ def test_fixed_point_against_scalar_brent():
     assert np.all(got["status"] == st.CODE["ok"])
     g = {k: np.atleast_1d(float(v)) for k, v in sp._geometry({}).items()}
     for i in range(t.size):
-        f = lambda v: v - sp._deformed(np.array([t[i]]), np.array([v]), g, np.array([c[i]]))["V"][0]  # noqa: E731
+        f = lambda v: v - sp._deformed(np.array([t[i]]), np.array([v]), g, np.array([c[i]]))["V"][0]  # noqa: E731, B023 (called in this iteration)
         ref = brentq(f, np.deg2rad(2.0), np.deg2rad(80.0), xtol=1e-15, rtol=1e-15)
         assert got["V"][i] == pytest.approx(ref, abs=1e-11)
 

@@ -107,12 +107,14 @@ def scaled_norm(v, y0, y1, rtol, atol):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def sdirk4_step(system, t, y, h, p, mode, rtol, atol, y_new, work):
+# noqa reason: numba kernel: one SDIRK4 step with its Newton loop and error filter, kept whole so numba inlines it
+def sdirk4_step(system, t, y, h, p, mode, rtol, atol, y_new, work):  # noqa: C901
     """One SDIRK4 step from (t, y) of size h. Writes y_new; returns (ok, error norm, f evals).
 
     ``work`` is a (3n + 14, n) scratch array (the last row is the event location's); after the
     step its row 2n + 11 holds f(t, y) and row 2n + 4 the derivative at the step's end (stiffly
-    accurate), for Hermite interpolation. ok is False when the Newton iteration fails (the caller shrinks the step). Newton increments are
+    accurate), for Hermite interpolation. ok is False when the Newton iteration fails (the caller
+    shrinks the step). Newton increments are
     measured in the weights 1/(atol + rtol·|y|) of the step's start."""
     n = y.size
     jac = work[0:n]
@@ -566,7 +568,8 @@ def _earliest_switch(t, y, f0, y_best, f1, h_acc, p, mode, rtol, atol, y_ev, wor
 
 
 @njit(cache=True, error_model="numpy")
-def _roller_one(p, rtol, max_steps, res, trace, n_trace):
+# noqa reason: numba kernel: one scenario's event loop (stick, breakaway, engagement, peaks, release)
+def _roller_one(p, rtol, max_steps, res, trace, n_trace):  # noqa: C901
     """One roller-clutch engagement (and release); fills ``res``; returns the trace length."""
     n = 4
     y = np.zeros(n)

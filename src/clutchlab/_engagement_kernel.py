@@ -4,7 +4,8 @@ Per scenario: Dormand-Prince 5(4) with Gustafsson's predictive step-size control
 radau5.f: it anticipates the error growing towards lock-up; 25-40 % fewer rejections than the PI
 control of dopri5.f here), no growth after a rejection, a fresh starting step (HINIT) after every
 mode switch, breakpoints (profile end, load step, trace times, end), and the stick/slip/park
-state machine whose events are guessed on the step's continuous extension, then placed on the integrator's own solution by one re-integration from
+state machine whose events are guessed on the step's continuous extension, then placed on the
+integrator's own solution by one re-integration from
 the step's left end and a Newton correction along the local Taylor line (see :func:`_locate`);
 a located step must meet the tolerance itself. The physics (forces, events, mode switches) is
 documented in :mod:`clutchlab.engagement`; this module only makes it fast:
@@ -183,8 +184,10 @@ RESULTS = (
     "flash_peak",
     "n_power_samples",
 )
-# the slip power history (issue 20; only when asked for: with_hist): sampled while slipping every ramp time / POWER_SAMPLES_PER_RAMP
-# (a ramp shorter than window / 48, or a step: every window / 48²) and at every step end and event, at most POWER_SAMPLES_MAX samples a scenario; its Duhamel
+# the slip power history (issue 20; only when asked for: with_hist): sampled while slipping every
+# ramp time / POWER_SAMPLES_PER_RAMP
+# (a ramp shorter than window / 48, or a step: every window / 48²) and at every step end and event,
+# at most POWER_SAMPLES_MAX samples a scenario; its Duhamel
 # integral's peak, max over t of ∫ P(τ)/√(t − τ) dτ [W s^0.5] (P linear between samples, each segment
 # integrated exactly), is the result FLASH_PEAK (NaN if the history overflowed). A slip that ends early in
 # the ramp would get few samples (second order: 18 samples gave 5e-3): within a slip phase the spacing is
@@ -652,7 +655,8 @@ def _g_line(kind, t, ya, da, sigma, q, locked, parked, s, compliant, prof, dm, g
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _locate(
+# noqa reason: numba kernel: event location (guess on the extension, Illinois on re-integration)
+def _locate(  # noqa: C901
     kind,
     t,
     y,
@@ -688,7 +692,8 @@ def _locate(
        size of the interpolation error), accepted when the line's own error ½|σ|·|f(line) − f|
        is below 10 % of the tolerance: the event time then carries the solution's accuracy;
        otherwise a Newton step: re-integrate to τ + σ and repeat;
-    4. if that leaves the step (a false alarm, or no usable slope), Illinois on the true function by re-integration from t until the bracket
+    4. if that leaves the step (a false alarm, or no usable slope), Illinois on the true function
+    by re-integration from t until the bracket
        is narrower than max(EVENT_TIME_TOL, 0.01·rtol·h).
     Returns (tau, error norm of the re-integrated step to tau, number of re-integrations); ``ya``
     holds the state at t + tau.
@@ -1169,7 +1174,8 @@ def _monotone(ft, fd, i, lo, hi, rh, rd, rate, osc):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _linear_segment(
+# noqa reason: numba kernel: the closed-form linear phases; to be split into named stages
+def _linear_segment(  # noqa: C901
     t, t_b, t_load, y, q, locked, parked, s, prof, follow, pk, ft, pw, tq, osc, armed, budget
 ):
     """Advance a linear phase of the compliant model exactly from t to the first event in (t, t_b]
@@ -1783,7 +1789,8 @@ def flash_peaks(times, power):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False, inline="always")
-def _simulate_one(
+# noqa reason: numba kernel: one scenario's driver loop; to be split into named stages
+def _simulate_one(  # noqa: C901
     q,
     compliant,
     prof,

@@ -678,7 +678,8 @@ def startup_trace(p, *, idle_speed, startup_time, t_end=None, n=301, rtol=1e-10,
     the rotor (drag k·ω²) picked up by the forward capacity M(ω_e): slipping while
     J_r·ω_r' = M(ω_e) − k·ω_r² keeps ω_r < ω_e, then turning with the engine. DOP853 with the
     lock-up as an event. Returns ``time``, ``engine_speed``, ``rotor_speed``, ``clutch_torque``,
-    ``lockup_time`` (inf: not locked by ``t_end``), ``lockup_speed``, ``status``: ok; invalid_input / invalid_geometry (NaN)
+    ``lockup_time`` (inf: not locked by ``t_end``), ``lockup_speed``, ``status``: ok; invalid_input
+    / invalid_geometry (NaN)
     where ``p`` fails the screening of :func:`release_after_failure`, the idle speed [rad/s] is
     not ≥ 0 and below the rated speed, or the start-up time [s] is not a plausible time > 0;
     not_converged (NaN) beyond :data:`TRACE_MAX_EVALUATIONS` evaluations. Options as

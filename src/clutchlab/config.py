@@ -751,7 +751,8 @@ def _resolve_options(study, section: dict, out: dict) -> None:
         )
 
 
-def _factor(param, spec: dict, design: str, key: str, name: str, max_scenarios: int) -> dict:
+# noqa reason: one branch per factor form (values, range, num, sampled, option, role)
+def _factor(param, spec: dict, design: str, key: str, name: str, max_scenarios: int) -> dict:  # noqa: C901
     """One parameter given as a factor (``key`` names it in errors): its grid values
     ``{"values": [...]}`` (a factorial grid, a values list, a sampled count's whole numbers) or a
     sampled range ``{"min", "max", "scale"}``, in SI."""

@@ -316,7 +316,8 @@ def refine_samples(first: xr.Dataset, resolved_study: dict, rng) -> tuple[dict, 
     step 1/(levels − 1), N^(-1/d) for N sampled designs, a refined design's own h), reflected at
     the range's ends (the range of the first stage, never left). Operating conditions (designs are
     ranked within them), counts, choices and the discrete factors of a sampled first stage stay at
-    the front design's values, so a front moves only along what the engineer chooses. Returns ({factor: values}, {factor: h}).
+    the front design's values, so a front moves only along what the engineer chooses. Returns
+    ({factor: values}, {factor: h}).
     """
     from . import explore
 

@@ -375,7 +375,8 @@ _BLOCK = 8192
 CLOSED_FORM_POWER_SAMPLES = 96  # slip power samples on each polynomial piece (flash_peak)
 
 
-def _closed_form_flat(flat, profile, power_history=False):
+# noqa reason: the closed form's phases in the paper's order, one branch per case
+def _closed_form_flat(flat, profile, power_history=False):  # noqa: C901
     we0, je, te, jv, tm, cmax, tr, rs, wc0, tend = flat
     held = ~np.isfinite(je)
     inv_je = np.where(held, 0.0, 1.0 / np.where(held, 1.0, je))
@@ -515,9 +516,9 @@ def _closed_form_flat(flat, profile, power_history=False):
         )
     )
     w_slip = w_in = w_load = 0.0
-    for a, b in zip(knots[:-1], knots[1:]):
+    for a, b in zip(knots[:-1], knots[1:], strict=False):
         half, mid = 0.5 * (b - a), 0.5 * (b + a)
-        for xg, wg in zip(gx, gw):
+        for xg, wg in zip(gx, gw, strict=False):
             c, dw, we, wc = state(mid + half * xg)
             wt = wg * half
             w_slip = w_slip + wt * c * dw
@@ -556,7 +557,10 @@ def _closed_form_flat(flat, profile, power_history=False):
         # which the history skips); 0 from lock-up on
         frac = np.linspace(0.0, 1.0, CLOSED_FORM_POWER_SAMPLES + 1)[:-1]
         times = np.concatenate(
-            [a[:, None] + (b - a)[:, None] * frac[None, :] for a, b in zip(knots[:-1], knots[1:])]
+            [
+                a[:, None] + (b - a)[:, None] * frac[None, :]
+                for a, b in zip(knots[:-1], knots[1:], strict=False)
+            ]
             + [t_stop[:, None]],
             axis=1,
         )
@@ -803,7 +807,7 @@ def _parameter_table(
         )
     ftab = _k.N_PARAM + 1 + 2 * tx.size  # the shared tables ride on every row
     Q = np.empty((arrs[0].size, ftab + (1 + 2 * fx.size if fx.size else 0)))
-    for col, a in zip(vals, arrs):
+    for col, a in zip(vals, arrs, strict=False):
         Q[:, col] = a.ravel()
     Q[:, _k.NTAB] = tx.size
     Q[:, _k.NTAB + 1 : _k.NTAB + 1 + tx.size] = tx

@@ -79,9 +79,9 @@ def _f(x) -> float:
 def engagement_cases() -> list[Case]:
     from scipy.optimize import brentq
 
+    from . import engagement as eng
     from . import reference
     from .bench import engagement as benchmark
-    from . import engagement as eng
 
     out = []
     # start of motion with zero acceleration: the driven side starts when C(t) = T_m, with zero

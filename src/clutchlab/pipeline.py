@@ -211,7 +211,7 @@ def _compute_by_choice(study, inputs, options, choices, codes) -> xr.Dataset:
     parts, where = [], []
     for g, combo in enumerate(combos):
         sel = np.flatnonzero(group.reshape(-1) == g) if n else np.zeros(0, np.int64)
-        chosen = {o: choices[o][int(c)] for o, c in zip(names, combo)}
+        chosen = {o: choices[o][int(c)] for o, c in zip(names, combo, strict=False)}
         part = study.compute(
             {k: (v[sel] if np.ndim(v) else v) for k, v in inputs.items()}, {**options, **chosen}
         )
@@ -236,8 +236,8 @@ def _compute_by_choice(study, inputs, options, choices, codes) -> xr.Dataset:
 
     empty = {k: (v[:0] if np.ndim(v) else v) for k, v in inputs.items()}
     every = {
-        ", ".join(f"{o} {c}" for o, c in zip(names, combo)): study.compute(
-            empty, {**options, **dict(zip(names, combo))}
+        ", ".join(f"{o} {c}" for o, c in zip(names, combo, strict=False)): study.compute(
+            empty, {**options, **dict(zip(names, combo, strict=False))}
         ).attrs
         for combo in itertools.product(*choices.values())
     }

@@ -39,7 +39,8 @@ def _slip_law(slip, rs, vs, table):
     return 1.0 if not np.isfinite(vs) else 1.0 + (rs - 1.0) * math.exp(-((slip / vs) ** 2))
 
 
-def compliant(
+# noqa reason: the scipy reference's event loop, written plainly as a check of the kernel
+def compliant(  # noqa: C901
     p,
     *,
     method="DOP853",
@@ -121,7 +122,7 @@ def compliant(
 
         def armed(fn):
             def g(tt, yy):
-                return 1.0 if tt < t_arm else fn(tt, yy)
+                return 1.0 if tt < t_arm else fn(tt, yy)  # noqa: B023 (called in this iteration)
 
             g.terminal, g.direction = True, -1
             return g
@@ -131,10 +132,10 @@ def compliant(
             events += [armed(lambda tt, yy: rs * cap(tt) - abs(needed(tt, yy, True)))]
             kinds += ["break"]
         else:
-            events += [armed(lambda tt, yy: s * (yy[0] - yy[1]))]
+            events += [armed(lambda tt, yy: s * (yy[0] - yy[1]))]  # noqa: B023 (called in this iteration)
             kinds += ["lock"]
         if parked:
-            events += [armed(lambda tt, yy: tm - (k * yy[3] + c * yy[1]))]
+            events += [armed(lambda tt, yy: tm - (k * yy[3] + c * yy[1]))]  # noqa: B023 (called in this iteration)
             kinds += ["unpark"]
         else:
             events += [armed(lambda tt, yy: yy[2])]
@@ -168,7 +169,7 @@ def compliant(
                 lo, hi = ts_[max(j - 1, 0)], ts_[min(j + 1, n)]
                 if hi > lo:
                     r = minimize_scalar(
-                        lambda tt: -abs(jerk(rhs, tt, sol.sol(tt), parked)),
+                        lambda tt: -abs(jerk(rhs, tt, sol.sol(tt), parked)),  # noqa: B023 (called in this iteration)
                         bounds=(lo, hi),
                         method="bounded",
                         options={"xatol": 1e-13 * max(1.0, hi)},
@@ -176,11 +177,12 @@ def compliant(
                     best = max(best, -r.fun)
             peak_jerk = max(peak_jerk, best)
         else:
-            for tt, yy in zip(sol.t, sol.y.T):
+            for tt, yy in zip(sol.t, sol.y.T, strict=False):
                 peak_jerk = max(peak_jerk, abs(jerk(rhs, tt, yy, parked)))
         if locked:
             peak_torque = max(
-                peak_torque, max(abs(needed(tt, yy, True)) for tt, yy in zip(sol.t, sol.y.T))
+                peak_torque,
+                max(abs(needed(tt, yy, True)) for tt, yy in zip(sol.t, sol.y.T, strict=False)),
             )
         else:
             peak_torque = max(peak_torque, cap(t_stop))
@@ -264,7 +266,7 @@ def rigid_fade(p, *, rtol=1e-12, samples=20001, iterations=40, tol=1e-10):
 
     times, rise = np.array([0.0, t_end]), np.zeros(2)
     t_lock_prev = np.nan
-    for it in range(1, iterations + 1):
+    for it in range(1, iterations + 1):  # noqa: B007 (read after the loop)
 
         def torque(t, wh, times=times, rise=rise):
             g = 1.0 / (1.0 + beta * max(0.0, float(np.interp(t, times, rise)) - on))
@@ -292,7 +294,9 @@ def rigid_fade(p, *, rtol=1e-12, samples=20001, iterations=40, tol=1e-10):
         t_stop = t_lock if np.isfinite(t_lock) else t_end
         grid = np.linspace(0.0, t_stop, samples)
         wh = sol.sol(grid)[0]
-        hist = np.vstack([grid, np.array([torque(t, w) * (we0 - w) for t, w in zip(grid, wh)])])
+        hist = np.vstack(
+            [grid, np.array([torque(t, w) * (we0 - w) for t, w in zip(grid, wh, strict=False)])]
+        )
         hist[1, -1] = 0.0 if np.isfinite(t_lock) else hist[1, -1]
         new_rise = np.array([kf * duhamel_at(hist, k) if k else 0.0 for k in range(samples)])
         # after lock-up the face cools: the same integral of the (ended) power at later times

@@ -415,7 +415,7 @@ def _deformed(torque, v, g, compliance_factor, inner_passes=3):
     the last pass and the radii they give disagree by up to 8.7e-7 relative (5.7e-6 near
     roll-over, measured in issue 14), well below the model's own uncertainty (a fitted compliance
     factor); the outer fixed point for V is then solved to 1e-12 rad for this map."""
-    n, l = g["sprags"], g["sprag_length"]
+    n, length = g["sprags"], g["sprag_length"]
     mat = dict(youngs_modulus=g["youngs_modulus"], poisson_ratio=g["poisson_ratio"])
     ri_bar, ro_bar = g["inner_race_radius"], g["outer_race_radius"]
     for _ in range(inner_passes):
@@ -435,8 +435,8 @@ def _deformed(torque, v, g, compliance_factor, inner_passes=3):
         )
         <= UNSETTLED_RADII
     )
-    d_i = compliance_factor * _contact_approach(load=n_i, sprag_length=l, **mat)
-    d_o = compliance_factor * _contact_approach(load=n_o, sprag_length=l, **mat)
+    d_i = compliance_factor * _contact_approach(load=n_i, sprag_length=length, **mat)
+    d_o = compliance_factor * _contact_approach(load=n_o, sprag_length=length, **mat)
     # the contact approach shortens the sprag's effective arc radii (the r̄ of seed 002 eq. 7)
     si_bar, so_bar = g["sprag_inner_radius"] - d_i, g["sprag_outer_radius"] - d_o
     oa, ob = ri_bar + si_bar, ro_bar - so_bar

@@ -161,7 +161,11 @@ def admissible(inputs: dict, domain: dict):
     """The inputs broadcast together (a dict of float arrays) and the mask of scenarios whose
     inputs all lie in ``domain`` (see :func:`screened`)."""
     arrays = dict(
-        zip(inputs, np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in inputs.values())))
+        zip(
+            inputs,
+            np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in inputs.values())),
+            strict=False,
+        )
     )
     shape = next(iter(arrays.values())).shape if arrays else ()
     return arrays, _mask(arrays, domain, shape)

@@ -411,7 +411,11 @@ def flag_meanings(ds: xr.Dataset, var: str = "status") -> xr.DataArray:
     """The ``status`` codes of ``ds`` as meaning strings (for notebooks)."""
     v = ds[var]
     table = dict(
-        zip(np.atleast_1d(v.attrs["flag_values"]).tolist(), v.attrs["flag_meanings"].split())
+        zip(
+            np.atleast_1d(v.attrs["flag_values"]).tolist(),
+            v.attrs["flag_meanings"].split(),
+            strict=False,
+        )
     )
     return xr.apply_ufunc(np.vectorize(lambda c: table.get(int(c), "unknown"), otypes=[object]), v)
 
@@ -491,7 +495,9 @@ class StreamWriter:
 
     def _create(self, ds: xr.Dataset, variables: dict) -> None:
         sizes = {d: s for d, s in ds.sizes.items() if d != "run"}
-        sizes.update(dict(zip(self.grid, self.shape)) if self.grid else {"run": self.n})
+        sizes.update(
+            dict(zip(self.grid, self.shape, strict=False)) if self.grid else {"run": self.n}
+        )
         if "curve_run" in sizes:
             sizes["curve_run"] = -(-self.n // self.curve_stride)
         for dim, size in sizes.items():
@@ -551,7 +557,7 @@ class StreamWriter:
                 block = data[a - start : b - start]
                 shape = tuple(
                     len(range(*s.indices(n)))
-                    for s, n in zip(index, self.shape)
+                    for s, n in zip(index, self.shape, strict=False)
                     if isinstance(s, slice)
                 )
                 target[index] = block.reshape(shape + data.shape[1:])

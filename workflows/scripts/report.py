@@ -51,16 +51,16 @@ def verify_inputs():
 
 verify_inputs()
 report.build(
-    dict(zip(sm.params.names, sm.input.studies)),
+    dict(zip(sm.params.names, sm.input.studies, strict=False)),
     list(sm.input.validation),
     Path(sm.output[0]).parent,
     title=sm.params.title,
     dpi=sm.params.dpi,
     benchmark_csv=sm.input.benchmark[0] if sm.input.benchmark else None,
-    sensitivity_files=dict(zip(sm.params.sensitivity_names, sm.input.sensitivity)),
-    refine_files=dict(zip(sm.params.refined_names, sm.input.refined)),
-    traces_files=dict(zip(sm.params.traced_names, sm.input.traces)),
-    robust_files=dict(zip(sm.params.robust_names, sm.input.robust)),
+    sensitivity_files=dict(zip(sm.params.sensitivity_names, sm.input.sensitivity, strict=False)),
+    refine_files=dict(zip(sm.params.refined_names, sm.input.refined, strict=False)),
+    traces_files=dict(zip(sm.params.traced_names, sm.input.traces, strict=False)),
+    robust_files=dict(zip(sm.params.robust_names, sm.input.robust, strict=False)),
     hard_cases_file=sm.input.hard_cases[0] if sm.input.hard_cases else None,
     numerics_dir=Path(sm.input.numerics[0]).parent if sm.input.numerics else None,
     job_seconds={s: t for s in sm.params.names if (t := job_seconds(s))},

@@ -30,8 +30,8 @@ import numpy as np
 
 from .. import engagement as eng
 from .. import reference
-from ._common import parse, save_figure, write_rows
 from ..studies.engagement import tolerances
+from ._common import parse, save_figure, write_rows
 
 METRICS = ("lockup_time", "slip_work", "peak_jerk")
 COLUMNS = (
@@ -83,7 +83,9 @@ def _errors(values, ref):
 
 
 def _row(variant, method, setting, seconds, errs, scenarios):
-    return dict(zip(COLUMNS, (variant, method, setting, seconds, *errs, max(errs), scenarios)))
+    return dict(
+        zip(COLUMNS, (variant, method, setting, seconds, *errs, max(errs), scenarios), strict=False)
+    )
 
 
 def run(outdir="results/benchmark", n=10_000, n_ref=10):
@@ -114,7 +116,7 @@ def run(outdir="results/benchmark", n=10_000, n_ref=10):
             **{k: (v[:4] if np.ndim(v) else v) for k, v in dm.items()}, compliant=True
         )  # load the compiled kernel outside the timing
         for acc in (None,) if variant == "constant_mu" else ACCURACIES:
-            kw = {} if acc is None else dict(zip(("rtol", "atol"), tolerances(acc)))
+            kw = {} if acc is None else dict(zip(("rtol", "atol"), tolerances(acc), strict=False))
             runs = []
             for _ in range(3):
                 t = time.perf_counter()
@@ -197,7 +199,10 @@ def work_precision_figure(rows):
     fig, axes = plt.subplots(1, 2, figsize=(11.69, 8.27), sharey=True)
     colors = {CLUTCHLAB: "C0", RK45: "C1", DOP853: "C2"}
     for ax, variant, label in zip(
-        axes, ("constant_mu", "stribeck"), ("constant μ (default study)", "Stribeck μ")
+        axes,
+        ("constant_mu", "stribeck"),
+        ("constant μ (default study)", "Stribeck μ"),
+        strict=False,
     ):
         for name, marker in ((CLUTCHLAB, "o-"), (RK45, "s-"), (DOP853, "^-")):
             pts = [r for r in rows if r["variant"] == variant and r["method"] == name]

@@ -7,7 +7,8 @@ writes ``engagement_benchmark.csv`` and ``work_precision.png``:
 * reference: scipy DOP853 at rtol = atol = 1e-12 (max_step 1 ms) on the smooth pieces of each
   scenario (from the analytic start of motion, split at the ramp end), for a subset of scenarios;
 * clutchlab's solver (compiled, one call) over the whole design at every half decade of
-  tolerance from 1e-2 to 1e-12 (so that a scipy error is matched closely) (time per scenario of the whole batch, median of 3 runs; lock-up error on
+  tolerance from 1e-2 to 1e-12 (so that a scipy error is matched closely) (time per scenario of the
+  whole batch, median of 3 runs; lock-up error on
   the reference subset);
 * per-scenario ``scipy.integrate.solve_ivp`` RK45 with a terminal lock-up event (as written
   first, and with ``max_step`` 10 ms: without it the first steps grow over the start of motion
@@ -24,8 +25,8 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ._common import parse, save_figure, write_rows
 from .. import engagement as eng
+from ._common import parse, save_figure, write_rows
 
 RS = 1.3  # μ_s/μ_k
 
@@ -182,6 +183,7 @@ def run(outdir="results/benchmark", n=10_000, n_ref=200):
                     if r[0].startswith("clutchlab")
                     else n_ref,
                 ),
+                strict=False,
             )
         )
         for r in rows

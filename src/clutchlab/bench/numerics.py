@@ -119,17 +119,13 @@ def _release_ivp(p, method, rtol):
 
     k, p0, p2, caps = cf._params(p)
     je, jr = p["engine_inertia"], p["rotor_inertia"]
-    g = lambda t, y: (
-        cf.needed_reverse_torque(
-            y[0],
-            engine_inertia=je,
-            rotor_inertia=jr,
-            rotor_drag=k,
-            p0=p0,  # noqa: E731
-            p2=p2,
+
+    def g(t, y):
+        needed = cf.needed_reverse_torque(
+            y[0], engine_inertia=je, rotor_inertia=jr, rotor_drag=k, p0=p0, p2=p2
         )
-        - caps(y[0])[1]
-    )
+        return needed - caps(y[0])[1]
+
     if g(0.0, [p["rated_speed"]]) >= 0:
         return 0.0
     g.terminal, g.direction = True, 1

@@ -23,8 +23,8 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
-from ._common import parse, write_rows
 from .. import sprag as sp
+from ._common import parse, write_rows
 
 
 def design(n, seed=0):

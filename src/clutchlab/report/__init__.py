@@ -327,4 +327,4 @@ def status_counts(ds) -> dict[str, int]:
     import numpy as np
 
     codes, counts = np.unique(ds["status"].values, return_counts=True)
-    return {st.FLAGS.get(int(c), str(c)): int(n) for c, n in zip(codes, counts)}
+    return {st.FLAGS.get(int(c), str(c)): int(n) for c, n in zip(codes, counts, strict=False)}

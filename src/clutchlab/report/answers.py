@@ -342,7 +342,7 @@ def _front_table(ax, ds):
     table.auto_set_font_size(False)
     table.set_fontsize(8)
     header_share = 2.0 / (len(rows) + 2)  # the wrapped column names get two rows' height
-    for (i, j), c in table.get_celld().items():
+    for (i, _j), c in table.get_celld().items():
         c.set_height(header_share if i == 0 else (1.0 - header_share) / len(rows))
 
 
@@ -414,7 +414,7 @@ def _front_panel(ax, ds, ox, oy, feas, rank, within, marks, lines):
         members = members[np.argsort(x[members], kind="stable")]
         if within:
             label = (
-                ", ".join(_value_text(ds, w, v) for w, v in zip(within, combo))
+                ", ".join(_value_text(ds, w, v) for w, v in zip(within, combo, strict=False))
                 if j < 8
                 else (f"... {len(combos) - 8} more" if j == 8 else None)
             )
@@ -467,7 +467,7 @@ def sensitivity_page(name, se):
     nrow = -(-len(outputs) // ncol)
     fig, axes = plt.subplots(nrow, ncol, figsize=A4_LANDSCAPE, squeeze=False)
     x = np.arange(len(factors_))
-    for ax, out in zip(axes.ravel(), outputs):
+    for ax, out in zip(axes.ravel(), outputs, strict=False):
         s1 = se["first_order"].sel(output=out).values
         st_ = se["total"].sel(output=out).values
         c1, ct = (se[v].sel(output=out).values for v in ("first_order_conf", "total_conf"))
@@ -562,7 +562,7 @@ def refinement_page(name, first, second, gain):
     )
     ax_h.barh(y + 0.2, gain["hypervolume_after"], height=0.4, color="tab:red", label="both stages")
     for k, (b, a) in enumerate(
-        zip(gain["hypervolume_before"].values, gain["hypervolume_after"].values)
+        zip(gain["hypervolume_before"].values, gain["hypervolume_after"].values, strict=False)
     ):
         if b > 0:
             ax_h.text(a, k + 0.2, f" {100 * (a / b - 1):+.1f} %", va="center", fontsize=8)

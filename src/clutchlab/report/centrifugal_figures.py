@@ -103,7 +103,7 @@ def release_map(ds):
         ok = code != st.CODE["jammed"]
         # colour limits from the designs without a near-singular capacity (near_jam: M ∝ 1/(1 - f tan(alpha)))
         scale = code == st.CODE["ok"]
-        for ax, name in zip(axes, ("release_margin", "reserve_factor")):
+        for ax, name in zip(axes, ("release_margin", "reserve_factor"), strict=False):
             x = (
                 np.rad2deg(ds["pressure_angle"].values.ravel())
                 if "pressure_angle" in ds.coords

@@ -102,7 +102,7 @@ def load_curves(ds):
             )
             if np.isfinite(x) and np.isfinite(y):
                 ax.plot(x * 1e3, y / 1e3, marker, color=color, ms=6, mec="k", mew=0.6)
-    for p, (marker, name) in MARKERS.items():
+    for marker, name in MARKERS.values():
         ax.plot([], [], marker, color="w", mec="k", label=name)
     if "deflection_worn" in ds:
         ax.plot([], [], color="0.3", lw=4, alpha=0.35, label="wear travel B -> worn")
@@ -177,7 +177,7 @@ def reserve_map(ds):
     }
     if fixed:  # a fixed value: a map one cell wide
         sub = sub.drop_vars(list(fixed)).expand_dims(fixed)
-    for ax, rr in zip(axes[0], panels):
+    for ax, rr in zip(axes[0], panels, strict=False):
         p = (sub.sel(radius_ratio=rr) if rr is not None else sub).transpose(
             "cone_height_ratio", "sheet_thickness", ...
         )

@@ -64,7 +64,7 @@ def tradeoff(ds):
         for k, combo in enumerate(np.unique(key[front], axis=0)):
             members = np.flatnonzero(front & (key == combo).all(axis=1))
             members = members[np.argsort(_flat(ds, "slip_work")[members], kind="stable")]
-            where = ", ".join(f"{w_} {v:.4g}" for w_, v in zip(within, combo))
+            where = ", ".join(f"{w_} {v:.4g}" for w_, v in zip(within, combo, strict=False))
             ax.plot(
                 _flat(ds, "slip_work")[members] / 1e3,
                 _flat(ds, "peak_jerk")[members],
@@ -98,7 +98,7 @@ def maps(ds):
     design the run shows (its best design)."""
     fig, axes = plt.subplots(1, 2, figsize=A4_LANDSCAPE, gridspec_kw={"wspace": 0.45})
     if "run" in ds.dims or not {"ramp_time", "sheet_thickness"} <= set(ds.dims):
-        for ax, name in zip(axes, ("slip_work", "lockup_time")):
+        for ax, name in zip(axes, ("slip_work", "lockup_time"), strict=False):
             u = display.unit_of(ds, name)
             sampled_value_map(
                 ax,

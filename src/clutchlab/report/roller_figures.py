@@ -11,9 +11,9 @@ from matplotlib.colors import BoundaryNorm, ListedColormap
 
 from .. import status as st
 from ..explore import flat
+from ..published import ROLLER_CLUTCH
 from ..studies.roller import DYNAMIC_STRESS_FACTOR, PARAMETERS, RPM
 from .answers import _marks
-from ..published import ROLLER_CLUTCH
 from .common import (
     A4_LANDSCAPE,
     drawn,

@@ -230,7 +230,7 @@ def pass_map(ds):
         torque = float(ds["torque"].sel(torque=at.get("torque", 750.0), method="nearest"))
     cmap = ListedColormap([c for _, c in CATEGORIES])
     norm = BoundaryNorm(np.arange(len(CATEGORIES) + 1) - 0.5, len(CATEGORIES))
-    for ax, (x, y) in zip(axes[0], pairs):
+    for ax, (x, y) in zip(axes[0], pairs, strict=False):
         view = ds[["status"] + [f"margin_{k}" for k in CHECKS]]
         sub = seed_view(
             view, {**SEED, **at, **({"torque": torque} if torque else {})}, keep=(x, y)
@@ -297,7 +297,7 @@ def _sampled_pass_map(ds):
         return fig
     cat = _category(ds["status"].values)
     handles = []
-    for ax, (x, y) in zip(axes[0], pairs):
+    for ax, (x, y) in zip(axes[0], pairs, strict=False):
         scale = {n: (1e3, "mm") if ds[n].attrs.get("units") == "m" else (1.0, "") for n in (x, y)}
         handles = sampled_category_map(
             ax, ds[x].values * scale[x][0], ds[y].values * scale[y][0], cat, CATEGORIES
@@ -336,7 +336,7 @@ def impact_torque(ds):
         ("impact_damping", 1.0, "damping C [N m s2]", "(d)"),
         ("initial_speed", 30 / np.pi, "initial speed w0 [rpm]", "(e)"),
     )
-    for ax, (name, scale, label, tag) in zip(axes.ravel()[1:], panels):
+    for ax, (name, scale, label, tag) in zip(axes.ravel()[1:], panels, strict=False):
         ax.plot(ds[f"sweep_{name}"].values * scale, ds[f"peak_torque_vs_{name}"].values, "r-")
         ax.set_xlabel(label)
         ax.set_ylabel("peak torque T0 [N m]")

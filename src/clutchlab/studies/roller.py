@@ -161,7 +161,8 @@ _DYNAMIC = (
 # the status rule (clutchlab.studies): the statics (eqs. 1-4) hold for every design, whether it
 # self-locks, overruns in the commanded mode or its static stress is above the allowable; the
 # wedging's numbers only for an engagement that happened (ok; above_allowable: the static stress
-# check fails, the dynamics are exact; dynamic_overstress: kept and drawn). A wedging that never engaged (never_locked: not at the
+# check fails, the dynamics are exact; dynamic_overstress: kept and drawn). A wedging that never
+# engaged (never_locked: not at the
 # engagement speed before the control ring stopped or end_time) has no engagement time, backlash,
 # dynamic factor or release of an engaged clutch, and its contact force peak over the window is
 # not the peak of an engagement: NaN; not_converged: none

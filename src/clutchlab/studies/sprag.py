@@ -447,7 +447,10 @@ STUDY = register(
         parameters=PARAMETERS,
         compute=compute,
         traces=impact_curves,
-        model="closed-form statics (eqs. 6-8) with a vectorised deflection fixed point; impact torque eqs. 1-5 closed form",
+        model=(
+            "closed-form statics (eqs. 6-8) with a vectorised deflection fixed point; impact torque "
+            "eqs. 1-5 closed form"
+        ),
         validation=validation,
         outputs={
             "margin_contact_inner": "1",
