@@ -32,7 +32,7 @@ COLUMNS = [
     "off_the_shelf",
 ]
 
-# seed 000 engagement (PHYSICS.md): engine held at 570 rad/s, capacity ramped to 239.3 N m over
+# paper 000 engagement (PHYSICS.md): engine held at 570 rad/s, capacity ramped to 239.3 N m over
 # 0.15 s, load 44 N m, driven inertia 0.021 kg m²
 SEED = dict(
     engine_speed=570.0,
@@ -389,7 +389,7 @@ def centrifugal_cases() -> list[Case]:
                 "centrifugal",
                 what,
                 f"status {right}" + (", capacity NaN" if want_nan else ", capacity kept (exact)"),
-                "seed 001 eq. 1: M ∝ 1/(1 - f tan α); friction scatter 25 % (assumed)",
+                "paper 001 eq. 1: M ∝ 1/(1 - f tan α); friction scatter 25 % (assumed)",
                 f"{_name(code)}, M = {_f(fwd):.6g} N m",
                 np.nan,
                 0.0,
@@ -429,7 +429,7 @@ def sprag_cases() -> list[Case]:
             "sprag",
             "sprag roll-over (5× compliance, 5000 N m)",
             "status roll_over, no stresses (the loaded races open past the sprag's reach)",
-            "seed 002 geometry: no gripping angle solves the deflected contact",
+            "paper 002 geometry: no gripping angle solves the deflected contact",
             f"{_name(r['status'][1])}, V {r['V'][1]}; at 300 N m: {_name(r['status'][0])}",
             np.nan,
             0.0,

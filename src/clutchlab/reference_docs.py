@@ -55,6 +55,7 @@ PUBLIC_MODULES = (
     "clutchlab.pipeline",
     "clutchlab.store",
     "clutchlab.explore",
+    "clutchlab.robust",
     "clutchlab.traces",
     "clutchlab.published",
     "clutchlab.validation",
@@ -62,6 +63,8 @@ PUBLIC_MODULES = (
     "clutchlab.verify",
     "clutchlab.report",
     "clutchlab.report.captions",
+    "clutchlab.report.robust",
+    "clutchlab.report.explorer",
     "clutchlab.reference_docs",
 )
 

@@ -17,7 +17,7 @@ __all__ = ["caption", "category", "write"]
 
 FIGURES = {
     "diaphragm_spring_load_curves": "Almen-László load-deflection curves of a spread of spring designs with their "
-    "characteristic points A-D and the operating point B (seed 000 eq. 10).",
+    "characteristic points A-D and the operating point B (paper 000 eq. 10).",
     "diaphragm_spring_reserve_map": "Reserve factor (torque capacity over the engine's maximum torque) over sheet "
     "thickness and cone-height ratio; designs without a hump or off the spring flagged.",
     "engagement_tradeoff": "The efficiency-smoothness trade-off: slip work against peak output jerk of every locked "
@@ -35,9 +35,9 @@ FIGURES = {
     "centrifugal_traces": "Start-up and engine-failure traces of the run's best design (DOP853 with lock-up and "
     "release events).",
     "sprag_stress_vs_torque": "Contact and shaft von Mises stresses and the gripping angle against torque, with the "
-    "allowables (seed 002 Table 2 values marked).",
+    "allowables (paper 002 Table 2 values marked).",
     "sprag_pass_map": "Which sprag geometries pass every allowable (contact, shaft, gripping angle).",
-    "sprag_impact_torque": "Impact torque of the starter (seed 002 eqs. 1-5): T(t) and its peak against power, "
+    "sprag_impact_torque": "Impact torque of the starter (paper 002 eqs. 1-5): T(t) and its peak against power, "
     "inertia, damping and initial speed.",
     "roller_stress_engagement": "Roller count: static contact stress and the engagement time and backlash of the "
     "wedging dynamics.",

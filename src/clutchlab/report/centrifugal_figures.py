@@ -1,4 +1,4 @@
-"""Figures of the centrifugal study: capacity curves (seed 001 Fig. 5), release/reserve map over
+"""Figures of the centrifugal study: capacity curves (paper 001 Fig. 5), release/reserve map over
 (α, f), start-up and engine-failure traces (Figs. 6-8)."""
 
 from __future__ import annotations

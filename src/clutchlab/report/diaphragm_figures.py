@@ -111,7 +111,7 @@ def load_curves(ds):
     ax.set_xlabel("deflection at the pressure-plate load point lambda [mm]")
     ax.set_ylabel("spring load F [kN]")
     ax.set_title(
-        "Diaphragm spring load-deflection curves, Almen-Laszlo eq. (10) of seed 000 (shaded: the "
+        "Diaphragm spring load-deflection curves, Almen-Laszlo eq. (10) of paper 000 (shaded: the "
         "wear travel)\n" + fixed
     )
     ax.legend(ncol=2, fontsize=8, loc="upper left")

@@ -149,7 +149,7 @@ def maps(ds):
 
 
 def traces(ds):
-    """Traces of the design the run shows (seed 000 Figs. 7-11): clamp force, speeds, torque and
+    """Traces of the design the run shows (paper 000 Figs. 7-11): clamp force, speeds, torque and
     slip work, jerk."""
     fig, axes = plt.subplots(
         2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.35, "wspace": 0.3, "top": 0.83}

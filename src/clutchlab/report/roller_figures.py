@@ -1,4 +1,4 @@
-"""Figures of the roller study: contact stress and engagement time against roller count (seed 003
+"""Figures of the roller study: contact stress and engagement time against roller count (paper 003
 allowable band), the feasible region over (z, α), the seed design's engagement trace (Fig. 7)."""
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from .common import (
 )
 
 SEED = {p.name: p.default for p in PARAMETERS}
-BAND = (  # MPa, seed 003 section 2.2 (10^6 wedging cycles)
+BAND = (  # MPa, paper 003 section 2.2 (10^6 wedging cycles)
     ROLLER_CLUTCH["contact_allowable_min"].value,
     ROLLER_CLUTCH["contact_allowable_max"].value,
 )

@@ -1,5 +1,5 @@
 """Figures of the sprag study: stresses and gripping angle against torque with the allowables
-(seed 002 Table 2), the map of geometries that pass every allowable, impact-torque curves (Fig. 4)."""
+(paper 002 Table 2), the map of geometries that pass every allowable, impact-torque curves (Fig. 4)."""
 
 from __future__ import annotations
 
@@ -132,7 +132,7 @@ def _at_paper(sub) -> bool:
 
 def _sampled_stress_vs_torque(fig, axes, ds):
     """Sampled design: every design's stresses and gripping angle against its torque (all other
-    factors varying too), the allowables and the seed 002 Table 2 values."""
+    factors varying too), the allowables and the paper 002 Table 2 values."""
     t = ds["torque"].values
     show = drawn(t.size)
     ax = axes[0]
@@ -152,7 +152,7 @@ def _sampled_stress_vs_torque(fig, axes, ds):
         _allowable(ds, "shaft_allowable") / MPA, color="k", ls=":", lw=1, label="shaft allowable"
     )
     ax.set_ylabel("stress [MPa]")
-    ax.legend(fontsize=8, title="dots: designs; circles: seed 002 Table 2", title_fontsize=8)
+    ax.legend(fontsize=8, title="dots: designs; circles: paper 002 Table 2", title_fontsize=8)
     ax = axes[1]
     ax.scatter(
         t[show],
@@ -162,7 +162,7 @@ def _sampled_stress_vs_torque(fig, axes, ds):
         color="b",
         rasterized=True,
     )
-    ax.plot(*_table2("gripping_angle"), "bo", mfc="none", label="seed 002 Table 2 V (theory)")
+    ax.plot(*_table2("gripping_angle"), "bo", mfc="none", label="paper 002 Table 2 V (theory)")
     ax.axhline(
         np.rad2deg(_allowable(ds, "gripping_angle_allowable")),
         color="r",
@@ -358,7 +358,7 @@ def impact_torque(ds):
     for ax in axes.ravel()[:5]:
         ax.grid(alpha=0.3)
     fig.suptitle(
-        "Impact torque of the starter (seed 002 eqs. 1-5, Fig. 4): J w dw/dt + C w^2 = P0, T = P0/w"
+        "Impact torque of the starter (paper 002 eqs. 1-5, Fig. 4): J w dw/dt + C w^2 = P0, T = P0/w"
     )
     return fig
 

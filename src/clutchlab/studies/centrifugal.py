@@ -1,4 +1,4 @@
-"""Study "centrifugal": centrifugal clutch with overrunning linkage (seed 001).
+"""Study "centrifugal": centrifugal clutch with overrunning linkage (paper 001).
 
 Per scenario (closed form, no ODE): engagement speed, forward and reverse capacity at rated
 speed and as curves over engine speed, reserve factor against the engine torque, release margin
@@ -341,7 +341,7 @@ def validation():
 
     return to_dataset(
         _capacity_rows() + _release_rows(),
-        "seed 001: centrifugal clutch with overrunning linkage",
+        "paper 001: centrifugal clutch with overrunning linkage",
     )
 
 
@@ -495,7 +495,7 @@ STUDY = register(
             "capacity_forward": "N m",
             "idle_capacity": "N m",
         },
-        # seed 001: carry the rotor with reserve, let go quickly after an engine failure
+        # paper 001: carry the rotor with reserve, let go quickly after an engine failure
         # a robust study's default noise: the shoe lining's friction scatters by about ±20 %;
         # its draws test jamming directly (the upper corner is the near_jam question), so
         # friction_scatter is 0 there unless the config gives it

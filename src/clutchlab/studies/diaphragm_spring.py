@@ -1,4 +1,4 @@
-"""Study "diaphragm_spring": Almen–László statics, clamp load and torque capacity (seed 000).
+"""Study "diaphragm_spring": Almen–László statics, clamp load and torque capacity (paper 000).
 
 Inputs are the spring geometry (thickness h, cone-height ratio H/h, radius ratio R/r and the
 load-point offsets), the release-bearing operating point factor λ_B/λ_C, and the lining and
@@ -360,7 +360,7 @@ VALID_STATUSES = {
 # --- seed-000 validation rows (statics) ------------------------------------------------------
 
 T_EMAX = 173.0  # N m, Table 1
-#: τ and G of the damper springs are not printed in seed 000; 65Mn values assumed here.
+#: τ and G of the damper springs are not printed in paper 000; 65Mn values assumed here.
 DAMPER_ALLOWABLE_SHEAR = 400e6  # Pa
 DAMPER_SHEAR_MODULUS = 79e9  # Pa
 LINING_RO, LINING_RI = 112.5 * MM, 75 * MM  # lining radii, Table 2: D = 225 mm, d = 150 mm
@@ -369,7 +369,7 @@ LINING_RO, LINING_RI = 112.5 * MM, 75 * MM  # lining radii, Table 2: D = 225 mm,
 def seed_spring() -> dict:
     """The Almen–László parameter set of PHYSICS.md that gives F_B = 2500 N at λ_B = 0.9·λ_C.
 
-    Seed 000 prints no spring dimensions; this is one set (of many) consistent with its 2500 N.
+    Paper 000 prints no spring dimensions; this is one set (of many) consistent with its 2500 N.
     """
     return dict(
         youngs_modulus=206e9,
@@ -388,7 +388,7 @@ def validation() -> xr.Dataset:
     reproduced by clutchlab, as validation rows."""
     return to_dataset(
         _statics_rows() + _engagement_rows(),
-        "seed 000: diaphragm spring, damper, spline, capacity, engagement",
+        "paper 000: diaphragm spring, damper, spline, capacity, engagement",
     )
 
 
@@ -572,7 +572,7 @@ STUDY = register(
             "reserve_factor_least": "1",
         },
         # torque reserve against the peak release force the bearing must overcome (load at the hump A;
-        # the clamp load itself is proportional to the reserve, no trade-off); seed 000 takes beta >= 1.2
+        # the clamp load itself is proportional to the reserve, no trade-off); paper 000 takes beta >= 1.2
         # the lining's state (new: uniform pressure; worn in: uniform wear) is a condition of its life
         # a robust study's default noise: the spring's sheet-thickness and cone-height
         # tolerances on the clamp load (±1.5 % and ±2 %, spring-steel strip and forming, assumed)

@@ -1,4 +1,4 @@
-"""Study "engagement": spring design -> clamp force -> capacity -> engagement (seed 000).
+"""Study "engagement": spring design -> clamp force -> capacity -> engagement (paper 000).
 
 The diaphragm spring's clamp load at its operating point (eq. 10) and the friction capacity
 (eqs. 13-14 corrected) set the peak clutch torque; the clamp force rises to it along a profile
@@ -139,7 +139,7 @@ PARAMETERS = SPRING_PARAMETERS + (
         "end of the window searched for lock-up (a lock-up found is followed to its final metrics)",
         0.5,
     ),
-    # heat (issue 20, clutchlab.heat): masses of seed 000 Table 3; the rest assumed (see heat.engagement_heat)
+    # heat (issue 20, clutchlab.heat): masses of paper 000 Table 3; the rest assumed (see heat.engagement_heat)
     Parameter("flywheel_mass", "kg", "flywheel mass (source paper 000, Table 3)", 10.3),
     Parameter("pressure_plate_mass", "kg", "pressure plate mass (source paper 000, Table 3)", 2.5),
     Parameter("driven_plate_mass", "kg", "driven plate mass (source paper 000, Table 3)", 1.9),
@@ -814,7 +814,7 @@ SEQUENCE_ENGAGEMENTS = 30  # engagements in a row drawn for the design shown
 
 def seed_traces(inputs, options) -> xr.Dataset:
     """Time traces of one design (the scalar ``inputs`` over the parameter defaults: the design a
-    run's pages show, :mod:`clutchlab.traces`), the equivalents of seed 000 Figs. 7-11: clamp
+    run's pages show, :mod:`clutchlab.traces`), the equivalents of paper 000 Figs. 7-11: clamp
     force, speeds, slip work, friction torque, jerk."""
     p = {k: np.atleast_1d(v) for k, v in seed_design(PARAMETERS, inputs).items()}
     force, cap, bad = capacity(p, options)
@@ -1028,7 +1028,7 @@ STUDY = register(
             "life_engagements": "1",
             "max_engagement_rate": "1/s",
         },
-        # seed 000: a cool (little slip work) and smooth (little jerk) engagement, locked within 0.5 s
+        # paper 000: a cool (little slip work) and smooth (little jerk) engagement, locked within 0.5 s
         conditions=(
             "engine_speed",
             "engine_inertia",

@@ -1,4 +1,4 @@
-"""Study "roller": roller-type controllable overrunning clutch (seed 003).
+"""Study "roller": roller-type controllable overrunning clutch (paper 003).
 
 Per scenario: the statics of eqs. (1)-(4) (computed torque, normal force, Hertz stress, spring
 preload, self-locking margin) in closed form, then — only where the wedge can self-lock and the
@@ -9,7 +9,7 @@ control ring stops. A scenario whose peak dynamic contact stress exceeds 1.5 × 
 (``DYNAMIC_STRESS_FACTOR``) gets status ``dynamic_overstress``: the number is kept, but it is far
 out (with the paper's contact damping the wedging impact gives 4-10 × the allowable over the
 default grid) and such a design is not feasible. The engagement trace of the run's best design
-(seed 003 Fig. 7) is computed after the merge (:mod:`clutchlab.traces`).
+(paper 003 Fig. 7) is computed after the merge (:mod:`clutchlab.traces`).
 
 Options: ``mode`` (bidirectional_lock, bidirectional_overrun, overrun_forward, overrun_reverse)
 with the ``drive_direction`` parameter; ``stress_reading``: ``one_flank`` (z/2 rollers loaded in
@@ -231,7 +231,7 @@ def check_config(section):
 
 
 def statics(p, reading):
-    """Closed-form statics (seed 003 eqs. 1-4) for flat parameter arrays ``p``."""
+    """Closed-form statics (paper 003 eqs. 1-4) for flat parameter arrays ``p``."""
     tc = p["service_factor"] * p["max_torque"]
     zl = rl.loaded_rollers(p["rollers"], reading)
     na = rl.normal_force(
@@ -421,7 +421,7 @@ def compute(inputs, options=None) -> xr.Dataset:
 
 def seed_trace(inputs, options) -> xr.Dataset:
     """Engagement (and release) trace of one design (the scalar ``inputs`` over the defaults: the
-    design a run's pages show), like seed 003 Figs. 7 and 9."""
+    design a run's pages show), like paper 003 Figs. 7 and 9."""
     p = {k: np.atleast_1d(v) for k, v in seed_design(PARAMETERS, inputs).items()}
     s = statics(p, options["stress_reading"])
     if s["self_locking_margin"][0] <= 0.0:
@@ -470,7 +470,7 @@ def validation():
     d = {q.name: np.atleast_1d(q.default) for q in PARAMETERS}
     return to_dataset(
         _statics_rows(d) + _dynamics_rows(d),
-        "seed 003: roller-type controllable overrunning clutch",
+        "paper 003: roller-type controllable overrunning clutch",
     )
 
 
@@ -635,7 +635,7 @@ STUDY = register(
             "backlash_angle": "rad",
             "release_time": "s",
         },
-        # seed 003: fast engagement at low contact stress; self-locking, sigma_H within the 3041 MPa
+        # paper 003: fast engagement at low contact stress; self-locking, sigma_H within the 3041 MPa
         # lower end of the allowable range, engaged within 1 ms
         # a robust study's default noise: friction ±20 % (self-locking of the wedge) and the
         # roller's diameter tolerance (±2 µm on 10 mm, a ground roller's grade, assumed)

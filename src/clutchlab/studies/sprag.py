@@ -1,10 +1,10 @@
-"""Study "sprag": sprag clutch statics under a given or an impact-produced torque (seed 002).
+"""Study "sprag": sprag clutch statics under a given or an impact-produced torque (paper 002).
 
 Per scenario (no ODE): gripping angles V, W from the deflection fixed point (eq. 6 reconstructed),
 Hertz contact stresses (eq. 7), shaft von Mises stresses (eq. 8), margins against the allowables
 and a status. The torque is either a factor of the design (option ``torque_source: given``) or the
 peak T(t₀) of the impact model (eqs. 1-5) over the impact parameters (``impact_peak``). The
-impact-torque trace and the peak-torque trends of seed 002 Fig. 4 around the nominal impact
+impact-torque trace and the peak-torque trends of paper 002 Fig. 4 around the nominal impact
 parameters are stored on their own dimensions for the report.
 
 Option ``compliance``: ``physical`` uses the ``compliance_factor`` parameter (1 = physical
@@ -169,7 +169,7 @@ VALID_STATUSES = {
 
 @functools.lru_cache(maxsize=1)
 def seed_compliance() -> float:
-    """Compliance factor fitted to seed 002 Table 2 (V = 5.097 deg at 750 N m, seed geometry)."""
+    """Compliance factor fitted to paper 002 Table 2 (V = 5.097 deg at 750 N m, seed geometry)."""
     peak = SPRAG_TABLE2[750.0]
     return float(
         sp.fit_compliance_factor(
@@ -266,7 +266,7 @@ def _k(name):
 
 
 def impact_curves(inputs, options=None) -> xr.Dataset:
-    """Seed 002 Fig. 4: T(t) after the peak, and the peak T₀ against P₀, J, C, ω₀ one at a time
+    """Paper 002 Fig. 4: T(t) after the peak, and the peak T₀ against P₀, J, C, ω₀ one at a time
     around the nominal impact parameters (defaults overridden by the scalar ``inputs``: those of
     the design a run's pages show)."""
     nom = seed_design(PARAMETERS, inputs)
@@ -337,7 +337,7 @@ def validation():
     fit = seed_compliance()
     rows += _statics_rows(1.0, "physical deflection", 0.15)
     rows += _statics_rows(fit, f"compliance fitted at 750 N m ({fit:.4f})", 0.01)
-    return to_dataset(rows, "seed 002: sprag clutch statics (Table 2)")
+    return to_dataset(rows, "paper 002: sprag clutch statics (Table 2)")
 
 
 def _table2_row(pub, field, computed, tag, tolerance, note=""):
@@ -461,7 +461,7 @@ STUDY = register(
             "gripping_angle": "rad",
             "contact_stress_inner": "Pa",
         },
-        # seed 002 Table 2: every allowable met (margins >= 0); the largest contact and grip margins
+        # paper 002 Table 2: every allowable met (margins >= 0); the largest contact and grip margins
         # a robust study's default noise: manufacturing tolerances of the sprag geometry
         # (±0.1 % of the arc radii and the centre distance, about ±10 µm: ground sprags, assumed)
         noise={
