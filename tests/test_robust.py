@@ -328,3 +328,62 @@ def test_the_default_runs_best_robust_design_meets_every_limit_through_the_api()
     assert float(binding["binding_driven_inertia"].sel(answer=answer)) == worst[0]
     assert float(binding["binding_load_torque"].sel(answer=answer)) == worst[1]
     assert float(binding["binding_friction_coefficient_noise"].sel(answer=answer)) == worst[2]
+
+
+_OTHER_STUDIES = {
+    "sprag": {
+        "torque": {"values": ["500 N*m", "750 N*m"], "role": "condition"},
+        "sprags": {"values": [18, 22]},
+        "sprag_length": {"values": ["18 mm", "22 mm"]},
+    },
+    "roller": {
+        "rollers": {"values": [8, 12]},
+        "wedge_angle": {"values": ["8 deg", "12 deg"]},
+        "friction_coefficient": {"values": [0.1, 0.12]},
+    },
+    "diaphragm_spring": {
+        "sheet_thickness": {"values": ["2.3 mm", "2.6 mm"]},
+        "cone_height_ratio": {"values": [1.5, 1.7]},
+    },
+}
+
+
+@pytest.mark.parametrize("name", sorted(_OTHER_STUDIES))
+def test_robust_answers_of_the_sprag_roller_and_diaphragm_studies(name):
+    """The study's default noise (sprag geometry, roller mu and diameter, spring sheet and cone
+    tolerances) on a small grid: the failure probability per design and condition is the share of
+    the weighted samples whose status is not ok or that violate a constraint, computed here from
+    the stored scenarios; robust_feasible follows from it and the limit; a robust rank only where
+    robust-feasible; the worst margin is the least over conditions and every draw."""
+    sec = resolve(
+        {
+            "studies": [name],
+            name: {
+                "design": "factorial",
+                "robust": True,
+                "noise_samples": 8,
+                "parameters": _OTHER_STUDIES[name],
+            },
+        }
+    )[name]
+    ds = pipeline.run_study(sec)
+    ans = explore.robust(ds)
+    design = list(ans["robust_rank"].dims)
+    conds = [d for d in ds["status"].dims if d not in design and d != "noise"]
+    w = ds["noise_weight"] > 0
+    margins = ds["constraint_margin"]
+    bad = (ds["status"] != 0) | (margins < 0).any("constraint") | margins.isnull().any("constraint")
+    share = bad.where(w).sum("noise") / w.sum()
+    got = ans["failure_probability"].transpose(*design, *conds)
+    np.testing.assert_allclose(got.values, share.transpose(*design, *conds).values, atol=1e-12)
+    limit = float(sec["robust"]["max_failure_probability"])
+    feasible = (share <= limit).all(conds) if conds else share <= limit
+    np.testing.assert_array_equal(ans["robust_feasible"].values.astype(bool), feasible.values)
+    assert ((ans["robust_rank"] >= 0) == feasible).all()
+    worst = margins.min(["noise", *conds], skipna=False)
+    got = ans["worst_margin"]
+    worst = worst.sel(constraint=got["constraint"].values).transpose(*got.dims)
+    ok = np.isfinite(got.values)
+    assert not (ok & np.isnan(worst.values)).any()  # NaN wherever a scenario has no margin
+    assert ok.any() or name == "roller"  # (no roller design of this grid survives every draw)
+    np.testing.assert_allclose(got.values[ok], worst.values[ok], rtol=1e-12)
