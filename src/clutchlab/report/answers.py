@@ -232,11 +232,15 @@ def page(name, ds):
     ax_c.barh(range(len(names)), viol, height=0.6, color=colours)
     ax_c.set_yticks(range(len(names)), [_wrap_name(n, 18) for n in names], fontsize=8)
     ax_c.set_ylim(len(names) - 0.5, -0.5)
-    ax_c.set_xlabel("designs failing it")
+    ax_c.set_xlabel(("scenarios" if "noise" in ds.dims else "designs") + " failing it")
     ax_c.xaxis.set_major_locator(plt.MaxNLocator(4, integer=True))
     ax_c.set_title(textwrap.fill("constraints: " + limits_text(ds), 55), fontsize=8)
     # the front: over the two objectives, or every pair of them (projections) for three or more
     within = ds["pareto_rank"].attrs.get("ranked_within", "").split()
+    # a crossed (robust) result: every scenario is a design at a condition and a noise draw; its
+    # fronts are drawn per operating condition, pooled over the draws (markers, not joined)
+    crossed = "noise" in ds.dims
+    groups = [w for w in within if w != "noise"]
     pairs = (
         list(itertools.combinations(outs, 2))[:6] if len(outs) > 2 else [tuple((outs + outs)[:2])]
     )
@@ -250,7 +254,9 @@ def page(name, ds):
     marks = _marks(ds)
     for k, (ox, oy) in enumerate(pairs):
         ax = fig.add_subplot(cell[k % 2, k // 2] if len(pairs) > 1 else cell[0, 0])
-        _front_panel(ax, ds, ox, oy, feas, rank, within, marks, lines=len(pairs) == 1)
+        _front_panel(
+            ax, ds, ox, oy, feas, rank, groups, marks, lines=len(pairs) == 1 and not crossed
+        )
         for setter, o in ((ax.set_xlabel, ox), (ax.set_ylabel, oy)):
             setter(f"{o} [{display.unit_of(ds, o).label}] ({sense[o]})", fontsize=8)
         ax.tick_params(labelsize=8)
@@ -261,9 +267,9 @@ def page(name, ds):
         k = len(pairs)
         lax = fig.add_subplot(cell[k % 2, k // 2])
         lax.set_axis_off()
-        lax.legend(handles, labels, fontsize=8, loc="center", title="front at" if within else None)
+        lax.legend(handles, labels, fontsize=8, loc="center", title="front at" if groups else None)
     else:
-        ax.legend(fontsize=8, title="front at" if within else None, title_fontsize=8)
+        ax.legend(fontsize=8, title="front at" if groups else None, title_fontsize=8)
     mixed = ds["pareto_rank"].attrs.get("conditions_mixed", "")
     fig.text(
         0.64,
@@ -272,8 +278,15 @@ def page(name, ds):
             f"Pareto front over {' and '.join(objectives)}"
             + (" (projections: front designs marked, not joined)" if len(outs) > 2 else "")
             + (
-                f", one per {' and '.join(within)} (operating conditions, not choices)"
-                if within
+                f", one per {' and '.join(groups)} (operating conditions, not choices)"
+                if groups
+                else ""
+            )
+            + (
+                "; a scenario is a design at a condition and a noise draw, ranked per condition "
+                "and draw; the fronts of all draws shown per condition (the robust page ranks "
+                "the designs over all of them)"
+                if crossed
                 else ""
             )
             + (
@@ -294,8 +307,9 @@ def page(name, ds):
         fig.text(0.06, 0.925, textwrap.shorten("best design over its life: " + life, 190),
                  fontsize=8, va="top")  # fmt: skip
     n = feas.size
-    fig.suptitle(
-        f"Design answers, study '{name}': {int(feas.sum())} of {n} designs feasible "
+    what = "scenarios" if crossed else "designs"
+    title = (
+        f"Design answers, study '{name}': {int(feas.sum())} of {n} {what} feasible "
         f"({100 * feas.mean():.0f} %), {int((rank == 0).sum())} on the Pareto front"
         + (
             f" (table: up to {MAX_ROWS} spread along it; {name}_pareto.csv)"
@@ -303,6 +317,7 @@ def page(name, ds):
             else ""
         )
     )
+    fig.suptitle(textwrap.fill(title, 120), fontsize=11)
     return fig
 
 
@@ -426,7 +441,7 @@ def _front_panel(ax, ds, ox, oy, feas, rank, within, marks, lines):
             "o-" if lines else "o",
             ms=4 if within or not lines else 5,
             label=label,
-            color=plt.cm.tab10(j % 10) if within else "tab:red",
+            color=plt.cm.tab10((j + 1) % 10) if within else "tab:red",  # (blue: feasible)
         )
     for i, label, colour in marks:
         if np.isfinite(x[i]) and np.isfinite(y[i]):
