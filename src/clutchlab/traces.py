@@ -33,7 +33,10 @@ ATTRS = ("shown_index", "shown_design", "shown_reason", "shown_is_paper")
 
 def _factors(ds) -> list[str]:
     dims = list(ds["status"].dims)
-    return ds.attrs.get("factors", "").split() if dims == ["run"] else dims
+    if dims == ["run"]:
+        return ds.attrs.get("factors", "").split()
+    points = ds.attrs.get("design_factors", "").split()  # a crossed sampled design's, on "point"
+    return [f for d in dims for f in (points if d == "point" and points else [d])]
 
 
 def _objectives(ds) -> list[str]:
@@ -242,6 +245,7 @@ def needed(ds) -> list[str]:
     names += [v for v in ds.data_vars if ds[v].dims == ("noise",)]  # a robust study's draws
     if "noise" in ds.dims and "constraint_margin" in ds:  # its constrained outputs
         names += [str(c) for c in ds["constraint"].values]
+    names += ds.attrs.get("design_factors", "").split()  # a sampled robust design's, on its points
     return [n for n in dict.fromkeys(names) if n in ds.variables]
 
 
