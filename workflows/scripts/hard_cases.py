@@ -3,4 +3,6 @@
 from clutchlab import hardcases, store
 
 sm = snakemake  # noqa: F821
-store.write(hardcases.to_dataset(hardcases.run(list(sm.params.studies))), sm.output[0])
+store.write(
+    hardcases.to_dataset(hardcases.run(list(sm.params.studies))), sm.output[0], with_checksum=True
+)

@@ -9,6 +9,16 @@ with store.open(sm.input[0]) as lazy:  # only the columns the choice of design n
     ds.attrs = dict(lazy.attrs)
 out = traces.compute(ds, dict(sm.params.options))
 out.attrs.update(
-    {k: ds.attrs[k] for k in ("study", "clutchlab_version", "clutchlab_source") if k in ds.attrs}
+    {
+        k: ds.attrs[k]
+        for k in (
+            "study",
+            "config",
+            "clutchlab_version",
+            "clutchlab_source",
+            "clutchlab_design_hash",
+        )
+        if k in ds.attrs
+    }
 )
-store.write(out, sm.output[0])
+store.write(out, sm.output[0], with_checksum=True)
