@@ -177,7 +177,9 @@ def test_a_chunk_job_cancelled_by_slurm_is_reported_and_the_rerun_keeps_finished
     from clutchlab import store
 
     ds = store.load(wd / target)
-    assert ds.sizes["run"] == 524288 and int((ds["status"] == 0).sum()) > 0
+    # every scenario computed (the default roller damping makes most wedgings dynamic_overstress,
+    # so engaged ones are counted, not ok ones)
+    assert ds.sizes["run"] == 524288 and int(ds["engagement_time"].notnull().sum()) > 0
 
 
 def test_a_site_sets_the_partition_on_the_command_line(cluster, tmp_path):
