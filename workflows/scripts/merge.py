@@ -1,5 +1,7 @@
 """Snakemake script: merge a study's chunk files into its result file, chunk by chunk."""
 
+from pathlib import Path
+
 from clutchlab import pipeline, store, verify
 
 sm = snakemake  # noqa: F821
@@ -28,3 +30,6 @@ except verify.ProvenanceError as exc:  # the design file is not this config's or
     raise SystemExit(
         f"clutchlab: {sm.input.design}: {exc}; delete it and run snakemake again to rebuild it"
     ) from None
+if not any(p.endswith("robust.h5") for p in sm.output):
+    # not a robust study in this config: robust answers an earlier config left beside it are stale
+    Path(sm.output[0]).with_name("robust.h5").unlink(missing_ok=True)
