@@ -154,8 +154,8 @@ def _study_lines(
 
         lines += summary_lines(robust)
     if "pareto_rank" in ds:
-        lead = "per operating condition and noise draw, best compromise: " if robust else ""
-        lines.append((lead or "best compromise: ") + best_text(ds))
+        if robust is None:  # (a robust study's per-scenario fronts are its answers page's)
+            lines.append("best compromise: " + best_text(ds))
         if life_text(ds):  # its reserve at the end of wear, lining life, engagements per hour
             lines.append("over its life: " + life_text(ds))
         if not ds.attrs.get("shown_reason", "the run's best").startswith("the run's best"):
