@@ -176,6 +176,20 @@ def _capacity_status(code, capacity, reserve, p, worn):
     return code.astype(st.DTYPE)
 
 
+def _capacity(clamp_load, p, assumption):
+    """Torque capacity [N m] of clamp load ``clamp_load`` [N] with the lining of flat parameter
+    arrays ``p`` (eqs. 13-14 corrected, :func:`clutchlab.friction.torque_capacity`)."""
+    return friction.torque_capacity(
+        clamp_load,
+        p["friction_coefficient"],
+        p["lining_outer_radius"],
+        p["lining_inner_radius"],
+        faces=p["friction_faces"],
+        assumption=assumption,
+        stack_mass=p["stack_mass"],
+    )
+
+
 def wear_states(p, spring, pts, assumption="uniform_pressure") -> dict:
     """Clamp load, torque capacity and reserve factor of the half-worn and the fully worn clutch
     (the operating point at λ_B − Δ/2 and λ_B − Δ on the spring's curve, Δ = ``wear_allowance``;
@@ -191,15 +205,7 @@ def wear_states(p, spring, pts, assumption="uniform_pressure") -> dict:
         "least": wear.least_clamp_load(p["wear_allowance"], deflection_operating=lam_b, **spring),
     }
     for state, load in loads.items():
-        cap = friction.torque_capacity(
-            load,
-            p["friction_coefficient"],
-            p["lining_outer_radius"],
-            p["lining_inner_radius"],
-            faces=p["friction_faces"],
-            assumption=assumption,
-            stack_mass=p["stack_mass"],
-        )
+        cap = _capacity(load, p, assumption)
         out[f"clamp_load_{state}"] = load
         out[f"torque_capacity_{state}"] = cap
         out[f"reserve_factor_{state}"] = friction.reserve_factor(cap, p["max_engine_torque"])
@@ -235,15 +241,7 @@ def compute(inputs, options=None) -> xr.Dataset:
         **spring, operating_point_factor=p["operating_point_factor"]
     )
     code = pts["status"]
-    capacity = friction.torque_capacity(
-        pts["load_B"],
-        p["friction_coefficient"],
-        p["lining_outer_radius"],
-        p["lining_inner_radius"],
-        faces=p["friction_faces"],
-        assumption=assumption,
-        stack_mass=p["stack_mass"],
-    )
+    capacity = _capacity(pts["load_B"], p, assumption)
     reserve = friction.reserve_factor(capacity, p["max_engine_torque"])
     worn = wear_states(p, spring, pts, assumption)
     code = _capacity_status(code, capacity, reserve, p, worn)
