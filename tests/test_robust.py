@@ -288,6 +288,47 @@ def test_sampled_design_points_crossed_and_refined_near_the_robust_front(tmp_pat
     front = answers["sheet_thickness"].values[answers["robust_rank"].values == 0]
     gap = np.abs(d2["sheet_thickness"].values[:, None] - front[None, :]).min(axis=1)
     assert (gap <= h * (1 + 1e-9)).all()
+    _check_robust_refinement(tmp_path, answers, d2, second)
+
+
+def _check_robust_refinement(tmp_path, answers, d2, second):
+    """The refining stage's robust front against the first stage's: counts of robust-feasible
+    designs, the joint front's members from the second stage by brute-force dominance, and the
+    refinement page saying it compares robust fronts."""
+    from clutchlab.report import answers as answer_pages
+
+    chunk = tmp_path / "second_chunk.h5"
+    store.write(pipeline.run_chunk(d2, second["options"], 1, 0), chunk, with_checksum=True)
+    pipeline.merge_to_file(
+        d2,
+        [chunk],
+        tmp_path / "second.h5",
+        second["objectives"],
+        second["constraints"],
+        robust_path=tmp_path / "r2.h5",
+    )
+    a2 = store.load_verified(tmp_path / "r2.h5")
+    v1, v2 = rb.front_view(answers), rb.front_view(a2, {"refine_from": "first.h5"})
+    gain = explore.refinement_gain(v1, v2)
+    assert int(gain["feasible_first"][0]) == int(answers["robust_feasible"].sum())
+    assert int(gain["feasible_second"][0]) == int(a2["robust_feasible"].sum())
+    assert float(gain["hypervolume_after"][0]) >= float(gain["hypervolume_before"][0])
+    which = answers.attrs["robust_objectives"]
+    cols = [f"{which}_{o}" for o in ("slip_work", "peak_jerk")]
+    assert v1["pareto_rank"].attrs["objectives"].split() == [f"{c}:min" for c in cols]
+    f = np.concatenate(
+        [
+            np.stack([a[c].values[a["robust_feasible"].values == 1] for c in cols], 1)
+            for a in (answers, a2)
+        ]
+    )
+    n1 = int(answers["robust_feasible"].sum())
+    dominated = [
+        any((g <= p).all() and (g < p).any() for g in f) for p in f
+    ]  # brute force over the joint feasible set
+    assert int(gain["front_from_second"][0]) == sum(not d for d in dominated[n1:])
+    fig = answer_pages.refinement_page("engagement", v1, v2, gain)
+    assert "robust front" in fig._suptitle.get_text()
 
 
 @pytest.mark.slow

@@ -33,6 +33,7 @@ __all__ = [
     "apply_noise",
     "wilson_interval",
     "answers",
+    "front_view",
     "NOISE_DIM",
     "CONFIDENCE",
 ]
@@ -438,3 +439,48 @@ def _summary_attrs(ds, robust, conds, n) -> dict:
         "confidence": CONFIDENCE,
         "source": "clutchlab",
     }
+
+
+def front_view(answers_ds, attrs=None) -> xr.Dataset:
+    """Robust answers as a study-like Dataset over the designs, for comparing robust fronts.
+
+    The robust objective of each objective (its worst case or its quantile, as the robust ranks
+    compared them) becomes a variable of that name with ``worst_`` or ``quantile_`` in front,
+    ``robust_feasible`` becomes ``feasible`` and ``robust_rank`` becomes ``pareto_rank`` (ranked
+    over all designs at once: ``ranked_within`` empty), so that
+    :func:`clutchlab.explore.refinement_gain` measures how far a refining stage moved the robust
+    front.
+
+    Parameters
+    ----------
+    answers_ds : xarray.Dataset
+        Robust answers (:func:`answers`, ``results/<study>/robust.h5``).
+    attrs : dict or None
+        Attributes of the view (e.g. the study result's, with ``refine_from``); None: the
+        answers' own.
+
+    Returns
+    -------
+    xarray.Dataset
+        Variables ``<worst|quantile>_<objective>`` [the objective's unit], ``feasible`` [-],
+        ``pareto_rank`` [-] and ``status`` (all 0: the robust verdict is in ``feasible``), over
+        the design factors; attribute ``robust_view`` = 1.
+    """
+    rank = answers_ds["robust_rank"]
+    which = rank.attrs["robust_objectives"]
+    objectives = []
+    data = {}
+    for item in rank.attrs["objectives"].split():
+        name, sense = item.split(":")
+        column = f"{which}_{name}"
+        data[column] = answers_ds[column]
+        objectives.append(f"{column}:{sense}")
+    feasible = answers_ds["robust_feasible"]
+    data["feasible"] = feasible.astype(bool)
+    data["status"] = xr.zeros_like(feasible, dtype=np.int8)
+    data["pareto_rank"] = rank.copy(data=rank.values, deep=False).assign_attrs(
+        objectives=" ".join(objectives), ranked_within=""
+    )
+    view_attrs = dict(answers_ds.attrs if attrs is None else attrs)
+    view_attrs["robust_view"] = 1  # pages say "designs" and "robust front"
+    return xr.Dataset(data, attrs=view_attrs)

@@ -55,6 +55,11 @@ def refine_source(study):
     return RESOLVED[study]["refine"]["from"]
 
 
+def first_robust(study):
+    """The robust answers beside the first-stage result a refined robust study started from."""
+    return str(Path(refine_source(study)).parent / "robust.h5")
+
+
 def study_config(study):
     """The study's resolved config text: what its design, chunks and result must have been computed
     from (their `config` attribute; checked by the merge and the report, clutchlab.verify)."""

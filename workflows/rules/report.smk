@@ -60,6 +60,7 @@ rule report:
         traces=[f"{RESULTS}/{s}/traces.h5" for s in TRACED],
         benchmark=[f"{RESULTS}/benchmark/engagement_benchmark.csv"] if BENCHMARK_PAGE else [],
         refined=[refine_source(s) for s in REFINED],
+        refined_robust=[first_robust(s) for s in REFINED if robust_files(s)],
         hard_cases=[f"{RESULTS}/numerics/hard_cases.h5"] if HARD_CASES else [],
         numerics=NUMERICS,
         explorers=list(EXPLORERS.values()),  # the summary page links them
@@ -73,6 +74,7 @@ rule report:
         sensitivity_names=[s for s in STUDIES if sensitivity_files(s)],
         robust_names=ROBUST,
         refined_names=REFINED,
+        refined_robust_names=[s for s in REFINED if robust_files(s)],
         traced_names=TRACED,
         title=RESOLVED["report"]["title"],
         dpi=RESOLVED["report"]["dpi"],

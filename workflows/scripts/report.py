@@ -39,7 +39,7 @@ def verify_inputs():
     }
     for p in [*sm.input.sensitivity, *sm.input.robust]:
         expected[p] = {}
-    for p in sm.input.refined:  # (a result of this run too is checked as one)
+    for p in [*sm.input.refined, *sm.input.refined_robust]:  # (this run's too, checked as one)
         expected.setdefault(p, {"design": False, "action": first_stage})
     try:
         verify.require(expected, action="delete it and run snakemake again to recompute it")
@@ -61,6 +61,9 @@ report.build(
     refine_files=dict(zip(sm.params.refined_names, sm.input.refined, strict=False)),
     traces_files=dict(zip(sm.params.traced_names, sm.input.traces, strict=False)),
     robust_files=dict(zip(sm.params.robust_names, sm.input.robust, strict=False)),
+    refine_robust_files=dict(
+        zip(sm.params.refined_robust_names, sm.input.refined_robust, strict=True)
+    ),
     hard_cases_file=sm.input.hard_cases[0] if sm.input.hard_cases else None,
     numerics_dir=Path(sm.input.numerics[0]).parent if sm.input.numerics else None,
     job_seconds={s: t for s in sm.params.names if (t := job_seconds(s))},

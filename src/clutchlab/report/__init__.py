@@ -18,6 +18,7 @@ from matplotlib.backends.backend_pdf import PdfPages  # noqa: E402
 from .. import __version__, store, studies  # noqa: E402
 from .. import status as st  # noqa: E402
 from ..explore import refinement_gain  # noqa: E402
+from ..robust import front_view as robust_front_view  # noqa: E402
 from ..validation import to_csv  # noqa: E402
 from . import answers  # noqa: E402
 from .common import hard_case_table, title_page, validation_table  # noqa: E402
@@ -109,9 +110,12 @@ class Page:
         self.stem, self.draw, self.pdf_pages, self.n_pdf = stem, draw, pdf_pages, n_pdf
 
 
-def _study_pages(name, ds, sensitivity_files, refine_files, outdir, robust=None) -> list[Page]:
+def _study_pages(
+    name, ds, sensitivity_files, refine_files, outdir, robust=None, first_robust=None
+) -> list[Page]:
     """A study's pages (drawn later, one at a time) and its CSV files (written now); a robust
-    study's robust answers (``robust``) lead."""
+    study's robust answers (``robust``) lead; a refined robust study's refinement compares its
+    robust front with the first stage's (``first_robust``)."""
     from functools import partial
 
     from . import robust as robust_pages
@@ -129,10 +133,13 @@ def _study_pages(name, ds, sensitivity_files, refine_files, outdir, robust=None)
     with store.atomic(outdir / f"{name}_pareto.csv") as tmp:
         answers.write_csv(ds, tmp)
     if name in refine_files:
-        first = store.load(refine_files[name])
-        gain = refinement_gain(first, ds)
+        first, second = store.load(refine_files[name]), ds
+        if robust is not None and first_robust is not None:
+            first = robust_front_view(first_robust, first.attrs)
+            second = robust_front_view(robust, ds.attrs)
+        gain = refinement_gain(first, second)
         pages.append(
-            Page(f"{name}_refinement", partial(answers.refinement_page, name, first, ds, gain))
+            Page(f"{name}_refinement", partial(answers.refinement_page, name, first, second, gain))
         )
         with store.atomic(outdir / f"{name}_refinement.csv") as tmp:
             answers.write_refinement_csv(gain, tmp)
@@ -159,6 +166,7 @@ def build(
     job_seconds=None,
     traces_files=None,
     robust_files=None,
+    refine_robust_files=None,
     explorers=None,
 ) -> list[Path]:
     """Build the report from stored results.
@@ -193,6 +201,10 @@ def build(
         Study name -> its ``robust.h5`` (a robust study's answers, :func:`clutchlab.explore.robust`):
         its robust page leads its pages, the summary leads with its robust front, and
         ``<study>_robust.csv`` lists the robust front designs.
+    refine_robust_files : dict or None
+        Study name -> the ``robust.h5`` beside the first-stage result a refined robust study
+        started from: its refinement page compares robust fronts (worst case or quantile over
+        conditions and noise, robust-feasible designs) instead of per-condition fronts.
     explorers : dict or None
         Study name -> the file name of its explorer (:mod:`clutchlab.report.explorer`) in
         ``outdir``: the summary page links it. Given, explorers of other studies in ``outdir``
@@ -215,10 +227,17 @@ def build(
         results[name] = tr.attach(results[name], store.load(path))
     validations = [store.load(p) for p in validation_files]
     robust = {name: store.load(p) for name, p in (robust_files or {}).items()}
+    first_robust = {name: store.load(p) for name, p in (refine_robust_files or {}).items()}
     pages = []
     for name, ds in results.items():
         pages += _study_pages(
-            name, ds, sensitivity_files or {}, refine_files or {}, outdir, robust.get(name)
+            name,
+            ds,
+            sensitivity_files or {},
+            refine_files or {},
+            outdir,
+            robust.get(name),
+            first_robust.get(name),
         )
     if benchmark_csv is not None:
         from ..bench.engagement import read_rows, work_precision_figure

@@ -635,8 +635,10 @@ def refinement_page(name, first, second, gain):
     ax_f.legend(fontsize=8, ncol=2)
     n1, n2 = int(gain.attrs["scenarios_first"]), int(gain.attrs["scenarios_second"])
     before, after = float(gain["hypervolume_before"].sum()), float(gain["hypervolume_after"].sum())
+    robust = bool(second.attrs.get("robust_view"))
+    items, fronts = ("designs", "robust front") if robust else ("scenarios", "fronts")
     fig.suptitle(
-        f"Refinement of study '{name}': {n2} new scenarios near the fronts of {n1} "
+        f"Refinement of study '{name}': {n2} new {items} near the {fronts} of {n1} "
         f"(first stage: {second.attrs.get('refine_from', '?')}); hypervolume summed over "
         f"{len(labels)} group(s) {before:.4f} -> {after:.4f} ({100 * (after / before - 1):+.1f} %)"
         if before > 0
@@ -646,7 +648,13 @@ def refinement_page(name, first, second, gain):
         0.01,
         0.01,
         textwrap.fill(
-            "Dashed: the first stage's front; solid: the front of both stages together (per operating "
+            (
+                "Robust fronts: each design's worst case or quantile over every operating condition "
+                "and noise draw, robust-feasible designs only. "
+                if robust
+                else ""
+            )
+            + "Dashed: the first stage's front; solid: the front of both stages together (per operating "
             "condition, one colour each). Hypervolume: the objective-space area the front dominates up to "
             f"the reference point ({gain.attrs['reference']}); it grows where the refining stage found "
             "better trade-offs. Factors kept at the front designs' values: operating conditions, counts, choices.",
