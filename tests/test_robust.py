@@ -428,3 +428,17 @@ def test_robust_answers_of_the_sprag_roller_and_diaphragm_studies(name):
     assert not (ok & np.isnan(worst.values)).any()  # NaN wherever a scenario has no margin
     assert ok.any() or name == "roller"  # (no roller design of this grid survives every draw)
     np.testing.assert_allclose(got.values[ok], worst.values[ok], rtol=1e-12)
+
+
+def test_the_robust_page_says_what_its_draw_count_can_resolve():
+    """Wilson score interval for 0 failures in n draws: upper bound z²/(n + z²) (z = 1.95996 at
+    95 %); 64 draws bound a clean design at 5.7 %, and a 1 % bound takes n ≥ z²·0.99/0.01 = 380.3,
+    so 381 draws."""
+    from clutchlab.report import robust as pages
+
+    ra = xr.Dataset(attrs={"noise_samples": 64, "max_failure_probability": 0.01})
+    text = pages.resolution_text(ra)
+    assert "up to 5.7 %" in text and "381 draws" in text
+    ra.attrs["noise_samples"] = 512  # resolves 1 %: no advice
+    assert "0.74 %" in pages.resolution_text(ra)
+    assert "draws or more" not in pages.resolution_text(ra)

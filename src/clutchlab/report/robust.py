@@ -15,6 +15,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from .. import display, explore
+from ..robust import CONFIDENCE, wilson_interval
 from .common import A4_LANDSCAPE
 
 __all__ = ["page", "best_text", "summary_lines", "write_csv", "front_rows"]
@@ -192,7 +193,7 @@ def page(name, ra):
     probability of failure at each condition with its interval, and the robust front's table."""
     fig = plt.figure(figsize=A4_LANDSCAPE)
     grid = fig.add_gridspec(
-        2, 2, height_ratios=[1.3, 1.0], top=0.8, bottom=0.03, wspace=0.3, hspace=0.35
+        2, 2, height_ratios=[1.3, 1.0], top=0.76, bottom=0.03, wspace=0.3, hspace=0.35
     )
     _front_panel(fig.add_subplot(grid[0, 0]), ra)
     _failure_panel(fig.add_subplot(grid[0, 1]), ra)
@@ -219,16 +220,44 @@ def page(name, ra):
     feas = _flat(ra, "robust_feasible").astype(bool)
     rank = _flat(ra, "robust_rank")
     fig.suptitle(
-        f"Robust answers, study '{name}': {int(feas.sum())} of {feas.size} designs meet every "
-        f"limit with probability of failure at most "
-        f"{100 * ra.attrs.get('max_failure_probability', 0.01):.2g} % at every operating "
-        f"condition; {int((rank == 0).sum())} on the robust front"
-        + (f" (table: {min(len(rows), MAX_ROWS)}; {name}_robust.csv)" if rows else ""),
+        textwrap.fill(
+            f"Robust answers, study '{name}': {int(feas.sum())} of {feas.size} designs meet every "
+            f"limit with probability of failure at most "
+            f"{100 * ra.attrs.get('max_failure_probability', 0.01):.2g} % at every operating "
+            f"condition; {int((rank == 0).sum())} on the robust front"
+            + (f" (table: {min(len(rows), MAX_ROWS)}; {name}_robust.csv)" if rows else ""),
+            130,
+        ),
         fontsize=11,
     )
-    fig.text(0.06, 0.905, textwrap.fill("best robust design: " + best_text(ra), 200),
+    fig.text(0.04, 0.915, textwrap.fill("best robust design: " + best_text(ra), 165),
              fontsize=8, va="top")  # fmt: skip
+    fig.text(0.04, 0.835, textwrap.fill(resolution_text(ra), 180), fontsize=7.5, va="top",
+             color="0.3")  # fmt: skip
     return fig
+
+
+def resolution_text(ra) -> str:
+    """What the run's noise sample count can tell: the 95 % upper bound of the probability of
+    failure of a design that failed in none of the draws, and the draws a bound at the study's
+    limit would take (Wilson score interval, k = 0: upper bound z²/(n + z²))."""
+    n = int(ra.attrs.get("noise_samples", 0))
+    limit = float(ra.attrs.get("max_failure_probability", 0.01))
+    if n <= 0:
+        return ""
+    upper = float(wilson_interval(0, n, float(ra.attrs.get("confidence", CONFIDENCE)))[1])
+    z2 = upper * n / (1 - upper)
+    needed = int(np.ceil(z2 * (1 - limit) / limit)) if limit > 0 else 0
+    text = (
+        f"{n} noise draws a condition: a design that fails in none of them may still fail with "
+        f"probability up to {100 * upper:.2g} % (95 % upper bound)"
+    )
+    if upper > limit:
+        text += (
+            f"; robust-feasible compares the estimate with the {100 * limit:.2g} % limit, and "
+            f"a bound below it takes {needed} draws or more (noise_samples)"
+        )
+    return text
 
 
 def _front_panel(ax, ra) -> None:
