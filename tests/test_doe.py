@@ -356,6 +356,12 @@ def test_curves_of_a_subset_of_a_large_sampled_design(tmp_path, name):
     for _stem, fig in study_pages(name, got):
         fig.canvas.draw()
         plt.close(fig)
+    # a shown design (the traces' best design) outside the subset: the curve pages draw the
+    # stored design nearest it (the shown index is the whole run's, not the subset's)
+    got.attrs.update(shown_index=60, shown_design="design 60", shown_reason="the run's best design")
+    for _stem, fig in study_pages(name, got):
+        fig.canvas.draw()
+        plt.close(fig)
     big = {**base, "samples": 2**15}
     assert resolve({"studies": [name], name: big})[name]["curve_stride"] == 33  # ceil(32768 / 1000)
     assert resolve({"studies": [name], name: {**big, "curves": "all"}})[name]["curve_stride"] == 1

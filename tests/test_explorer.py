@@ -231,6 +231,7 @@ def _check_page(driver, ds, path, shots):
     assert driver.execute_script(ringed) == int((flat(ds, "pareto_rank") == 0).sum())
     text = driver.find_element("id", "count").text
     assert text == f"{n} of {n} designs"
+    _check_first_view(driver, ds)
     # a brush on the first objective (its middle), then also on the first factor
     objective = next(a.name for a in explorer.axes(ds) if a.role == "objective")
     factor = names[0]
@@ -259,6 +260,23 @@ def _check_page(driver, ds, path, shots):
         )
         == n
     )
+
+
+def _check_first_view(driver, ds) -> None:
+    """The scatter opens on the designs whose status is ok (5 % margin), failed ones left out of
+    the view, where there are failed designs; else plotly's own autorange."""
+    ok = flat(ds, "status") == st.CODE["ok"]
+    for axis in ("x", "y"):
+        name = driver.execute_script(f"return document.getElementById('s{axis}').value;")
+        span = driver.execute_script(
+            f"return document.getElementById('scatter').layout.{axis}axis.range;"
+        )
+        v = _shown(ds, name)[ok]
+        v = v[np.isfinite(v)]
+        if ok.all() or not v.size:
+            continue
+        pad = 0.05 * (v.max() - v.min()) if v.max() > v.min() else abs(v.min()) * 0.05 or 1
+        np.testing.assert_allclose(span, [v.min() - pad, v.max() + pad], rtol=1e-5)
 
 
 @pytest.mark.slow  # end to end: a Snakemake run of config/small.yaml, then Chromium

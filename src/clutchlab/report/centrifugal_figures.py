@@ -35,8 +35,10 @@ def seed_view(ds, keep=()):
 
 
 def capacity_curves(ds):
+    target = shown(ds) or SEED  # the shown design's factors, from the whole run
+    subset = "curve_run" in ds.dims
     ds = with_curves(ds)  # a large sampled design stores the curves of a subset
-    sub = seed_view(ds)
+    sub = _seed_view(ds, target)
     rpm = ds["speed"].values / RPM
     fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
     ax.plot(
@@ -84,6 +86,14 @@ def capacity_curves(ds):
     ax.set_title(
         "\n".join(
             textwrap.wrap(f"Capacity curves of {shown_name(ds)}", 130)
+            + (
+                [
+                    f"curves stored for 1 in {int(ds.attrs.get('curve_stride', 0)) or 'N'} designs: "
+                    "those of the stored design nearest it"
+                ]
+                if subset
+                else []
+            )
             + [
                 f"M = {float(sub['capacity_forward']):.1f} N·m, M' = "
                 f"{float(sub['capacity_reverse']):.1f} N·m, reserve "

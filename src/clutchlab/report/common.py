@@ -75,6 +75,11 @@ def shown(ds) -> dict | None:
     i = int(ds.attrs["shown_index"]) if "shown_index" in ds.attrs else shown_design(ds)[0]
     if i is None or i < 0:
         return None
+    if i >= ds["status"].size:
+        raise ValueError(
+            f"the shown design's index {i} is outside this Dataset of {ds['status'].size} "
+            "scenarios (a curve subset: take the shown design of the whole run)"
+        )
     return {f: float(flat(ds, f)[i]) for f in _factors(ds)}
 
 

@@ -156,11 +156,30 @@
         line: { color: "black", width: 1 }, hoverinfo: "x+y" },
     ];
   }
-  function scatterLayout() {
+  function okRange(a) {  // the span of the selected designs whose status is ok (null: autorange)
+    const st = AXES[byName.status];
+    if (!st) return null;
+    let lo = Infinity, hi = -Infinity, failed = 0;
+    for (let k = 0; k < selected.length; k++) {
+      const i = selected[k], v = a.values[i];
+      if (st.values[i] !== DATA.flagOk) { failed++; continue; }
+      if (a.nan !== undefined && v === a.nan) continue;
+      if (v < lo) lo = v;
+      if (v > hi) hi = v;
+    }
+    if (!failed || !(hi >= lo)) return null;
+    const pad = hi > lo ? 0.05 * (hi - lo) : Math.abs(lo) * 0.05 || 1;
+    return [lo - pad, hi + pad];
+  }
+  function scatterLayout() {  // first view: the designs whose status is ok (double-click: all)
     const ax = AXES[byName[sx.value]], ay = AXES[byName[sy.value]];
-    return { width: 760, height: 520, margin: { t: 30, l: 70, r: 20, b: 60 },
-      xaxis: { title: { text: ax.label } }, yaxis: { title: { text: ay.label } },
-      legend: { orientation: "h", x: 0, y: 1.01, yanchor: "bottom" }, hovermode: "closest" };
+    const xaxis = { title: { text: ax.label } }, yaxis = { title: { text: ay.label } };
+    const rx = okRange(ax), ry = okRange(ay);
+    if (rx) xaxis.range = rx;
+    if (ry) yaxis.range = ry;
+    return { width: 760, height: 520, margin: { t: 30, l: 70, r: 20, b: 60 }, xaxis: xaxis,
+      yaxis: yaxis, legend: { orientation: "h", x: 0, y: 1.01, yanchor: "bottom" },
+      hovermode: "closest" };
   }
   function showCount() {
     document.getElementById("count").textContent =

@@ -323,7 +323,8 @@ h1 {{ font-size: 18px; margin: 0 0 4px 0; }}
 <div id="note">{note}</div>
 <div id="help">Drag along an axis to keep a range of it (drag again to add one, click outside a
 range to remove it); the scatter, the count and the CSV follow. Hover a design in the scatter for
-its values. NaN: below an axis' range. clutchlab {version}.</div>
+its values. The scatter opens on the designs whose status is ok (double-click it to see every
+design). NaN: below an axis' range. clutchlab {version}.</div>
 <div id="controls">
 <span id="count"></span>
 <label>colour <select id="colour"></select></label>
