@@ -1,4 +1,4 @@
-"""Study "centrifugal": centrifugal clutch with overrunning linkage (paper 001).
+"""Study "centrifugal": centrifugal clutch with overrunning linkage (source paper 001).
 
 Per scenario (closed form, no ODE): engagement speed, forward and reverse capacity at rated
 speed and as curves over engine speed, reserve factor against the engine torque, release margin
@@ -180,6 +180,26 @@ def _status(p, code, rel):
 
 
 def compute(inputs, options=None) -> xr.Dataset:
+    """Results of a chunk of scenarios of the study "centrifugal".
+
+    Per scenario: capacities, reserve and release after an engine failure (closed form).
+
+    Parameters
+    ----------
+    inputs : dict
+        Parameter name -> flat array (one entry per scenario of the chunk) or scalar, in SI units
+        (:data:`PARAMETERS`).
+    options : dict or None
+        Unused (the study has no options).
+
+    Returns
+    -------
+    xarray.Dataset
+        One entry per scenario on dimension ``run`` (curves with a further dimension): the outputs
+        of the module docstring, each with ``units`` and ``long_name``, and ``status``
+        (:mod:`clutchlab.status`). The registered ``compute`` (:func:`clutchlab.studies.get`) also
+        applies the status rule (:func:`clutchlab.studies.apply_valid_statuses`).
+    """
     p = flat_inputs(inputs)
     cap = {k: p[k] for k in _CAP}
     code = cf.design_status(
@@ -284,8 +304,27 @@ def compute(inputs, options=None) -> xr.Dataset:
 
 
 def seed_traces(inputs, options=None) -> xr.Dataset:
-    """Start-up and engine-failure traces of one design (the scalar ``inputs`` over the defaults:
-    the design a run's pages show, :mod:`clutchlab.traces`)."""
+    """Start-up and engine-failure speed traces of one design: the design a run's pages show.
+
+    Parameters
+    ----------
+    inputs : dict
+        Parameter name -> value [SI]; the scalars override the defaults
+        (:func:`clutchlab.studies.seed_design`).
+    options : dict or None
+        Unused (the study has no options).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``failure_*`` and ``startup_*`` traces of engine speed, rotor speed and clutch torque on
+        their own time dimensions, the release and lock-up times; empty where the design is not ok
+        or a trace fails (:mod:`clutchlab.traces`).
+
+    References
+    ----------
+    Source paper (001), Figs. 6 and 8.
+    """
     p = seed_design(PARAMETERS, inputs)
     coords = {}
     data = {}
@@ -335,8 +374,17 @@ def seed_traces(inputs, options=None) -> xr.Dataset:
 
 
 def validation():
-    """Paper 001's numbers (:data:`clutchlab.published.CENTRIFUGAL_CLUTCH`: section 2.3, Fig. 5,
-    the test section) reproduced by clutchlab, as validation rows."""
+    """The source paper (001)'s numbers reproduced by clutchlab, as validation rows.
+
+    :data:`clutchlab.published.CENTRIFUGAL_CLUTCH`: section 2.3, Fig. 5, the test section.
+
+    Returns
+    -------
+    xarray.Dataset
+        Validation rows on dimension ``row`` (:func:`clutchlab.validation.to_dataset`): each
+        published number, clutchlab's value, the relative error and its tolerance, and where the
+        number is printed.
+    """
     from ..validation import to_dataset
 
     return to_dataset(
