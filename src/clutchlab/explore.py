@@ -751,8 +751,6 @@ def sensitivity(ds, outputs) -> xr.Dataset:
     ValueError
         For another sampled design (lhs, sobol).
     """
-    import xarray as xr
-
     dims = list(ds["status"].dims)
     design = ds.attrs.get("design", "factorial" if dims != ["run"] else "")
     if dims == ["run"] and design != "saltelli":
@@ -773,8 +771,13 @@ def sensitivity(ds, outputs) -> xr.Dataset:
             r = grid_variance_decomposition(y, dims)
             r["first_order_conf"] = r["total_conf"] = dict.fromkeys(dims, np.nan)
             rows.append(r)
-    dims = factor_names
-    out_names = names + ["failure"]
+    return _sensitivity_dataset(rows, names + ["failure"], factor_names, design, ds.attrs)
+
+
+def _sensitivity_dataset(rows, out_names, dims, design, attrs) -> xr.Dataset:
+    """The indices of :func:`sensitivity` (one row per output) as a labelled Dataset."""
+    import xarray as xr
+
     return xr.Dataset(
         {
             "first_order": (
@@ -836,7 +839,7 @@ def sensitivity(ds, outputs) -> xr.Dataset:
                 "calc_second_order=False, 95 % bootstrap intervals); a base point's block is left "
                 "out when any of its scenarios failed"
             ),
-            "title": ds.attrs.get("title", ""),
+            "title": attrs.get("title", ""),
         },
     )
 

@@ -329,7 +329,7 @@ def _roller_mass(*, roller_diameter, roller_length, density):
 
 
 def spring_preload(*, roller_mass, contact_radius, friction_coefficient, speed, formula="exact"):
-    """Spring force holding a roller in the wedge against its centrifugal force, eq. (4) of [1].
+    """Spring force that keeps a roller in the wedge against the friction of its centrifugal force, eq. (4) of [1].
 
     F_T ≥ μ·m·ω²·R_C (``exact``). The printed form 2R_Cμmn²/(18·10⁴) (R_C in mm, n in rpm;
     ``eq4``) is the same with π² taken as 10 (1.3 % higher): 800·m for the source paper's design,
@@ -537,12 +537,9 @@ def parameter_rows(
     driving_speed : float or array_like [rad/s]
         Constant speed ω_d > 0 of the driving ring (2000 rpm in [1]).
     load_torque : float or array_like [N m]
-        Load torque T_L ≥ 0 on the driven ring, passive: it opposes the driven ring's motion and
-        holds it at rest up to its value.
-    wedge_inertia : float or array_like [kg m²]
-        Inertia J_w of the wedge ring.
-    driven_inertia : float or array_like [kg m²]
-        Inertia J_o of the driven ring.
+        Passive load torque T_L ≥ 0: opposes the driven ring's motion, holds it at rest up to T_L.
+    wedge_inertia, driven_inertia : float or array_like [kg m²]
+        Inertias J_w of the wedge ring and J_o of the driven ring.
     contact_radius : float or array_like [m]
         Radius R_C of the rollers' contacts.
     rollers_loaded : int or array_like [-]
@@ -558,17 +555,17 @@ def parameter_rows(
     exponent : float or array_like [-]
         Exponent e of the contact law, in [1, 10] (1.5: Hertz).
     damping : float or array_like [N s/m]
-        Contact damping c_max ≥ 0 (2.1e6: 2.1e3 N·s/mm of [1]).
+        Contact damping c_max ≥ 0 (2.1e6: the 2.1e3 N·s/mm of [1]).
     penetration_depth : float or array_like [m]
-        Depth d_max > 0 over which the damping rises to c_max (1e-4).
+        Depth d_max > 0 over which the damping rises to c_max.
     control_stop_time : float or array_like [s]
         Time at which the control ring stops (inf: no release).
     claw_clearance : float or array_like [m]
-        Travel of the control ring's claws before they hold the rollers (0).
+        Travel of the control ring's claws before they hold the rollers.
     end_time : float or array_like [s]
-        End of the simulation (2e-3).
+        End of the simulation.
     sync_tolerance : float or array_like [-]
-        Engaged when the driven ring first reaches (1 − tolerance)·ω_d, in [0, 1) (0.01).
+        Engaged when the driven ring first reaches (1 − tolerance)·ω_d, in [0, 1).
     max_step : float or array_like [s]
         Largest integrator step (inf: no limit).
 

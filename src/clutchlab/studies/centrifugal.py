@@ -202,6 +202,40 @@ def compute(inputs, options=None) -> xr.Dataset:
     """
     p = flat_inputs(inputs)
     cap = {k: p[k] for k in _CAP}
+    code, values = _scalars(p, cap)
+    # (which of them a jammed or not engaged scenario keeps: VALID_STATUSES, applied on return;
+    # an input the models refuse, invalid_input or invalid_geometry, keeps none)
+    refused = np.isin(code, [st.CODE["invalid_input"], st.CODE["invalid_geometry"]])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        data = {
+            k: ("run", np.asarray(v, float), {"units": OUTPUTS[k][0], "long_name": OUTPUTS[k][1]})
+            for k, v in values.items()
+        }
+    data["status"] = (
+        "run",
+        code,
+        st.attrs(
+            "jammed: f tan(alpha) >= 1 (forward linkage self-locks); not_engaged: "
+            "springs beat the centrifugal force at rated speed, or M < rotor load; "
+            "near_jam: works, but (1 + friction_scatter) f tan(alpha) >= 1: a "
+            "friction rise within the scatter jams it (outputs kept, exact); "
+            "invalid_geometry: shoe centroid radius not inside the drum; invalid_input: an "
+            "input not physical or implausible, or idle speed not below rated speed"
+        ),
+    )
+    data.update(_curves(p, cap, refused[:, None]))
+    ds = xr.Dataset(
+        data, coords={"speed": ("speed", SPEEDS, {"units": "rad/s", "long_name": "engine speed"})}
+    )
+    ds.attrs["model_used"] = (
+        "closed form (eqs. 1-2; release: exact quadratic root and integral); traces: DOP853"
+    )
+    return ds
+
+
+def _scalars(p, cap) -> tuple[np.ndarray, dict]:
+    """The status and the per-scenario outputs at rated (and idle) speed of flat parameter arrays
+    ``p`` (``cap``: the capacity's arguments among them)."""
     code = cf.design_status(
         rated_speed=p["rated_speed"],
         rotor_load_torque=p["rotor_load_torque"],
@@ -243,31 +277,16 @@ def compute(inputs, options=None) -> xr.Dataset:
         "release_speed": rel["release_speed"],
         "release_time": rel["release_time"],
     }
-    # (which of them a jammed or not engaged scenario keeps: VALID_STATUSES, applied on return;
-    # an input the models refuse, invalid_input or invalid_geometry, keeps none)
-    refused = np.isin(code, [st.CODE["invalid_input"], st.CODE["invalid_geometry"]])
-    with np.errstate(invalid="ignore", divide="ignore"):
-        data = {
-            k: ("run", np.asarray(v, float), {"units": OUTPUTS[k][0], "long_name": OUTPUTS[k][1]})
-            for k, v in values.items()
-        }
-    data["status"] = (
-        "run",
-        code,
-        st.attrs(
-            "jammed: f tan(alpha) >= 1 (forward linkage self-locks); not_engaged: "
-            "springs beat the centrifugal force at rated speed, or M < rotor load; "
-            "near_jam: works, but (1 + friction_scatter) f tan(alpha) >= 1: a "
-            "friction rise within the scatter jams it (outputs kept, exact); "
-            "invalid_geometry: shoe centroid radius not inside the drum; invalid_input: an "
-            "input not physical or implausible, or idle speed not below rated speed"
-        ),
-    )
-    # capacity curves over engine speed (Fig. 5), per scenario
+    return code, values
+
+
+def _curves(p, cap, refused) -> dict:
+    """The capacity, engine and passive torque curves over engine speed (Fig. 5 of the source
+    paper (001)) of every scenario, NaN where its inputs are ``refused`` (a column)."""
     w = SPEEDS[None, :]
     cw = {k: v[:, None] for k, v in cap.items()}
     fc, rc = cf.capacity(speed=w, **cw)
-    refused = refused[:, None]
+    data = {}
     data["capacity_forward_curve"] = (
         ("run", "speed"),
         np.where(refused, np.nan, fc),
@@ -294,13 +313,7 @@ def compute(inputs, options=None) -> xr.Dataset:
         ),
         {"units": "N m", "long_name": "passive engine torque"},
     )
-    ds = xr.Dataset(
-        data, coords={"speed": ("speed", SPEEDS, {"units": "rad/s", "long_name": "engine speed"})}
-    )
-    ds.attrs["model_used"] = (
-        "closed form (eqs. 1-2; release: exact quadratic root and integral); traces: DOP853"
-    )
-    return ds
+    return data
 
 
 def seed_traces(inputs, options=None) -> xr.Dataset:

@@ -300,7 +300,22 @@ def compute(inputs, options=None) -> xr.Dataset:
     assumption = options.get("friction_radius", "uniform_pressure")
     p = flat_inputs(inputs)
     spring = spring_geometry(p)
-    r = spring["inner_radius"]
+    ds = xr.Dataset(
+        _variables(_statics(p, spring, assumption), spring, assumption),
+        coords={
+            "deflection_ratio": (
+                "deflection_ratio",
+                CURVE_POINTS,
+                _attrs("deflection over flat-point deflection, lambda/lambda_C", "1"),
+            )
+        },
+    )
+    return ds
+
+
+def _statics(p, spring, assumption) -> dict:
+    """The spring's characteristic points, capacity, reserve, worn states and curve of flat
+    parameter arrays ``p``, and the status; NaN where a model refuses the scenario."""
     pts = diaphragm.characteristic_points(
         **spring, operating_point_factor=p["operating_point_factor"]
     )
@@ -322,7 +337,23 @@ def compute(inputs, options=None) -> xr.Dataset:
     worn = {k: np.where(refused, np.nan, v) for k, v in worn.items()}
     lam_curve = np.where(refused[:, None], np.nan, lam_curve)
     load_curve = np.where(refused[:, None], np.nan, load_curve)
+    return dict(
+        pts=pts,
+        capacity=capacity,
+        reserve=reserve,
+        worn=worn,
+        code=code,
+        lam_curve=lam_curve,
+        load_curve=load_curve,
+    )
 
+
+def _variables(res, spring, assumption) -> dict:
+    """The result's variables on ``run`` from :func:`_statics`'s ``res``."""
+    pts, worn = res["pts"], res["worn"]
+    capacity, reserve, code = res["capacity"], res["reserve"], res["code"]
+    lam_curve, load_curve = res["lam_curve"], res["load_curve"]
+    r = spring["inner_radius"]
     run = "run"
     data = {
         "clamp_load": (run, pts["load_B"], _attrs("clamp load at operating point B (eq. 10)", "N")),
@@ -377,17 +408,7 @@ def compute(inputs, options=None) -> xr.Dataset:
             ),
         ),
     }
-    ds = xr.Dataset(
-        data,
-        coords={
-            "deflection_ratio": (
-                "deflection_ratio",
-                CURVE_POINTS,
-                _attrs("deflection over flat-point deflection, lambda/lambda_C", "1"),
-            )
-        },
-    )
-    return ds
+    return data
 
 
 # the status rule (clutchlab.studies): a spring without a hump (H/h <= sqrt(2)) has no A and no D
