@@ -216,7 +216,7 @@ def _jammed(x):
 
 
 def linkage_factor_from_targets(forward_torque, reverse_torque):
-    """Linkage factor f·tanα from the forward and reverse capacity targets (eq. (1) over eq. (2)).
+    """Linkage factor f·tanα from the forward and reverse capacity targets (equation 1 over 2).
 
     M/M′ = (1 + f·tanα)/(1 − f·tanα) ⇒ f·tanα = (M − M′)/(M + M′).
 

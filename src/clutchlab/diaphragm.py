@@ -60,7 +60,7 @@ def _domain(inputs, order=True):
 
 
 def radius_ratio_k(outer_radius, inner_radius, load_radius_outer, load_radius_inner):
-    """Lever ratio k = (R − r)/(R₁ − r₁) of the Almen–László load, eq. (10) of [1].
+    """Lever ratio k = (R − r)/(R₁ − r₁) of the Almen–László load, equation (10) of [1].
 
     Parameters
     ----------
@@ -102,7 +102,7 @@ def spring_constant(
     load_radius_outer,
     load_radius_inner,
 ):
-    """Leading factor c of the Almen–László load, eq. (10) of [1].
+    """Leading factor c of the Almen–László load, equation (10) of [1].
 
     F = c·λ·[(H − kλ)(H − kλ/2) + h²] with c = π·E·h / (6(1 − μ²)) · ln(R/r) / (R₁ − r₁)².
 
@@ -173,7 +173,7 @@ def almen_laszlo_load(
     load_radius_outer,
     load_radius_inner,
 ):
-    """Load of a diaphragm spring at its pressure-plate load point, eq. (10) of [1].
+    """Load of a diaphragm spring at its pressure-plate load point, equation (10) of [1].
 
     F(λ) = π·E·h·λ / (6(1 − μ²)) · ln(R/r) / (R₁ − r₁)² · [(H − kλ)(H − kλ/2) + h²] with
     k = (R − r)/(R₁ − r₁).
@@ -312,7 +312,7 @@ def characteristic_points(
     load_radius_inner,
     operating_point_factor=0.9,
 ):
-    """Characteristic points A (hump), C (flattening), D (valley), B (operating) of eq. (10).
+    """Characteristic points A (hump), C (flattening), D (valley), B (operating) of equation (10).
 
     Closed form: with F = c·λ·[(H − kλ)(H − kλ/2) + h²],
     dF/dλ = c·[(3/2)k²λ² − 3kHλ + H² + h²] vanishes at

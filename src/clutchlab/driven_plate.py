@@ -87,7 +87,7 @@ def damper_design_torque(max_engine_torque, factor=2.0):
 
 
 def damper_total_force(design_torque, spring_radius):
-    """Total force on all damper springs P_total = T_j / R₁, eq. (4) of [1].
+    """Total force on all damper springs P_total = T_j / R₁, equation (4) of [1].
 
     Parameters
     ----------
@@ -118,7 +118,7 @@ def damper_total_force(design_torque, spring_radius):
 
 
 def damper_spring_force(total_force, spring_count):
-    """Force on one damper spring P = P_total / z, eq. (5) of [1].
+    """Force on one damper spring P = P_total / z, equation (5) of [1].
 
     Parameters
     ----------
@@ -144,7 +144,7 @@ def damper_spring_force(total_force, spring_count):
 
 
 def damper_wire_diameter(spring_force, coil_diameter, allowable_shear_stress):
-    """Wire diameter d₁ = ∛(8·P·D_c / (π·τ)), eq. (6) of [1] corrected.
+    """Wire diameter d₁ = ∛(8·P·D_c / (π·τ)), equation (6) of [1] corrected.
 
     Parameters
     ----------
@@ -188,7 +188,7 @@ def _wire_diameter(spring_force, coil_diameter, allowable_shear_stress):
 
 
 def damper_angular_stiffness(design_torque, factor=13.0):
-    """Damper angular stiffness C_a = factor·T_j, eq. (7) of [1] (upper limit, factor 13).
+    """Damper angular stiffness C_a = factor·T_j, equation (7) of [1] (upper limit, factor 13).
 
     The rule is empirical: T_j in N·m gives C_a in N·m/rad.
 
@@ -216,7 +216,7 @@ def damper_angular_stiffness(design_torque, factor=13.0):
 
 
 def damper_spring_rate(angular_stiffness, spring_radius, spring_count):
-    """Linear rate of one damper spring C = C_a / (R₁²·z), eq. (8) of [1] in SI.
+    """Linear rate of one damper spring C = C_a / (R₁²·z), equation (8) of [1] in SI.
 
     Parameters
     ----------
@@ -254,7 +254,7 @@ def damper_spring_rate(angular_stiffness, spring_radius, spring_count):
 
 
 def damper_coil_count(shear_modulus, wire_diameter, coil_diameter, spring_rate):
-    """Active coils i = G·d₁⁴ / (8·D_c³·C), eq. (9) of [1] (D₂ there is the coil diameter D_c).
+    """Active coils i = G·d₁⁴ / (8·D_c³·C), equation (9) of [1] (D₂ there is the coil diameter D_c).
 
     Parameters
     ----------

@@ -48,7 +48,7 @@ def _domain(inputs, relations=None):
 
 
 def lining_outer_diameter(max_engine_torque, coefficient):
-    """Lining outer diameter D = 100·√(T_emax / A) [mm], eq. (3) of [1], returned in metres.
+    """Lining outer diameter D = 100·√(T_emax / A) [mm], equation (3) of [1], returned in metres.
 
     Parameters
     ----------
@@ -78,7 +78,7 @@ def _lining_outer_diameter(*, max_engine_torque, coefficient):
 
 
 def lining_coefficient(max_engine_torque, outer_diameter):
-    """Design constant A of eq. (3) of [1] of a lining: inverse of :func:`lining_outer_diameter`.
+    """Design constant A of equation (3) of [1]: the inverse of :func:`lining_outer_diameter`.
 
     A = T_emax / (D[mm]/100)².
 
@@ -255,7 +255,7 @@ def torque_capacity_eq14_as_printed(
     inner_radius,
     gravity=STANDARD_GRAVITY,
 ):
-    """Eq. (14) of [1] exactly as printed: M = (μ·m·g + F)·R_eff (one face).
+    """The capacity of equation (14) of [1] exactly as printed: M = (μ·m·g + F)·R_eff (one face).
 
     Kept only to reproduce the paper's 239.3 N·m; it is dimensionally consistent but physically
     wrong (see :func:`torque_capacity`). Do not use it for design.

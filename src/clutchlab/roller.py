@@ -107,7 +107,7 @@ def _domain(inputs, relations=None):
 
 
 def computed_torque(max_torque, *, k1=1.0, k2=1.1, k3=1.1):
-    """Computed (design) torque T_c = K₃(K₁ + K₂)·T_i, eq. (1) of [1].
+    """Computed (design) torque T_c = K₃(K₁ + K₂)·T_i, equation (1) of [1].
 
     The paper prints only T_c = 1848 N·m for T_i = 800 N·m, i.e. K₃(K₁+K₂) = 2.31; the split
     K₁ = 1.0, K₂ = 1.1, K₃ = 1.1 is assumed.
@@ -184,7 +184,7 @@ def loaded_rollers(rollers, reading="one_flank"):
 
 
 def normal_force(torque, *, contact_radius, friction_coefficient, rollers):
-    """Normal force per roller N_A = T_c / (R_C·μ_A·z), eq. (2) of [1].
+    """Normal force per roller N_A = T_c / (R_C·μ_A·z), equation (2) of [1].
 
     The normal force per roller that lets the friction interface carry T_c.
 
@@ -258,7 +258,7 @@ def _equivalent_radius(*, roller_diameter, counter_diameter):
 
 
 def contact_stress(force, *, roller_length, radius, youngs_modulus=206e9, poisson_ratio=0.3):
-    """Hertz line-contact stress σ_H = √(N·E / (2π(1−ν²)·b·ρ_v)), eq. (3) of [1].
+    """Hertz line-contact stress σ_H = √(N·E / (2π(1−ν²)·b·ρ_v)), equation (3) of [1].
 
     The paper's 0.418 is 1/√(2π(1−ν²)) for steel (ν = 0.3).
 
@@ -329,7 +329,7 @@ def _roller_mass(*, roller_diameter, roller_length, density):
 
 
 def spring_preload(*, roller_mass, contact_radius, friction_coefficient, speed, formula="exact"):
-    """Spring force that keeps a roller in the wedge against the friction of its centrifugal force, eq. (4) of [1].
+    """Spring force holding a roller in the wedge against its centrifugal force, equation (4).
 
     F_T ≥ μ·m·ω²·R_C (``exact``). The printed form 2R_Cμmn²/(18·10⁴) (R_C in mm, n in rpm;
     ``eq4``) is the same with π² taken as 10 (1.3 % higher): 800·m for the source paper's design,

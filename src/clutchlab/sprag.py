@@ -81,7 +81,7 @@ def _impact(compute, **inputs):
 
 
 def impact_speed(time, *, power, inertia, damping, initial_speed=0.0):
-    """Output speed ω(t) under constant input power with quadratic damping (eqs. (3)–(5) of [1]).
+    """Output speed ω(t) under constant input power and quadratic damping (equations (3)–(5)).
 
     J ω dω/dt + C ω² = P₀ is linear in ω²:  ω² = [P₀ − (P₀ − C ω₀²) e^(−2Ct/J)] / C.
 
@@ -133,7 +133,7 @@ def _impact_speed(*, time, power, inertia, damping, initial_speed):
 
 
 def impact_torque(time, *, power, inertia, damping, initial_speed=0.0):
-    """Clutch torque T(t) = P₀ / ω(t) of the impact (eqs. (2), (4), (5) of [1]).
+    """Clutch torque T(t) = P₀ / ω(t) of the impact (equations (2), (4), (5) of [1]).
 
     Infinite at t = 0 for ω₀ = 0, hence the finite rise time t₀ of :func:`peak_torque` (the curve
     is used for t ≥ t₀).
@@ -671,7 +671,7 @@ def _geometry(kw):
 
 
 def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **geometry):
-    """Gripping angle V under torque with race deflection and contact approach (eq. (6) of [1]).
+    """Gripping angle V under torque with race deflection and contact approach (equation (6)).
 
     Eq. (6) is cited from the Aero-engine Design Manual vol. 13 but not printed. Reconstruction:
     loads along the contact chord N_i = T cot V/(n R̄_i), N_o = T cot W/(n R̄_o); races deflect as
@@ -844,7 +844,7 @@ def contact_stress(
     poisson_ratio=0.3,
     **_,
 ):
-    """Hertz line-contact stress at the inner and outer contact (eq. (7) of [1]).
+    """Hertz line-contact stress at the inner and outer contact (equation (7) of [1]).
 
     σ_ci = √[T cot V (1/r̄_i + 1/R̄_i) / (π n l R̄_i · 2(1−ν²)/E)],
     σ_co = √[T cot W (1/r̄_o − 1/R̄_o) / (π n l R̄_o · 2(1−ν²)/E)] (concave outer race).
@@ -964,7 +964,7 @@ def shaft_stress(
     outer_rim_radius,
     **_,
 ):
-    """Von Mises stress of the inner shaft and the outer race (eq. (8) of [1]).
+    """Von Mises stress of the inner shaft and the outer race (equation (8) of [1]).
 
     Plane stress (no axial load): Lamé radial and hoop stress under the smeared sprag pressure
     (p_i = n N_i/(2π R̄_i l) outside the inner shaft, p_o = n N_o/(2π R̄_o l) inside the outer race)

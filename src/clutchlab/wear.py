@@ -104,7 +104,7 @@ def _worn_deflection(*, deflection_operating, wear):
 
 
 def worn_clamp_load(wear, *, deflection_operating, **spring):
-    """Clamp load of the diaphragm spring after the facings wore ``wear``: eq. (10) at λ_B − Δ.
+    """Clamp load of the diaphragm spring after the facings wore ``wear``: equation (10) at λ_B − Δ.
 
     0 where the spring is unloaded (λ_B − Δ ≤ 0).
 

@@ -242,7 +242,7 @@ def check_config(section):
 
 
 def statics(p, reading):
-    """Closed-form statics of the roller clutch, eqs. (1)–(4) of the source paper (003).
+    """Closed-form statics of the roller clutch, equations (1)–(4) of the source paper (003).
 
     Parameters
     ----------
