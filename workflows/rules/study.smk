@@ -6,6 +6,10 @@ rule design:
         lambda wc: [refine_source(wc.study)] if wc.study in REFINED else [],
     output:
         f"{WORK}/{{study}}/design.h5",
+    benchmark:
+        f"{WORK}/{{study}}/benchmark/design.tsv"
+    log:
+        f"{WORK}/{{study}}/log/design.log",
     params:
         study=lambda wc: RESOLVED[wc.study],
         source=SOURCE,
@@ -40,6 +44,9 @@ rule chunk:
 for _study in STUDIES:
 
     rule:
+        # the merged result; then, in the same job (one start-up fewer a study), its design
+        # answers, sensitivity indices, robust answers and the traces of the design the study's
+        # pages show (clutchlab.traces: the best design is only known once the chunks are merged)
         name:
             f"merge_{_study}"
         input:
@@ -49,11 +56,15 @@ for _study in STUDIES:
             results(_study),
             sensitivity_files(_study),
             robust_files(_study),
+            traces_files(_study),
         benchmark:
             f"{WORK}/{_study}/benchmark/merge.tsv"
+        log:
+            f"{WORK}/{_study}/log/merge.log",
         params:
             objectives=RESOLVED[_study]["objectives"],
             constraints=RESOLVED[_study]["constraints"],
+            options=RESOLVED[_study]["options"],  # (the traces')
             config=study_config(_study),  # each chunk and the design must come from it
             source=SOURCE,
         resources:
@@ -62,30 +73,21 @@ for _study in STUDIES:
             "../scripts/merge.py"
 
 
-rule validation:
-    output:
-        f"{RESULTS}/{{study}}/validation.h5",
-    params:
-        source=SOURCE,
-    resources:
-        runtime=5,
-        mem_mb=1000,
-    script:
-        "../scripts/validation.py"
+if VALIDATED:
 
-
-rule traces:
-    # the traces of the design the study's pages show (clutchlab.traces): its best design is only
-    # known once the chunks are merged
-    input:
-        lambda wc: results(wc.study),
-    output:
-        f"{RESULTS}/{{study}}/traces.h5",
-    params:
-        options=lambda wc: RESOLVED[wc.study]["options"],
-        source=SOURCE,
-    resources:
-        runtime=10,
-        mem_mb=lambda wc: _cluster.merge_resources(RESOLVED[wc.study])["mem_mb"],
-    script:
-        "../scripts/traces.py"
+    rule validation:
+        # the seed numbers every validated study reproduces: one job (each takes a moment)
+        output:
+            [f"{RESULTS}/{s}/validation.h5" for s in VALIDATED],
+        benchmark:
+            f"{WORK}/benchmark/validation.tsv"
+        log:
+            f"{WORK}/log/validation.log",
+        params:
+            studies=VALIDATED,
+            source=SOURCE,
+        resources:
+            runtime=5,
+            mem_mb=1000,
+        script:
+            "../scripts/validation.py"
