@@ -10,6 +10,7 @@ rule design:
         f"{WORK}/{{study}}/benchmark/design.tsv"
     log:
         f"{WORK}/{{study}}/log/design.log",
+    priority: 1  # (the chunks wait for it)
     params:
         study=lambda wc: RESOLVED[wc.study],
         source=SOURCE,
@@ -29,6 +30,9 @@ rule chunk:
         f"{WORK}/{{study}}/benchmark/chunk_{{i}}.tsv"  # wall time and peak RSS of the job
     log:
         f"{WORK}/{{study}}/log/chunk_{{i}}.log",  # progress: scenarios done, rate, time left
+    # before the jobs that call the kernels outside a study (numerics, hard cases, benchmark):
+    # a chunk compiles each kernel it needs once (pipeline.run_chunk), and they load it
+    priority: 1
     params:
         options=lambda wc: RESOLVED[wc.study]["options"],
         chunks=lambda wc: RESOLVED[wc.study]["chunks"],
