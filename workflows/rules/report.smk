@@ -14,7 +14,7 @@ ROBUST = [s for s in STUDIES if robust_files(s)]  # robust studies: their robust
 BENCHMARK_PAGE = RESOLVED["report"]["benchmark"]  # the engagement work-precision page (runs the benchmark)
 HARD_CASES = RESOLVED["report"]["hard_cases"]  # the hard-case table of the studies run
 NUMERICS = [f"{RESULTS}/numerics/{f}" for f in _numerics_files(STUDIES)] if RESOLVED["report"]["numerics"] else []
-# validation.csv and its page exist only where a study reproduces seed numbers
+# validation.csv and its page exist only where a study reproduces published numbers
 REPORT_FILES = [f"{REPORT_DIR}/report.pdf"] + ([f"{REPORT_DIR}/validation.csv"] if VALIDATED else []) + [
     f"{REPORT_DIR}/{stem}.png"
     for stem in _figure_stems(STUDIES, BENCHMARK_PAGE, [s for s in STUDIES if sensitivity_files(s)], REFINED,

@@ -1,4 +1,4 @@
-"""Snakemake script: the seed numbers each validated study reproduces, as validation Datasets."""
+"""Snakemake script: the published numbers each validated study reproduces, as validation Datasets."""
 
 from clutchlab.joblog import job_log
 

@@ -1,7 +1,7 @@
 """Report: figures and a PDF built from stored Datasets only (no solver is ever re-run).
 
 :func:`build` writes one PNG per figure, ``report.pdf`` with every figure as a page, and
-``validation.csv`` with every reproduced seed number.
+``validation.csv`` with every reproduced published number.
 """
 
 from __future__ import annotations
@@ -67,7 +67,7 @@ def figure_stems(
 ) -> list[str]:
     """PNG stems the report produces for these studies (for Snakemake outputs); a sensitivity page
     for the studies in ``sensitivity`` (factorial grids), a refinement page for those in ``refined``
-    (design refine); the validation table only where one of them reproduces seed numbers; the
+    (design refine); the validation table only where one of them reproduces published numbers; the
     hard-case table with ``hard_cases``; the work-precision pages of the solvers used with ``numerics``."""
     from ..bench.numerics import stems as numerics_stems
 
