@@ -1,4 +1,4 @@
-"""The workflow's lint check (workflows/lint.py) and the job scripts' log (clutchlab.joblog)."""
+"""The workflow's lint check (workflows/lint.py) and the job scripts' log (clutchlab._joblog)."""
 
 import importlib.util
 import sys
@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from clutchlab.joblog import job_log
+from clutchlab._joblog import job_log
 
 ROOT = Path(__file__).resolve().parents[1]
 

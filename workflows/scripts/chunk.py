@@ -3,7 +3,7 @@
 import re
 import sys
 
-from clutchlab.joblog import job_log
+from clutchlab._joblog import job_log
 
 sm = snakemake  # noqa: F821
 with job_log(sm.log[0]):  # progress (scenarios done, rate, time left) to the log and the terminal

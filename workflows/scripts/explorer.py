@@ -1,7 +1,7 @@
 """Snakemake script: the interactive explorer of one study (clutchlab.report.explorer), built
 from a verified result only (its checksum, its study config, this source), as the report is."""
 
-from clutchlab.joblog import job_log
+from clutchlab._joblog import job_log
 
 sm = snakemake  # noqa: F821
 with job_log(sm.log[0]):

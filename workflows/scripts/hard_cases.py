@@ -1,6 +1,6 @@
 """Snakemake script: the hard cases of the studies run (clutchlab.hardcases), as a Dataset."""
 
-from clutchlab.joblog import job_log
+from clutchlab._joblog import job_log
 
 sm = snakemake  # noqa: F821
 with job_log(sm.log[0]):

@@ -3,7 +3,7 @@ traces of the design its pages show."""
 
 from pathlib import Path
 
-from clutchlab.joblog import job_log
+from clutchlab._joblog import job_log
 
 sm = snakemake  # noqa: F821
 with job_log(sm.log[0]):

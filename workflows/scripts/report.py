@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from clutchlab.joblog import job_log
+from clutchlab._joblog import job_log
 
 sm = snakemake  # noqa: F821
 

@@ -1,6 +1,6 @@
 """Snakemake script: the published numbers each validated study reproduces, as validation Datasets."""
 
-from clutchlab.joblog import job_log
+from clutchlab._joblog import job_log
 
 sm = snakemake  # noqa: F821
 with job_log(sm.log[0]):
