@@ -130,7 +130,7 @@ def test_stribeck_against_dop853():
 
 def _long_step_setup():
     """A Stribeck engagement (held engine) and its lock-up time from simulate at rtol 1e-12."""
-    from clutchlab import _engagement_kernel as k
+    from clutchlab.engagement import _kernel as k
 
     args = dict(
         engine_speed=500.0,

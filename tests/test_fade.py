@@ -1,7 +1,7 @@
 """Issue 20 items 4 and 5: friction fade μ(T) with the friction face's temperature as a solver
 state, and μ(slip) from a table — each against an analytic solution or an independent reference.
 
-The face temperature state (clutchlab._engagement_kernel): Duhamel's integral of the slip power
+The face temperature state (clutchlab.engagement._kernel): Duhamel's integral of the slip power
 with the kernel 1/√s split into a smooth part (15 exponential modes, states) and a singular part
 taken quasi-statically. References: the semi-infinite body's constant- and ramp-flux solutions,
 and clutchlab.reference.rigid_fade (Picard iteration on the face temperature with the exact
@@ -14,9 +14,9 @@ import pytest
 from scipy.integrate import quad
 from scipy.special import erf, erfc
 
-from clutchlab import _engagement_kernel as k
 from clutchlab import engagement, heat, reference
 from clutchlab import status as st
+from clutchlab.engagement import _kernel as k
 
 K_FACE = float(heat.face_temperature_rise(1.0, 0.1125, 0.075, 2))  # K per W s^0.5, seed 000 lining
 SEED = dict(

@@ -31,8 +31,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _engagement_kernel as _k
-from . import status as st
+from .. import status as st
+from . import _kernel as _k
 
 __all__ = [
     "PROFILES",
@@ -706,7 +706,7 @@ def ramp_time_for_lockup(target_lockup_time, **kwargs):
 
 
 # ----------------------------------------------------------------------------------------------
-# Numerical solver (event-driven DOPRI5; the per-scenario loop is compiled, see _engagement_kernel)
+# Numerical solver (event-driven DOPRI5; the per-scenario loop is compiled, see _kernel)
 # ----------------------------------------------------------------------------------------------
 
 EVENT_TIME_TOL = _k.EVENT_TIME_TOL
@@ -767,7 +767,7 @@ def _parameter_table(
     fade_onset=0.0,
     face_temperature_factor=0.0,
 ):
-    """The kernel's parameter table (one row per scenario, columns of :mod:`._engagement_kernel`)
+    """The kernel's parameter table (one row per scenario, columns of :mod:`._kernel`)
     and the scenarios' broadcast shape."""
     if profile not in PROFILES:
         raise ValueError(f"profile must be one of {PROFILES}, got {profile!r}")
@@ -941,7 +941,7 @@ def simulate(
         ``face_temperature_factor`` [K/(W s^0.5)] (:func:`clutchlab.heat.face_temperature_rise` of
         1 W s^0.5). The face temperature becomes a state: the smooth part of the kernel
         1/√(t − τ) as 15 exponential modes, its singular part quasi-static (see
-        :mod:`._engagement_kernel`; against a Picard iteration with the exact kernel: ΔT within
+        :mod:`._kernel`; against a Picard iteration with the exact kernel: ΔT within
         4e-5 of its peak while slipping, lock-up time within 6e-6, slip work 5e-7). Static friction
         is not faded. Needs K > 0 and t_end ≤ 10 s (the fit's span). Costs: with fade every
         slipping phase is integrated with the 15 modes, steps ≤ 0.5 ms (the stiffest mode): about

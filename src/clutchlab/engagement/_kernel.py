@@ -25,7 +25,7 @@ import math
 import numpy as np
 from numba import njit
 
-from . import _linear_phase as _lp
+from . import _linear_forms as _lp
 
 # parameter columns (one row per scenario)
 (
@@ -1067,7 +1067,7 @@ def _store_trace(trace, tt, t, y, q, wr_col, aux, jk):
 
 
 # ----------------------------------------------------------------------------------------------
-# Exact linear phases of the compliant model (see clutchlab._linear_phase)
+# Exact linear phases of the compliant model (see clutchlab.engagement._linear_forms)
 # ----------------------------------------------------------------------------------------------
 
 

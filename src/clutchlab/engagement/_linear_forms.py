@@ -24,7 +24,7 @@ found on a grid of half of π/ω₀ (extrema of the free response are ≥ π/ω�
 zero and back is seen as a sign change of F') and placed by bracketed Newton to round-off; peaks
 are the roots of F'. The grid is skipped wherever bounds (the free response's envelope and the
 polynomials' ranges) exclude a root or a new peak, or keep a form monotone
-(:func:`clutchlab._engagement_kernel._linear_segment`). Works are exact integrals: of
+(:func:`clutchlab.engagement._kernel._linear_segment`). Works are exact integrals: of
 polynomials, and of Q·h by the recursion K·∫Q·h = −m[Q·h'] + m[Q'·h] − c[Q·h] + c∫Q'·h − m∫Q''·h;
 the damping work from the oscillator's energy balance c∫θ'² = ∫f·θ' − Δ(½mθ'² + ½Kθ²).
 """
