@@ -8,6 +8,8 @@ from scipy.optimize import brentq
 from clutchlab import engagement as eng
 from clutchlab import status as st
 from clutchlab.bench import engagement as benchmark
+from clutchlab.engagement import _profile
+from clutchlab.engagement._simulate import parameter_table
 from clutchlab.published import DIAPHRAGM_CLUTCH as PUB
 
 # Seed 000 reproduction (PHYSICS.md): engine held at 570 rad/s, capacity ramped 0 -> 239.3 N m
@@ -144,7 +146,7 @@ def _long_step_setup():
         stribeck_speed=10.0,
     )
     tight = dict(rtol=1e-12, atol=1e-12, t_end=1.0)
-    q, _ = eng._parameter_table(
+    q, _ = parameter_table(
         **args,
         profile="ramp",
         driven_speed=0.0,
@@ -558,11 +560,11 @@ def _exact_slip_jerk(d, profile, lockup_time):
     """max of dC/dt/J_v over the moving slip [t0, t_lock] of a held engine: C = C_max·max(0,
     1 − κ(1 − p(t/t_r))) rises from the cushion touch p = 1 − 1/κ, the driven side moves from
     C = T_m, and p' (6x(1 − x), 30x²(1 − x)²) is largest at x = 1/2: 1.5 and 1.875."""
-    c, k = eng._P[profile], d["release_ratio"]
-    x0 = eng._invert_profile(1.0 - (1.0 - d["load_torque"] / d["peak_capacity"]) / k, profile)
+    c, k = _profile._P[profile], d["release_ratio"]
+    x0 = _profile._invert_profile(1.0 - (1.0 - d["load_torque"] / d["peak_capacity"]) / k, profile)
     x1 = np.minimum(lockup_time / d["ramp_time"], 1.0)
     x = np.clip(0.5, x0, x1)
-    dp = eng._polyval(np.polynomial.polynomial.polyder(c), x)
+    dp = _profile._polyval(np.polynomial.polynomial.polyder(c), x)
     return d["peak_capacity"] * k * dp / (d["ramp_time"] * d["driven_inertia"])
 
 
