@@ -132,8 +132,6 @@ def test_stribeck_against_dop853():
 
 def _long_step_setup():
     """A Stribeck engagement (held engine) and its lock-up time from simulate at rtol 1e-12."""
-    from clutchlab.engagement import _kernel as k
-
     args = dict(
         engine_speed=500.0,
         engine_inertia=np.inf,
@@ -160,23 +158,27 @@ def _long_step_setup():
         release_ratio=1.0,
         t_end=1.0,
     )
-    return k, q[0], args, tight, float(eng.simulate(**args, **tight)["lockup_time"])
+    return q[0], args, tight, float(eng.simulate(**args, **tight)["lockup_time"])
 
 
 def test_event_location_over_long_steps():
     """The LOCK event of one long DOPRI5 step (rtol 1e-2: the continuous extension is far off) located
-    by _locate: the returned state has zero slip, the time is as close to the true lock-up as the
+    by locate: the returned state has zero slip, the time is as close to the true lock-up as the
     root of the step map itself (the integrator's own solution) to within 0.5 ms (a quarter of
     that step's own lock-up error), the secant on the true function is exercised (more than one
     re-integration); a located step that fails the tolerance is returned as such (the caller
     shortens the step)."""
-    k, q, args, tight, t_lock = _long_step_setup()
+    from clutchlab.engagement import _dopri, _events, _physics
+    from clutchlab.engagement._layout import LOCK, E, H, Mode, Work
+
+    q, args, tight, t_lock = _long_step_setup()
+    mode = Mode(locked=False, parked=False, sign=1.0, compliant=False, profile=0)
 
     def step(t, y, h):
         d = np.zeros(8)
-        k._forces(t, y, q, False, False, 1.0, False, 0, d)
+        _physics.forces(t, y, q, mode, d)
         kk, yi, y1, err = np.zeros((7, 8)), np.zeros(8), np.zeros(8), np.zeros(8)
-        k._dopri(t, y, h, q, False, False, 1.0, False, 0, d, kk, yi, y1, err)
+        _dopri.step(t, y, h, q, mode, d, kk, yi, y1, err)
         return d, kk, y1
 
     n_iterated = n_failed = 0
@@ -188,45 +190,23 @@ def test_event_location_over_long_steps():
         (0.10, 0.5, 1e-4),
     ):
         y = np.zeros(8)
-        y[k.E] = 500.0
-        y[k.H] = eng.simulate(**args, **tight, trace_times=[t])["trace"]["hub_speed"][0]
+        y[E] = 500.0
+        y[H] = eng.simulate(**args, **tight, trace_times=[t])["trace"]["hub_speed"][0]
         h = (t_lock - t) / frac
         d, kk, y1 = step(t, y, h)
         rc = np.zeros((5, 8))
-        k._dense_coefficients(y, y1, kk, h, rc)
-        w = [np.zeros(8) for _ in range(6)]
-        tau, nv, n_re = k._locate(
-            k.LOCK,
-            t,
-            y,
-            d,
-            rc,
-            h,
-            h,
-            500.0 - y[k.H],
-            q,
-            False,
-            False,
-            1.0,
-            False,
-            0,
-            rtol,
-            rtol,
-            kk,
-            w[0],
-            w[1],
-            np.zeros(5),
-            w[2],
-            w[3],
-            w[4],
-            w[5],
-        )
+        _dopri.dense_coefficients(y, y1, kk, h, rc)
+        vec = {n: np.zeros(8) for n in Work._fields}
+        vec.update(y=y, d=d, y1=y1, kk=kk, rc=rc)
+        vec.update({n: np.zeros(5) for n in ("g", "g1", "gm", "tau_hi", "ths")}, pk=np.zeros(3))
+        w = Work(**vec)
+        tau, nv, n_re = _events.locate(LOCK, t, h, h, 500.0 - y[H], q, mode, rtol, rtol, w)
         assert 0.0 < tau <= h
         if nv > 1.0:
             n_failed += 1
             continue
-        root = brentq(lambda x: 500.0 - step(t, y, x)[2][k.H], 1e-9, h, xtol=1e-15)  # noqa: B023 (called in this iteration)
-        assert abs(500.0 - w[2][k.H]) <= 1e-9 * 500.0
+        root = brentq(lambda x: 500.0 - step(t, y, x)[2][H], 1e-9, h, xtol=1e-15)  # noqa: B023 (called in this iteration)
+        assert abs(500.0 - w.ya[H]) <= 1e-9 * 500.0
         assert abs(t + tau - t_lock) <= abs(t + root - t_lock) + 5e-4
         n_iterated += n_re > 1
     assert n_iterated >= 2 and n_failed >= 1

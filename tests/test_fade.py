@@ -1,7 +1,7 @@
 """Issue 20 items 4 and 5: friction fade μ(T) with the friction face's temperature as a solver
 state, and μ(slip) from a table — each against an analytic solution or an independent reference.
 
-The face temperature state (clutchlab.engagement._kernel): Duhamel's integral of the slip power
+The face temperature state (clutchlab.engagement._fade): Duhamel's integral of the slip power
 with the kernel 1/√s split into a smooth part (15 exponential modes, states) and a singular part
 taken quasi-statically. References: the semi-infinite body's constant- and ramp-flux solutions,
 and clutchlab.reference.rigid_fade (Picard iteration on the face temperature with the exact
@@ -16,7 +16,8 @@ from scipy.special import erf, erfc
 
 from clutchlab import engagement, heat, reference
 from clutchlab import status as st
-from clutchlab.engagement import _kernel as k
+from clutchlab.engagement import _fade as k
+from clutchlab.engagement import _works
 
 K_FACE = float(heat.face_temperature_rise(1.0, 0.1125, 0.075, 2))  # K per W s^0.5, seed 000 lining
 SEED = dict(
@@ -387,7 +388,7 @@ def test_closed_form_flash_peak_converges_at_second_order(profile, monkeypatch):
     )
     peaks = {}
     for m in (24, 48, 96, 1300):
-        monkeypatch.setattr(engagement, "CLOSED_FORM_POWER_SAMPLES", m)
+        monkeypatch.setattr(_works, "CLOSED_FORM_POWER_SAMPLES", m)
         peaks[m] = engagement.closed_form(**kw, power_history=True)["flash_peak"]
     assert np.isfinite(peaks[1300]).all()
     err = {m: np.abs(peaks[m] / peaks[1300] - 1).max() for m in (24, 48, 96)}

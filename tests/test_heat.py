@@ -215,7 +215,7 @@ def test_duhamel_peak_of_the_kernel_coarse_to_fine_equals_every_sample():
     same maximum as evaluating every sample, on slip power histories with one and with two bursts;
     its integral at each sample equals heat.duhamel_surface_temperature's (the same exact segment
     integrals), and the peak between samples lies within 1 % above the best sample."""
-    from clutchlab.engagement import _kernel as k
+    from clutchlab.engagement import _power as k
 
     rng = np.random.default_rng(5)
     for case in range(40):

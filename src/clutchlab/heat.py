@@ -562,7 +562,7 @@ def engagement_heat(
 def kernel_modes(cut=4000.0, span=10.0, ratio=2.5, top=4.0):
     """The exponential modes of the smooth part of Duhamel's kernel that the engagement solver
     integrates for the friction-face temperature (friction fade; constants of
-    :mod:`clutchlab.engagement._kernel`, which this regenerates): (λ_k [1/s], w_k [s^-0.5]) with
+    :mod:`clutchlab.engagement._fade`, which this regenerates): (λ_k [1/s], w_k [s^-0.5]) with
     Σ w_k e^{−λ_k s} ≈ erf(√(λ_c s))/√s on s ∈ [0, span], by non-negative least squares weighted by
     √s (the error relative to the whole kernel 1/√s), λ_k geometric with ``ratio`` from
     ``top``·λ_c down to 0.1/span; modes of zero weight dropped. ``cut`` [1/s], ``span`` [s] and

@@ -239,7 +239,7 @@ def rigid_fade(p, *, rtol=1e-12, samples=20001, iterations=40, tol=1e-10):
     kernel's own :func:`duhamel_at`, O(n²)). Stops when the lock-up time changes by less than
     ``tol`` (relative). Returns dict(lockup_time, slip_work, peak_face_rise, times, face_rise,
     iterations)."""
-    from .engagement._kernel import duhamel_at
+    from .engagement._power import duhamel_at
 
     we0, jv, tm, cmax, tr = (
         float(p[k])

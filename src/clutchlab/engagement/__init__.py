@@ -20,15 +20,22 @@ Two solvers, one contract (same inputs, same metrics):
   step's left end and a Newton correction), i.e. to the integrator's accuracy, not to the step
   size.
 
-The package's modules (private; this one is the public API):
+The package's modules (private; this one is the public API), in the manner of
+``scipy.integrate._ivp``:
 
 * ``_profile`` — clamp profiles and the release-bearing travel model;
 * ``_domain`` — the admissible inputs (screening) and the checks of the shared options;
 * ``_closed_form`` — :func:`closed_form`'s driver; ``_lockup`` its phases and the lock-up root;
   ``_works`` its work integrals, peaks and slip power samples;
 * ``_simulate`` — :func:`simulate`'s driver: screening, the parameter table, the results;
-* ``_kernel`` — the compiled solver of :func:`simulate` (numba); ``_linear_forms`` the
-  polynomial forms of the compliant model's exact linear phases.
+* the compiled solver of :func:`simulate` (numba, allocation-free): ``_layout`` (the parameter,
+  state, result and trace columns, event codes and the named records the kernels pass),
+  ``_physics`` (forces, jerk, switching functions), ``_friction`` (the slipping friction law),
+  ``_fade`` (the friction face's temperature modes and the fade factor), ``_dopri`` (the
+  Dormand-Prince stepper and its step-size control), ``_events`` (event detection and
+  location), ``_peaks`` (peak metrics inside steps), ``_power`` (the slip power history and its
+  Duhamel integral), ``_linear_forms`` and ``_linear_phase`` (the compliant model's exact linear
+  phases), ``_driver`` (one scenario's loop and the batch).
 
 References
 ----------

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import status as st
-from ._kernel import SOE_TMAX
+from ._fade import SOE_TMAX
 
 # plausible limits of dimensionless inputs (beyond them a value is a slip, never a clutch)
 MAX_STATIC_RATIO = 10.0  # μ_s/μ_k (dry friction: 1 to about 1.5)

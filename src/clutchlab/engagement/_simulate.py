@@ -12,11 +12,12 @@ from __future__ import annotations
 import numpy as np
 
 from .. import status as st
-from . import _kernel as _k
+from . import _layout as lay
 from ._domain import DOMAIN_SIMULATE, check_solver_options, check_table
+from ._driver import simulate_batch
 from ._profile import PROFILES, _check_profile, _invert_profile
 
-EVENT_TIME_TOL = _k.EVENT_TIME_TOL  # s: bracket width at which an event time is final
+EVENT_TIME_TOL = lay.EVENT_TIME_TOL  # s: bracket width at which an event time is final
 
 
 def simulate(
@@ -72,8 +73,14 @@ def simulate(
     loop over scenarios is compiled with numba; a fresh starting step (Hairer's HINIT) is
     estimated at t = 0 and after every mode switch.
 
-    Parameters are those of :func:`closed_form` plus:
-
+    Parameters
+    ----------
+    engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque : array_like
+        As in :func:`closed_form`: ω_e(0) [rad/s], J_e [kg m²] (``inf``: held), T_e [N m],
+        J_v [kg m²], T_m ≥ 0 [N m].
+    peak_capacity, ramp_time, profile, static_ratio, driven_speed : array_like
+        As in :func:`closed_form`: C_max [N m] (at μ_k), t_r [s], the clamp profile, μ_s/μ_k [-],
+        ω_c(0) [rad/s].
     stribeck_speed : array_like
         v_s [rad/s] of μ(v) = μ_k·[1 + (μ_s/μ_k − 1)·exp(−(v/v_s)²)]; ``inf`` gives constant μ_k
         while slipping (μ_s then applies only to sticking).
@@ -112,8 +119,18 @@ def simulate(
         ``damper_stiffness`` [N m/rad] and viscous damping of the given ``damping_ratio`` on the
         hub-output mode. Gives a finite output jerk; as the stiffness grows it tends to the rigid
         model.
+    hub_fraction : array_like
+        Share of J_v on the plate hub [-] (compliant model).
+    damper_stiffness : array_like
+        Torsional stiffness of the damper springs [N m/rad] (compliant model; the source paper
+        (000)'s damper, eqs. 4-9: 4498 N m/rad).
+    damping_ratio : array_like
+        ζ [-] of the viscous damping on the hub-output mode (compliant model).
+    t_end : array_like
+        End of the window [s] (finite, > 0).
     rtol, atol : float
-        Error tolerances of the step-size control.
+        Relative [-] and absolute (in the state's units) error tolerances of the step-size
+        control.
     max_step : float
         Largest step [s] (bounds the node spacing of peak metrics).
     first_step : float or None
@@ -235,7 +252,7 @@ def _simulate(
         if trace_times is None
         else np.ascontiguousarray(trace_times, dtype=float).ravel()
     )
-    res, trace = _k.simulate_batch(
+    res, trace = simulate_batch(
         Q,
         bool(compliant),
         PROFILES.index(profile),
@@ -250,14 +267,14 @@ def _simulate(
     out = _outputs(res, shape)
     if trace_times is not None:
         out["trace"] = {
-            name: trace[:, :, i].reshape(shape + (tt.size,)) for i, name in enumerate(_k.TRACES)
+            name: trace[:, :, i].reshape(shape + (tt.size,)) for i, name in enumerate(lay.TRACES)
         }
     return out
 
 
 # metrics an event after the window would change: NaN in a ``truncated`` scenario
 _TRUNCATED_NAN = [
-    getattr(_k, n.upper())
+    getattr(lay, n.upper())
     for n in (
         "lockup_time",
         "breakaway_time",
@@ -277,7 +294,7 @@ _TRUNCATED_NAN = [
 _METRIC_COLUMNS = np.array(
     [
         not (n.startswith("n_") or n in ("final_locked", "hit_step_limit", "truncated"))
-        for n in _k.RESULTS
+        for n in lay.RESULTS
     ]
 )
 
@@ -286,24 +303,24 @@ def _outputs(res, shape):
     """The returned metrics (scenario shape) and statuses from the kernel's result columns: NaN
     where a scenario was truncated (the metrics an event after the window would change) or ran
     out of work (every metric; the solver counts say how far it got)."""
-    truncated = res[:, _k.TRUNCATED] > 0
-    res[truncated[:, None] & np.isin(np.arange(_k.N_RESULTS), _TRUNCATED_NAN)[None, :]] = np.nan
+    truncated = res[:, lay.TRUNCATED] > 0
+    res[truncated[:, None] & np.isin(np.arange(lay.N_RESULTS), _TRUNCATED_NAN)[None, :]] = np.nan
     # out of work: every metric is partial (the solver counts say how far it got)
-    res[(res[:, _k.HIT_STEP_LIMIT] > 0)[:, None] & _METRIC_COLUMNS[None, :]] = np.nan
+    res[(res[:, lay.HIT_STEP_LIMIT] > 0)[:, None] & _METRIC_COLUMNS[None, :]] = np.nan
     out = {
         name: res[:, i].reshape(shape)
-        for i, name in enumerate(_k.RESULTS)
+        for i, name in enumerate(lay.RESULTS)
         if name not in ("final_locked", "hit_step_limit", "truncated")
     }
     for name in ("n_steps", "n_linear"):
         out[name] = out[name].astype(np.int64)
     code = np.where(
-        res[:, _k.HIT_STEP_LIMIT] > 0,
+        res[:, lay.HIT_STEP_LIMIT] > 0,
         st.CODE["not_converged"],
         np.where(
             truncated,
             st.CODE["truncated"],
-            np.where(res[:, _k.FINAL_LOCKED] > 0, st.CODE["ok"], st.CODE["never_locked"]),
+            np.where(res[:, lay.FINAL_LOCKED] > 0, st.CODE["ok"], st.CODE["never_locked"]),
         ),
     )
     out["status"] = code.astype(st.DTYPE).reshape(shape)
@@ -342,27 +359,27 @@ def parameter_table(
     if profile not in PROFILES:
         raise ValueError(f"profile must be one of {PROFILES}, got {profile!r}")
     vals = {
-        _k.WE0: engine_speed,
-        _k.JE: engine_inertia,
-        _k.TE: engine_torque,
-        _k.JV: driven_inertia,
-        _k.TM0: load_torque,
-        _k.CMAX: peak_capacity,
-        _k.TR: ramp_time,
-        _k.RS: static_ratio,
-        _k.VS: stribeck_speed,
-        _k.WC0: driven_speed,
-        _k.KA: aero_coefficient,
-        _k.DTM: load_step,
-        _k.TSTEP: load_step_time,
-        _k.PHI: hub_fraction,
-        _k.K: damper_stiffness,
-        _k.ZETA: damping_ratio,
-        _k.TEND: t_end,
-        _k.KAPPA: release_ratio,
-        _k.FADE: fade_coefficient,
-        _k.FADE_ON: fade_onset,
-        _k.FACE_K: face_temperature_factor,
+        lay.WE0: engine_speed,
+        lay.JE: engine_inertia,
+        lay.TE: engine_torque,
+        lay.JV: driven_inertia,
+        lay.TM0: load_torque,
+        lay.CMAX: peak_capacity,
+        lay.TR: ramp_time,
+        lay.RS: static_ratio,
+        lay.VS: stribeck_speed,
+        lay.WC0: driven_speed,
+        lay.KA: aero_coefficient,
+        lay.DTM: load_step,
+        lay.TSTEP: load_step_time,
+        lay.PHI: hub_fraction,
+        lay.K: damper_stiffness,
+        lay.ZETA: damping_ratio,
+        lay.TEND: t_end,
+        lay.KAPPA: release_ratio,
+        lay.FADE: fade_coefficient,
+        lay.FADE_ON: fade_onset,
+        lay.FACE_K: face_temperature_factor,
     }
     arrs = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in vals.values()))
     Q = _table_columns(arrs[0].size, engine_torque_table, friction_table)
@@ -383,12 +400,12 @@ def _table_columns(n, engine_torque_table, friction_table):
         fx, fy = check_table(
             friction_table, "friction_table", "slip speeds", "friction ratios", True
         )
-    ftab = _k.N_PARAM + 1 + 2 * tx.size  # the shared tables ride on every row
+    ftab = lay.N_PARAM + 1 + 2 * tx.size  # the shared tables ride on every row
     Q = np.empty((n, ftab + (1 + 2 * fx.size if fx.size else 0)))
-    Q[:, _k.NTAB] = tx.size
-    Q[:, _k.NTAB + 1 : _k.NTAB + 1 + tx.size] = tx
-    Q[:, _k.NTAB + 1 + tx.size : ftab] = ty
-    Q[:, _k.FTAB] = ftab if fx.size else 0.0
+    Q[:, lay.NTAB] = tx.size
+    Q[:, lay.NTAB + 1 : lay.NTAB + 1 + tx.size] = tx
+    Q[:, lay.NTAB + 1 + tx.size : ftab] = ty
+    Q[:, lay.FTAB] = ftab if fx.size else 0.0
     if fx.size:
         Q[:, ftab] = fx.size
         Q[:, ftab + 1 : ftab + 1 + fx.size] = fx
@@ -399,19 +416,21 @@ def _table_columns(n, engine_torque_table, friction_table):
 def _derived_columns(Q, profile):
     """Columns computed once from the inputs: the cushion's touch time, the held flag, 1/J_e,
     the hub and output inertias and the damper's viscous coefficient."""
-    kappa = Q[:, _k.KAPPA]
+    kappa = Q[:, lay.KAPPA]
     with np.errstate(divide="ignore"):  # the cushion is touched (kink of C(t)) where p = 1 − 1/κ
-        Q[:, _k.TCON] = np.where(
-            kappa > 1.0, Q[:, _k.TR] * _invert_profile(1.0 - 1.0 / kappa, profile), 0.0
+        Q[:, lay.TCON] = np.where(
+            kappa > 1.0, Q[:, lay.TR] * _invert_profile(1.0 - 1.0 / kappa, profile), 0.0
         )
-    held = ~np.isfinite(Q[:, _k.JE])
-    Q[:, _k.HELD] = held
-    Q[:, _k.INV_JE] = np.where(held, 0.0, 1.0 / np.where(held, 1.0, Q[:, _k.JE]))
-    Q[:, _k.JH] = Q[:, _k.PHI] * Q[:, _k.JV]
-    Q[:, _k.JR] = (1.0 - Q[:, _k.PHI]) * Q[:, _k.JV]
+    held = ~np.isfinite(Q[:, lay.JE])
+    Q[:, lay.HELD] = held
+    Q[:, lay.INV_JE] = np.where(held, 0.0, 1.0 / np.where(held, 1.0, Q[:, lay.JE]))
+    Q[:, lay.JH] = Q[:, lay.PHI] * Q[:, lay.JV]
+    Q[:, lay.JR] = (1.0 - Q[:, lay.PHI]) * Q[:, lay.JV]
     with np.errstate(invalid="ignore"):
-        Q[:, _k.CD] = np.where(
-            np.isfinite(Q[:, _k.K]),
-            2.0 * Q[:, _k.ZETA] * np.sqrt(Q[:, _k.K] * Q[:, _k.JH] * Q[:, _k.JR] / Q[:, _k.JV]),
+        Q[:, lay.CD] = np.where(
+            np.isfinite(Q[:, lay.K]),
+            2.0
+            * Q[:, lay.ZETA]
+            * np.sqrt(Q[:, lay.K] * Q[:, lay.JH] * Q[:, lay.JR] / Q[:, lay.JV]),
             0.0,
         )

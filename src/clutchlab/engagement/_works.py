@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernel import flash_peaks
+from ._power import flash_peaks
 from ._profile import _P, _polyval
 
 CLOSED_FORM_POWER_SAMPLES = 96  # slip power samples on each polynomial piece (flash_peak)
