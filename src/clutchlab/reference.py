@@ -50,10 +50,14 @@ def compliant(  # noqa: C901
     follow=0.3,
     profile="ramp",
     max_step=np.inf,
+    power_samples=0,
 ):
     """One scenario (``p``: the keyword arguments of :func:`clutchlab.engagement.simulate`, scalars)
     by per-mode ``solve_ivp``; returns dict(lockup_time, slip_work, peak_jerk, peak_friction_torque,
-    status 'ok'/'never_locked')."""
+    status 'ok'/'never_locked'). With friction fade (``fade_coefficient`` > 0) the face temperature
+    is the solver's state model (its kernel modes and quasi-static part, integrated here with the
+    mechanics). With ``power_samples`` > 0 also ``flash_peak``: the peak of Duhamel's integral of the
+    slip power, sampled on the dense output about ``power_samples`` times a window."""
     we0, je, te = p["engine_speed"], p.get("engine_inertia", np.inf), p.get("engine_torque", 0.0)
     jv, tm, cmax, tr = p["driven_inertia"], p["load_torque"], p["peak_capacity"], p["ramp_time"]
     rs, vs = p.get("static_ratio", 1.0), p.get("stribeck_speed", np.inf)
@@ -82,21 +86,50 @@ def compliant(  # noqa: C901
     def mu_f(slip):
         return _slip_law(slip, rs, vs, table)
 
+    beta = p.get("fade_coefficient", 0.0)
+    fade = beta > 0.0
+    if (
+        fade
+    ):  # the solver's face-temperature state: its kernel modes (the same model, integrated here)
+        from .engagement._fade import SOE_LAMBDA, SOE_M0, SOE_WEIGHT
+
+        kf, on = p["face_temperature_factor"], p.get("fade_onset", 0.0)
+
+    def fade_factor(y, p0):
+        """g solving ΔT = K·(Σ w_k·z_k + M0·P0·g), g = 1/(1 + β(ΔT − ΔT_on)⁺) (a quadratic)."""
+        if not fade:
+            return 1.0
+        slow = kf * float(np.dot(SOE_WEIGHT, y[5:]))
+        a, cc = kf * SOE_M0 * p0, slow - on
+        if cc + a <= 0.0:
+            return 1.0
+        b = 1.0 - beta * cc
+        u = (-b + math.sqrt(b * b + 4.0 * beta * (cc + a))) / (2.0 * beta)
+        return 1.0 / (1.0 + beta * u)
+
+    def torque(t, y, s):
+        """The slipping clutch torque s·f·g·C."""
+        f = mu_f(y[0] - y[1])
+        return s * f * fade_factor(y, f * cap(t) * abs(y[0] - y[1])) * cap(t)
+
     def rhs_factory(locked, parked, s):
         def rhs(t, y):
-            we, wh, wr, th, _ = y
+            we, wh, wr, th = y[:4]
             ts = k * th + c * (wh - wr)
             if locked:
                 a = 0.0 if held else (te - ts) / (je + jh)
                 dwe = dwh = a
                 tc_slip = 0.0
             else:
-                tc = s * mu_f(we - wh) * cap(t)
+                tc = torque(t, y, s)
                 dwh = (tc - ts) / jh
                 dwe = 0.0 if held else (te - tc) / je
                 tc_slip = tc * (we - wh)
             dwr = 0.0 if parked else (ts - tm) / jr
-            return [dwe, dwh, dwr, wh - wr, tc_slip]
+            out = [dwe, dwh, dwr, wh - wr, tc_slip]
+            if fade:
+                out += list(tc_slip - SOE_LAMBDA * y[5:])
+            return out
 
         return rhs
 
@@ -110,7 +143,8 @@ def compliant(  # noqa: C901
         d = rhs(t, y)
         return (k * (y[1] - y[2]) + c * (d[1] - d[2])) / jr
 
-    y = np.array([we0, 0.0, 0.0, 0.0, 0.0])
+    y = np.array([we0, 0.0, 0.0, 0.0, 0.0] + ([0.0] * SOE_LAMBDA.size if fade else []))
+    power = []  # (times, slip power) of the slipping pieces, for the face temperature
     t, locked, parked, s = 0.0, False, tm > 0.0, 1.0
     t_lock, peak_jerk, peak_torque = np.nan, 0.0, 0.0
     period = 2 * math.pi / math.sqrt(k * (1 / jh + 1 / jr))
@@ -153,11 +187,19 @@ def compliant(  # noqa: C901
             rtol=rtol,
             atol=atol,
             events=events,
-            dense_output=(jerk_peak == "dense"),
+            dense_output=(jerk_peak == "dense" or bool(power_samples)),
             max_step=max_step,
         )
         t_stop = sol.t[-1]
         y_stop = sol.y[:, -1].copy()
+        if power_samples and not locked and t_stop > t:
+            ts_ = np.linspace(t, t_stop, max(int(power_samples * (t_stop - t) / t_end), 8) + 1)
+            ys_ = sol.sol(ts_) if sol.sol is not None else None
+            if ys_ is not None:
+                pw = [
+                    torque(tt, yy, s) * (yy[0] - yy[1]) for tt, yy in zip(ts_, ys_.T, strict=False)
+                ]
+                power.append((ts_, np.array(pw)))
         # peaks over this piece
         if jerk_peak == "dense" and not parked:
             n = max(int(40 * (t_stop - t) / period), 8)
@@ -208,13 +250,33 @@ def compliant(  # noqa: C901
             parked = True
             y[2] = 0.0
     ok = locked and t_lock <= t_end
-    return dict(
+    out = dict(
         lockup_time=t_lock if ok else np.nan,
         slip_work=y[4],
         peak_jerk=peak_jerk,
         peak_friction_torque=peak_torque,
         status="ok" if ok else "never_locked",
     )
+    if power_samples:
+        out["flash_peak"] = _flash_peak(power, t_lock if ok else t_end)
+    return out
+
+
+def _flash_peak(pieces, t_last):
+    """max over t of ∫P(τ)/√(t − τ)dτ of the sampled slip power (linear between samples, every
+    segment exactly: the kernel's own formula, at every sample), the power zero after ``t_last``."""
+    from .engagement._power import duhamel_peak
+
+    if not pieces:
+        return 0.0
+    t = np.concatenate([pc[0] for pc in pieces])
+    pw = np.concatenate([pc[1] for pc in pieces])
+    keep = np.concatenate([[True], np.diff(t) > 0])
+    t, pw = t[keep], pw[keep]
+    after = np.linspace(t_last, t_last + 0.5 * (t_last - t[0]) + 1e-3, 400)[1:]
+    hist = np.vstack([np.concatenate([t, after]), np.concatenate([pw, np.zeros(after.size)])])
+    n = hist.shape[1]
+    return float(duhamel_peak(np.ascontiguousarray(hist), n, max(1, int(math.sqrt(n / 2.0)))))
 
 
 def _invert(prof, q):

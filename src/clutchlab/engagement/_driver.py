@@ -29,6 +29,7 @@ import math
 import numpy as np
 from numba import njit
 
+from ._colloc import new_colloc
 from ._dopri import control, copy, err_norm, initial_step, restart, retry_shorter, step
 from ._events import detect, locate_events
 from ._fade import decay_modes, face_rise_total
@@ -117,6 +118,7 @@ from ._linear_phase import follow_linear, linear_segment, new_forms, new_polys
 from ._peaks import jerk_torque, peaks_inside_step, record_peaks, scan_jerk
 from ._physics import events, forces, is_linear, jerk_varies, load_static, n_active
 from ._power import duhamel_peak, hist_add, hist_linear, hist_step, slip_spacing
+from ._slip_phase import applies, segment
 
 JIT = dict(cache=True, error_model="numpy", _nrt=False)
 INLINE = dict(JIT, inline="always")
@@ -129,14 +131,17 @@ def _mode(sc, compliant, prof):
 
 
 @njit(**INLINE)
-def _simulate_one(q, compliant, prof, tt, opts, out, trace, ws, fm, pl, hist, scs):
+def _simulate_one(q, compliant, prof, tt, opts, out, trace, ws, fm, pl, hist, scs, ec):
     """Integrate one scenario over [0, q[TEND]]; fill ``out`` (RESULTS) and ``trace`` (times ×
     TRACES). ``ws``: the batch's :class:`Work` arrays (allocating the ~18 small arrays per scenario
     cost more than a short engagement's integration); ``fm``, ``pl``: the linear phases' scratch
     (:mod:`clutchlab.engagement._linear_phase`); ``hist``: the slip power history; ``scs``: the
-    record of the driver's scalars (:data:`SCENARIO`).
+    record of the driver's scalars (:data:`SCENARIO`); ``ec``: the collocated slipping phases'
+    record (:class:`clutchlab.engagement._colloc.Colloc`).
 
-    Compliant model: linear phases (:func:`is_linear`) are advanced exactly, the others by DOPRI5.
+    Compliant model: linear phases (:func:`is_linear`) are advanced exactly, slipping phases with a
+    nonlinear friction law and a held engine (:func:`clutchlab.engagement._slip_phase.applies`) by
+    exponential collocation, the others by DOPRI5.
     A scenario locked at the window's end is followed until its peaks are final: a linear locked
     phase exactly to t = ∞; a nonlinear one (rotor drag, engine torque table) by DOPRI5 until its
     linearised hub-output oscillation has decayed by 1e-6. An event after the window (break-away,
@@ -144,6 +149,7 @@ def _simulate_one(q, compliant, prof, tt, opts, out, trace, ws, fm, pl, hist, sc
     sc = scs[0]
     w = _views(ws, N_STATE if q[FADE] > 0.0 else N_MECH)  # (the face temperature's modes with fade)
     _start(q, compliant, prof, tt, opts, out, trace, w, hist, sc)
+    ec.sc[0].h_next = 0.0  # (no collocation step proposed yet)
     # rigid driveline: the clamp profile's steepest point (x = 1/2 of the cubic and quintic steps)
     # is a breakpoint, so that the slip jerk dC/dt/J_v, largest there, is taken at a step node
     # (the cushion touch TCON, where a later steepest point is, is one already)
@@ -154,6 +160,10 @@ def _simulate_one(q, compliant, prof, tt, opts, out, trace, ws, fm, pl, hist, sc
                 break
             continue
         nb = _next_breakpoint(sc.t, sc.t_stop, q, t_rate, tt)
+        if compliant and applies(q, sc.locked):
+            if _slip_step(nb, q, compliant, prof, tt, opts, out, trace, w, hist, sc, ec):
+                break
+            continue
         if compliant and is_linear(q, sc.locked):
             if _linear_step(nb, q, compliant, prof, tt, opts, out, trace, w, fm, pl, hist, sc):
                 break
@@ -346,6 +356,33 @@ def _linear_step(nb, q, compliant, prof, tt, opts, out, trace, w, fm, pl, hist, 
         return True
     if kind >= 0:
         sc.effort += 1  # a mode switch (a restart at an event)
+        if sc.past:
+            out[TRUNCATED] = 1.0
+            return True
+        _switch(kind, q, mode, opts, out, w, sc)
+    else:
+        _at_breakpoint(nb, q, mode, tt, trace, w, sc)
+    return False
+
+
+@njit(**INLINE)
+def _slip_step(nb, q, compliant, prof, tt, opts, out, trace, w, hist, sc, ec):
+    """A slipping phase with a nonlinear friction law and a held engine advanced by exponential
+    collocation (:func:`clutchlab.engagement._slip_phase.segment`) to its first event (then the
+    mode switch) or to the breakpoint nb. Returns whether the scenario ends (out of work, or an
+    event after the window)."""
+    kind, used, n_acc, n_rej = segment(
+        ec, nb, q, prof, opts, w, hist, sc, opts.max_steps - sc.effort
+    )
+    sc.effort += used
+    sc.n_steps += n_acc + n_rej
+    out[N_REJECTED] += n_rej
+    if kind == OUT_OF_WORK:
+        sc.out_of_work = True
+        return True
+    mode = _mode(sc, compliant, prof)
+    if kind >= 0:
+        sc.effort += 1  # a mode switch
         if sc.past:
             out[TRUNCATED] = 1.0
             return True
@@ -614,17 +651,17 @@ def _energies(q, compliant, out, y):
 
 
 @njit(**JIT)
-def _batch_rigid(Q, prof, tt, opts, out, trace, ws, fm, pl, hist, scs):
+def _batch_rigid(Q, prof, tt, opts, out, trace, ws, fm, pl, hist, scs, ec):
     """Every scenario of the rigid model (the flag a constant: its branches compiled away)."""
     for i in range(Q.shape[0]):
-        _simulate_one(Q[i], False, prof, tt, opts, out[i], trace[i], ws, fm, pl, hist, scs)
+        _simulate_one(Q[i], False, prof, tt, opts, out[i], trace[i], ws, fm, pl, hist, scs, ec)
 
 
 @njit(**JIT)
-def _batch_compliant(Q, prof, tt, opts, out, trace, ws, fm, pl, hist, scs):
+def _batch_compliant(Q, prof, tt, opts, out, trace, ws, fm, pl, hist, scs, ec):
     """Every scenario of the compliant model."""
     for i in range(Q.shape[0]):
-        _simulate_one(Q[i], True, prof, tt, opts, out[i], trace[i], ws, fm, pl, hist, scs)
+        _simulate_one(Q[i], True, prof, tt, opts, out[i], trace[i], ws, fm, pl, hist, scs, ec)
 
 
 def new_work():
@@ -662,5 +699,6 @@ def simulate_batch(
     hist = np.empty((2, POWER_SAMPLES_MAX))  # the slip power history of one scenario
     scs = np.zeros(1, SCENARIO)
     run = _batch_compliant if compliant else _batch_rigid
-    run(Q, prof, tt, opts, out, trace, new_work(), new_forms(), new_polys(), hist, scs)
+    ec = new_colloc()  # the collocated slipping phases' record
+    run(Q, prof, tt, opts, out, trace, new_work(), new_forms(), new_polys(), hist, scs, ec)
     return out, trace
