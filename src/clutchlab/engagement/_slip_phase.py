@@ -42,7 +42,7 @@ from ._power import slip_spacing
 from ._slip_records import KNOT, first_event, history, record_peaks, works
 from ._slip_step import dense, step
 
-ERR_FACTOR = 10.0  # a step is accepted when its forcing's interpolation error is ≤ ERR_FACTOR·rtol
+ERR_FACTOR = 1.0  # a step is accepted when its forcing's interpolation error is ≤ ERR_FACTOR·rtol
 HMAX_PERIODS = 3.5  # longest step, in periods of the twist's oscillation (its nodes resolve it)
 BETA_MAX = 2.0  # largest |κ·h/2| of the mean mode (its power series)
 
