@@ -115,8 +115,18 @@ def _head(d, m):
 
 
 def _errors(values, ref):
-    """Largest relative error of each metric over the scenarios (values, ref: metric -> array)."""
-    return [float(np.max(np.abs(np.asarray(values[k]) - ref[k]) / np.abs(ref[k]))) for k in METRICS]
+    """Largest relative error of each metric over the scenarios (values, ref: metric -> array); a
+    value NaN where the reference is not (or the reverse: a scenario that locks up in one of them
+    only) is an infinite error."""
+    out = []
+    for k in METRICS:
+        v, r = np.asarray(values[k], dtype=float), np.asarray(ref[k], dtype=float)
+        if not np.array_equal(np.isfinite(v), np.isfinite(r)):
+            out.append(np.inf)
+            continue
+        ok = np.isfinite(r)
+        out.append(float(np.max(np.abs(v[ok] - r[ok]) / np.abs(r[ok]), initial=0.0)))
+    return out
 
 
 def _row(variant, method, setting, seconds, errs, scenarios, cpu=None):
@@ -156,9 +166,10 @@ def _reference(ref_d, n_ref, variant):
     t = time.perf_counter()
     refs = [reference.compliant(_scenario(ref_d, i), rtol=1e-13, atol=1e-13) for i in range(n_ref)]
     t_ref = (time.perf_counter() - t) / n_ref
-    assert all(r["status"] == "ok" for r in refs), "every reference scenario locks up"
+    n_ok = sum(r["status"] == "ok" for r in refs)
     print(
-        f"[{variant}] reference: scipy DOP853 rtol 1e-13, {n_ref} scenarios, {t_ref * 1e3:.0f} ms/scenario"
+        f"[{variant}] reference: scipy DOP853 rtol 1e-13, {n_ref} scenarios ({n_ok} lock up), "
+        f"{t_ref * 1e3:.0f} ms/scenario"
     )
     ref = {k: np.array([r[k] for r in refs]) for k in METRICS}
     row = _row(variant, "DOP853 reference (per scenario)", "rtol 1e-13", t_ref, [0.0] * 3, n_ref)

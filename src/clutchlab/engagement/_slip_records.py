@@ -46,7 +46,13 @@ from ._power import hist_add
 from ._slip_step import dense
 
 KNOT = 100  # an internal event: the slip crosses a friction table point (a step boundary only)
-SCAN_PER_PERIOD = 16.0  # samples a period of a dense scan (events, jerk peaks)
+SCAN_PER_PERIOD = 16.0  # samples a period of an event's dense scan
+JERK_PER_PERIOD = (
+    8.0  # samples a period of the jerk's dense scan (a local maximum brackets its peak)
+)
+GOLDEN_ITER = (
+    24  # golden-section steps: the bracket shrinks to 1e-5 (the peak value's error ~1e-10)
+)
 
 # ---- events on the dense solution ---------------------------------------------------------------
 
@@ -132,13 +138,14 @@ def free_amplitudes(ec, v_end):
 
 
 @njit(**JIT)
-def scan_count(ec, v_end):
-    """Samples of a dense scan of [−1, v_end]: 16 a period of the free response, at least NN."""
+def scan_count(ec, v_end, per_period):
+    """Samples of a dense scan of [−1, v_end]: ``per_period`` a period of the free response, at
+    least NN."""
     sc = ec.sc[0]
     tau = 0.5 * sc.h * (1.0 + v_end)
     if sc.w2 <= 0.0:
         return NN
-    return max(NN, int(math.ceil(SCAN_PER_PERIOD * tau * math.sqrt(sc.w2) / (2.0 * math.pi))) + 1)
+    return max(NN, int(math.ceil(per_period * tau * math.sqrt(sc.w2) / (2.0 * math.pi))) + 1)
 
 
 @njit(**JIT)
@@ -187,7 +194,7 @@ def first_event(ec, q, kinds_mask, rr, ra):
         if math.isnan(knot) or not _event_near(ec, q, kind, knot, amp, rr, ra):
             continue
         # the scan for the first sign change
-        m = scan_count(ec, best_v)
+        m = scan_count(ec, best_v, SCAN_PER_PERIOD)
         lo, g_lo = -1.0, node_event_values(ec, kind, 0, q, knot, rr, ra)
         for j in range(1, m + 1):
             v = -1.0 + (best_v + 1.0) * j / m
@@ -227,7 +234,7 @@ def _golden(ec, which, lo, hi, q):
     gr = 0.5 * (math.sqrt(5.0) - 1.0)
     x1, x2 = hi - gr * (hi - lo), lo + gr * (hi - lo)
     f1, f2 = _peak_value(ec, which, x1, q), _peak_value(ec, which, x2, q)
-    for _ in range(40):
+    for _ in range(GOLDEN_ITER):
         if f1 >= f2:  # the maximum in [lo, x2]
             hi, x2, f2 = x2, x1, f1
             x1 = hi - gr * (hi - lo)
@@ -268,7 +275,7 @@ def _refine(ec, which, values, n_in, v_end, end_value, q, best):
 def _jerk_scan(ec, v_end, q, best):
     """The output jerk oscillates with the free response: where the nodes' largest smooth part plus
     the free response's jerk amplitude reaches 0.9 of the running maximum ``best``, a dense scan
-    (16 samples a period) and golden section around its local maxima. Returns the new maximum."""
+    (JERK_PER_PERIOD samples a period) and golden section around its local maxima. Returns the new maximum."""
     sc = ec.sc[0]
     rh, rd = free_amplitudes(ec, v_end)
     k, c, mo, co, jr = q[K], q[CD], sc.mo, sc.co, q[JR]
@@ -288,16 +295,19 @@ def _jerk_scan(ec, v_end, q, best):
         jn = max(jn, abs((k * ec.thd[i] + c * thdd) / jr - jf))
     if jn + amp < 0.9 * best:
         return best
-    # the dense scan: a sample that is a local maximum within 0.9 of the maximum is refined
+    # the dense scan: a sample that is a local maximum within 0.9 of the maximum (the step's ends
+    # included: a peak just after an event or before the step's end) is refined between its
+    # neighbours
     sc.n_scan += 1
-    m = scan_count(ec, v_end)
+    m = scan_count(ec, v_end, JERK_PER_PERIOD)
     dv = (v_end + 1.0) / m
-    f_pp, f_p = -1.0, _peak_value(ec, PEAK_JERK_, -1.0, q)
-    for j in range(1, m + 1):
-        f = _peak_value(ec, PEAK_JERK_, -1.0 + dv * j, q)
+    f_pp, f_p = -np.inf, _peak_value(ec, PEAK_JERK_, -1.0, q)
+    for j in range(1, m + 2):
+        f = _peak_value(ec, PEAK_JERK_, -1.0 + dv * j, q) if j <= m else -np.inf
         best = max(best, f)
-        if j >= 2 and f_p >= f_pp and f_p >= f and f_p >= 0.9 * best:
-            best = max(best, _golden(ec, PEAK_JERK_, -1.0 + dv * (j - 2), -1.0 + dv * j, q))
+        if f_p >= f_pp and f_p >= f and f_p >= 0.9 * best:
+            lo, hi = -1.0 + dv * max(j - 2, 0), -1.0 + dv * min(j, m)
+            best = max(best, _golden(ec, PEAK_JERK_, lo, hi, q))
         f_pp, f_p = f_p, f
     return best
 
