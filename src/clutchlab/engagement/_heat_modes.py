@@ -2,11 +2,11 @@
 power P.
 
 Friction fade makes the friction face's temperature a state of the engagement solver
-(:mod:`clutchlab._engagement_kernel`): Duhamel's integral ∫ P(τ)/√(t − τ) dτ of the slip power with
+(:mod:`clutchlab.engagement._fade`): Duhamel's integral ∫ P(τ)/√(t − τ) dτ of the slip power with
 the smooth part of its kernel as a sum of exponentials Σ w_k·e^(−λ_k·s), i.e. modes
 z_k' = P − λ_k·z_k (λ_k from 0.01/s to 6 552/s). The modes are linear in P: over a step on which P
-is a polynomial (the exponential collocation of :mod:`clutchlab._slip_phase` interpolates it on
-the step's nodes) each is integrated exactly, so the step size follows the mechanics, not the
+is a polynomial (the exponential collocation of :mod:`clutchlab.engagement._colloc` interpolates it
+on the step's nodes) each is integrated exactly, so the step size follows the mechanics, not the
 stiffest mode (DOPRI5 had to stay below 3.3/λ_max ≈ 0.5 ms).
 
 With v = 2τ/h − 1 ∈ [−1, 1] and Λ = λh/2 the mode obeys dz/dv = −Λ·z + (h/2)·P(v):
