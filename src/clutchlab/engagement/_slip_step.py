@@ -319,6 +319,7 @@ def step(ec, q, prof, t0, h, y, parked, s, rtol):
     Anderson mixing) to a fixed point of the clutch torque at the nodes. Returns (converged, error
     estimate relative to the forcing's size); the solution is then in ec for :func:`dense` and the
     node rows."""
+    # the state at the step's start: twist, its rate and the mean speed
     jh, jr, k, c = q[JH], q[JR], q[K], q[CD]
     jv = jh + jr
     rr = jr / jv
@@ -326,19 +327,24 @@ def step(ec, q, prof, t0, h, y, parked, s, rtol):
     wr0 = 0.0 if parked else y[R]
     th0, thd0 = y[TH], wh0 - wr0
     wm0 = (jh * wh0 + jr * wr0) / jv
+    # the torque and its frozen slope γ there, the nodes and the oscillator with γ
     d0, gamma, slow0 = start(ec, q, prof, t0, y, parked, s)
     hw = setup(ec, t0, h, gamma, parked, jh, jr, k, c, we, load_static(t0, q), s, q, prof)
+    # with fade the face temperature's modes at the start and their decay at the nodes
     fade = q[FADE] > 0.0
     if fade:
         for m in range(NZ):
             ec.modes[m] = y[Z0 + m]
         node_decay(SOE_LAMBDA, h, NODES, ec.enode)
+    # the first guess: the hub speed along its start's rate, the law's torque for it
     predict(ec, q, d0, slow0, th0, thd0, wm0, parked)
     node_torques(ec, q, prof, rr)
     for i in range(NN):
         ec.d[i] = ec.gnew[i]
     converged = False
     scale = 1e-300
+    # Picard: the linear part solved for the torque's node values, the law's torque for its
+    # solution, until the torque changes by less than ITER_TOL·rtol (Anderson mixing)
     ec.sc[0].iters = MAXIT
     for it in range(MAXIT):
         forcings(ec, jh, jr)
@@ -356,6 +362,7 @@ def step(ec, q, prof, t0, h, y, parked, s, rtol):
         mix(ec, it)
     if not converged:
         return False, np.inf
+    # the error estimate: the forcings' last Chebyshev coefficients, relative to their size
     err = tail_error(ec.d) / scale
     fo_scale = 1e-300
     for i in range(NN):
