@@ -62,6 +62,13 @@ PROFILES = ("ramp", "cubic", "quintic")
 FRICTION_TABLE = (np.array([0.0, 5.0, 20.0, 60.0, 400.0]), np.array([1.3, 1.18, 1.05, 1.0, 0.97]))
 ENGINE_TABLE = (np.array([0.0, 200.0, 400.0, 700.0]), np.array([120.0, 150.0, 140.0, 90.0]))
 K_FACE = 8.858406279259717e-4  # K/(W s^0.5): the source paper (000)'s lining, one face
+#: the solver's modules besides clutchlab.engagement.*: the kernel and linear phases of the code
+#: before the engagement subpackage (a baseline saved from that code records their patches too)
+PACKAGE_MODULES = (
+    "clutchlab.engagement",
+    "clutchlab._engagement_kernel",
+    "clutchlab._linear_phase",
+)
 
 
 def _constants():
@@ -70,7 +77,7 @@ def _constants():
     out = {}
     for mod_name, mod in list(sys.modules.items()):
         if mod is None or not (
-            mod_name == "clutchlab.engagement" or mod_name.startswith("clutchlab.engagement.")
+            mod_name in PACKAGE_MODULES or mod_name.startswith("clutchlab.engagement.")
         ):
             continue
         for name, value in vars(mod).items():

@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import status as st
+from ._docs import fill
 from ._domain import DOMAIN
 from ._lockup import Drive, lockup_time
 from ._profile import _check_profile
@@ -17,6 +18,7 @@ from ._works import flash_peak, knots, peak_power, slip_jerk, works
 _BLOCK = 8192  # scenarios a block: ~4x faster than whole-array temporaries at 1e6 scenarios
 
 
+@fill
 def closed_form(
     *,
     engine_speed,
@@ -37,34 +39,15 @@ def closed_form(
     Engine side (eq. 1) J_e·dω_e/dt = T_e − T_c, driven side (eq. 2) J_v·dω_c/dt = T_c − T_m; while
     slipping T_c = C(t) = C_max·p(t/t_r), the driven side parked while C < T_m: the speeds are
     piecewise polynomials in t, lock-up a polynomial root (to round-off), the works exact
-    Gauss-Legendre sums.
+    Gauss-Legendre sums. Also the reference of :func:`simulate`.
 
     Parameters
     ----------
-    engine_speed : array_like
-        Initial engine speed ω_e(0) [rad/s].
-    engine_inertia : array_like
-        J_e [kg m²]; ``inf`` holds the engine at ω_e(0) (as in the source paper (000)'s
-        reproduction).
-    engine_torque : array_like
-        Constant engine torque T_e [N m] (ignored for a held engine).
-    driven_inertia : array_like
-        J_v [kg m²].
-    load_torque : array_like
-        Constant load torque T_m ≥ 0 [N m]; also the static torque that keeps a driven side at
-        rest parked.
-    peak_capacity : array_like
-        Kinetic torque capacity at full clamp C_max = z_f·μ_k·F_max·R_eff [N m] (eq. 13).
-    ramp_time : array_like
-        Clamp profile duration t_r [s]; 0 is a step.
-    profile : {"ramp", "cubic", "quintic"}
-        Clamp profile p (:func:`clamp_profile`).
-    static_ratio : array_like
-        μ_s/μ_k ≥ 1 [-] (static capacity after lock-up).
-    driven_speed : array_like
-        Initial driven speed 0 ≤ ω_c(0) ≤ ω_e(0) [rad/s].
-    t_end : array_like
-        End of the window [s]; a scenario not locked by then is ``never_locked``.
+    %(driveline)s
+    %(driven_speed)s
+    t_end : array_like [s]
+        End of the window (> 0, may be ``inf``); a scenario not locked by then is
+        ``never_locked``.
     power_history : bool
         Also return ``flash_peak`` (below).
 
@@ -77,18 +60,23 @@ def closed_form(
         ``capacity_at_lockup`` [N m], ``accel_jump`` [rad/s²] (driven acceleration after minus
         before lock-up; a rigid model has a Dirac jerk there), ``slip_jerk`` [rad/s³] (driven
         jerk dT_c/dt/J_v at the end of slip, eq. 12), ``status``. Works are over [0, t_lock]
-        (or [0, t_end] if never locked). A scenario with an input outside its domain (NaN; J ≤ 0;
-        T_m, C_max, t_r or ω_e < 0; μ_s/μ_k < 1; ω_c(0) outside [0, ω_e(0)]) has status
-        ``invalid_input`` and NaN outputs; the others are computed as if it were not there.
+        (or [0, t_end] if never locked).
+        %(screening)s
         With ``power_history``, ``flash_peak`` [W s^0.5] as :func:`simulate` gives it: the peak of
         Duhamel's integral ∫ P(τ)/√(t − τ) dτ of the exact slip power, sampled at
         ``CLOSED_FORM_POWER_SAMPLES`` points on each of its polynomial pieces (parked, moving on
         the profile, after it; P linear between samples, each segment integrated exactly).
 
+    See Also
+    --------
+    simulate : Every other friction law, load and driveline, numerically.
+    ramp_time_for_lockup : The ramp time of a wanted lock-up time.
+
     References
     ----------
     .. [1] Zhao P. (2026), source paper (000), eqs. (1), (2) (the two-inertia driveline),
-       (11) (slip work), (12) (jerk), (13) (torque capacity); Figs. 7-11.
+       (11) (slip work), (12) (jerk), (13)-(14) (torque capacity, two friction faces);
+       Figs. 7-11.
     """
     _check_profile(profile)
     return st.screened(
@@ -205,28 +193,33 @@ def _closed_form_flat(flat, profile, power_history=False):
 
 
 def ramp_time_for_lockup(target_lockup_time, **kwargs):
-    """Ramp time t_r that makes :func:`closed_form` lock up at ``target_lockup_time`` [s] (scalar).
+    """Ramp time t_r [s] that makes :func:`closed_form` lock up at ``target_lockup_time`` (scalar).
 
-    Used to reproduce the paper's "engagement shortened to 0.1 s / extended to 0.2 s" variants.
+    Used to reproduce the source paper (000)'s "engagement shortened to 0.1 s / extended to
+    0.2 s" variants: Brent's method on t_r ↦ t_lock(t_r) − target over [1e-6 s, 10·target].
 
     Parameters
     ----------
-    target_lockup_time : float
-        The lock-up time wanted [s].
+    target_lockup_time : float [s]
+        The lock-up time wanted (> 0 and plausible).
     **kwargs
-        The other (scalar) inputs of :func:`closed_form`.
+        The other inputs of :func:`closed_form` (scalars; not ``ramp_time``).
 
     Returns
     -------
     float
-        t_r [s] in [1e-6 s, 10·target]; NaN where the target is not a plausible time, an input is
-        invalid (:func:`closed_form` gives no lock-up time), or no ramp time in that bracket
-        reaches the target.
+        t_r [s] in [1e-6 s, 10·target] (to round-off); NaN where the target is not a plausible
+        time, an input is invalid (:func:`closed_form` gives no lock-up time), or no ramp time in
+        that bracket reaches the target.
+
+    See Also
+    --------
+    closed_form : The engagement whose lock-up time is matched.
 
     References
     ----------
-    .. [1] Zhao P. (2026), source paper (000), eqs. (1), (2) and the engagement variants of
-       Figs. 7-11.
+    .. [1] Zhao P. (2026), source paper (000), eqs. (1), (2), (11) and the engagement variants of
+       Figs. 7-11 (lock-up shortened to 0.1 s, extended to 0.2 s).
     """
     from scipy.optimize import brentq
 

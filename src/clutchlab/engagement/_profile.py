@@ -42,17 +42,21 @@ def clamp_profile(x, kind="ramp"):
 
     Parameters
     ----------
-    x : array_like
-        Time over ramp time t/t_r [-]; ±inf is before the start or after the end; NaN gives NaN.
+    x : array_like [-]
+        Time over ramp time t/t_r; ±inf is before the start or after the end; NaN gives NaN.
     kind : {"ramp", "cubic", "quintic"}
         The profile (ValueError for another): the linear ramp x, the cubic smooth step
         3x² − 2x³ or the quintic smooth step 10x³ − 15x⁴ + 6x⁵.
 
     Returns
     -------
-    numpy.ndarray
-        p(x) [-], C(t) = C_max·p(t/t_r) the kinetic torque capacity of eq. (13) as the clamp
+    numpy.ndarray [-]
+        p(x); C(t) = C_max·p(t/t_r) is the kinetic torque capacity of eq. (13) as the clamp
         force rises.
+
+    See Also
+    --------
+    bearing_travel_clamp : The clamp force when the profile is the release bearing's travel.
 
     References
     ----------
@@ -76,18 +80,19 @@ def bearing_travel_clamp(x, *, air_gap, cushion_travel, kind="ramp"):
 
     Parameters
     ----------
-    x : array_like
-        t/t_r [-] (see :func:`clamp_profile`).
-    air_gap : array_like
-        g ≥ 0 [m].
-    cushion_travel : array_like
-        c > 0 [m].
+    x : array_like [-]
+        Time over ramp time t/t_r (see :func:`clamp_profile`).
+    air_gap : array_like [m]
+        Air gap g ≥ 0 between pressure plate and lining at full release.
+    cushion_travel : array_like [m]
+        Travel c > 0 of the lining cushion from touch to full clamp.
     kind : {"ramp", "cubic", "quintic"}
+        The bearing travel's profile (:func:`clamp_profile`).
 
     Returns
     -------
-    numpy.ndarray
-        F/F_B [-]; NaN where x is NaN or g, c are not finite, negative (c: not positive) or of
+    numpy.ndarray [-]
+        F/F_B; NaN where x is NaN or g, c are not finite, negative (c: not positive) or of
         an implausible magnitude (:mod:`clutchlab.plausible`).
 
     References

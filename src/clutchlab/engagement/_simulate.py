@@ -13,13 +13,53 @@ import numpy as np
 
 from .. import status as st
 from . import _layout as lay
+from ._docs import fill
 from ._domain import DOMAIN_SIMULATE, check_solver_options, check_table
 from ._driver import simulate_batch
 from ._profile import PROFILES, _check_profile, _invert_profile
 
 EVENT_TIME_TOL = lay.EVENT_TIME_TOL  # s: bracket width at which an event time is final
+#: simulate's arguments screened per scenario (DOMAIN_SIMULATE), in the order _simulate gets them
+SCREENED = (
+    "engine_speed",
+    "engine_inertia",
+    "engine_torque",
+    "driven_inertia",
+    "load_torque",
+    "peak_capacity",
+    "ramp_time",
+    "static_ratio",
+    "stribeck_speed",
+    "driven_speed",
+    "aero_coefficient",
+    "load_step",
+    "load_step_time",
+    "hub_fraction",
+    "damper_stiffness",
+    "damping_ratio",
+    "release_ratio",
+    "t_end",
+    "fade_coefficient",
+    "fade_onset",
+    "face_temperature_factor",
+)
+#: simulate's arguments shared by all scenarios (options of the batch)
+OPTIONS = (
+    "profile",
+    "engine_torque_table",
+    "friction_table",
+    "compliant",
+    "rtol",
+    "atol",
+    "max_step",
+    "first_step",
+    "max_steps",
+    "trace_times",
+    "power_history",
+)
 
 
+@fill
 def simulate(
     *,
     engine_speed,
@@ -57,172 +97,88 @@ def simulate(
 ):
     """Engagement by a Dormand-Prince 5(4) integrator with exact stick-slip events.
 
-    Every scenario has its own step sizes; steps end on breakpoints (profile end, load step, trace
-    times, end). Events — LOCK (slip reaches zero), BREAK (the torque needed to stay stuck exceeds
-    the static capacity μ_s/μ_k·C), UNPARK / PARK (a driven side held by its static load starts or
-    stops), PEAK (maximum slip power) — are detected at the step end, the step middle and the
-    interior extrema of the cubic Hermite interpolant of the LOCK and PARK functions (so a sign
-    change and back inside one step is not missed), then located: root on the step's order-4
-    continuous extension, one re-integration from the step's left end to it, then Newton
-    (secant) along the local Taylor line y + σ·f(y), accepted when the line's own error is
-    below 10 % of the tolerance (else re-integrate to the corrected time and repeat; Illinois
-    with re-integration, bracket ≤ max(``EVENT_TIME_TOL``, 0.01·rtol·h), as the last resort); a
-    located step must itself meet the tolerance (PEAK only records a value: its time and value
-    from the continuous extension, and the step is not cut there). A state that locks stays
-    stuck until BREAK: no chatter (hysteresis of the Modelica friction state machine [2]). The
-    loop over scenarios is compiled with numba; a fresh starting step (Hairer's HINIT) is
-    estimated at t = 0 and after every mode switch.
+    The model of :func:`closed_form` with any friction law, load and driveline; per-scenario step
+    sizes, breakpoints, events (lock, break-away, park, unpark, peak slip power) located to the
+    integrator's accuracy, the Modelica stick/slip state machine [2] (:mod:`clutchlab.engagement`).
 
     Parameters
     ----------
-    engine_speed, engine_inertia, engine_torque, driven_inertia, load_torque : array_like
-        As in :func:`closed_form`: ω_e(0) [rad/s], J_e [kg m²] (``inf``: held), T_e [N m],
-        J_v [kg m²], T_m ≥ 0 [N m].
-    peak_capacity, ramp_time, profile, static_ratio, driven_speed : array_like
-        As in :func:`closed_form`: C_max [N m] (at μ_k), t_r [s], the clamp profile, μ_s/μ_k [-],
-        ω_c(0) [rad/s].
-    stribeck_speed : array_like
-        v_s [rad/s] of μ(v) = μ_k·[1 + (μ_s/μ_k − 1)·exp(−(v/v_s)²)]; ``inf`` gives constant μ_k
-        while slipping (μ_s then applies only to sticking).
-    aero_coefficient : array_like
-        k_a [N m s²] of the rotor drag k_a·ω_c² added to the load torque.
-    load_step, load_step_time : array_like
-        A load torque step ΔT_m [N m] at t_s [s] (e.g. collective pulled after engagement).
+    %(driveline)s
+    stribeck_speed : array_like [rad/s]
+        v_s of μ(v) = μ_k·[1 + (μ_s/μ_k − 1)·exp(−(v/v_s)²)]; ``inf``: constant μ_k while slipping.
+    %(driven_speed)s
+    aero_coefficient : array_like [N m s²]
+        k_a ≥ 0 of the rotor drag k_a·ω_c² added to the load torque.
+    load_step : array_like [N m]
+        A load torque step ΔT_m at ``load_step_time`` (e.g. collective pulled after engagement).
+    load_step_time : array_like [s]
+        t_s of the load step (``inf``: none).
     engine_torque_table : (speeds [rad/s], torques [N m]) or None
-        Engine torque versus speed (linear interpolation, constant beyond the ends), added to
-        ``engine_torque`` (shared by all scenarios).
-    friction_table : (slip speeds [rad/s], μ/μ_k [-]) or None
-        The slipping friction law as a table (measured data, as the Modelica library's ``mu_pos``):
-        μ(abs(Δω))/μ_k, linear between the points, constant beyond the ends; it replaces the Stribeck
-        law (``stribeck_speed`` is then ignored). ``peak_capacity`` is the capacity at μ_k;
-        sticking still holds up to ``static_ratio``·C. Shared by all scenarios.
-    fade_coefficient, fade_onset, face_temperature_factor : array_like
-        Friction fade (off with β = 0, the default): while slipping, μ_k is divided by
-        1 + β·(ΔT − ΔT_on)⁺, ΔT the friction face's temperature rise over its start temperature
-        [K], β ``fade_coefficient`` [1/K], ΔT_on ``fade_onset`` [K]; ΔT = K·I with I Duhamel's
-        integral of the slip power (the face as a semi-infinite body, :mod:`clutchlab.heat`) and K
-        ``face_temperature_factor`` [K/(W s^0.5)] (:func:`clutchlab.heat.face_temperature_rise` of
-        1 W s^0.5). The face temperature becomes a state: the smooth part of the kernel
-        1/√(t − τ) as 15 exponential modes, its singular part quasi-static (see
-        :mod:`clutchlab.engagement._fade`; against a Picard iteration with the exact kernel: ΔT within
-        4e-5 of its peak while slipping, lock-up time within 6e-6, slip work 5e-7). Static friction
-        is not faded. Needs K > 0 and t_end ≤ 10 s (the fit's span). Costs: with fade every
-        slipping phase is integrated with the 15 modes, steps ≤ 0.5 ms (the stiffest mode): about
-        0.7 ms a scenario of the compliant model instead of 27 µs.
-    release_ratio : array_like
-        κ [-] of the release-bearing travel model (:func:`bearing_travel_clamp`): the profile is the
-        bearing travel and the capacity C_max·max(0, 1 − κ(1 − p)); 1 (default) is the profile
-        itself, κ > 1 adds the air gap before the lining cushion is touched.
+        Engine torque versus speed added to ``engine_torque`` (linear; one for all scenarios).
     compliant : bool
-        Insert the damper springs between plate hub and output: hub inertia
-        ``hub_fraction``·J_v, output inertia (1 − ``hub_fraction``)·J_v, stiffness
-        ``damper_stiffness`` [N m/rad] and viscous damping of the given ``damping_ratio`` on the
-        hub-output mode. Gives a finite output jerk; as the stiffness grows it tends to the rigid
-        model.
-    hub_fraction : array_like
-        Share of J_v on the plate hub [-] (compliant model).
-    damper_stiffness : array_like
-        Torsional stiffness of the damper springs [N m/rad] (compliant model; the source paper
-        (000)'s damper, eqs. 4-9: 4498 N m/rad).
-    damping_ratio : array_like
-        ζ [-] of the viscous damping on the hub-output mode (compliant model).
-    t_end : array_like
-        End of the window [s] (finite, > 0).
+        Damper springs between plate hub and output, viscous damping on that mode: a finite output
+        jerk; the rigid model as the stiffness grows.
+    hub_fraction : array_like [-]
+        Share of J_v on the plate hub, the rest on the output (compliant model).
+    damper_stiffness : array_like [N m/rad]
+        Torsional stiffness of the damper springs (compliant model; source paper (000) eqs. 4-9).
+    damping_ratio : array_like [-]
+        ζ of the viscous damping on the hub-output mode (compliant model).
+    release_ratio : array_like [-]
+        κ ≥ 1 of the release-bearing travel (:func:`bearing_travel_clamp`); 1: the profile itself.
+    t_end : array_like [s]
+        End of the window (finite, > 0).
     rtol, atol : float
-        Relative [-] and absolute (in the state's units) error tolerances of the step-size
-        control.
-    max_step : float
-        Largest step [s] (bounds the node spacing of peak metrics).
-    first_step : float or None
-        First step [s]; None estimates it from the tolerance (as after every mode switch).
-    max_steps : int
-        Work budget of one scenario (a whole number in [1, 1e9]): integrator steps attempted, mode
-        switches and the passes of the exact linear phases' root search all count; a scenario
-        that spends it ends ``not_converged`` with NaN metrics (its solver counts kept).
-    trace_times : array_like or None
-        Times [s] at which to record the state (they become breakpoints, so no interpolation).
+        Relative [-] and absolute (state units) tolerances of the step-size control.
+    max_step : float [s]
+        Largest step (bounds the node spacing of peak metrics).
+    first_step : float or None [s]
+        First step; None estimates it (Hairer's HINIT [3], as after every mode switch).
+    max_steps : int [-]
+        Work budget of a scenario in [1, 1e9] (steps, switches, root passes); when spent, it ends
+        ``not_converged`` with NaN metrics.
+    trace_times : array_like or None [s]
+        Times at which to record the state (breakpoints: no interpolation).
     power_history : bool
-        Keep each scenario's slip power history while it slips and return the peak of its
-        Duhamel integral (``flash_peak``, for the friction-face temperature; the engagement study
-        asks for it). Off by default: it costs about 8 µs a scenario on the compliant model's
-        ramp designs (12 → 20 µs) and doubles the rigid integrator's time at loose tolerance.
+        Return ``flash_peak`` (below); costs about 8 µs a scenario on the compliant model.
+    friction_table : (slip speeds [rad/s], μ/μ_k [-]) or None
+        The slipping friction law μ(abs(Δω))/μ_k as a table (linear, constant beyond the ends;
+        the Modelica library's ``mu_pos``; one for all scenarios), replacing the Stribeck law.
+    fade_coefficient : array_like [1/K]
+        β of friction fade: μ_k/(1 + β·(ΔT − ΔT_on)⁺) while slipping (0: off), ΔT the face's rise,
+        K times Duhamel's integral of the slip power (15 modes, :mod:`clutchlab.engagement._fade`:
+        ΔT within 4e-5 of its peak). Static friction is not faded. Needs K > 0, t_end ≤ 10 s.
+    fade_onset : array_like [K]
+        ΔT_on, the face temperature rise at which fade starts.
+    face_temperature_factor : array_like [K/(W s^0.5)]
+        K, the face's temperature rise per unit of Duhamel's integral.
 
     Returns
     -------
     dict of numpy.ndarray
-        The metrics of :func:`closed_form` over [0, t_end] (``lockup_time`` is the last
-        lock-up; NaN if slipping at t_end), plus ``breakaway_time`` (first re-slip after a
-        lock-up), ``damping_work`` [J], ``peak_jerk`` [rad/s³] (output side, from the model
-        equations at every step node and event and inside the steps: the compliant model's
-        peaks on each step's continuous extension; the rigid model's steepest point of a smooth
-        clamp profile, t_r/2, as a breakpoint, and with a Stribeck law, friction table, fade or
-        rotor drag each slipping step scanned and refined on its continuous extension; the
-        Dirac jerk of a rigid lock-up is reported as ``accel_jump``), solver counts
-        ``n_steps`` (attempted), ``n_rejected``, ``n_locate`` (event locations),
-        ``n_false_alarms`` (candidates the solution did not confirm),
-        ``n_event_steps`` (re-integrations spent locating events: one per event when the first
-        correction is accepted); with ``power_history``, ``flash_peak`` [W s^0.5]: max over t of
-        Duhamel's integral ∫ P(τ)/√(t − τ) dτ of the slip power history (sampled while slipping
-        every ramp time / 48 and at least 64 times a slip phase, at every step end and event; see
-        :func:`clutchlab.heat.face_temperature_rise`; NaN without) and ``n_power_samples``, and, with
-        ``trace_times``, a ``trace`` dict of arrays (scenario..., time): engine, hub and output
-        speed [rad/s], friction torque and capacity [N m], slip work [J], output jerk [rad/s³],
-        with fade the friction face's temperature rise [K] (NaN without).
-        Inputs are screened as in :func:`closed_form` (plus v_s, J-split, stiffness > 0, ζ, k_a ≥ 0,
-        κ ≥ 1, a finite t_end > 0): a bad scenario has status ``invalid_input`` and NaN outputs.
+        The metrics of :func:`closed_form` over [0, t_end] (``lockup_time`` the last lock-up),
+        ``breakaway_time`` [s], ``damping_work`` [J], ``peak_jerk`` [rad/s³] (output side), the
+        counts ``n_steps``, ``n_rejected``, ``n_locate``, ``n_false_alarms``, ``n_event_steps``;
+        with ``power_history`` ``flash_peak`` [W s^0.5] (max of ∫ P(τ)/√(t − τ) dτ) and
+        ``n_power_samples``; with ``trace_times`` a ``trace`` dict of (scenario..., time) arrays:
+        engine, hub and output speed [rad/s], friction torque and capacity [N m], slip work [J],
+        output jerk [rad/s³], face temperature rise [K].
+        %(screening)s
 
     References
     ----------
     .. [1] Zhao P. (2026), source paper (000), eqs. (1), (2) (the two-inertia driveline),
-       (11) (slip work), (12) (jerk), (13) (torque capacity).
+       (4)-(9) (damper springs), (11) (slip work), (12) (jerk), (13)-(14) (torque capacity).
     .. [2] Otter M., Elmqvist H., Mattsson S.E. (1999), "Hybrid modeling in Modelica based on
        the synchronous data flow principle" (the stick/slip state machine).
     .. [3] Hairer E., Nørsett S.P., Wanner G. (1993), Solving Ordinary Differential Equations I,
-       2nd ed., Springer, section II.5 (DOPRI5, its continuous extension and HINIT) and II.4
-       (step-size control).
+       2nd ed., sections II.4-II.5 (DOPRI5, continuous extension, HINIT).
     """
+    inputs = dict(locals())  # (first: the arguments only)
     _check_profile(profile)
     check_solver_options(rtol, atol, max_step, first_step, max_steps, trace_times)
-    return st.screened(
-        _simulate,
-        dict(
-            engine_speed=engine_speed,
-            engine_inertia=engine_inertia,
-            engine_torque=engine_torque,
-            driven_inertia=driven_inertia,
-            load_torque=load_torque,
-            peak_capacity=peak_capacity,
-            ramp_time=ramp_time,
-            static_ratio=static_ratio,
-            stribeck_speed=stribeck_speed,
-            driven_speed=driven_speed,
-            aero_coefficient=aero_coefficient,
-            load_step=load_step,
-            load_step_time=load_step_time,
-            hub_fraction=hub_fraction,
-            damper_stiffness=damper_stiffness,
-            damping_ratio=damping_ratio,
-            release_ratio=release_ratio,
-            t_end=t_end,
-            fade_coefficient=fade_coefficient,
-            fade_onset=fade_onset,
-            face_temperature_factor=face_temperature_factor,
-        ),
-        DOMAIN_SIMULATE,
-        extra=dict(
-            profile=profile,
-            engine_torque_table=engine_torque_table,
-            friction_table=friction_table,
-            compliant=compliant,
-            rtol=rtol,
-            atol=atol,
-            max_step=max_step,
-            first_step=first_step,
-            max_steps=max_steps,
-            trace_times=trace_times,
-            power_history=power_history,
-        ),
-    )
+    screened, options = ({k: inputs[k] for k in names} for names in (SCREENED, OPTIONS))
+    return st.screened(_simulate, screened, DOMAIN_SIMULATE, extra=options)
 
 
 def _simulate(
