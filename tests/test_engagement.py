@@ -8,6 +8,8 @@ from scipy.optimize import brentq
 from clutchlab import engagement as eng
 from clutchlab import status as st
 from clutchlab.bench import engagement as benchmark
+from clutchlab.engagement import _profile
+from clutchlab.engagement._simulate import parameter_table
 from clutchlab.published import DIAPHRAGM_CLUTCH as PUB
 
 # Seed 000 reproduction (PHYSICS.md): engine held at 570 rad/s, capacity ramped 0 -> 239.3 N m
@@ -130,8 +132,6 @@ def test_stribeck_against_dop853():
 
 def _long_step_setup():
     """A Stribeck engagement (held engine) and its lock-up time from simulate at rtol 1e-12."""
-    from clutchlab import _engagement_kernel as k
-
     args = dict(
         engine_speed=500.0,
         engine_inertia=np.inf,
@@ -144,7 +144,7 @@ def _long_step_setup():
         stribeck_speed=10.0,
     )
     tight = dict(rtol=1e-12, atol=1e-12, t_end=1.0)
-    q, _ = eng._parameter_table(
+    q, _ = parameter_table(
         **args,
         profile="ramp",
         driven_speed=0.0,
@@ -158,23 +158,27 @@ def _long_step_setup():
         release_ratio=1.0,
         t_end=1.0,
     )
-    return k, q[0], args, tight, float(eng.simulate(**args, **tight)["lockup_time"])
+    return q[0], args, tight, float(eng.simulate(**args, **tight)["lockup_time"])
 
 
 def test_event_location_over_long_steps():
     """The LOCK event of one long DOPRI5 step (rtol 1e-2: the continuous extension is far off) located
-    by _locate: the returned state has zero slip, the time is as close to the true lock-up as the
+    by locate: the returned state has zero slip, the time is as close to the true lock-up as the
     root of the step map itself (the integrator's own solution) to within 0.5 ms (a quarter of
     that step's own lock-up error), the secant on the true function is exercised (more than one
     re-integration); a located step that fails the tolerance is returned as such (the caller
     shortens the step)."""
-    k, q, args, tight, t_lock = _long_step_setup()
+    from clutchlab.engagement import _dopri, _events, _physics
+    from clutchlab.engagement._layout import LOCK, E, H, Mode, Work
+
+    q, args, tight, t_lock = _long_step_setup()
+    mode = Mode(locked=False, parked=False, sign=1.0, compliant=False, profile=0)
 
     def step(t, y, h):
         d = np.zeros(8)
-        k._forces(t, y, q, False, False, 1.0, False, 0, d)
+        _physics.forces(t, y, q, mode, d)
         kk, yi, y1, err = np.zeros((7, 8)), np.zeros(8), np.zeros(8), np.zeros(8)
-        k._dopri(t, y, h, q, False, False, 1.0, False, 0, d, kk, yi, y1, err)
+        _dopri.step(t, y, h, q, mode, d, kk, yi, y1, err)
         return d, kk, y1
 
     n_iterated = n_failed = 0
@@ -186,45 +190,23 @@ def test_event_location_over_long_steps():
         (0.10, 0.5, 1e-4),
     ):
         y = np.zeros(8)
-        y[k.E] = 500.0
-        y[k.H] = eng.simulate(**args, **tight, trace_times=[t])["trace"]["hub_speed"][0]
+        y[E] = 500.0
+        y[H] = eng.simulate(**args, **tight, trace_times=[t])["trace"]["hub_speed"][0]
         h = (t_lock - t) / frac
         d, kk, y1 = step(t, y, h)
         rc = np.zeros((5, 8))
-        k._dense_coefficients(y, y1, kk, h, rc)
-        w = [np.zeros(8) for _ in range(6)]
-        tau, nv, n_re = k._locate(
-            k.LOCK,
-            t,
-            y,
-            d,
-            rc,
-            h,
-            h,
-            500.0 - y[k.H],
-            q,
-            False,
-            False,
-            1.0,
-            False,
-            0,
-            rtol,
-            rtol,
-            kk,
-            w[0],
-            w[1],
-            np.zeros(5),
-            w[2],
-            w[3],
-            w[4],
-            w[5],
-        )
+        _dopri.dense_coefficients(y, y1, kk, h, rc)
+        vec = {n: np.zeros(8) for n in Work._fields}
+        vec.update(y=y, d=d, y1=y1, kk=kk, rc=rc)
+        vec.update({n: np.zeros(5) for n in ("g", "g1", "gm", "tau_hi", "ths")}, pk=np.zeros(3))
+        w = Work(**vec)
+        tau, nv, n_re = _events.locate(LOCK, t, h, h, 500.0 - y[H], q, mode, rtol, rtol, w)
         assert 0.0 < tau <= h
         if nv > 1.0:
             n_failed += 1
             continue
-        root = brentq(lambda x: 500.0 - step(t, y, x)[2][k.H], 1e-9, h, xtol=1e-15)  # noqa: B023 (called in this iteration)
-        assert abs(500.0 - w[2][k.H]) <= 1e-9 * 500.0
+        root = brentq(lambda x: 500.0 - step(t, y, x)[2][H], 1e-9, h, xtol=1e-15)  # noqa: B023 (called in this iteration)
+        assert abs(500.0 - w.ya[H]) <= 1e-9 * 500.0
         assert abs(t + tau - t_lock) <= abs(t + root - t_lock) + 5e-4
         n_iterated += n_re > 1
     assert n_iterated >= 2 and n_failed >= 1
@@ -558,11 +540,11 @@ def _exact_slip_jerk(d, profile, lockup_time):
     """max of dC/dt/J_v over the moving slip [t0, t_lock] of a held engine: C = C_max·max(0,
     1 − κ(1 − p(t/t_r))) rises from the cushion touch p = 1 − 1/κ, the driven side moves from
     C = T_m, and p' (6x(1 − x), 30x²(1 − x)²) is largest at x = 1/2: 1.5 and 1.875."""
-    c, k = eng._P[profile], d["release_ratio"]
-    x0 = eng._invert_profile(1.0 - (1.0 - d["load_torque"] / d["peak_capacity"]) / k, profile)
+    c, k = _profile._P[profile], d["release_ratio"]
+    x0 = _profile._invert_profile(1.0 - (1.0 - d["load_torque"] / d["peak_capacity"]) / k, profile)
     x1 = np.minimum(lockup_time / d["ramp_time"], 1.0)
     x = np.clip(0.5, x0, x1)
-    dp = eng._polyval(np.polynomial.polynomial.polyder(c), x)
+    dp = _profile._polyval(np.polynomial.polynomial.polyder(c), x)
     return d["peak_capacity"] * k * dp / (d["ramp_time"] * d["driven_inertia"])
 
 

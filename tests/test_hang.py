@@ -350,7 +350,9 @@ def test_a_stiff_undamped_damper_ends_within_its_work_budget():
     kw.update(stribeck_speed=np.inf, fade_coefficient=0.0, fade_onset=0.0)
     kw.update(face_temperature_factor=0.0)
     t0 = time.perf_counter()
-    out = engagement._simulate(
+    from clutchlab.engagement._simulate import _simulate
+
+    out = _simulate(
         profile="ramp",
         engine_torque_table=None,
         friction_table=None,

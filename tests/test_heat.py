@@ -215,7 +215,7 @@ def test_duhamel_peak_of_the_kernel_coarse_to_fine_equals_every_sample():
     same maximum as evaluating every sample, on slip power histories with one and with two bursts;
     its integral at each sample equals heat.duhamel_surface_temperature's (the same exact segment
     integrals), and the peak between samples lies within 1 % above the best sample."""
-    from clutchlab import _engagement_kernel as k
+    from clutchlab.engagement import _power as k
 
     rng = np.random.default_rng(5)
     for case in range(40):
@@ -415,3 +415,51 @@ def test_a_four_face_engagement_study_has_its_heat():
     )
     np.testing.assert_allclose(total, four["slip_work"], rtol=1e-13)
     assert list(np.unique(four["hottest_part"])) == [heat.PARTS.index("intermediate_plate")]
+
+
+# ------------------------------------------------------------------------------------------------
+# the friction face's temperature modes over a step, exactly (clutchlab.engagement._heat_modes)
+# ------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("lam", [0.01, 0.87, 30.9, 449.9, 2683.0, 6551.8])
+@pytest.mark.parametrize("h", [1e-5, 2e-3, 0.04, 0.6])
+def test_a_mode_over_a_step_equals_its_closed_form(lam, h):
+    """z' = a + b·τ − λ·z, z(0) = z₀ (a constant plus a linearly rising slip power):
+    z = z₀e^(−λτ) + a(1 − e^(−λτ))/λ + b(τ/λ − (1 − e^(−λτ))/λ²), at four points of the step,
+    for modes solved as a series (λh/2 ≤ 4) and by their particular solution (above): 1e-11
+    relative (measured ≤ 3e-13)."""
+    from clutchlab.engagement import _heat_modes as hm
+
+    a, b, z0 = 3.0e4, 2.0e5, 7.0
+    pc = np.array([a + b * h / 2, b * h / 2])  # the power in v = 2τ/h − 1
+    tmp = np.zeros(hm.SERIES_MAX)
+    for v in (-1.0, -0.3, 0.4, 1.0):
+        tau = h * (1 + v) / 2
+        em1 = math.expm1(-lam * tau)
+        exact = z0 * (1 + em1) - a * em1 / lam + b * (tau / lam + em1 / lam**2)
+        assert hm.mode_at(lam, z0, pc, 2, h, v, tmp) == pytest.approx(exact, rel=1e-11, abs=1e-300)
+
+
+def test_the_modes_summed_at_the_nodes_equal_each_mode():
+    """weighted_at_nodes (the modes' series and particular solutions summed before evaluation)
+    equals Σ w_k·z_k of the modes one by one at every node, for a cubic slip power and steps of
+    0.1 ms, 10 ms and 40 ms (every mode in either regime): 1e-13."""
+    from clutchlab.engagement import _colloc as sp
+    from clutchlab.engagement import _fade as k
+    from clutchlab.engagement import _heat_modes as hm
+
+    lam, w = k.SOE_LAMBDA, k.SOE_WEIGHT
+    z0 = np.random.default_rng(1).uniform(0, 5, lam.size)
+    pc = np.zeros(sp.NN)
+    pc[:4] = [5e4, 2e3, -3e3, 500]
+    enode = np.zeros((lam.size, sp.NN))
+    out, comb, tmp = np.zeros(sp.NN), np.zeros(hm.SERIES_MAX), np.zeros(hm.SERIES_MAX)
+    for h in (1e-4, 0.01, 0.04):
+        hm.node_decay(lam, h, sp.NODES, enode)
+        hm.weighted_at_nodes(lam, w, z0, pc, sp.NN, h, sp.NODES, enode, out, comb, tmp)
+        one = [
+            sum(w[j] * hm.mode_at(lam[j], z0[j], pc, sp.NN, h, v, tmp) for j in range(lam.size))
+            for v in sp.NODES
+        ]
+        np.testing.assert_allclose(out, one, rtol=1e-13)

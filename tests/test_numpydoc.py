@@ -60,9 +60,6 @@ SUPPORT = (
     "clutchlab.studies.sprag",
 )
 
-#: documented in the engagement subpackage (its own change writes these docstrings)
-PENDING = ("clutchlab.engagement",)
-
 #: numpydoc validation codes that fail the test (numpydoc.validate.ERROR_MSGS)
 REQUIRED = ("GL08", "PR01", "PR02", "PR03", "PR04", "PR07", "PR10", "RT01", "RT03")
 
@@ -110,15 +107,9 @@ def public_functions(module_name: str) -> list[str]:
     return [f"{module_name}.{n}" for n in names if inspect.isfunction(getattr(module, n))]
 
 
-def _marks(module_name: str):
-    if module_name in PENDING:
-        return [pytest.mark.xfail(reason="documented in the engagement subpackage", strict=False)]
-    return []
-
-
 def _cases(modules):
     return [
-        pytest.param(path, marks=_marks(m), id=path.removeprefix("clutchlab."))
+        pytest.param(path, id=path.removeprefix("clutchlab."))
         for m in modules
         for path in public_functions(m)
     ]

@@ -628,24 +628,9 @@ def _roller_one(p, rtol, max_steps, res, trace, n_trace):  # noqa: C901
             gb = event(ROLLER, t + h_acc, y_best, p, mode, EV_SYNC, work)
             if ga > 0.0 and gb <= 0.0:
                 hx, nf = locate(
-                    ROLLER,
-                    EV_SYNC,
-                    t,
-                    y,
-                    f0,
-                    y_best,
-                    f1,
-                    h_acc,
-                    ga,
-                    gb,
-                    p,
-                    mode,
-                    rtol,
-                    atol,
-                    y_ev,
-                    work,
-                    EVENT_TIME_TOL,
-                )
+                    ROLLER, EV_SYNC, t, y, f0, y_best, f1, h_acc, ga, gb, p, mode, rtol, atol,
+                    y_ev, work, EVENT_TIME_TOL,
+                )  # fmt: skip
                 nfev += nf
                 synced = True
                 res[SYNC_TIME] = t + hx

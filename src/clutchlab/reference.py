@@ -2,9 +2,9 @@
 
 :func:`compliant` integrates one scenario of the compliant-driveline engagement (seed 000 eqs. 1-2
 with the damper springs between plate hub and output; the model of
-:func:`clutchlab.engagement.simulate` with ``compliant=True``, constant or Stribeck μ, held or free
-engine with constant torque, clamp profile ramp/cubic/quintic with the release-bearing air gap,
-a load step) with
+:func:`clutchlab.engagement.simulate` with ``compliant=True``, constant or Stribeck μ or a μ(slip)
+table, friction fade, held or free engine with constant torque, clamp profile ramp/cubic/quintic
+with the release-bearing air gap, a load step) with
 ``scipy.integrate.solve_ivp``: one call per mode (slipping or locked, output parked or moving)
 with terminal events, restarted with the new mode at each event — the only way to keep
 stick-slip exact with solve_ivp (an event function that is zero at the restart fires at once, so a
@@ -57,6 +57,11 @@ class _Compliant:
         self.prof = _PROFILES[profile]
         self.kappa = p.get("release_ratio", 1.0)
         self.table = p.get("friction_table")
+        # friction fade: the solver's face-temperature state (its kernel modes and quasi-static
+        # part, the same model, integrated here with the mechanics)
+        self.beta = p.get("fade_coefficient", 0.0)
+        self.fade = self.beta > 0.0
+        self.kf, self.on = p.get("face_temperature_factor", 0.0), p.get("fade_onset", 0.0)
         self.period = 2 * math.pi / math.sqrt(self.k * (1 / self.jh + 1 / self.jr))
         # the instant the clamp force starts rising after the air gap: a breakpoint
         self.t_con = (
@@ -67,25 +72,58 @@ class _Compliant:
         x = self.prof(min(max(t / self.tr, 0.0), 1.0)) if self.tr > 0 else 1.0
         return self.cmax * max(0.0, 1.0 - self.kappa * (1.0 - x))
 
+    def initial_state(self):
+        """Engine, hub, output speed, twist, slip work (and the fade modes, with fade)."""
+        from .engagement._fade import SOE_LAMBDA
+
+        return np.array([self.we0, 0.0, 0.0, 0.0, 0.0] + [0.0] * (SOE_LAMBDA.size * self.fade))
+
+    def fade_factor(self, y, p0):
+        """g solving ΔT = K·(Σ w_k·z_k + M0·P0·g), g = 1/(1 + β(ΔT − ΔT_on)⁺) (a quadratic; P0
+        the slip power at g = 1)."""
+        from .engagement._fade import SOE_M0, SOE_WEIGHT
+
+        if not self.fade:
+            return 1.0
+        slow = self.kf * float(np.dot(SOE_WEIGHT, y[5:]))
+        a, cc, beta = self.kf * SOE_M0 * p0, slow - self.on, self.beta
+        if cc + a <= 0.0:
+            return 1.0
+        b = 1.0 - beta * cc
+        u = (-b + math.sqrt(b * b + 4.0 * beta * (cc + a))) / (2.0 * beta)
+        return 1.0 / (1.0 + beta * u)
+
+    def torque(self, t, y, s):
+        """The slipping clutch torque s·f·g·C [N m]."""
+        slip = y[0] - y[1]
+        f = _slip_law(slip, self.rs, self.vs, self.table)
+        return s * f * self.fade_factor(y, f * self.cap(t) * abs(slip)) * self.cap(t)
+
     def rhs(self, locked, parked, s, tm):
         """The right-hand side of a mode (stuck or slipping in direction ``s``, output parked or
-        moving) under the load torque ``tm``; states engine, hub, output speed, twist, slip work."""
+        moving) under the load torque ``tm``; states engine, hub, output speed, twist, slip work
+        (and with fade the face temperature's modes z_k' = P − λ_k·z_k)."""
+        from .engagement._fade import SOE_LAMBDA
+
         k, c, held, je, jh, te = self.k, self.c, self.held, self.je, self.jh, self.te
 
         def rhs(t, y):
-            we, wh, wr, th, _ = y
+            we, wh, wr, th = y[:4]
             ts = k * th + c * (wh - wr)
             if locked:
                 a = 0.0 if held else (te - ts) / (je + jh)
                 dwe = dwh = a
                 tc_slip = 0.0
             else:
-                tc = s * _slip_law(we - wh, self.rs, self.vs, self.table) * self.cap(t)
+                tc = self.torque(t, y, s)
                 dwh = (tc - ts) / jh
                 dwe = 0.0 if held else (te - tc) / je
                 tc_slip = tc * (we - wh)
             dwr = 0.0 if parked else (ts - tm) / self.jr
-            return [dwe, dwh, dwr, wh - wr, tc_slip]
+            out = [dwe, dwh, dwr, wh - wr, tc_slip]
+            if self.fade:
+                out += list(tc_slip - SOE_LAMBDA * y[5:])
+            return out
 
         return rhs
 
@@ -179,8 +217,12 @@ def compliant(
     follow=0.3,
     profile="ramp",
     max_step=np.inf,
+    power_samples=0,
 ):
     """One scenario of the compliant engagement by per-mode ``solve_ivp`` (module docstring).
+
+    With friction fade (``fade_coefficient`` > 0) the face temperature is the solver's state model
+    (its kernel modes and quasi-static part, integrated here with the mechanics).
 
     Parameters
     ----------
@@ -198,16 +240,21 @@ def compliant(
         The clamp profile.
     max_step : float
         Largest step [s] of solve_ivp.
+    power_samples : int
+        With > 0 also ``flash_peak``: the peak of Duhamel's integral of the slip power, sampled on
+        the dense output about ``power_samples`` times a window.
 
     Returns
     -------
     dict
         ``lockup_time`` [s], ``slip_work`` [J], ``peak_jerk`` [rad/s³], ``peak_friction_torque``
-        [N m], ``status`` ("ok" or "never_locked").
+        [N m], ``status`` ("ok" or "never_locked"), with ``power_samples`` ``flash_peak``
+        [W s^0.5].
     """
     m = _Compliant(p, profile)
     atol = rtol if atol is None else atol
-    y = np.array([m.we0, 0.0, 0.0, 0.0, 0.0])
+    y = m.initial_state()
+    power = []  # (times, slip power) of the slipping pieces, for the face temperature
     t, locked, parked, s = 0.0, False, m.tm0 > 0.0, 1.0
     t_lock, peak_jerk, peak_torque = np.nan, 0.0, 0.0
     horizon = m.t_end
@@ -225,9 +272,11 @@ def compliant(
             rtol=rtol,
             atol=atol,
             events=events,
-            dense_output=(jerk_peak == "dense"),
+            dense_output=(jerk_peak == "dense" or bool(power_samples)),
             max_step=max_step,
         )
+        if power_samples and not locked:
+            power.append(_piece_power(m, sol, t, s, power_samples))
         piece_jerk, piece_torque = _piece_peaks(m, rhs, sol, t, locked, parked, jerk_peak)
         peak_jerk, peak_torque = max(peak_jerk, piece_jerk), max(peak_torque, piece_torque)
         fired = [i for i, te_ in enumerate(sol.t_events) if te_.size]
@@ -252,13 +301,44 @@ def compliant(
             parked = True
             y[2] = 0.0
     ok = locked and t_lock <= m.t_end
-    return dict(
+    out = dict(
         lockup_time=t_lock if ok else np.nan,
         slip_work=y[4],
         peak_jerk=peak_jerk,
         peak_friction_torque=peak_torque,
         status="ok" if ok else "never_locked",
     )
+    if power_samples:
+        out["flash_peak"] = _flash_peak(power, t_lock if ok else m.t_end)
+    return out
+
+
+def _piece_power(m, sol, t, s, power_samples):
+    """(times, slip power) of a slipping piece on its dense output, about ``power_samples``
+    samples a window (at least 8 a piece)."""
+    t_stop = sol.t[-1]
+    ts_ = np.linspace(t, t_stop, max(int(power_samples * (t_stop - t) / m.t_end), 8) + 1)
+    ys_ = sol.sol(ts_)
+    return ts_, np.array(
+        [m.torque(tt, yy, s) * (yy[0] - yy[1]) for tt, yy in zip(ts_, ys_.T, strict=True)]
+    )
+
+
+def _flash_peak(pieces, t_last):
+    """max over t of ∫P(τ)/√(t − τ)dτ of the sampled slip power (linear between samples, every
+    segment exactly: the solver's own formula, at every sample), the power zero after ``t_last``."""
+    from .engagement._power import duhamel_peak
+
+    if not pieces:
+        return 0.0
+    t = np.concatenate([pc[0] for pc in pieces])
+    pw = np.concatenate([pc[1] for pc in pieces])
+    keep = np.concatenate([[True], np.diff(t) > 0])
+    t, pw = t[keep], pw[keep]
+    after = np.linspace(t_last, t_last + 0.5 * (t_last - t[0]) + 1e-3, 400)[1:]
+    hist = np.vstack([np.concatenate([t, after]), np.concatenate([pw, np.zeros(after.size)])])
+    n = hist.shape[1]
+    return float(duhamel_peak(np.ascontiguousarray(hist), n, max(1, int(math.sqrt(n / 2.0)))))
 
 
 def _invert(prof, q):
@@ -354,7 +434,7 @@ class _RigidFade:
 def _fade_pass(m, times, rise, rtol, samples):
     """One Picard step: the engagement under the face rise ``rise`` at ``times``, and the face rise
     its slip power gives (after lock-up the face cools: the same integral of the ended power)."""
-    from ._engagement_kernel import duhamel_at
+    from .engagement._power import duhamel_at
 
     we0, tm, jv, kf, t_end = m.we0, m.tm, m.jv, m.kf, m.t_end
 

@@ -506,6 +506,28 @@ _DOMAIN = {
     "max_step": st.positive_or_inf_in("s"),
 }
 
+#: parameter_rows' inputs in the order of its columns' unpacking (and of the screening)
+_ROW_INPUTS = (
+    "driving_speed",
+    "load_torque",
+    "wedge_inertia",
+    "driven_inertia",
+    "contact_radius",
+    "rollers_loaded",
+    "wedge_angle",
+    "friction_coefficient",
+    "spring_force",
+    "stiffness",
+    "exponent",
+    "damping",
+    "penetration_depth",
+    "control_stop_time",
+    "claw_clearance",
+    "end_time",
+    "max_step",
+    "sync_tolerance",
+)
+
 
 def parameter_rows(
     *,
@@ -576,31 +598,8 @@ def parameter_rows(
     shape : tuple of int
         The broadcast shape of the inputs.
     """
-    args = np.broadcast_arrays(
-        *(
-            np.asarray(a, float)
-            for a in (
-                driving_speed,
-                load_torque,
-                wedge_inertia,
-                driven_inertia,
-                contact_radius,
-                rollers_loaded,
-                wedge_angle,
-                friction_coefficient,
-                spring_force,
-                stiffness,
-                exponent,
-                damping,
-                penetration_depth,
-                control_stop_time,
-                claw_clearance,
-                end_time,
-                max_step,
-                sync_tolerance,
-            )
-        )
-    )
+    inputs = dict(locals())  # (first: the arguments only)
+    args = np.broadcast_arrays(*(np.asarray(inputs[name], float) for name in _ROW_INPUTS))
     (wd, tl, jw, jo, rc, z, alpha, mu, ft, k, e, c, dmax, trel, clr, tend, hmax, eps) = (
         a.ravel() for a in args
     )
@@ -630,11 +629,7 @@ def parameter_rows(
         }
     for col, v in cols.items():
         P[:, col] = v
-    names = ("driving_speed", "load_torque", "wedge_inertia", "driven_inertia", "contact_radius")
-    names += ("rollers_loaded", "wedge_angle", "friction_coefficient", "spring_force", "stiffness")
-    names += ("exponent", "damping", "penetration_depth", "control_stop_time", "claw_clearance")
-    names += ("end_time", "max_step", "sync_tolerance")
-    _, ok = st.admissible(dict(zip(names, args, strict=True)), _DOMAIN)
+    _, ok = st.admissible(dict(zip(_ROW_INPUTS, args, strict=True)), _DOMAIN)
     P[~ok.ravel()] = np.nan
     return P, args[0].shape
 

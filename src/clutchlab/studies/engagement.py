@@ -42,7 +42,7 @@ import xarray as xr
 
 from .. import diaphragm, engagement, friction, heat, wear
 from .. import status as st
-from .._engagement_kernel import SOE_TMAX
+from ..engagement._fade import SOE_TMAX
 from . import (
     Parameter,
     Relation,

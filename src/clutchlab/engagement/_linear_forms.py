@@ -1,4 +1,6 @@
-"""Exact linear phases of the compliant engagement (seed 000 eqs. 1-2 with the damper springs).
+"""Polynomial forms of the compliant engagement's exact linear phases (compiled, numba).
+
+Source paper (000), eqs. 1-2 with the damper springs.
 
 With constant μ, a held engine or a free one with constant torque, no rotor drag and a
 polynomial clamp profile, every phase of the compliant driveline is linear with polynomial
@@ -24,14 +26,19 @@ found on a grid of half of π/ω₀ (extrema of the free response are ≥ π/ω�
 zero and back is seen as a sign change of F') and placed by bracketed Newton to round-off; peaks
 are the roots of F'. The grid is skipped wherever bounds (the free response's envelope and the
 polynomials' ranges) exclude a root or a new peak, or keep a form monotone
-(:func:`clutchlab._engagement_kernel._linear_segment`). Works are exact integrals: of
+(:func:`clutchlab.engagement._linear_phase.linear_segment`). Works are exact integrals: of
 polynomials, and of Q·h by the recursion K·∫Q·h = −m[Q·h'] + m[Q'·h] − c[Q·h] + c∫Q'·h − m∫Q''·h;
 the damping work from the oscillator's energy balance c∫θ'² = ∫f·θ' − Δ(½mθ'² + ½Kθ²).
+
+This module holds the algebra: polynomials of ``NP`` ascending coefficients, the free response
+(:class:`FreeResponse`, :func:`hh`, :func:`envelope`) and the form table (rows 3i, 3i+1, 3i+2:
+P, U, W of form i; form i + N_FORM its derivative, i + 2·N_FORM its second derivative).
 """
 
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -42,10 +49,13 @@ _EPS = np.finfo(float).eps
 F_LOCK, F_PARK, F_UNPARK, F_BRK_P, F_BRK_M, F_JERK, F_TORQ, F_POW = range(8)
 N_FORM = 8
 N_FROWS = 3 * 3 * N_FORM  # form, derivative, second derivative
-# polynomial scratch rows
-(R_C, R_D, R_F, R_XP, R_XPD, R_OM, R_WE, R_PA, R_PR, R_T1, R_T2, R_T3, R_T4, R_T5) = range(14)
-N_PROWS = 14
 _JNIT = dict(cache=True, error_model="numpy", _nrt=False)
+
+#: The free response of a phase's oscillator, h = e^(−aτ)·[h₀·C(τ) + (h₁ + a·h₀)·S(τ)]
+#: (read-only for the phase): ``a`` = c/(2m) [1/s], ``w2`` = ω_d² [1/s²], ``h0`` = h(0) [rad],
+#: ``h1`` = h'(0) [rad/s] and ``t0`` the phase's start t_a [s] (τ = t − t_a; round-off of the
+#: absolute time bounds the root searches).
+FreeResponse = namedtuple("FreeResponse", ["a", "w2", "h0", "h1", "t0"])
 
 
 @njit(**_JNIT)
@@ -103,20 +113,20 @@ def prange(c, deg, lo, hi, tmp):
 
 
 @njit(**_JNIT)
-def _zero(c):
+def zero(c):
     for i in range(NP):
         c[i] = 0.0
 
 
 @njit(**_JNIT)
-def _der(src, dst):
+def der(src, dst):
     for i in range(NP - 1):
         dst[i] = (i + 1) * src[i + 1]
     dst[NP - 1] = 0.0
 
 
 @njit(**_JNIT)
-def _integ(src, dst):
+def integ(src, dst):
     """dst = ∫_0^τ src (src's top coefficient must be zero)."""
     for i in range(NP - 1, 0, -1):
         dst[i] = src[i - 1] / i
@@ -124,7 +134,7 @@ def _integ(src, dst):
 
 
 @njit(**_JNIT)
-def _mul(a, b, dst):
+def mul(a, b, dst):
     """dst = a·b truncated to NP coefficients (callers keep the degrees inside; dst may be a or b)."""
     for i in range(NP - 1, -1, -1):
         acc = 0.0
@@ -134,15 +144,16 @@ def _mul(a, b, dst):
 
 
 @njit(**_JNIT)
-def _axpy(alpha, x, beta, y, dst):
+def axpy(alpha, x, beta, y, dst):
     """dst = alpha·x + beta·y."""
     for i in range(NP):
         dst[i] = alpha * x[i] + beta * y[i]
 
 
 @njit(**_JNIT)
-def hh(tau, a, w2, h0, h1):
-    """The free response h and h' at τ ≥ 0 (finite)."""
+def hh(fr, tau):
+    """The free response h and h' at τ ≥ 0 (finite) [rad, rad/s] (fr: :class:`FreeResponse`)."""
+    a, w2, h0, h1 = fr.a, fr.w2, fr.h0, fr.h1
     if w2 > 0.0:
         w = math.sqrt(w2)
         e = math.exp(-a * tau)
@@ -176,7 +187,7 @@ def fval(ft, i, tau, h, hd):
 
 @njit(**_JNIT)
 def fvald(ft, fd, i, tau, h, hd):
-    """Form i at τ with the rows' degrees ``fd``."""
+    """Form i at τ with the rows' degrees ``fd`` (integers)."""
     r = 3 * i
     return (
         pvd(ft[r], int(fd[r]), tau)
@@ -186,12 +197,12 @@ def fvald(ft, fd, i, tau, h, hd):
 
 
 @njit(**_JNIT)
-def _fder(ft, i, j, km, cm):
+def fder(ft, i, j, km, cm):
     """Form j = d/dτ form i (h'' = −km·h − cm·h')."""
     r, s = 3 * i, 3 * j
-    _der(ft[r], ft[s])
-    _der(ft[r + 1], ft[s + 1])
-    _der(ft[r + 2], ft[s + 2])
+    der(ft[r], ft[s])
+    der(ft[r + 1], ft[s + 1])
+    der(ft[r + 2], ft[s + 2])
     for n in range(NP):
         u, w = ft[r + 1, n], ft[r + 2, n]
         ft[s + 1, n] += -w * km
@@ -199,7 +210,7 @@ def _fder(ft, i, j, km, cm):
 
 
 @njit(**_JNIT)
-def _fset(ft, i, p, u_scale, w_scale, u_poly, w_poly):
+def fset(ft, i, p, u_scale, w_scale, u_poly, w_poly):
     """Form i = p + (u_scale·u_poly)·h + (w_scale·w_poly)·h' (polys may be the same row)."""
     r = 3 * i
     for n in range(NP):
@@ -209,35 +220,34 @@ def _fset(ft, i, p, u_scale, w_scale, u_poly, w_poly):
 
 
 @njit(**_JNIT)
-def _root(ft, i, lo, hi, osc):
+def root(ft, i, lo, hi, fr):
     """Root of form i in (lo, hi] with F(lo) > 0 >= F(hi): Newton on form i+N_FORM, bisection
     safeguard, to round-off."""
-    a, w2, h0, h1 = osc[0], osc[1], osc[2], osc[3]
     x = hi
     for _ in range(200):
-        h, hd = hh(x, a, w2, h0, h1)
+        h, hd = hh(fr, x)
         f = fval(ft, i, x, h, hd)
         if f > 0:
             lo = x
         else:
             hi = x
-        if hi - lo <= 4 * _EPS * (abs(osc[4]) + hi):
+        if hi - lo <= 4 * _EPS * (abs(fr.t0) + hi):
             break
         d = fval(ft, i + N_FORM, x, h, hd)
         xn = x - f / d if d != 0 else 0.5 * (lo + hi)
         if not (lo < xn < hi):
             xn = 0.5 * (lo + hi)
-        elif abs(xn - x) <= 2 * _EPS * (abs(osc[4]) + x):
+        elif abs(xn - x) <= 2 * _EPS * (abs(fr.t0) + x):
             x = xn
             break
         x = xn
     # the event time is where the function has crossed (≤ 0), as in the integrator: the next mode
     # then starts on the right side of its own switching functions
-    step = 2 * _EPS * (abs(osc[4]) + x)
+    step = 2 * _EPS * (abs(fr.t0) + x)
     for _ in range(60):
         if x >= hi:
             return hi
-        h, hd = hh(x, a, w2, h0, h1)
+        h, hd = hh(fr, x)
         if fval(ft, i, x, h, hd) <= 0.0:
             return x
         x = min(x + step, hi)
@@ -246,35 +256,34 @@ def _root(ft, i, lo, hi, osc):
 
 
 @njit(**_JNIT)
-def _extremum(ft, i, lo, hi, d_lo, osc):
+def extremum(ft, i, lo, hi, d_lo, fr):
     """A root of form i's derivative in (lo, hi) where it changes sign (d_lo its value at lo)."""
-    a, w2, h0, h1 = osc[0], osc[1], osc[2], osc[3]
     sgn = 1.0 if d_lo > 0 else -1.0
     x = 0.5 * (lo + hi)
     for _ in range(200):
-        h, hd = hh(x, a, w2, h0, h1)
+        h, hd = hh(fr, x)
         d = sgn * fval(ft, i + N_FORM, x, h, hd)
         if d > 0:
             lo = x
         else:
             hi = x
-        if hi - lo <= 4 * _EPS * (abs(osc[4]) + hi):
+        if hi - lo <= 4 * _EPS * (abs(fr.t0) + hi):
             break
         dd = sgn * fval(ft, i + 2 * N_FORM, x, h, hd)
         xn = x - d / dd if dd != 0 else 0.5 * (lo + hi)
         if not (lo < xn < hi):
             xn = 0.5 * (lo + hi)
-        elif abs(xn - x) <= 2 * _EPS * (abs(osc[4]) + x):
+        elif abs(xn - x) <= 2 * _EPS * (abs(fr.t0) + x):
             return xn
         x = xn
     return x
 
 
 @njit(**_JNIT)
-def envelope(osc):
+def envelope(fr):
     """Constants of the bounds |h(τ)| ≤ R_h·e^(−rate·τ), |h'(τ)| ≤ R_h'·e^(−rate·τ) (all τ ≥ 0):
     returns (R_h, R_h', rate); rate ≤ 0 where the free response does not decay."""
-    a, w2, h0, h1 = osc[0], osc[1], osc[2], osc[3]
+    a, w2, h0, h1 = fr.a, fr.w2, fr.h0, fr.h1
     w0sq = w2 + a * a
     if w2 > 0.0:
         wd = math.sqrt(w2)
@@ -294,16 +303,16 @@ def envelope(osc):
 
 
 @njit(**_JNIT)
-def _icap(t, q_tr, q_tcon, q_kappa, q_cmax, prof, out, tmp):
+def icap(t, q_tr, q_tcon, q_kappa, q_cmax, prof, out, tmp):
     """out = C(t_a + τ) as a polynomial in τ on the clamp profile's piece containing t_a = t
     (C = C_max·max(0, 1 − κ(1 − p(t/t_r))), p the ramp/cubic/quintic profile, 1 after t_r)."""
-    _zero(out)
+    zero(out)
     if q_tr <= 0.0 or t >= q_tr:
         out[0] = q_cmax
         return
     if q_kappa != 1.0 and t < q_tcon:
         return  # the air gap is still open: no clamp force
-    _zero(tmp)  # p(x) coefficients, then Taylor-shifted to x_a = t/t_r and scaled to τ
+    zero(tmp)  # p(x) coefficients, then Taylor-shifted to x_a = t/t_r and scaled to τ
     if prof == 0:
         tmp[1] = 1.0
     elif prof == 1:
@@ -322,9 +331,9 @@ def _icap(t, q_tr, q_tcon, q_kappa, q_cmax, prof, out, tmp):
 
 
 @njit(**_JNIT)
-def _partic(f, m, c, k, xp):
+def partic(f, m, c, k, xp):
     """Polynomial particular solution of m·x'' + c·x' + k·x = f."""
-    _zero(xp)
+    zero(xp)
     for j in range(NP - 1, -1, -1):
         acc = f[j]
         if j + 1 < NP:
@@ -335,7 +344,7 @@ def _partic(f, m, c, k, xp):
 
 
 @njit(**_JNIT)
-def _int_qh(q, m, c, k, tau, h_a, hd_a, h_b, hd_b, tmp):
+def int_qh(q, m, c, k, tau, h_a, hd_a, h_b, hd_b, tmp):
     """∫_0^τ Q·h (the recursion of the module docstring; tmp holds Q's derivatives)."""
     deg = 0
     for j in range(NP):
@@ -345,7 +354,7 @@ def _int_qh(q, m, c, k, tau, h_a, hd_a, h_b, hd_b, tmp):
     for n in range(NP):
         tmp[0, n] = q[n]
     for j in range(1, deg + 1):
-        _der(tmp[j - 1], tmp[j])
+        der(tmp[j - 1], tmp[j])
     i1 = i2 = 0.0  # I(Q^(j+1)), I(Q^(j+2))
     for j in range(deg, -1, -1):
         qa, qb = pv(tmp[j], 0.0), pv(tmp[j], tau)

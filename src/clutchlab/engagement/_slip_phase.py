@@ -1,0 +1,188 @@
+"""The slipping phases solved by exponential collocation (compiled, numba): the step loop of a phase.
+
+A slipping phase of the compliant model with a held engine, no rotor drag and a nonlinear friction
+law (a Stribeck law, a friction table) or friction fade (:func:`applies`) is advanced here instead
+of by DOPRI5: steps of :mod:`clutchlab.engagement._slip_step` (the method is described in
+:mod:`clutchlab.engagement._colloc`), each accepted step's events, peaks, works and slip power
+samples by :mod:`clutchlab.engagement._slip_records`, the friction face's temperature modes
+exactly over it (:mod:`clutchlab.engagement._heat_modes`). The driver
+(:mod:`clutchlab.engagement._driver`) calls :func:`segment` with its scenario record and switches
+the mode at the event returned.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from ._colloc import JIT, NDEG, NN, fit
+from ._fade import SOE_LAMBDA
+from ._heat_modes import advance
+from ._layout import (
+    FADE,
+    FTAB,
+    HELD,
+    JH,
+    JR,
+    KA,
+    LOCK,
+    NZ,
+    OUT_OF_WORK,
+    PARK,
+    TH,
+    UNPARK,
+    VS,
+    Z0,
+    H,
+    K,
+    R,
+)
+from ._power import slip_spacing
+from ._slip_records import KNOT, first_event, history, record_peaks, works
+from ._slip_step import dense, step
+
+ERR_FACTOR = 1.0  # a step is accepted when its forcing's interpolation error is ≤ ERR_FACTOR·rtol
+HMAX_PERIODS = 3.5  # longest step, in periods of the twist's oscillation (its nodes resolve it)
+BETA_MAX = 2.0  # largest |κ·h/2| of the mean mode (its power series)
+
+
+@njit(**JIT)
+def applies(q, locked):
+    """Whether a phase of the compliant model is solved here: slipping with a held engine, no rotor
+    drag, a finite damper spring, and a nonlinear friction law (Stribeck, table) or fade."""
+    return (
+        not locked
+        and q[HELD] > 0.0
+        and q[KA] == 0.0
+        and math.isfinite(q[K])
+        and q[K] > 0.0
+        and (math.isfinite(q[VS]) or q[FTAB] > 0.0 or q[FADE] > 0.0)
+    )
+
+
+@njit(**JIT)
+def _period(q, parked):
+    """The period of the twist's oscillation [s] (hub against the parked output or the moving one)."""
+    jh, jr = q[JH], q[JR]
+    mo = jh if parked else jh * jr / (jh + jr)
+    return 2.0 * math.pi / math.sqrt(q[K] / mo)
+
+
+@njit(**JIT)
+def _retry(ec, ok, err, h_try, tol):
+    """The shorter step to retry with, or 0 if the step is accepted: a step whose iteration did not
+    converge, or whose mean mode's |β| exceeds BETA_MAX, is halved (at most to BETA_MAX); one whose
+    error exceeds tol shrinks by (tol/err)^0.2 (near events and regime changes the error falls more
+    slowly than the degree says), between 0.2 and 0.9 times."""
+    beta = abs(ec.sc[0].beta)
+    if not ok or beta > BETA_MAX:
+        h = 0.5 * h_try
+        if beta > BETA_MAX:
+            h = min(h, 0.9 * h_try * BETA_MAX / beta)
+        return h
+    if err > tol:
+        return h_try * max(0.2, min(0.9, 0.9 * (tol / err) ** 0.2))
+    return 0.0
+
+
+@njit(**JIT)
+def _next_step(ec, h_try, err, tol):
+    """The step the controller proposes after an accepted one: from the error's decay with the
+    degree, between 0.3 and 2 times (1.3 after a slowly converging iteration: the forcing is
+    changing fast)."""
+    grow = 2.0 if ec.sc[0].iters <= 5 else 1.3
+    return h_try * min(grow, max(0.3, 0.9 * (tol / max(err, 1e-300)) ** (1.0 / (NDEG - 1))))
+
+
+@njit(**JIT)
+def _advance_state(ec, v_end, q, y):
+    """The state at v_end of the accepted step (hub, output, twist)."""
+    if v_end >= 1.0:
+        wm, th, thd = ec.wm[NN - 1], ec.th[NN - 1], ec.thd[NN - 1]
+    else:
+        wm, th, thd, _ = dense(ec, v_end, q[K])
+    jv = q[JH] + q[JR]
+    if ec.sc[0].parked:
+        y[H] = thd
+    else:
+        y[H] = wm + q[JR] / jv * thd
+        y[R] = wm - q[JH] / jv * thd
+    y[TH] = th
+
+
+@njit(**JIT)
+def _accept(ec, h_try, t_b, q, opts, w, hist, sc):
+    """Take the accepted step [sc.t, sc.t + h_try] up to its first event: the peaks, power samples,
+    works, the state and the face temperature's modes there; sc.t the new time. Returns the event's
+    kind (−1: none)."""
+    t = sc.t
+    mask = (1 << LOCK) | ((1 << UNPARK) if sc.parked else (1 << PARK))
+    jv = q[JH] + q[JR]
+    # the first event on the step's dense solution (its forcing is smooth up to and past it)
+    kind, v_e = first_event(ec, q, mask, q[JR] / jv, q[JH] / jv)
+    v_end = v_e if kind >= 0 else 1.0
+    t_new = t + 0.5 * h_try * (1.0 + v_end)
+    if v_end >= 1.0 and h_try == t_b - t:
+        t_new = t_b
+    # its records up to there
+    record_peaks(ec, v_end, q, w.pk)
+    if opts.with_hist and not sc.past:
+        spacing = slip_spacing(sc.dt_s, sc.t_slip, t_new)
+        sc.n_hist = history(ec, v_end, hist, sc.n_hist, spacing, t)
+    works(ec, v_end, q, w.y)
+    _advance_state(ec, v_end, q, w.y)
+    # the face temperature's modes, exactly for the step's slip power
+    if q[FADE] > 0.0:
+        advance(SOE_LAMBDA, ec.modes, ec.ap, NN, h_try, v_end, ec.modes, ec.htmp)
+        for m in range(NZ):
+            w.y[Z0 + m] = ec.modes[m]
+    sc.t = t_new
+    return kind
+
+
+@njit(**JIT)
+def segment(ec, t_b, q, prof, opts, w, hist, sc, budget):
+    """Advance a slipping phase (:func:`applies`) from sc.t to its first event in (sc.t, t_b] or to
+    t_b, in at most ``budget`` step attempts. Returns (event kind, −1 or OUT_OF_WORK; step attempts;
+    steps accepted; steps rejected); sc.t and w.y (works and face temperature modes included) are
+    there, w.pk holds the peaks inside, sc.n_hist the power samples. The step the controller
+    proposes carries over between calls in ec.sc[0].h_next (0: none yet)."""
+    st = ec.sc[0]
+    period = _period(q, sc.parked)
+    tol = ERR_FACTOR * opts.rtol
+    h = st.h_next if st.h_next > 0.0 else 0.1 * period
+    used = n_acc = n_rej = 0
+    kind = -1
+    while sc.t < t_b:
+        if used >= budget:
+            kind = OUT_OF_WORK
+            break
+        # the step: at most HMAX_PERIODS periods, cut at the breakpoint
+        h_try = min(h, HMAX_PERIODS * period)
+        clipped = h_try >= t_b - sc.t
+        if clipped:
+            h_try = t_b - sc.t
+        ok, err = step(ec, q, prof, sc.t, h_try, w.y, sc.parked, sc.sign, opts.rtol)
+        used += 1
+        # the slip power and torque interpolants (the records and the error control use them)
+        for i in range(NN):
+            ec.p[i] = ec.d[i] * (st.we - ec.wh[i])
+        fit(ec.p, ec.ap)
+        fit(ec.d, ec.ad)
+        h_retry = _retry(ec, ok, err, h_try, tol)
+        if h_retry > 0.0:
+            n_rej += 1
+            h = h_retry
+            continue
+        # accepted (a step cut short by the breakpoint says little about the next one: the
+        # proposal is kept)
+        h_next = _next_step(ec, h_try, err, tol)
+        kind = _accept(ec, h_try, t_b, q, opts, w, hist, sc)
+        n_acc += 1
+        h = max(h_next, h) if clipped else h_next
+        if 0 <= kind < KNOT:
+            break
+        kind = -1  # (a friction table point: the next step takes the next segment)
+    st.h_next = h
+    return kind, used, n_acc, n_rej
