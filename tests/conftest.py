@@ -76,7 +76,7 @@ def run_snakemake(cwd, *args, check=True, **kw):
     import sys
 
     cmd = [sys.executable, "-m", "snakemake", "--cores", "2", *args]
-    proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=600, **kw)
+    proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=1800, **kw)
     if check and proc.returncode != 0:
         raise AssertionError(f"snakemake failed:\n{proc.stdout}\n{proc.stderr}")
     return proc

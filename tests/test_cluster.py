@@ -19,7 +19,7 @@ def test_chunk_requests_follow_the_chunk_size_and_the_measured_cost():
     res = _resolved()
     for s in res["studies"]:
         n = cluster.chunk_scenarios(res[s])
-        assert n == 262144  # chunk_size of config/million.yaml
+        assert n == 524288  # chunk_size of config/million.yaml
         r = cluster.chunk_resources(res[s])
         fixed_s, per_s, fixed_mb, per_mb = cluster.CHUNK_COST[s]
         assert r["mem_mb"] >= cluster.MEMORY_MARGIN * (
@@ -27,13 +27,13 @@ def test_chunk_requests_follow_the_chunk_size_and_the_measured_cost():
         )  # the measurement with its margin
         assert r["runtime"] * 60 >= cluster.TIME_MARGIN * (fixed_s + per_s * n)
         assert r["cpus_per_task"] == 1
-        assert r["mem_mb"] <= 4000  # a 2^18 chunk fits a common 4 GB-per-core node
+        assert r["mem_mb"] <= 4000  # a 2^19 chunk fits a common 4 GB-per-core node
     # a quarter of the chunk size: at most the memory, at least the minimum
     small = _resolved(chunk_size=65536)
     for s in res["studies"]:
         a, b = cluster.chunk_resources(small[s]), cluster.chunk_resources(res[s])
         assert cluster.MIN_MEM_MB <= a["mem_mb"] <= b["mem_mb"] and a["runtime"] <= b["runtime"]
-    # the centrifugal chunk (4.6 kB a scenario) grows most: 2^18 scenarios ask for more than 2^16
+    # the centrifugal chunk (4.6 kB a scenario) grows most: 2^19 scenarios ask for more than 2^16
     assert (
         cluster.chunk_resources(small["centrifugal"])["mem_mb"]
         < cluster.chunk_resources(res["centrifugal"])["mem_mb"]

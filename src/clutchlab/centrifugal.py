@@ -1,5 +1,5 @@
-"""Centrifugal clutch with an overrunning linkage (seed 001 eqs. 1-2), and its release after an
-engine failure.
+"""Centrifugal clutch with an overrunning linkage (the source paper (001), eqs. 1-2), and its
+release after an engine failure.
 
 z shoes of mass m at centroid radius r are held off a drum of radius R by springs (resultant
 F_s) and pulled onto it by the centrifugal force F_r = m·ω_e²·r (the paper prints ω²r without
@@ -27,7 +27,8 @@ M′ falls with ω_e², the release reinforces itself; below ω₀ the shoes are
 
 References
 ----------
-.. [1] Sun R. (2017), seed 001, eqs. (1)-(2), Fig. 5 (capacity curves), Figs. 6-8 (speed traces).
+.. [1] Sun R. (2017), "Design and test of a multi-function clutch for unmanned helicopters", the
+   source paper (001), eqs. (1)-(2), Fig. 5 (capacity curves), Figs. 6-8 (speed traces).
 """
 
 from __future__ import annotations
@@ -55,9 +56,31 @@ MAX_FRICTION_SCATTER = 10.0  # relative rise of f a design must survive
 
 
 def centrifugal_force(*, shoe_mass, shoe_radius, speed):
-    """F_r = m·ω²·r [N] per shoe (seed 001 text; the printed ω²r omits m), m [kg], r [m], ω
-    [rad/s]; NaN where m, r ≤ 0, ω < 0, or one is not finite or plausible
-    (:mod:`clutchlab.plausible`)."""
+    """Centrifugal force F_r = m·ω²·r on one shoe.
+
+    Parameters
+    ----------
+    shoe_mass : float or array_like [kg]
+        Mass m of one shoe.
+    shoe_radius : float or array_like [m]
+        Centroid radius r of the shoe.
+    speed : float or array_like [rad/s]
+        Engine (shoe carrier) speed ω ≥ 0.
+
+    Returns
+    -------
+    numpy.ndarray [N]
+        F_r; NaN where m, r ≤ 0, ω < 0, or an input is not finite or plausible
+        (:mod:`clutchlab.plausible`).
+
+    Notes
+    -----
+    Erratum: the source paper (001) prints F_r = ω²r, without the shoe mass.
+
+    References
+    ----------
+    Source paper (001), text after eq. (2) ([1] in the module docstring).
+    """
     inputs = dict(shoe_mass=shoe_mass, shoe_radius=shoe_radius, speed=speed)
     return st.nan_screened(_centrifugal_force, inputs, _domain(inputs))
 
@@ -67,8 +90,27 @@ def _centrifugal_force(*, shoe_mass, shoe_radius, speed):
 
 
 def engagement_speed(*, shoe_mass, shoe_radius, spring_force):
-    """ω₀ = √(F_s/(m·r)) [rad/s], where the centrifugal force equals the spring resultant F_s [N]
-    (m [kg], r [m]); NaN where m, r ≤ 0, F_s < 0, or one is not finite or plausible."""
+    """Engagement speed ω₀ = √(F_s/(m·r)), where the centrifugal force equals the spring resultant.
+
+    Parameters
+    ----------
+    shoe_mass : float or array_like [kg]
+        Mass m of one shoe.
+    shoe_radius : float or array_like [m]
+        Centroid radius r of the shoe.
+    spring_force : float or array_like [N]
+        Spring resultant F_s ≥ 0 per shoe.
+
+    Returns
+    -------
+    numpy.ndarray [rad/s]
+        ω₀ (≈ 2545 rpm for the source paper's design); NaN where m, r ≤ 0, F_s < 0, or an input
+        is not finite or plausible.
+
+    References
+    ----------
+    Source paper (001), eqs. (1)–(2) with F_p = 0 ([1] in the module docstring).
+    """
     inputs = dict(shoe_mass=shoe_mass, shoe_radius=shoe_radius, spring_force=spring_force)
     return st.nan_screened(_engagement_speed, inputs, _domain(inputs))
 
@@ -88,29 +130,45 @@ def capacity(
     drum_radius,
     spring_force,
 ):
-    """Forward and reverse torque capacity (seed 001 eqs. 1-2) [N m].
+    """Forward and reverse torque capacity of the centrifugal clutch with overrunning linkage.
+
+    M = z·f·R·(F_r − F_s)/(1 − f·tanα) (engine drives), M′ = z·f·R·(F_r − F_s)/(1 + f·tanα) (the
+    rotor back-drives a dead engine), F_r = m·ω²·r.
 
     Parameters
     ----------
-    speed : array_like
-        Engine (shoe carrier) speed ω_e [rad/s].
-    shoes : array_like
-        Number of shoes z [-].
-    friction_coefficient : array_like
-        f [-].
-    pressure_angle : array_like
-        Linkage pressure angle α [rad].
-    shoe_mass, shoe_radius, drum_radius, spring_force : array_like
-        m [kg], centroid radius r [m], drum radius R [m], spring resultant per shoe F_s [N].
+    speed : float or array_like [rad/s]
+        Engine (shoe carrier) speed ω_e ≥ 0.
+    shoes : int or array_like [-]
+        Number of shoes z, a whole number in [1, 1000] (3 fits the source paper's springs).
+    friction_coefficient : float or array_like [-]
+        Shoe–drum friction coefficient f, in (0, 2].
+    pressure_angle : float or array_like [rad]
+        Linkage pressure angle α, in [0, π/2).
+    shoe_mass : float or array_like [kg]
+        Mass m of one shoe.
+    shoe_radius : float or array_like [m]
+        Centroid radius r of a shoe, inside the drum (r < R).
+    drum_radius : float or array_like [m]
+        Drum radius R.
+    spring_force : float or array_like [N]
+        Spring resultant F_s ≥ 0 per shoe.
 
     Returns
     -------
-    forward, reverse : numpy.ndarray
-        M and M′ [N m]; zero below the engagement speed; NaN where f·tanα ≥ 1 (jammed forward
-        linkage, see :func:`design_status`); both NaN where an input is not finite or not physical
+    forward : numpy.ndarray [N m]
+        M; zero below the engagement speed; NaN where f·tanα ≥ 1 (jammed forward linkage, see
+        :func:`design_status`).
+    reverse : numpy.ndarray [N m]
+        M′; zero below the engagement speed. Both NaN where an input is not finite or not physical
         (ω, F_s < 0; z not a whole number in [1, 1000]; f outside (0, 2]; α outside [0, π/2); m,
         r, R ≤ 0), of an implausible magnitude (:mod:`clutchlab.plausible`), or where the shoe's
         centroid radius r is not inside the drum (r < R).
+
+    References
+    ----------
+    Source paper (001), eqs. (1)–(2) ([1] in the module docstring), solved for M and M′; at
+    5500 rpm M = 127.84 N·m and M′ = 65 N·m.
     """
     inputs = dict(
         speed=speed,
@@ -158,9 +216,27 @@ def _jammed(x):
 
 
 def linkage_factor_from_targets(forward_torque, reverse_torque):
-    """f·tanα from the forward and reverse capacity targets M, M′ [N m] (eq. 1 over eq. 2):
-    M/M′ = (1 + f·tanα)/(1 − f·tanα) ⇒ f·tanα = (M − M′)/(M + M′) [-]; NaN unless
-    M ≥ M′ > 0, finite and plausible (a reverse target above the forward one has no linkage)."""
+    """Linkage factor f·tanα from the forward and reverse capacity targets (equation 1 over 2).
+
+    M/M′ = (1 + f·tanα)/(1 − f·tanα) ⇒ f·tanα = (M − M′)/(M + M′).
+
+    Parameters
+    ----------
+    forward_torque : float or array_like [N m]
+        Forward capacity target M > 0.
+    reverse_torque : float or array_like [N m]
+        Reverse capacity target M′, 0 < M′ ≤ M.
+
+    Returns
+    -------
+    numpy.ndarray [-]
+        f·tanα (0.32587 for the source paper's 127.84 and 65 N·m); NaN unless M ≥ M′ > 0, finite
+        and plausible (a reverse target above the forward one has no linkage).
+
+    References
+    ----------
+    Source paper (001), eqs. (1)–(2) divided ([1] in the module docstring).
+    """
     inputs = dict(forward_torque=forward_torque, reverse_torque=reverse_torque)
     return st.nan_screened(
         _linkage_factor_from_targets,
@@ -174,11 +250,30 @@ def _linkage_factor_from_targets(*, forward_torque, reverse_torque):
 
 
 def passive_torque(speed, *, rated_passive_torque, rated_speed, static_fraction):
-    """Engine drag when back-driven, T_p(ω) = T_pr·[c₀ + (1 − c₀)(ω/ω_r)²] [N m] at speed ω ≥ 0
-    [rad/s] (T_pr ≥ 0 [N m] at ω_r > 0 [rad/s], c₀ ∈ [0, 1]; NaN where not, or not plausible).
+    """Engine drag when back-driven, T_p(ω) = T_pr·[c₀ + (1 − c₀)(ω/ω_r)²].
 
-    The paper gives only T_pr = 65.5 N m at 5500 rpm (Fig. 5 curve not tabulated); the shape
-    (friction part c₀, pumping part ∝ ω²) is an assumption.
+    The paper gives only T_pr = 65.5 N·m at 5500 rpm (the Fig. 5 curve is not tabulated); the
+    shape (friction part c₀, pumping part ∝ ω²) is an assumption.
+
+    Parameters
+    ----------
+    speed : float or array_like [rad/s]
+        Engine speed ω ≥ 0.
+    rated_passive_torque : float or array_like [N m]
+        Passive torque T_pr ≥ 0 at the rated speed.
+    rated_speed : float or array_like [rad/s]
+        Rated speed ω_r > 0.
+    static_fraction : float or array_like [-]
+        c₀ ∈ [0, 1], the share of T_pr that does not depend on speed.
+
+    Returns
+    -------
+    numpy.ndarray [N m]
+        T_p; NaN where an input is not finite, out of range or implausible.
+
+    References
+    ----------
+    Source paper (001), Fig. 5 and its text ([1] in the module docstring): 65.5 N·m at 5500 rpm.
     """
     inputs = dict(
         speed=speed,
@@ -195,10 +290,30 @@ def _passive_torque(*, speed, rated_passive_torque, rated_speed, static_fraction
 
 
 def needed_reverse_torque(speed, *, engine_inertia, rotor_inertia, rotor_drag, p0, p2):
-    """Torque the rotor must send back through a held clutch to carry the dead engine [N m]:
-    speed ω ≥ 0 [rad/s], inertias J_e, J_r > 0 [kg m²], rotor drag k ≥ 0 [N m s²] of k·ω², passive
-    torque T_p = p₀ + p₂·ω² (p₀ ≥ 0 [N m], p₂ ≥ 0 [N m s²]); NaN where an input is not so, or not
-    finite or plausible."""
+    """Torque the rotor must send back through a held clutch to carry the dead engine.
+
+    T_need(ω) = (J_r·T_p(ω) − J_e·k·ω²)/(J_e + J_r) with T_p = p₀ + p₂·ω² (module docstring).
+
+    Parameters
+    ----------
+    speed : float or array_like [rad/s]
+        Common speed ω ≥ 0 of engine and rotor.
+    engine_inertia : float or array_like [kg m²]
+        Engine-side inertia J_e > 0 (engine, hub, shoes).
+    rotor_inertia : float or array_like [kg m²]
+        Rotor-side inertia J_r > 0, referred to the clutch.
+    rotor_drag : float or array_like [N m s²]
+        Rotor drag coefficient k ≥ 0 of k·ω².
+    p0 : float or array_like [N m]
+        Constant part p₀ ≥ 0 of the passive engine torque.
+    p2 : float or array_like [N m s²]
+        Quadratic coefficient p₂ ≥ 0 of the passive engine torque.
+
+    Returns
+    -------
+    numpy.ndarray [N m]
+        T_need; NaN where an input is not so, or not finite or plausible.
+    """
     inputs = dict(
         speed=speed,
         engine_inertia=engine_inertia,
@@ -277,27 +392,53 @@ def release_after_failure(
 ):
     """Release speed and time after the engine dies at rated speed (closed form, exact).
 
+    The clutch lets go at the first ω, going down from rated, where the needed reverse torque
+    (:func:`needed_reverse_torque`) reaches the reverse capacity M′(ω): a quadratic in ω; the time
+    to get there is the exact integral of the held run-down (module docstring).
+
     Parameters
     ----------
-    rated_speed : array_like
-        ω_r, speed at the failure [rad/s].
-    engine_inertia, rotor_inertia : array_like
-        J_e (engine, hub, shoes) and J_r (rotor and drivetrain, referred to the clutch) [kg m²].
-    rotor_load_torque : array_like
-        Rotor drag at rated speed [N m]; k = T_L/ω_r².
-    rated_passive_torque, static_fraction : array_like
-        Passive engine torque, see :func:`passive_torque`.
-    Other parameters as in :func:`capacity`.
+    rated_speed : float or array_like [rad/s]
+        Speed ω_r at the failure, > 0.
+    shoes : int or array_like [-]
+        Number of shoes z, a whole number in [1, 1000] (3 fits the source paper's springs).
+    friction_coefficient : float or array_like [-]
+        Shoe–drum friction coefficient f, in (0, 2].
+    pressure_angle : float or array_like [rad]
+        Linkage pressure angle α, in [0, π/2).
+    shoe_mass : float or array_like [kg]
+        Mass m of one shoe.
+    shoe_radius : float or array_like [m]
+        Centroid radius r of a shoe, inside the drum (r < R).
+    drum_radius : float or array_like [m]
+        Drum radius R.
+    spring_force : float or array_like [N]
+        Spring resultant F_s ≥ 0 per shoe.
+    engine_inertia : float or array_like [kg m²]
+        Engine-side inertia J_e (engine, hub, shoes).
+    rotor_inertia : float or array_like [kg m²]
+        Rotor-side inertia J_r (rotor and drivetrain, referred to the clutch).
+    rotor_load_torque : float or array_like [N m]
+        Rotor drag T_L at rated speed; k = T_L/ω_r².
+    rated_passive_torque : float or array_like [N m]
+        Passive engine torque at rated speed (:func:`passive_torque`).
+    static_fraction : float or array_like [-]
+        Speed-independent share of the passive torque, in [0, 1] (:func:`passive_torque`).
 
     Returns
     -------
-    dict
+    dict of numpy.ndarray
         ``release_speed`` [rad/s] (engine = rotor speed when the clutch lets go), ``release_time``
         [s] after the failure (0: at once), ``released_at_once`` (bool), ``status`` (ok, or
         ``invalid_input`` with NaN where an input is not finite or not physical: a negative
         passive torque or drag, a static fraction outside [0, 1], a count that is not whole, ...,
         or of an implausible magnitude (:mod:`clutchlab.plausible`); ``invalid_geometry`` where
         the shoe's centroid radius is not inside the drum).
+
+    References
+    ----------
+    Source paper (001), eq. (2) and the release argument after it, Figs. 7–8 ([1] in the module
+    docstring).
     """
     inputs = dict(
         rated_speed=rated_speed,
@@ -390,14 +531,49 @@ def design_status(
     rotor_load_torque,
     friction_scatter=0.0,
 ):
-    """``jammed`` where f·tanα ≥ 1 (to within :data:`JAM_TOLERANCE`); ``not_engaged`` where the
-    springs beat the centrifugal force at rated speed or the forward capacity there is below the
-    rotor load; ``near_jam`` where the design works but a friction coefficient higher by the
-    relative ``friction_scatter`` would jam it, (1 + scatter)·f·tanα ≥ 1: its forward capacity
-    M ∝ 1/(1 − f·tanα) is near-singular there (exact, but a few percent more friction multiplies
-    it); ``invalid_input`` where an input is not finite or not physical or of an implausible
-    magnitude (:mod:`clutchlab.plausible`); ``invalid_geometry`` where the shoe's centroid radius
-    is not inside the drum; else ``ok``."""
+    """Status of a centrifugal-clutch design at rated speed.
+
+    Parameters
+    ----------
+    rated_speed : float or array_like [rad/s]
+        Rated engine speed, > 0.
+    shoes : int or array_like [-]
+        Number of shoes z, a whole number in [1, 1000] (3 fits the source paper's springs).
+    friction_coefficient : float or array_like [-]
+        Shoe–drum friction coefficient f, in (0, 2].
+    pressure_angle : float or array_like [rad]
+        Linkage pressure angle α, in [0, π/2).
+    shoe_mass : float or array_like [kg]
+        Mass m of one shoe.
+    shoe_radius : float or array_like [m]
+        Centroid radius r of a shoe, inside the drum (r < R).
+    drum_radius : float or array_like [m]
+        Drum radius R.
+    spring_force : float or array_like [N]
+        Spring resultant F_s ≥ 0 per shoe.
+    rotor_load_torque : float or array_like [N m]
+        Rotor load at rated speed that the forward capacity must carry, ≥ 0.
+    friction_scatter : float or array_like [-]
+        Relative rise of f the design must survive without jamming, in [0, 10].
+
+    Returns
+    -------
+    numpy.ndarray of int8
+        ``jammed`` where f·tanα ≥ 1 (to within :data:`JAM_TOLERANCE`); ``not_engaged`` where the
+        springs beat the centrifugal force at rated speed or the forward capacity there is below
+        the rotor load; ``near_jam`` where the design works but a friction coefficient higher by
+        the relative ``friction_scatter`` would jam it, (1 + scatter)·f·tanα ≥ 1: its forward
+        capacity M ∝ 1/(1 − f·tanα) is near-singular there (exact, but a few percent more
+        friction multiplies it); ``invalid_input`` where an input is not finite or not physical or
+        of an implausible magnitude (:mod:`clutchlab.plausible`); ``invalid_geometry`` where the
+        shoe's centroid radius is not inside the drum; else ``ok`` (codes of
+        :mod:`clutchlab.status`).
+
+    References
+    ----------
+    Source paper (001), eq. (1) ([1] in the module docstring): the forward linkage self-locks
+    (jams) as f·tanα → 1.
+    """
     inputs = dict(
         rated_speed=rated_speed,
         shoes=shoes,
@@ -556,12 +732,23 @@ def _failed_trace(times, code, scalars):
 
 
 def engine_failure_trace(p, *, t_end=3.0, n=301, rtol=1e-10, atol=1e-10):
-    """Speeds after an engine failure at rated speed for one scenario (seed 001 Fig. 8).
+    """Speeds after an engine failure at rated speed for one scenario.
 
     Held phase (one inertia) until the release event T_need = M′, then engine and rotor apart:
     J_e·ω_e' = −T_p(ω_e) + M′(ω_e), J_r·ω_r' = −k·ω_r² − M′(ω_e); the engine stops at 0.
     Integrated with scipy's DOP853 with the release located as an event (a check of the closed
-    form :func:`release_after_failure`). ``p`` holds the scalar parameters of that function.
+    form :func:`release_after_failure`).
+
+    Parameters
+    ----------
+    p : dict
+        The scalar parameters of :func:`release_after_failure` (SI units as there).
+    t_end : float [s]
+        End of the trace, a plausible time > 0.
+    n : int
+        Number of output points, in [2, 1e6].
+    rtol, atol : float
+        Tolerances of the integration, in (0, 1).
 
     Returns
     -------
@@ -571,8 +758,19 @@ def engine_failure_trace(p, *, t_end=3.0, n=301, rtol=1e-10, atol=1e-10):
         ``release_speed`` [rad/s] (NaN then), ``status``: ok;
         invalid_input / invalid_geometry (NaN) where ``p`` fails the screening of
         :func:`release_after_failure`; not_converged (NaN) where the integration spends more than
-        :data:`TRACE_MAX_EVALUATIONS` evaluations. ``t_end`` [s] a plausible time, ``n`` points
-        in [2, 1e6], rtol and atol in (0, 1): ValueError otherwise.
+        :data:`TRACE_MAX_EVALUATIONS` evaluations.
+
+    Raises
+    ------
+    ValueError
+        If ``t_end``, ``n``, ``rtol`` or ``atol`` is out of range.
+    KeyError
+        If ``p`` lacks a parameter.
+
+    References
+    ----------
+    Source paper (001), Fig. 8 ([1] in the module docstring): speeds after an engine failure with
+    the overrunning clutch.
     """
     _check_trace_options(t_end, n, rtol, atol)
     times = np.linspace(0.0, t_end, int(n))
@@ -674,16 +872,47 @@ def _engine_failure_trace(p, times, rtol, atol):
 
 
 def startup_trace(p, *, idle_speed, startup_time, t_end=None, n=301, rtol=1e-10, atol=1e-10):
-    """Start-up (seed 001 Fig. 6): engine speed ramped from idle to rated over ``startup_time``,
-    the rotor (drag k·ω²) picked up by the forward capacity M(ω_e): slipping while
-    J_r·ω_r' = M(ω_e) − k·ω_r² keeps ω_r < ω_e, then turning with the engine. DOP853 with the
-    lock-up as an event. Returns ``time``, ``engine_speed``, ``rotor_speed``, ``clutch_torque``,
-    ``lockup_time`` (inf: not locked by ``t_end``), ``lockup_speed``, ``status``: ok; invalid_input
-    / invalid_geometry (NaN)
-    where ``p`` fails the screening of :func:`release_after_failure`, the idle speed [rad/s] is
-    not ≥ 0 and below the rated speed, or the start-up time [s] is not a plausible time > 0;
-    not_converged (NaN) beyond :data:`TRACE_MAX_EVALUATIONS` evaluations. Options as
-    :func:`engine_failure_trace` (``t_end`` default 1.5·``startup_time``).
+    """Start-up of one scenario: the rotor picked up by the forward capacity as the engine runs up.
+
+    Engine speed ramped from idle to rated over ``startup_time``; the rotor (drag k·ω²) slips while
+    J_r·ω_r' = M(ω_e) − k·ω_r² keeps ω_r < ω_e, then turns with the engine. DOP853 with the lock-up
+    as an event.
+
+    Parameters
+    ----------
+    p : dict
+        The scalar parameters of :func:`release_after_failure` (SI units as there).
+    idle_speed : float [rad/s]
+        Engine speed at the start, ≥ 0 and below the rated speed.
+    startup_time : float [s]
+        Duration of the engine's ramp from idle to rated, a plausible time > 0.
+    t_end : float or None [s]
+        End of the trace (default 1.5·``startup_time``).
+    n : int
+        Number of output points, in [2, 1e6].
+    rtol, atol : float
+        Tolerances of the integration, in (0, 1).
+
+    Returns
+    -------
+    dict
+        ``time`` [s], ``engine_speed``, ``rotor_speed`` [rad/s], ``clutch_torque`` [N m],
+        ``lockup_time`` [s] (inf: not locked by ``t_end``), ``lockup_speed`` [rad/s], ``status``:
+        ok; invalid_input / invalid_geometry (NaN) where ``p`` fails the screening of
+        :func:`release_after_failure`, the idle speed is not ≥ 0 and below the rated speed, or the
+        start-up time is not a plausible time > 0; not_converged (NaN) beyond
+        :data:`TRACE_MAX_EVALUATIONS` evaluations.
+
+    Raises
+    ------
+    ValueError
+        If ``t_end``, ``n``, ``rtol`` or ``atol`` is out of range.
+    KeyError
+        If ``p`` lacks a parameter.
+
+    References
+    ----------
+    Source paper (001), Fig. 6 ([1] in the module docstring): speeds of a normal run.
     """
     extra = {
         "idle_speed": (idle_speed, _DOMAIN["speed"]),

@@ -751,19 +751,12 @@ def _resolve_options(study, section: dict, out: dict) -> None:
         )
 
 
-# noqa reason: one branch per factor form (values, range, num, sampled, option, role)
-def _factor(param, spec: dict, design: str, key: str, name: str, max_scenarios: int) -> dict:  # noqa: C901
+def _factor(param, spec: dict, design: str, key: str, name: str, max_scenarios: int) -> dict:
     """One parameter given as a factor (``key`` names it in errors): its grid values
     ``{"values": [...]}`` (a factorial grid, a values list, a sampled count's whole numbers) or a
     sampled range ``{"min", "max", "scale"}``, in SI."""
     if "values" in spec:
-        if set(spec) - {"values"}:
-            raise ConfigError(key, "give either 'values' or 'min'/'max'[/'num'/'scale'], not both")
-        # factorial: the grid's values; sampled: a discrete factor drawn uniformly among them
-        vals = [_quantity(v, param, f"{key}.values[{i}]") for i, v in enumerate(spec["values"])]
-        if len(set(vals)) != len(vals):
-            raise ConfigError(f"{key}.values", "values must be distinct")
-        return {"values": vals}
+        return _values_factor(param, spec, key)
     if param.choices is not None:
         raise ConfigError(
             key,
@@ -772,16 +765,7 @@ def _factor(param, spec: dict, design: str, key: str, name: str, max_scenarios: 
     lo = _quantity(spec["min"], param, f"{key}.min", finite=True)
     hi = _quantity(spec["max"], param, f"{key}.max", finite=True)
     if param.integer and design != "factorial":  # a sampled count: every whole number in [min, max]
-        for bound, v in (("min", lo), ("max", hi)):
-            if v != round(v):
-                raise ConfigError(f"{key}.{bound}", f"a count: must be a whole number, got {v:g}")
-        if set(spec) - {"min", "max"}:
-            raise ConfigError(
-                key, "a sampled count takes only 'min' and 'max' (every whole number between)"
-            )
-        if not lo < hi:
-            raise ConfigError(key, f"min ({lo:g}) must be below max ({hi:g})")
-        return {"values": [float(v) for v in range(int(lo), int(hi) + 1)]}
+        return _sampled_count(spec, lo, hi, key)
     scale = spec.get("scale", "linear")
     if not lo < hi:
         raise ConfigError(key, f"min ({lo:g}) must be below max ({hi:g})")
@@ -791,6 +775,36 @@ def _factor(param, spec: dict, design: str, key: str, name: str, max_scenarios: 
         if "num" in spec:
             raise ConfigError(f"{key}.num", f"not used by design '{design}' (use '{name}.samples')")
         return {"min": lo, "max": hi, "scale": scale}
+    return _factorial_range(param, spec, lo, hi, scale, key, name, max_scenarios)
+
+
+def _values_factor(param, spec: dict, key: str) -> dict:
+    """A factor given as a ``values`` list: a factorial grid's values, or a sampled design's
+    discrete factor drawn uniformly among them."""
+    if set(spec) - {"values"}:
+        raise ConfigError(key, "give either 'values' or 'min'/'max'[/'num'/'scale'], not both")
+    vals = [_quantity(v, param, f"{key}.values[{i}]") for i, v in enumerate(spec["values"])]
+    if len(set(vals)) != len(vals):
+        raise ConfigError(f"{key}.values", "values must be distinct")
+    return {"values": vals}
+
+
+def _sampled_count(spec: dict, lo: float, hi: float, key: str) -> dict:
+    """A count factor of a sampled design: every whole number in [min, max]."""
+    for bound, v in (("min", lo), ("max", hi)):
+        if v != round(v):
+            raise ConfigError(f"{key}.{bound}", f"a count: must be a whole number, got {v:g}")
+    if set(spec) - {"min", "max"}:
+        raise ConfigError(
+            key, "a sampled count takes only 'min' and 'max' (every whole number between)"
+        )
+    if not lo < hi:
+        raise ConfigError(key, f"min ({lo:g}) must be below max ({hi:g})")
+    return {"values": [float(v) for v in range(int(lo), int(hi) + 1)]}
+
+
+def _factorial_range(param, spec, lo, hi, scale, key, name, max_scenarios) -> dict:
+    """A factorial factor given as min/max/num[/scale]: its ``num`` grid values."""
     if "num" not in spec:
         raise ConfigError(f"{key}.num", "required for a factorial min/max factor")
     num = _count(spec, "num", f"{key}.num")

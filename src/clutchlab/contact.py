@@ -7,8 +7,8 @@ pull is cut to zero (a contact can push, never pull).
 
 References
 ----------
-.. [1] The source paper (003), section 3.1.2: contact stiffness 3.375e5 N/mm^1.5 (= (4/3)·E*·√(d/2) for a 10 mm
-    steel roller on a flat), exponent 1.5, damping 2.1e3 N·s/mm.
+.. [1] The source paper (003), section 3.1.2: contact stiffness 3.375e5 N/mm^1.5
+    (= (4/3)·E*·√(d/2) for a 10 mm steel roller on a flat), exponent 1.5, damping 2.1e3 N·s/mm.
 .. [2] MSC ADAMS/Solver IMPACT function (cubic STEP of the damping over the penetration depth).
 .. [3] Johnson, K. L., Contact Mechanics, 1985, section 11.4: Hertz impact of a mass m at speed v:
     δ_max = (5mv²/(4k))^(2/5), contact time 2.9432·δ_max/v, restitution 1.
@@ -29,7 +29,7 @@ __all__ = ["impact_force", "hertz_stiffness", "hertz_impact", "HERTZ_CONTACT_TIM
 #: 2·∫₀¹ dx/√(1−x^(5/2)) = (4/5)·B(2/5, 1/2) = 2.94328
 HERTZ_CONTACT_TIME_FACTOR = 0.8 * math.gamma(0.4) * math.gamma(0.5) / math.gamma(0.9)
 MAX_EXPONENT = 10.0  # of k·δ^e (Hertz: 1.5; ADAMS models use 1 to about 3)
-#: step attempts :func:`hertz_impact` may spend (a seed impact takes ~100)
+#: step attempts :func:`hertz_impact` may spend (an impact of the source paper (003) takes ~100)
 IMPACT_MAX_STEPS = 1_000_000
 
 # per-input rules (sign, finite, plausible magnitude: clutchlab.plausible); a penetration and its
@@ -54,9 +54,27 @@ def _domain(inputs):
 
 
 def hertz_stiffness(*, roller_diameter, youngs_modulus=206e9, poisson_ratio=0.3):
-    """k = (4/3)·E*·√(d/2) of a cylinder on a flat of the same steel (E* = E/(2(1−ν²))) [N/m^1.5];
-    3.375e5 N/mm^1.5 for the 10 mm rollers of seed 003. Roller diameter d [m], E [Pa]; NaN where
-    d or E is not positive, finite and plausible or ν lies outside (−1, 0.5)."""
+    """Hertz stiffness k = (4/3)·E*·√(d/2) of a cylinder on a flat of one steel, E* = E/(2(1−ν²)).
+
+    Parameters
+    ----------
+    roller_diameter : float or array_like [m]
+        Roller diameter d.
+    youngs_modulus : float or array_like [Pa]
+        Young's modulus E of both bodies.
+    poisson_ratio : float or array_like [-]
+        Poisson's ratio ν ∈ (−1, 0.5).
+
+    Returns
+    -------
+    numpy.ndarray [N/m^1.5]
+        k (3.375e5 N/mm^1.5 for the 10 mm rollers of the source paper (003)); NaN where d or E is
+        not positive, finite and plausible or ν lies outside (−1, 0.5).
+
+    References
+    ----------
+    Source paper (003), section 3.1.2 ([1] in the module docstring).
+    """
     inputs = dict(
         roller_diameter=roller_diameter, youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio
     )
@@ -69,16 +87,34 @@ def _hertz_stiffness(*, roller_diameter, youngs_modulus, poisson_ratio):
 
 
 def impact_force(penetration, rate, *, stiffness, exponent=1.5, damping=0.0, depth=1e-5):
-    """Contact force [N] of the law above, vectorised.
+    """Contact force of the law in the module docstring, vectorised.
+
+    F = k·δ^e + STEP(δ; 0, 0, d_max, c_max)·δ̇ for δ > 0, else 0, and never negative.
 
     Parameters
     ----------
-    penetration : array_like [m]   δ (> 0 in contact)
-    rate : array_like [m/s]   dδ/dt
-    stiffness : [N/m^exponent]; exponent : [1]; damping : [N s/m] (c_max); depth : [m] (d_max)
+    penetration : float or array_like [m]
+        Penetration δ (> 0 in contact).
+    rate : float or array_like [m/s]
+        Penetration rate dδ/dt.
+    stiffness : float or array_like [N/m^exponent]
+        Contact stiffness k > 0 (:func:`hertz_stiffness`).
+    exponent : float or array_like [-]
+        Exponent e of k·δ^e, in [1, 10] (1.5: Hertz).
+    damping : float or array_like [N s/m]
+        Full damping coefficient c_max ≥ 0.
+    depth : float or array_like [m]
+        Penetration depth d_max > 0 over which the damping rises from 0 to c_max.
 
-    Returns NaN where k or d_max is not positive, c_max < 0, e outside [1, 10], or an input is not
-    finite or plausible (:mod:`clutchlab.plausible`).
+    Returns
+    -------
+    numpy.ndarray [N]
+        F; NaN where k or d_max is not positive, c_max < 0, e outside [1, 10], or an input is not
+        finite or plausible (:mod:`clutchlab.plausible`).
+
+    References
+    ----------
+    Source paper (003), section 3.1.2 ([1]); MSC ADAMS IMPACT [2] (module docstring).
     """
     inputs = dict(
         penetration=penetration,
@@ -100,14 +136,45 @@ def _impact_force(*, penetration, rate, stiffness, exponent, damping, depth):
 
 
 def hertz_impact(*, mass, speed, stiffness, exponent=1.5, damping=0.0, depth=1e-5, rtol=1e-10):
-    """A mass hitting a rigid wall through the contact law, integrated with the compiled SDIRK4
-    (events located by re-stepping). Mass [kg], impact speed [m/s] > 0, the law's parameters as
-    :func:`impact_force`, rtol in (0, 1) (ValueError otherwise).
+    """A mass hitting a rigid wall through the contact law, integrated with the compiled SDIRK4.
 
-    Returns dict: ``max_penetration`` [m], ``time_of_max`` [s], ``contact_time`` [s],
-    ``restitution`` [1] (exit over entry speed), ``nfev``, ``status``: ok; invalid_input (NaN, no
-    integration) where an input is not physical, finite or plausible; not_converged (NaN) after
-    :data:`IMPACT_MAX_STEPS` step attempts.
+    Events are located by re-stepping. One scenario (scalars). Undamped, the result is checked
+    against Hertz's closed form [3]: δ_max = (5mv²/(4k))^(2/5), contact time 2.9432·δ_max/v,
+    restitution 1.
+
+    Parameters
+    ----------
+    mass : float [kg]
+        Impacting mass m.
+    speed : float [m/s]
+        Impact speed v > 0.
+    stiffness : float or array_like [N/m^exponent]
+        Contact stiffness k > 0 (:func:`hertz_stiffness`).
+    exponent : float or array_like [-]
+        Exponent e of k·δ^e, in [1, 10] (1.5: Hertz).
+    damping : float or array_like [N s/m]
+        Full damping coefficient c_max ≥ 0.
+    depth : float or array_like [m]
+        Penetration depth d_max > 0 over which the damping rises from 0 to c_max.
+    rtol : float
+        Integrator tolerance, in (0, 1).
+
+    Returns
+    -------
+    dict
+        ``max_penetration`` [m], ``time_of_max`` [s], ``contact_time`` [s], ``restitution`` [-]
+        (exit over entry speed), ``nfev``, ``status``: ok; invalid_input (NaN, no integration)
+        where an input is not physical, finite or plausible; not_converged (NaN) after
+        :data:`IMPACT_MAX_STEPS` step attempts.
+
+    Raises
+    ------
+    ValueError
+        If ``rtol`` is out of range or the inputs are arrays.
+
+    References
+    ----------
+    Johnson [3], section 11.4 (module docstring).
     """
     if not (np.isscalar(rtol) and np.isfinite(rtol) and 0 < rtol < 1):
         raise ValueError(f"rtol must be a number in (0, 1), got {rtol!r}")

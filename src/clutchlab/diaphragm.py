@@ -5,7 +5,7 @@ All functions are pure, vectorised over numpy broadcasting and in SI units.
 References
 ----------
 .. [1] Zhao P. (2026), "Design and engagement simulation of diaphragm spring clutch for
-   unmanned helicopters" (seed 000), eq. (10) and Fig. 6.
+   unmanned helicopters", the source paper (000), eq. (10) and Fig. 6.
 .. [2] Almen J.O., László A. (1936), "The uniform-section disk spring", Trans. ASME 58.
 """
 
@@ -60,8 +60,25 @@ def _domain(inputs, order=True):
 
 
 def radius_ratio_k(outer_radius, inner_radius, load_radius_outer, load_radius_inner):
-    """Lever ratio k = (R − r)/(R₁ − r₁) of eq. (10) in [1] [-] (radii [m]); NaN unless
-    0 < r ≤ r₁ < R₁ ≤ R, finite and plausible (:mod:`clutchlab.plausible`)."""
+    """Lever ratio k = (R − r)/(R₁ − r₁) of the Almen–László load, equation (10) of [1].
+
+    Parameters
+    ----------
+    outer_radius, inner_radius : float or array_like [m]
+        Outer and inner radius R, r of the spring cone.
+    load_radius_outer, load_radius_inner : float or array_like [m]
+        Pressure-plate load radius R₁ and fulcrum-ring load radius r₁.
+
+    Returns
+    -------
+    numpy.ndarray [-]
+        k; NaN unless 0 < r ≤ r₁ < R₁ ≤ R and every radius is finite and of a plausible magnitude
+        (:mod:`clutchlab.plausible`).
+
+    References
+    ----------
+    Source paper (000), eq. (10) ([1] in the module docstring).
+    """
     inputs = dict(
         outer_radius=outer_radius,
         inner_radius=inner_radius,
@@ -85,10 +102,32 @@ def spring_constant(
     load_radius_outer,
     load_radius_inner,
 ):
-    """Leading factor c of eq. (10) in [1]: F = c·λ·[(H − kλ)(H − kλ/2) + h²]  [N/m³].
+    """Leading factor c of the Almen–László load, equation (10) of [1].
 
-    c = π·E·h / (6(1 − μ²)) · ln(R/r) / (R₁ − r₁)², E [Pa], h and the radii [m]; NaN unless
-    ν ∈ (−1, 0.5), 0 < r ≤ r₁ < R₁ ≤ R and every input finite, positive and plausible.
+    F = c·λ·[(H − kλ)(H − kλ/2) + h²] with c = π·E·h / (6(1 − μ²)) · ln(R/r) / (R₁ − r₁)².
+
+    Parameters
+    ----------
+    youngs_modulus : float or array_like [Pa]
+        Young's modulus E of the spring steel.
+    poisson_ratio : float or array_like [-]
+        Poisson's ratio μ, in (−1, 0.5).
+    sheet_thickness : float or array_like [m]
+        Sheet thickness h.
+    outer_radius, inner_radius : float or array_like [m]
+        Outer and inner radius R, r of the spring cone.
+    load_radius_outer, load_radius_inner : float or array_like [m]
+        Pressure-plate load radius R₁ and fulcrum-ring load radius r₁.
+
+    Returns
+    -------
+    numpy.ndarray [N/m³]
+        c; NaN unless ν ∈ (−1, 0.5), 0 < r ≤ r₁ < R₁ ≤ R and every input is finite, positive and
+        plausible (:mod:`clutchlab.plausible`).
+
+    References
+    ----------
+    Source paper (000), eq. (10) ([1] in the module docstring); Almen and László [2].
     """
     inputs = dict(
         youngs_modulus=youngs_modulus,
@@ -134,35 +173,38 @@ def almen_laszlo_load(
     load_radius_outer,
     load_radius_inner,
 ):
-    """Load of a diaphragm spring at its pressure-plate load point, eq. (10) of [1].
+    """Load of a diaphragm spring at its pressure-plate load point, equation (10) of [1].
+
+    F(λ) = π·E·h·λ / (6(1 − μ²)) · ln(R/r) / (R₁ − r₁)² · [(H − kλ)(H − kλ/2) + h²] with
+    k = (R − r)/(R₁ − r₁).
 
     Parameters
     ----------
-    deflection : array_like
-        Axial deflection λ at the pressure-plate load radius [m].
-    youngs_modulus : array_like
-        E [Pa].
-    poisson_ratio : array_like
-        μ [-].
-    sheet_thickness : array_like
-        Sheet thickness h [m].
-    cone_height : array_like
-        Inner cone height H [m].
-    outer_radius, inner_radius : array_like
-        Outer and inner radius R, r of the spring cone [m].
-    load_radius_outer, load_radius_inner : array_like
-        Pressure-plate load radius R₁ and fulcrum-ring load radius r₁ [m].
+    deflection : float or array_like [m]
+        Axial deflection λ at the pressure-plate load radius.
+    youngs_modulus : float or array_like [Pa]
+        Young's modulus E.
+    poisson_ratio : float or array_like [-]
+        Poisson's ratio μ.
+    sheet_thickness : float or array_like [m]
+        Sheet thickness h.
+    cone_height : float or array_like [m]
+        Inner cone height H.
+    outer_radius, inner_radius : float or array_like [m]
+        Outer and inner radius R, r of the spring cone.
+    load_radius_outer, load_radius_inner : float or array_like [m]
+        Pressure-plate load radius R₁ and fulcrum-ring load radius r₁.
 
     Returns
     -------
-    numpy.ndarray
-        Load F [N]; NaN where an input is not finite or not physical (E, h, H ≤ 0; ν outside
+    numpy.ndarray [N]
+        Load F; NaN where an input is not finite or not physical (E, h, H ≤ 0; ν outside
         (−1, 0.5); radii not 0 < r ≤ r₁ < R₁ ≤ R) or of an implausible magnitude
         (:mod:`clutchlab.plausible`).
 
     References
     ----------
-    Eq. (10) of seed 000 ([1] in the module docstring).
+    Source paper (000), eq. (10) ([1] in the module docstring); Almen and László [2].
     """
     inputs = dict(
         deflection=deflection,
@@ -219,8 +261,30 @@ def geometry_is_valid(
     load_radius_outer,
     load_radius_inner,
 ):
-    """True where 0 < r ≤ r₁ < R₁ ≤ R and h, H > 0 (load points on the spring), every length [m]
-    finite and of a plausible magnitude (:mod:`clutchlab.plausible`)."""
+    """Whether the load points lie on the spring and the lengths are admissible.
+
+    Parameters
+    ----------
+    sheet_thickness : float or array_like [m]
+        Sheet thickness h.
+    cone_height : float or array_like [m]
+        Inner cone height H.
+    outer_radius, inner_radius : float or array_like [m]
+        Outer and inner radius R, r of the spring cone.
+    load_radius_outer, load_radius_inner : float or array_like [m]
+        Pressure-plate load radius R₁ and fulcrum-ring load radius r₁.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        True where 0 < r ≤ r₁ < R₁ ≤ R and h, H > 0, every length finite and of a plausible
+        magnitude (:mod:`clutchlab.plausible`).
+
+    References
+    ----------
+    Source paper (000), eq. (10) and Fig. 6 ([1] in the module docstring): the radii of the
+    load points.
+    """
     inputs = dict(
         sheet_thickness=sheet_thickness,
         cone_height=cone_height,
@@ -248,7 +312,7 @@ def characteristic_points(
     load_radius_inner,
     operating_point_factor=0.9,
 ):
-    """Characteristic points A (local max), C (flattening), D (local min), B (operating) of eq. (10).
+    """Characteristic points A (hump), C (flattening), D (valley), B (operating) of equation (10).
 
     Closed form: with F = c·λ·[(H − kλ)(H − kλ/2) + h²],
     dF/dλ = c·[(3/2)k²λ² − 3kHλ + H² + h²] vanishes at
@@ -256,6 +320,23 @@ def characteristic_points(
     λ_C = H/k is their midpoint (the paper's λ_C = (λ_A + λ_D)/2) and is the position where the
     spring is pressed flat at the load points; F_C = c·H·h²/k. The operating point of [1] is
     λ_B = factor·λ_C with factor 0.8…1.0.
+
+    Parameters
+    ----------
+    youngs_modulus : float or array_like [Pa]
+        Young's modulus E.
+    poisson_ratio : float or array_like [-]
+        Poisson's ratio μ.
+    sheet_thickness : float or array_like [m]
+        Sheet thickness h.
+    cone_height : float or array_like [m]
+        Inner cone height H.
+    outer_radius, inner_radius : float or array_like [m]
+        Outer and inner radius R, r of the spring cone.
+    load_radius_outer, load_radius_inner : float or array_like [m]
+        Pressure-plate load radius R₁ and fulcrum-ring load radius r₁.
+    operating_point_factor : float or array_like [-]
+        λ_B/λ_C, 0.8…1.0 in [1]; at most 10.
 
     Returns
     -------
@@ -268,6 +349,11 @@ def characteristic_points(
         (all NaN) where an input is not finite or not physical (E, h, H, radii, operating-point
         factor ≤ 0; ν outside (−1, 0.5)) or of an implausible magnitude
         (:mod:`clutchlab.plausible`; the operating-point factor at most 10).
+
+    References
+    ----------
+    Source paper (000), eq. (10) and Fig. 6 ([1] in the module docstring): the points A, C, D
+    and B, λ_C = (λ_A + λ_D)/2 and λ_B = (0.8…1.0)·λ_C.
     """
     return st.screened(
         _characteristic_points,

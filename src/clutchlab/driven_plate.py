@@ -1,4 +1,5 @@
-"""Driven-plate hub: torsional damper springs (eqs. 4–9) and the hub spline check of seed 000.
+"""Driven-plate hub: torsional damper springs (eqs. 4–9) and the hub spline check of the source
+paper (000).
 
 Every function returns NaN where an input is not finite, not physical (a negative torque, a
 count that is not a whole number in [1, 1000], a non-positive length or modulus) or of an
@@ -6,7 +7,9 @@ implausible magnitude (:mod:`clutchlab.plausible`).
 
 References
 ----------
-.. [1] Zhao P. (2026), seed 000, section 3.2.2 (spline) and eqs. (4)–(9) (damper springs).
+.. [1] Zhao P. (2026), "Design and engagement simulation of diaphragm spring clutch for
+   unmanned helicopters", the source paper (000), section 3.2.2 (spline) and eqs. (4)–(9)
+   (damper springs).
 """
 
 from __future__ import annotations
@@ -57,7 +60,25 @@ def _screened(compute, relations=None, **inputs):
 
 
 def damper_design_torque(max_engine_torque, factor=2.0):
-    """Maximum damper torque T_j = factor·T_emax [N·m] (the paper takes factor = 2)."""
+    """Maximum damper torque T_j = factor·T_emax.
+
+    Parameters
+    ----------
+    max_engine_torque : float or array_like [N m]
+        Engine maximum torque T_emax ≥ 0.
+    factor : float or array_like [-]
+        Ratio T_j/T_emax, in (0, 1000]; the paper takes 2 against the load shocks of a UAV
+        helicopter.
+
+    Returns
+    -------
+    numpy.ndarray [N m]
+        T_j (346 N·m for the source paper's design); NaN where an input is invalid.
+
+    References
+    ----------
+    Source paper (000), section 3.2.3 ([1] in the module docstring): T_j = 2·T_emax.
+    """
     return _screened(
         lambda max_engine_torque, factor: factor * np.asarray(max_engine_torque, dtype=float),
         max_engine_torque=max_engine_torque,
@@ -66,10 +87,28 @@ def damper_design_torque(max_engine_torque, factor=2.0):
 
 
 def damper_total_force(design_torque, spring_radius):
-    """Total force on all damper springs P_total = T_j / R₁, eq. (4) of [1] [N] (T_j [N·m], R₁ [m]).
+    """Total force on all damper springs P_total = T_j / R₁, equation (4) of [1].
 
+    Parameters
+    ----------
+    design_torque : float or array_like [N m]
+        Damper design torque T_j ≥ 0.
+    spring_radius : float or array_like [m]
+        Radius R₁ of the damper springs' pitch circle.
+
+    Returns
+    -------
+    numpy.ndarray [N]
+        P_total; NaN where an input is invalid.
+
+    Notes
+    -----
     Erratum: Table 2 of [1] labels this value (6654 N) "single spring working pressure";
     it is the total over all springs (eq. 4). R₁ is not printed; 6654 N implies R₁ = 52.0 mm.
+
+    References
+    ----------
+    Source paper (000), eq. (4) and Table 2 ([1] in the module docstring).
     """
     return _screened(
         lambda design_torque, spring_radius: np.asarray(design_torque, dtype=float) / spring_radius,
@@ -79,7 +118,24 @@ def damper_total_force(design_torque, spring_radius):
 
 
 def damper_spring_force(total_force, spring_count):
-    """Force on one damper spring P = P_total / z, eq. (5) of [1] [N]."""
+    """Force on one damper spring P = P_total / z, equation (5) of [1].
+
+    Parameters
+    ----------
+    total_force : float or array_like [N]
+        Total force P_total ≥ 0 on all damper springs.
+    spring_count : int or array_like [-]
+        Number of damper springs z, a whole number in [1, 1000] (4 in [1]).
+
+    Returns
+    -------
+    numpy.ndarray [N]
+        P; NaN where an input is invalid.
+
+    References
+    ----------
+    Source paper (000), eq. (5) ([1] in the module docstring).
+    """
     return _screened(
         lambda total_force, spring_count: np.asarray(total_force, dtype=float) / spring_count,
         total_force=total_force,
@@ -88,11 +144,31 @@ def damper_spring_force(total_force, spring_count):
 
 
 def damper_wire_diameter(spring_force, coil_diameter, allowable_shear_stress):
-    """Wire diameter d₁ = ∛(8·P·D_c / (π·τ)), eq. (6) of [1] corrected [m] (P [N], D_c [m], τ [Pa]).
+    """Wire diameter d₁ = ∛(8·P·D_c / (π·τ)), equation (6) of [1] corrected.
 
+    Parameters
+    ----------
+    spring_force : float or array_like [N]
+        Force P ≥ 0 on one damper spring.
+    coil_diameter : float or array_like [m]
+        Mean coil diameter D_c (11…15 mm in [1]).
+    allowable_shear_stress : float or array_like [Pa]
+        Allowable torsion stress τ of the spring wire (65Mn in [1]; not printed).
+
+    Returns
+    -------
+    numpy.ndarray [m]
+        d₁; NaN where an input is invalid.
+
+    Notes
+    -----
     Erratum: eq. (6) is printed with a square root, which is dimensionally wrong; the torsion
     stress of a helical spring τ = 8·P·D_c/(π·d³) gives the cube root used here (no Wahl factor,
     as in the paper).
+
+    References
+    ----------
+    Source paper (000), eq. (6) ([1] in the module docstring), corrected as in the Notes.
     """
     return _screened(
         _wire_diameter,
@@ -112,9 +188,25 @@ def _wire_diameter(spring_force, coil_diameter, allowable_shear_stress):
 
 
 def damper_angular_stiffness(design_torque, factor=13.0):
-    """Damper angular stiffness C_a = factor·T_j, eq. (7) of [1] (upper limit, factor 13) [N·m/rad].
+    """Damper angular stiffness C_a = factor·T_j, equation (7) of [1] (upper limit, factor 13).
 
     The rule is empirical: T_j in N·m gives C_a in N·m/rad.
+
+    Parameters
+    ----------
+    design_torque : float or array_like [N m]
+        Damper design torque T_j ≥ 0.
+    factor : float or array_like [1/rad]
+        Ratio C_a/T_j, in (0, 1000]; at most 13 in [1].
+
+    Returns
+    -------
+    numpy.ndarray [N m/rad]
+        C_a (4498 N·m/rad for the source paper's design); NaN where an input is invalid.
+
+    References
+    ----------
+    Source paper (000), eq. (7) ([1] in the module docstring).
     """
     return _screened(
         lambda design_torque, factor: factor * np.asarray(design_torque, dtype=float),
@@ -124,11 +216,31 @@ def damper_angular_stiffness(design_torque, factor=13.0):
 
 
 def damper_spring_rate(angular_stiffness, spring_radius, spring_count):
-    """Linear rate of one damper spring C = C_a / (R₁²·z), eq. (8) of [1] in SI [N/m]
-    (C_a [N·m/rad], R₁ [m]).
+    """Linear rate of one damper spring C = C_a / (R₁²·z), equation (8) of [1] in SI.
 
+    Parameters
+    ----------
+    angular_stiffness : float or array_like [N m/rad]
+        Damper angular stiffness C_a ≥ 0.
+    spring_radius : float or array_like [m]
+        Radius R₁ of the damper springs' pitch circle.
+    spring_count : int or array_like [-]
+        Number of damper springs z, a whole number in [1, 1000].
+
+    Returns
+    -------
+    numpy.ndarray [N/m]
+        C; NaN where an input is invalid.
+
+    Notes
+    -----
     Erratum: eq. (8) is printed as C = C_a / (1000·R₁²·z) with R₁ in mm, and Table 2 gives the
     result (416) as "N/m"; in consistent units the value is 415.9 N/mm = 4.159e5 N/m.
+
+    References
+    ----------
+    Source paper (000), eq. (8) and Table 2 ([1] in the module docstring), corrected as in the
+    Notes.
     """
     return _screened(
         lambda angular_stiffness, spring_radius, spring_count: (
@@ -142,8 +254,29 @@ def damper_spring_rate(angular_stiffness, spring_radius, spring_count):
 
 
 def damper_coil_count(shear_modulus, wire_diameter, coil_diameter, spring_rate):
-    """Active coils i = G·d₁⁴ / (8·D_c³·C), eq. (9) of [1] [-] (D₂ there is the coil diameter D_c;
-    G [Pa], d₁ and D_c [m], C [N/m]; the wire thinner than the coil, d₁ < D_c)."""
+    """Active coils i = G·d₁⁴ / (8·D_c³·C), equation (9) of [1] (D₂ there is the coil diameter D_c).
+
+    Parameters
+    ----------
+    shear_modulus : float or array_like [Pa]
+        Shear modulus G of the spring wire.
+    wire_diameter : float or array_like [m]
+        Wire diameter d₁, smaller than the coil diameter.
+    coil_diameter : float or array_like [m]
+        Mean coil diameter D_c.
+    spring_rate : float or array_like [N/m]
+        Rate C of one spring.
+
+    Returns
+    -------
+    numpy.ndarray [-]
+        i (6 in [1] needs d₁ ≈ 5.34…5.40 mm; τ and G are not printed); NaN where an input is
+        invalid or d₁ ≥ D_c.
+
+    References
+    ----------
+    Source paper (000), eq. (9) ([1] in the module docstring).
+    """
     return _screened(
         _coil_count,
         {None: lambda a: a["wire_diameter"] < a["coil_diameter"]},
@@ -163,7 +296,7 @@ def _coil_count(shear_modulus, wire_diameter, coil_diameter, spring_rate):
 
 
 def spline_stresses(torque, *, teeth, outer_diameter, inner_diameter, tooth_width, length):
-    """Mean bearing (crushing) and root shear stress of a straight-sided spline [Pa].
+    """Mean bearing (crushing) and root shear stress of a straight-sided spline.
 
     With mean diameter d_m = (D + d)/2 and working tooth height h = (D − d)/2, the tangential
     force on all teeth is 2T/d_m; bearing σ_p = 2T/(d_m·n·h·l), shear τ = 2T/(d_m·n·t·l).
@@ -173,17 +306,26 @@ def spline_stresses(torque, *, teeth, outer_diameter, inner_diameter, tooth_widt
 
     Parameters
     ----------
-    torque : array_like
-        T ≥ 0 [N·m].
-    teeth : array_like
-        n, a whole number in [1, 1000].
-    outer_diameter, inner_diameter, tooth_width, length : array_like
-        D > d > 0, t, l > 0 [m].
+    torque : float or array_like [N m]
+        Torque T ≥ 0 through the spline.
+    teeth : int or array_like [-]
+        Number of teeth n, a whole number in [1, 1000].
+    outer_diameter, inner_diameter : float or array_like [m]
+        Outer and inner spline diameter D > d > 0.
+    tooth_width : float or array_like [m]
+        Tooth thickness t > 0.
+    length : float or array_like [m]
+        Working tooth length l > 0.
 
     Returns
     -------
-    tuple of numpy.ndarray
-        (bearing stress, shear stress) [Pa]; NaN where an input is invalid.
+    tuple of numpy.ndarray [Pa]
+        (bearing stress, shear stress); NaN where an input is invalid.
+
+    References
+    ----------
+    Source paper (000), section 3.2.2 ([1] in the module docstring): 10 teeth, D = 35 mm,
+    d = 28 mm, t = 4 mm, l = 35 mm; 8.9 MPa and 15 MPa.
     """
     return _screened(
         _spline_stresses,

@@ -46,7 +46,18 @@ __all__ = [
 
 
 def dominates(a, b) -> bool:
-    """a dominates b (minimisation): no worse in every objective and better in one."""
+    """Whether ``a`` dominates ``b`` (minimisation): no worse in every objective and better in one.
+
+    Parameters
+    ----------
+    a, b : array_like (M,)
+        Objective values of two designs, each column in one unit.
+
+    Returns
+    -------
+    bool
+        True where ``a`` dominates ``b``.
+    """
     a, b = np.asarray(a), np.asarray(b)
     return bool(np.all(a <= b) and np.any(a < b))
 
@@ -143,11 +154,23 @@ def _dataset_rank(ds, objectives, within):
 def feasible(ds, constraints: dict) -> tuple[np.ndarray, dict]:
     """Feasibility of every scenario of a study Dataset.
 
-    ``constraints`` maps an output to ("max" or "min", limit in the output's SI units). The
-    margin is what every margin of clutchlab is, capacity over demand minus one, ≥ 0 where met
+    The margin is what every margin of clutchlab is, capacity over demand minus one, ≥ 0 where met
     (:func:`constraint_margin`), NaN where the output is NaN. A scenario is feasible where its
-    status is ok and every margin is ≥ 0. Returns (feasible, {output: margin}), arrays shaped like
-    ``status``.
+    status is ok and every margin is ≥ 0.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A study result (a ``status`` and the constrained outputs).
+    constraints : dict
+        Output name -> ("max" or "min", limit in the output's SI units).
+
+    Returns
+    -------
+    feasible : numpy.ndarray of bool
+        Shaped like ``status``.
+    margins : dict of numpy.ndarray
+        Output name -> margin [-], shaped like ``status``.
     """
     ok = np.asarray(ds["status"].values == st.CODE["ok"])
     margins = {}
@@ -178,10 +201,22 @@ def constraint_margin(value, op, limit):
 
 
 def condition_factors(ds) -> tuple[list[str], list[str]]:
-    """The study's operating conditions (:attr:`clutchlab.studies.Study.conditions`) among the
-    factors of ``ds``: (those it is ranked within — grid dimensions, the conditions a refined
-    design kept at its first stage's grid values, options drawn per scenario — and those sampled,
-    which cannot be grouped)."""
+    """The operating conditions (:attr:`~clutchlab.studies.Study.conditions`) among the factors.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A study result.
+
+    Returns
+    -------
+    grouped : list of str
+        The conditions it is ranked within: grid dimensions, the conditions a refined design kept
+        at its first stage's grid values, options drawn per scenario (and ``noise`` of a robust
+        study).
+    sampled : list of str
+        The conditions sampled on ``run``, which cannot be grouped.
+    """
     from . import studies
 
     conditions = studies.get(ds.attrs["study"]).conditions if "study" in ds.attrs else ()
@@ -215,8 +250,20 @@ def group_ids(ds, within) -> np.ndarray | None:
 
 
 def front_order(ds) -> np.ndarray:
-    """Flat indices of the Pareto front's designs (rank 0), grouped by the operating conditions
-    they were ranked within, then along the first objective."""
+    """Flat indices of the Pareto front's designs (rank 0), in reading order.
+
+    Grouped by the operating conditions they were ranked within, then along the first objective.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        An annotated study result (``pareto_rank``).
+
+    Returns
+    -------
+    numpy.ndarray of int
+        Flat indices (order of ``status``).
+    """
     rank = ds["pareto_rank"].values.reshape(-1)
     front = np.flatnonzero(rank == 0)
     first = ds["pareto_rank"].attrs["objectives"].split()[0].split(":")[0]
@@ -234,15 +281,31 @@ def spread(indices, k) -> np.ndarray:
 
 
 def annotate(ds, objectives, constraints, within=None):
-    """``ds`` with the design answers added: ``feasible``, ``constraint_margin`` (dimension
-    ``constraint``, one entry per constrained output) and ``pareto_rank`` over ``objectives``
-    ("name:min"/"name:max") among the feasible designs (−1: infeasible or an objective NaN).
+    """``ds`` with the design answers added: feasibility, constraint margins and Pareto ranks.
 
-    ``within``: grid dimensions to rank within (each of their value combinations has its own
-    front); default: the study's operating conditions that are grid dimensions (e.g. the
-    engagement's load torque and driven inertia), since a design cannot choose its load. Operating
-    conditions sampled on ``run`` cannot be grouped: they are ranked together with the design
-    factors and named in the attribute ``conditions_mixed``."""
+    Operating conditions sampled on ``run`` cannot be grouped: they are ranked together with the
+    design factors and named in the attribute ``conditions_mixed``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A study result.
+    objectives : list of str
+        "name:min" / "name:max".
+    constraints : dict
+        Output name -> ("max" or "min", limit [SI]), as :func:`feasible`.
+    within : list of str or None
+        Grid dimensions to rank within (each of their value combinations has its own front);
+        default: the study's operating conditions that are grid dimensions (e.g. the engagement's
+        load torque and driven inertia), since a design cannot choose its load.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``ds`` with ``feasible``, ``constraint_margin`` (dimension ``constraint``, one entry per
+        constrained output) and ``pareto_rank`` over ``objectives`` among the feasible designs
+        (−1: infeasible or an objective NaN).
+    """
     import xarray as xr
 
     dims = ds["status"].dims
@@ -367,8 +430,26 @@ def hypervolume(points, reference) -> float:
 
 
 def objective_table(ds, objectives, within) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Flat per-scenario arrays of a study Dataset: the objectives to minimise (N, M; "name:max"
-    negated), ``feasible`` (N,) and the values of the conditions ``within`` (N, len(within))."""
+    """Flat per-scenario arrays of a study Dataset for ranking.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        An annotated study result (with ``feasible``).
+    objectives : list of str
+        "name:min" / "name:max".
+    within : list of str
+        The conditions ranked within.
+
+    Returns
+    -------
+    objectives : numpy.ndarray (N, M)
+        The objectives to minimise ("name:max" negated).
+    feasible : numpy.ndarray of bool (N,)
+        Feasibility of each scenario.
+    conditions : numpy.ndarray (N, len(within))
+        The values of the conditions ``within``.
+    """
     cols = [flat(ds, o.split(":")[0]) * (1.0 if o.endswith(":min") else -1.0) for o in objectives]
     key = (
         np.stack([flat(ds, w) for w in within], axis=1)
@@ -379,12 +460,24 @@ def objective_table(ds, objectives, within) -> tuple[np.ndarray, np.ndarray, np.
 
 
 def best_compromise(ds) -> int | None:
-    """Flat index of the front design nearest its front's ideal point: each objective normalised
-    over the feasible designs of its operating condition (best 0, worst 1), the Euclidean distance
-    to the origin smallest; where the designs are ranked within operating conditions, on the front
-    of the condition nearest the seed design's (the first choice of an option). None without a
-    front. One design that answers "which one?" when the objectives weigh alike; the front itself
-    is the full answer."""
+    """Flat index of the front design nearest its front's ideal point.
+
+    Each objective is normalised over the feasible designs of its operating condition (best 0,
+    worst 1) and the Euclidean distance to the origin is smallest; where the designs are ranked
+    within operating conditions, on the front of the condition nearest the default design's (the
+    first choice of an option). One design that answers "which one?" when the objectives weigh
+    alike; the front itself is the full answer.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        An annotated study result (:func:`annotate`: ``pareto_rank`` and ``feasible``).
+
+    Returns
+    -------
+    int or None
+        The flat index (order of ``status``); None without a front.
+    """
     from . import studies
 
     if "pareto_rank" not in ds or not (ds["pareto_rank"].values == 0).any():
@@ -419,11 +512,28 @@ def best_compromise(ds) -> int | None:
 
 
 def refinement_gain(first, second):
-    """How far a refining stage moved the Pareto fronts of its first stage: per operating condition
-    the first stage ranked within (one group if none), the hypervolume of the first stage's front
-    and of the front of both stages together, in objectives normalised by the first stage's feasible
-    designs of that group (ideal 0, worst 1; reference point 1.1 in each). Returns a Dataset on
-    dimension ``group``."""
+    """How far a refining stage moved the Pareto fronts of its first stage.
+
+    Per operating condition the first stage ranked within (one group if none): the hypervolume of
+    the first stage's front and of the front of both stages together, in objectives normalised by
+    the first stage's feasible designs of that group (ideal 0, worst 1; reference point 1.1 in
+    each).
+
+    Parameters
+    ----------
+    first : xarray.Dataset
+        The annotated result of the first stage.
+    second : xarray.Dataset
+        The annotated result of the refining stage.
+
+    Returns
+    -------
+    xarray.Dataset
+        On dimension ``group`` (with the values of the conditions ranked within):
+        ``hypervolume_before``, ``hypervolume_after`` [-], ``feasible_first``,
+        ``feasible_second`` and ``front_from_second`` (designs of the refining stage on the joint
+        front).
+    """
     import xarray as xr
 
     objectives = first["pareto_rank"].attrs["objectives"].split()
@@ -505,14 +615,29 @@ def refinement_gain(first, second):
 def grid_variance_decomposition(y, axes_names) -> dict:
     """Main and total effects of the factors of a full factorial grid.
 
-    ``y`` has one axis per factor; ``axes_names`` names them. Main effect of factor i:
-    Var(E[y | x_i]) / Var(y); total effect: E[Var(y | x_~i)] / Var(y), every cell weighted
-    equally — on a complete grid the grid's own variance decomposition, exact. Failed cells (NaN)
-    are not filled: every mean and variance runs over the finite cells only, each weighted by its
-    count (the indices of the successful designs; exact again when nothing failed — with cells
-    missing they are no exact decomposition, and a main effect may exceed its total), and
-    ``failed`` says how many cells that left out. Returns {"first_order": {name: S_i},
-    "total": {name: ST_i}, "variance": Var(y), "failed": count}.
+    Main effect of factor i: Var(E[y | x_i]) / Var(y); total effect: E[Var(y | x_~i)] / Var(y),
+    every cell weighted equally — on a complete grid the grid's own variance decomposition, exact.
+    Failed cells (NaN) are not filled: every mean and variance runs over the finite cells only,
+    each weighted by its count (the indices of the successful designs; exact again when nothing
+    failed — with cells missing they are no exact decomposition, and a main effect may exceed its
+    total), and ``failed`` says how many cells that left out.
+
+    Parameters
+    ----------
+    y : array_like
+        The output on the grid, one axis per factor.
+    axes_names : list of str
+        The factors' names, one per axis of ``y``.
+
+    Returns
+    -------
+    dict
+        {"first_order": {name: S_i}, "total": {name: ST_i}, "variance": Var(y), "failed": count}.
+
+    Raises
+    ------
+    ValueError
+        If ``axes_names`` has not one name per axis of ``y``.
     """
     y = np.asarray(y, dtype=float)
     if y.ndim != len(axes_names):
@@ -540,14 +665,31 @@ def grid_variance_decomposition(y, axes_names) -> dict:
 
 
 def sobol_indices(y, n_factors, names, conf_level=0.95, seed=1) -> dict:
-    """First-order and total Sobol indices with confidence intervals from a Saltelli design
-    (:func:`clutchlab.doe.saltelli_unit` order: blocks of A, AB^(1..d), B), by SALib (the
-    maintained standard; Saltelli 2010 and Jansen estimators, bootstrap intervals).
+    """First-order and total Sobol indices with confidence intervals from a Saltelli design.
 
-    Failed scenarios (NaN) are not filled: a base point's whole block is left out when any of its
-    d + 2 scenarios failed (each estimator term needs all of them); ``failed`` counts the failed
-    scenarios, ``blocks_used`` the blocks that remain. The bootstrap intervals are reproducible
-    for a given ``seed`` (≥ 1: SALib leaves its generator unseeded for seed 0).
+    The design is in :func:`clutchlab.doe.saltelli_unit` order (blocks of A, AB^(1..d), B); the
+    indices are SALib's (the maintained standard; Saltelli 2010 and Jansen estimators, bootstrap
+    intervals). Failed scenarios (NaN) are not filled: a base point's whole block is left out when
+    any of its d + 2 scenarios failed (each estimator term needs all of them).
+
+    Parameters
+    ----------
+    y : array_like
+        The output of every scenario, in design order.
+    n_factors : int
+        Number d of factors.
+    names : list of str
+        The factors' names.
+    conf_level : float
+        Confidence level of the bootstrap intervals.
+    seed : int
+        Seed of the bootstrap's random numbers (≥ 1: SALib leaves its generator unseeded for 0).
+
+    Returns
+    -------
+    dict
+        ``first_order``, ``total``, ``first_order_conf``, ``total_conf`` (name -> value),
+        ``failed`` (the failed scenarios) and ``blocks_used`` (the blocks that remain).
     """
     from SALib.analyze import sobol
 
@@ -584,16 +726,31 @@ def sobol_indices(y, n_factors, names, conf_level=0.95, seed=1) -> dict:
 
 
 def sensitivity(ds, outputs) -> xr.Dataset:
-    """Main and total effects of every factor of a study result on each of ``outputs`` and on the
-    failure indicator (status not ok): a factorial grid by :func:`grid_variance_decomposition`
-    (exact), a ``saltelli`` design by :func:`sobol_indices` (with 95 % confidence intervals).
+    """Main and total effects of every factor of a study result on ``outputs`` and on failure.
 
-    Returns a Dataset with dimensions ``output`` and ``factor``: ``first_order``, ``total`` and
-    their ``*_conf`` half-widths (NaN for a grid: no sampling error) [1], ``failed`` (scenarios
-    that failed per output). Other sampled designs (lhs, sobol) raise ValueError.
+    The failure indicator is 1 where the status is not ok. A factorial grid is decomposed by
+    :func:`grid_variance_decomposition` (exact), a ``saltelli`` design by :func:`sobol_indices`
+    (with 95 % confidence intervals).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A study result on a factorial grid or a ``saltelli`` design.
+    outputs : list of str
+        The outputs to decompose.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions ``output`` and ``factor``: ``first_order``, ``total`` and their ``*_conf``
+        half-widths (NaN for a grid: no sampling error) [-], ``failed`` (scenarios that failed per
+        output).
+
+    Raises
+    ------
+    ValueError
+        For another sampled design (lhs, sobol).
     """
-    import xarray as xr
-
     dims = list(ds["status"].dims)
     design = ds.attrs.get("design", "factorial" if dims != ["run"] else "")
     if dims == ["run"] and design != "saltelli":
@@ -614,8 +771,13 @@ def sensitivity(ds, outputs) -> xr.Dataset:
             r = grid_variance_decomposition(y, dims)
             r["first_order_conf"] = r["total_conf"] = dict.fromkeys(dims, np.nan)
             rows.append(r)
-    dims = factor_names
-    out_names = names + ["failure"]
+    return _sensitivity_dataset(rows, names + ["failure"], factor_names, design, ds.attrs)
+
+
+def _sensitivity_dataset(rows, out_names, dims, design, attrs) -> xr.Dataset:
+    """The indices of :func:`sensitivity` (one row per output) as a labelled Dataset."""
+    import xarray as xr
+
     return xr.Dataset(
         {
             "first_order": (
@@ -677,7 +839,7 @@ def sensitivity(ds, outputs) -> xr.Dataset:
                 "calc_second_order=False, 95 % bootstrap intervals); a base point's block is left "
                 "out when any of its scenarios failed"
             ),
-            "title": ds.attrs.get("title", ""),
+            "title": attrs.get("title", ""),
         },
     )
 
@@ -742,15 +904,21 @@ def robust(ds, objectives=None, constraints=None, **settings):
 
 
 def best_robust(answers) -> int | None:
-    """Flat index (over the design factors) of the best robust design: of the robust front
-    (``robust_rank`` 0), the one nearest the ideal point of its robust objectives (worst case or
-    quantile, as ranked), each normalised over the robust-feasible designs (best 0, worst 1).
-    None without a robust front.
+    """Flat index (over the design factors) of the best robust design.
+
+    Of the robust front (``robust_rank`` 0), the one nearest the ideal point of its robust
+    objectives (worst case or quantile, as ranked), each normalised over the robust-feasible
+    designs (best 0, worst 1).
 
     Parameters
     ----------
     answers : xarray.Dataset
         Robust answers (:func:`robust`).
+
+    Returns
+    -------
+    int or None
+        The flat index; None without a robust front.
     """
     rank = answers["robust_rank"].values.reshape(-1)
     if not (rank == 0).any():
@@ -770,10 +938,27 @@ def best_robust(answers) -> int | None:
 
 
 def robust_scenario(ds, answers, j, answer=None) -> tuple[int, str]:
-    """Flat scenario index of a crossed result ``ds`` where design ``j`` (flat over the design
-    factors of ``answers``) meets its binding condition and noise draw: where the worst case of
-    ``answer`` occurs (default: the first constrained output, else the first objective); and
-    that answer's name."""
+    """Flat scenario index of a crossed result where a design meets its binding condition and noise.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A crossed (robust) study result.
+    answers : xarray.Dataset
+        Its robust answers (:func:`robust`).
+    j : int
+        A design, flat over the design factors of ``answers``.
+    answer : str or None
+        The answer whose worst case is wanted (default: the first constrained output, else the
+        first objective).
+
+    Returns
+    -------
+    index : int
+        Flat index into ``ds``'s ``status`` where the worst case of ``answer`` occurs.
+    answer : str
+        That answer's name.
+    """
     names = list(answers["answer"].values)
     if answer is None:
         constrained = list(answers["constraint"].values) if "constraint" in answers.coords else []

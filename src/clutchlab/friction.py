@@ -1,8 +1,9 @@
-"""Friction-clutch sizing and torque capacity (seed 000 eqs. 3, 13–14).
+"""Friction-clutch sizing and torque capacity (the source paper (000), eqs. 3, 13–14).
 
 References
 ----------
-.. [1] Zhao P. (2026), seed 000, eqs. (3), (13), (14).
+.. [1] Zhao P. (2026), "Design and engagement simulation of diaphragm spring clutch for
+   unmanned helicopters", the source paper (000), eqs. (3), (13), (14).
 """
 
 from __future__ import annotations
@@ -47,21 +48,26 @@ def _domain(inputs, relations=None):
 
 
 def lining_outer_diameter(max_engine_torque, coefficient):
-    """Lining outer diameter D = 100·√(T_emax / A) mm, eq. (3) of [1], returned in [m].
+    """Lining outer diameter D = 100·√(T_emax / A) [mm], equation (3) of [1], returned in metres.
 
     Parameters
     ----------
-    max_engine_torque : array_like
-        T_emax [N·m].
-    coefficient : array_like
-        Design constant A [-] (30…36 for a large single-plate UAV-helicopter clutch). The formula
+    max_engine_torque : float or array_like [N m]
+        Engine maximum torque T_emax.
+    coefficient : float or array_like [-]
+        Design constant A (30…36 for a large single-plate UAV-helicopter clutch). The formula
         is empirical: A carries the units that make D come out in mm for T in N·m.
 
     Returns
     -------
-    numpy.ndarray
-        D [m]; NaN where an input is not positive, finite and plausible
+    numpy.ndarray [m]
+        D; NaN where an input is not positive, finite and plausible
         (:mod:`clutchlab.plausible`).
+
+    References
+    ----------
+    Source paper (000), eq. (3) ([1] in the module docstring): D = 225 mm ⇔ A ≈ 34.17 for
+    T_emax = 173 N·m.
     """
     inputs = dict(max_engine_torque=max_engine_torque, coefficient=coefficient)
     return st.nan_screened(_lining_outer_diameter, inputs, _domain(inputs))
@@ -72,8 +78,26 @@ def _lining_outer_diameter(*, max_engine_torque, coefficient):
 
 
 def lining_coefficient(max_engine_torque, outer_diameter):
-    """Inverse of eq. (3) of [1]: A = T_emax / (D[mm]/100)² with T_emax [N·m] and D given in [m]
-    [-]; NaN where an input is not positive, finite and plausible."""
+    """Design constant A of equation (3) of [1]: the inverse of :func:`lining_outer_diameter`.
+
+    A = T_emax / (D[mm]/100)².
+
+    Parameters
+    ----------
+    max_engine_torque : float or array_like [N m]
+        Engine maximum torque T_emax.
+    outer_diameter : float or array_like [m]
+        Lining outer diameter D.
+
+    Returns
+    -------
+    numpy.ndarray [-]
+        A; NaN where an input is not positive, finite and plausible (:mod:`clutchlab.plausible`).
+
+    References
+    ----------
+    Source paper (000), eq. (3) ([1] in the module docstring).
+    """
     inputs = dict(max_engine_torque=max_engine_torque, outer_diameter=outer_diameter)
     return st.nan_screened(_lining_coefficient, inputs, _domain(inputs))
 
@@ -83,12 +107,33 @@ def _lining_coefficient(*, max_engine_torque, outer_diameter):
 
 
 def effective_radius(outer_radius, inner_radius, assumption="uniform_pressure"):
-    """Friction radius of an annular face [m].
+    """Friction radius of an annular face.
 
     ``uniform_pressure`` (new lining): R_eff = (2/3)(R₂³ − R₁³)/(R₂² − R₁²), the integral of
-    eqs. (13)–(14) of [1]; ``uniform_wear`` (worn-in lining): R_eff = (R₁ + R₂)/2. Outer and inner
-    radius R₂ > R₁ > 0 [m], plausible (:mod:`clutchlab.plausible`); NaN where not (swapped radii
-    are no lining).
+    eqs. (13)–(14) of [1]; ``uniform_wear`` (worn-in lining): R_eff = (R₁ + R₂)/2.
+
+    Parameters
+    ----------
+    outer_radius, inner_radius : float or array_like [m]
+        Outer and inner lining radius R₂ > R₁ > 0.
+    assumption : {"uniform_pressure", "uniform_wear"}
+        Pressure distribution over the face.
+
+    Returns
+    -------
+    numpy.ndarray [m]
+        R_eff; NaN where a radius is not positive, finite and plausible
+        (:mod:`clutchlab.plausible`) or R₂ ≤ R₁ (swapped radii are no lining).
+
+    Raises
+    ------
+    ValueError
+        For an unknown ``assumption``.
+
+    References
+    ----------
+    Source paper (000), eqs. (13)–(14) ([1] in the module docstring): R_eff = 95.0 mm for the
+    lining of 225/150 mm under uniform pressure.
     """
     if assumption not in ("uniform_pressure", "uniform_wear"):
         raise ValueError(
@@ -121,36 +166,49 @@ def torque_capacity(
     stack_mass=0.0,
     gravity=STANDARD_GRAVITY,
 ):
-    """Friction torque capacity T = z_f·μ·(F + m·g)·R_eff [N·m].
+    """Friction torque capacity T = z_f·μ·(F + m·g)·R_eff.
 
     Parameters
     ----------
-    clamp_force : array_like
-        Axial clamp (spring) force F [N].
-    friction_coefficient : array_like
-        μ [-].
-    outer_radius, inner_radius : array_like
-        Lining radii R₂, R₁ [m].
-    faces : int or array_like
-        Number of friction faces z_f (2 for a single driven plate).
+    clamp_force : float or array_like [N]
+        Axial clamp (spring) force F.
+    friction_coefficient : float or array_like [-]
+        Friction coefficient μ, in (0, 2].
+    outer_radius, inner_radius : float or array_like [m]
+        Lining radii R₂, R₁.
+    faces : int or array_like [-]
+        Number of friction faces z_f (2 for a single driven plate), a whole number in [1, 1000].
     assumption : {"uniform_pressure", "uniform_wear"}
         Pressure distribution for :func:`effective_radius`.
-    stack_mass : array_like
+    stack_mass : float or array_like [kg]
         Mass m of driven plate, pressure plate and diaphragm that adds its weight to the clamp
-        force on a vertical shaft [kg]; 0 for a horizontal shaft.
-    gravity : float
-        g [m/s²].
+        force on a vertical shaft; 0 for a horizontal shaft.
+    gravity : float or array_like [m/s²]
+        Acceleration of gravity g.
+
+    Returns
+    -------
+    numpy.ndarray [N m]
+        T; NaN where an input is not finite or not physical (F, m < 0; μ outside (0, 2]; a face
+        count that is not a whole number in [1, 1000]; R₂ ≤ R₁ or R₁ ≤ 0) or of an implausible
+        magnitude (:mod:`clutchlab.plausible`).
+
+    Raises
+    ------
+    ValueError
+        For an unknown ``assumption``.
 
     Notes
     -----
     Erratum for eq. (14) of [1]: as printed, M = (μ·m·g + F)·R_eff puts μ on the weight term
     only, omits μ on F, counts one face, and defines R₁, R₂ as diameters while using them as
-    radii. The physically consistent capacity is the one computed here. The paper's value is
-    available from :func:`torque_capacity_eq14_as_printed` (239.3 N·m for the seed design).
+    radii. The physically consistent capacity is the one computed here (193.5 N·m for the
+    source paper's design). The paper's value is available from
+    :func:`torque_capacity_eq14_as_printed` (239.3 N·m).
 
-    Returns NaN where an input is not finite or not physical (F, m < 0; μ outside (0, 2]; a face
-    count that is not a whole number in [1, 1000]; R₂ ≤ R₁ or R₁ ≤ 0) or of an implausible
-    magnitude (:mod:`clutchlab.plausible`).
+    References
+    ----------
+    Source paper (000), eqs. (13)–(14) ([1] in the module docstring), corrected as in the Notes.
     """
     inputs = dict(
         clamp_force=clamp_force,
@@ -197,11 +255,37 @@ def torque_capacity_eq14_as_printed(
     inner_radius,
     gravity=STANDARD_GRAVITY,
 ):
-    """Eq. (14) of [1] exactly as printed: M = (μ·m·g + F)·R_eff (one face) [N·m].
+    """The capacity of equation (14) of [1] exactly as printed: M = (μ·m·g + F)·R_eff (one face).
 
     Kept only to reproduce the paper's 239.3 N·m; it is dimensionally consistent but physically
-    wrong (see :func:`torque_capacity`). Do not use it for design. NaN where an input is invalid
-    (as :func:`torque_capacity`).
+    wrong (see :func:`torque_capacity`). Do not use it for design.
+
+    Parameters
+    ----------
+    clamp_force : float or array_like [N]
+        Axial clamp (spring) force F.
+    friction_coefficient : float or array_like [-]
+        Friction coefficient μ.
+    stack_mass : float or array_like [kg]
+        Mass m of the clutch stack whose weight the printed equation multiplies by μ.
+    outer_radius, inner_radius : float or array_like [m]
+        Lining radii R₂, R₁ (uniform pressure).
+    gravity : float or array_like [m/s²]
+        Acceleration of gravity g.
+
+    Returns
+    -------
+    numpy.ndarray [N m]
+        M; NaN where an input is invalid (as :func:`torque_capacity`).
+
+    Notes
+    -----
+    Erratum: μ belongs on the clamp force, and a single-plate clutch has two faces
+    (:func:`torque_capacity`).
+
+    References
+    ----------
+    Source paper (000), eq. (14) as printed ([1] in the module docstring).
     """
     inputs = dict(
         clamp_force=clamp_force,
@@ -225,8 +309,26 @@ def _eq14_as_printed(
 
 
 def reserve_factor(torque_capacity, max_engine_torque):
-    """Clutch reserve (backup) factor β = T_capacity / T_emax [-] (T_capacity ≥ 0, T_emax > 0
-    [N·m], finite and plausible; NaN where not)."""
+    """Clutch reserve (backup) factor β = T_capacity / T_emax.
+
+    Parameters
+    ----------
+    torque_capacity : float or array_like [N m]
+        Torque capacity T_capacity ≥ 0.
+    max_engine_torque : float or array_like [N m]
+        Engine maximum torque T_emax > 0.
+
+    Returns
+    -------
+    numpy.ndarray [-]
+        β; NaN where an input is not finite, of the wrong sign or implausible
+        (:mod:`clutchlab.plausible`).
+
+    References
+    ----------
+    The usual clutch sizing ratio; the source paper (001) quotes β = 1.88 for its centrifugal
+    clutch at 5500 rpm.
+    """
     inputs = dict(torque_capacity=torque_capacity, max_engine_torque=max_engine_torque)
     return st.nan_screened(_reserve_factor, inputs, _domain(inputs))
 

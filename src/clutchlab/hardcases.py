@@ -1,7 +1,7 @@
-"""Hard cases (issue 17 item 2): the cases of the physics notes that break ordinary solvers, and
-those found since, each with its right answer (analytic where one exists, else a much tighter
-reference, with its source), what clutchlab computes for it, the error and the verdict, and where
-instructive what an off-the-shelf solver (``scipy.integrate.solve_ivp``) gives on the same case.
+"""Hard cases: the cases that break ordinary solvers, each with its right answer (analytic where one
+exists, else a much tighter reference, with its source), what clutchlab computes for it, the error
+and the verdict, and where instructive what an off-the-shelf solver (``scipy.integrate.solve_ivp``)
+gives on the same case.
 
 :func:`run` computes every case of the studies asked for (a few seconds in all); the Snakemake rule
 ``hard_cases`` stores the table as ``<results>/numerics/hard_cases.h5`` and the report writes it as a
@@ -32,7 +32,7 @@ COLUMNS = [
     "off_the_shelf",
 ]
 
-# paper 000 engagement (PHYSICS.md): engine held at 570 rad/s, capacity ramped to 239.3 N m over
+# the source paper (000)'s engagement: engine held at 570 rad/s, capacity ramped to 239.3 N m over
 # 0.15 s, load 44 N m, driven inertia 0.021 kg m²
 SEED = dict(
     engine_speed=570.0,
@@ -77,16 +77,34 @@ def _f(x) -> float:
 
 
 def engagement_cases() -> list[Case]:
-    from scipy.optimize import brentq
+    """The engagement solver's hard cases, each against its right answer.
 
+    Returns
+    -------
+    list of Case
+        Start of motion with zero acceleration, step clamp, never locking, break-away and re-lock,
+        tiny driven inertia, zero initial slip, held engine at rest, restart at an event, judder.
+    """
+    return [
+        _start_of_motion(),
+        _step_clamp(),
+        _never_locking(),
+        _breakaway_and_relock(),
+        _tiny_driven_inertia(),
+        _zero_initial_slip(),
+        _held_engine_at_rest(),
+        _restart_at_an_event(),
+        _judder(),
+    ]
+
+
+def _start_of_motion() -> Case:
+    """Start of motion with zero acceleration: the driven side starts when C(t) = T_m, with zero
+    acceleration there; an integrator's first steps jump over it (the engagement benchmark's design,
+    scenario 5: Stribeck friction, held engine)."""
     from . import engagement as eng
-    from . import reference
     from .bench import engagement as benchmark
 
-    out = []
-    # start of motion with zero acceleration: the driven side starts when C(t) = T_m, with zero
-    # acceleration there; an integrator's first steps jump over it (the engagement benchmark's
-    # design, scenario 5: Stribeck friction, held engine)
     d = benchmark.design(200)
     i = 5
     right = benchmark.reference(d, i)
@@ -103,52 +121,62 @@ def engagement_cases() -> list[Case]:
         f"RK45 rtol {rtol:g}: error {abs(benchmark.rk45_per_scenario(d, i, rtol) - right):.1e} s"
         for rtol in (1e-6, 1e-9)
     ]
-    out.append(
-        Case(
-            "engagement",
-            "start of motion with zero acceleration (ramp clamp, Stribeck μ; benchmark scenario 5)",
-            f"lock-up {right:.12g} s",
-            "DOP853 at rtol 1e-12 from the analytic start of motion (clutchlab.bench.engagement.reference)",
-            f"{_f(sim['lockup_time']):.12g} s ({int(sim['n_steps'])} steps)",
-            abs(_f(sim["lockup_time"]) - right),
-            1e-6,
-            _name(sim["status"]) == "ok",
-            "; ".join(shelf) + " (the first steps jump over the start of motion)",
-        )
-    )
-    # step clamp: ramp time 0
-    right = 0.021 * 570.0 / (239.3 - 44.0)
-    sim = eng.simulate(**SEED, ramp_time=0.0, t_end=0.5)
-    out.append(
-        Case(
-            "engagement",
-            "step clamp (ramp time 0)",
-            f"lock-up J ω/(C - T) = {right:.12g} s",
-            "analytic (constant torques after the step)",
-            f"{_f(sim['lockup_time']):.12g} s",
-            abs(_f(sim["lockup_time"]) - right),
-            1e-12 * right,
-            _name(sim["status"]) == "ok",
-        )
-    )
-    # load above the capacity: never locks, slip work over the window
-    right = 570.0 * 239.3 * (0.4 - 0.075)
-    sim = eng.simulate(**dict(SEED, load_torque=300.0), ramp_time=0.15, t_end=0.4)
-    out.append(
-        Case(
-            "engagement",
-            "never locking (load 300 N m above the 239.3 N m capacity)",
-            f"status never_locked, lock-up NaN, slip work ω ∫C dt = {right:.10g} J",
-            "analytic (the driven side never moves)",
-            f"{_name(sim['status'])}, lock-up {_f(sim['lockup_time'])}, slip work {_f(sim['slip_work']):.10g} J",
-            abs(_f(sim["slip_work"]) - right) / right,
-            1e-10,
-            _name(sim["status"]) == "never_locked" and np.isnan(_f(sim["lockup_time"])),
-            relative=True,
-        )
+    return Case(
+        "engagement",
+        "start of motion with zero acceleration (ramp clamp, Stribeck μ; benchmark scenario 5)",
+        f"lock-up {right:.12g} s",
+        "DOP853 at rtol 1e-12 from the analytic start of motion (clutchlab.bench.engagement.reference)",
+        f"{_f(sim['lockup_time']):.12g} s ({int(sim['n_steps'])} steps)",
+        abs(_f(sim["lockup_time"]) - right),
+        1e-6,
+        _name(sim["status"]) == "ok",
+        "; ".join(shelf) + " (the first steps jump over the start of motion)",
     )
 
-    # break-away after lock-up (load step at 0.35 s above the momentary capacity) and re-lock
+
+def _step_clamp() -> Case:
+    """Step clamp: ramp time 0."""
+    from . import engagement as eng
+
+    right = 0.021 * 570.0 / (239.3 - 44.0)
+    sim = eng.simulate(**SEED, ramp_time=0.0, t_end=0.5)
+    return Case(
+        "engagement",
+        "step clamp (ramp time 0)",
+        f"lock-up J ω/(C - T) = {right:.12g} s",
+        "analytic (constant torques after the step)",
+        f"{_f(sim['lockup_time']):.12g} s",
+        abs(_f(sim["lockup_time"]) - right),
+        1e-12 * right,
+        _name(sim["status"]) == "ok",
+    )
+
+
+def _never_locking() -> Case:
+    """Load above the capacity: never locks, slip work over the window."""
+    from . import engagement as eng
+
+    right = 570.0 * 239.3 * (0.4 - 0.075)
+    sim = eng.simulate(**dict(SEED, load_torque=300.0), ramp_time=0.15, t_end=0.4)
+    return Case(
+        "engagement",
+        "never locking (load 300 N m above the 239.3 N m capacity)",
+        f"status never_locked, lock-up NaN, slip work ω ∫C dt = {right:.10g} J",
+        "analytic (the driven side never moves)",
+        f"{_name(sim['status'])}, lock-up {_f(sim['lockup_time'])}, slip work {_f(sim['slip_work']):.10g} J",
+        abs(_f(sim["slip_work"]) - right) / right,
+        1e-10,
+        _name(sim["status"]) == "never_locked" and np.isnan(_f(sim["lockup_time"])),
+        relative=True,
+    )
+
+
+def _breakaway_and_relock() -> Case:
+    """Break-away after lock-up (load step at 0.35 s above the momentary capacity) and re-lock."""
+    from scipy.optimize import brentq
+
+    from . import engagement as eng
+
     def icap(t):  # ∫0^t C dt, C = 239.3 min(t/0.5, 1)
         return 239.3 * (t * t if t <= 0.5 else 0.25 + (t - 0.5))
 
@@ -157,50 +185,59 @@ def engagement_cases() -> list[Case]:
 
     relock = brentq(lambda t: dw(t) - 570.0, 0.5 * 194.0 / 239.3 + 1e-6, 1.5, xtol=1e-14)
     sim = eng.simulate(**SEED, ramp_time=0.5, load_step=150.0, load_step_time=0.35, t_end=1.5)
-    out.append(
-        Case(
-            "engagement",
-            "break-away after lock-up and re-lock (load step 150 N m at 0.35 s)",
-            f"break-away at 0.35 s, re-lock at {relock:.12g} s",
-            "exact integral of the driven side's equation, brentq at xtol 1e-14",
-            f"break-away {_f(sim['breakaway_time']):.12g} s, re-lock {_f(sim['lockup_time']):.12g} s",
-            max(abs(_f(sim["lockup_time"]) - relock), abs(_f(sim["breakaway_time"]) - 0.35)),
-            1e-9,
-            _name(sim["status"]) == "ok",
-        )
+    return Case(
+        "engagement",
+        "break-away after lock-up and re-lock (load step 150 N m at 0.35 s)",
+        f"break-away at 0.35 s, re-lock at {relock:.12g} s",
+        "exact integral of the driven side's equation, brentq at xtol 1e-14",
+        f"break-away {_f(sim['breakaway_time']):.12g} s, re-lock {_f(sim['lockup_time']):.12g} s",
+        max(abs(_f(sim["lockup_time"]) - relock), abs(_f(sim["breakaway_time"]) - 0.35)),
+        1e-9,
+        _name(sim["status"]) == "ok",
     )
-    # tiny driven inertia
+
+
+def _tiny_driven_inertia() -> Case:
+    """Tiny driven inertia."""
+    from . import engagement as eng
+
     kw = dict(SEED, driven_inertia=1e-6)
     right = _f(eng.closed_form(**kw, ramp_time=0.15)["lockup_time"])
     sim = eng.simulate(**kw, ramp_time=0.15, t_end=0.3)
-    out.append(
-        Case(
-            "engagement",
-            "tiny driven inertia (1e-6 kg m²)",
-            f"lock-up {right:.12g} s",
-            "closed form",
-            f"{_f(sim['lockup_time']):.12g} s in {int(sim['n_steps'])} steps",
-            abs(_f(sim["lockup_time"]) - right),
-            1e-12,
-            _name(sim["status"]) == "ok" and sim["n_steps"] < 200,
-            "a regularised (tanh) friction model is stiff as C/(J ε) here and never locks exactly",
-        )
+    return Case(
+        "engagement",
+        "tiny driven inertia (1e-6 kg m²)",
+        f"lock-up {right:.12g} s",
+        "closed form",
+        f"{_f(sim['lockup_time']):.12g} s in {int(sim['n_steps'])} steps",
+        abs(_f(sim["lockup_time"]) - right),
+        1e-12,
+        _name(sim["status"]) == "ok" and sim["n_steps"] < 200,
+        "a regularised (tanh) friction model is stiff as C/(J ε) here and never locks exactly",
     )
-    # zero initial slip: stuck if the static capacity carries the needed torque
+
+
+def _zero_initial_slip() -> Case:
+    """Zero initial slip: stuck if the static capacity carries the needed torque."""
+    from . import engagement as eng
+
     sim = eng.simulate(**SEED, ramp_time=0.0, driven_speed=570.0, t_end=0.2)
-    out.append(
-        Case(
-            "engagement",
-            "zero initial slip (driven at engine speed, full clamp)",
-            "stuck from t = 0: lock-up 0 s",
-            "capacity 239.3 N m carries the 44 N m needed (never sign(0))",
-            f"{_f(sim['lockup_time']):g} s, {_name(sim['status'])}",
-            abs(_f(sim["lockup_time"])),
-            0.0,
-            _name(sim["status"]) == "ok",
-        )
+    return Case(
+        "engagement",
+        "zero initial slip (driven at engine speed, full clamp)",
+        "stuck from t = 0: lock-up 0 s",
+        "capacity 239.3 N m carries the 44 N m needed (never sign(0))",
+        f"{_f(sim['lockup_time']):g} s, {_name(sim['status'])}",
+        abs(_f(sim["lockup_time"])),
+        0.0,
+        _name(sim["status"]) == "ok",
     )
-    # a held engine at rest: the clutch holds the parked driven side
+
+
+def _held_engine_at_rest() -> Case:
+    """A held engine at rest: the clutch holds the parked driven side."""
+    from . import engagement as eng
+
     kw = dict(
         engine_speed=0.0,
         engine_inertia=np.inf,
@@ -212,19 +249,24 @@ def engagement_cases() -> list[Case]:
     )
     right = 5.0 / 300.0 * 0.2
     sim = eng.simulate(t_end=0.5, **kw)
-    out.append(
-        Case(
-            "engagement",
-            "held engine at rest (0 rad/s, load 5 N m)",
-            f"lock-up where C(t) = T_m: {right:.12g} s, slip work 0",
-            "analytic",
-            f"{_f(sim['lockup_time']):.12g} s, slip work {_f(sim['slip_work']):g} J",
-            abs(_f(sim["lockup_time"]) - right) + abs(_f(sim["slip_work"])),
-            1e-12 * right,
-            _name(sim["status"]) == "ok",
-        )
+    return Case(
+        "engagement",
+        "held engine at rest (0 rad/s, load 5 N m)",
+        f"lock-up where C(t) = T_m: {right:.12g} s, slip work 0",
+        "analytic",
+        f"{_f(sim['lockup_time']):.12g} s, slip work {_f(sim['slip_work']):g} J",
+        abs(_f(sim["lockup_time"]) - right) + abs(_f(sim["slip_work"])),
+        1e-12 * right,
+        _name(sim["status"]) == "ok",
     )
-    # restart at an event (compliant driveline): the output unparks with zero speed and acceleration
+
+
+def _restart_at_an_event() -> Case:
+    """Restart at an event (compliant driveline): the output unparks with zero speed and
+    acceleration."""
+    from . import engagement as eng
+    from . import reference
+
     p = dict(
         engine_speed=570.0,
         engine_inertia=np.inf,
@@ -241,23 +283,19 @@ def engagement_cases() -> list[Case]:
     )
     ref = reference.compliant(p, rtol=1e-13, atol=1e-13)["lockup_time"]
     sim = eng.simulate(**p, compliant=True)
-    out.append(
-        Case(
-            "engagement",
-            "restart at an event (compliant driveline: output unparks, g(t0) = 0)",
-            f"lock-up {ref:.12g} s (not never_locked)",
-            "clutchlab.reference.compliant: DOP853 per mode at rtol 1e-13",
-            f"{_f(sim['lockup_time']):.12g} s, {_name(sim['status'])}",
-            abs(_f(sim["lockup_time"]) - ref) / ref,
-            1e-10,
-            _name(sim["status"]) == "ok",
-            "solve_ivp with an event function that is 0 at the restart fires at once "
-            "(a zero-length segment): it needs mode logic",
-            relative=True,
-        )
+    return Case(
+        "engagement",
+        "restart at an event (compliant driveline: output unparks, g(t0) = 0)",
+        f"lock-up {ref:.12g} s (not never_locked)",
+        "clutchlab.reference.compliant: DOP853 per mode at rtol 1e-13",
+        f"{_f(sim['lockup_time']):.12g} s, {_name(sim['status'])}",
+        abs(_f(sim["lockup_time"]) - ref) / ref,
+        1e-10,
+        _name(sim["status"]) == "ok",
+        "solve_ivp with an event function that is 0 at the restart fires at once "
+        "(a zero-length segment): it needs mode logic",
+        relative=True,
     )
-    out.append(_judder())
-    return out
 
 
 def _judder() -> Case:

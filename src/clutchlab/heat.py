@@ -1,22 +1,22 @@
-"""Heat of a dry-clutch engagement (issue 20): per-area loading, the split of the friction heat
+"""Heat of a dry-clutch engagement: per-area loading, the split of the friction heat
 between the parts, their bulk temperature rise, the flash temperature of the friction face, and a
 sequence of engagements with cooling between them.
 
-Every slip joule is heat at the friction faces (eq. 11's slip work W). A single-plate clutch
-(seed 000) has two: flywheel | lining | driven plate | lining | pressure plate. A multi-plate dry
-clutch of n faces (n even) stacks n/2 driven plates, each lined on both sides, with n/2 − 1
-intermediate (centre) plates between them: flywheel | driven | intermediate | driven | … |
+Every slip joule is heat at the friction faces (eq. 11's slip work W). A single-plate clutch (the
+source paper (000)) has two: flywheel | lining | driven plate | lining | pressure plate. A
+multi-plate dry clutch of n faces (n even) stacks n/2 driven plates, each lined on both sides, with
+n/2 − 1 intermediate (centre) plates between them: flywheel | driven | intermediate | driven | … |
 pressure plate, so the flywheel and the pressure plate each carry one face (the outer ones), every
-intermediate plate two and every driven plate two (n = 2 + 2(n/2 − 1)). Every face carries the
-same clamp force (the stack is in series) and the same slip (driven plates on the output hub,
+intermediate plate two and every driven plate two (n = 2 + 2(n/2 − 1)). Every face carries the same
+clamp force (the stack is in series) and the same slip (driven plates on the output hub,
 intermediate plates on the flywheel), so each takes W/n. At a face the heat divides between the
-metal part and the lining so that both surfaces reach the same temperature; for two
-semi-infinite bodies heated together this gives the share of each body in proportion to its
-thermal effusivity e = √(ρck) (Blok's partition; e.g. Limpert, *Brake Design and Safety*, ch. 3,
-for the brake rotor/pad pair): the metal takes γ = e_m/(e_m + e_lining) of its face's W/n. So the
-flywheel and the pressure plate take γW/n each, every intermediate plate 2γW/n and every driven
-plate 2(1 − γ)W/n (:func:`plate_shares`; n = 2: γW/2, γW/2 and (1 − γ)W). The shares sum to one
-by construction, so the heat into the parts equals the slip work to rounding.
+metal part and the lining so that both surfaces reach the same temperature; for two semi-infinite
+bodies heated together this gives the share of each body in proportion to its thermal effusivity e =
+√(ρck) (Blok's partition; e.g. Limpert, *Brake Design and Safety*, ch. 3, for the brake rotor/pad
+pair): the metal takes γ = e_m/(e_m + e_lining) of its face's W/n. So the flywheel and the pressure
+plate take γW/n each, every intermediate plate 2γW/n and every driven plate 2(1 − γ)W/n
+(:func:`plate_shares`; n = 2: γW/2, γW/2 and (1 − γ)W). The shares sum to one by construction, so
+the heat into the parts equals the slip work to rounding.
 
 - **bulk temperature rise** (lumped): ΔT_i = Q_i/(m_i c_i), the part's mass and specific heat;
 - **flash (surface) temperature** of the friction face: the metal face as a semi-infinite body
@@ -33,6 +33,15 @@ by construction, so the heat into the parts equals the slip work to rounding.
 
 Material values are documented defaults (:data:`MATERIALS`), assumptions to be replaced by the
 drivetrain's own data sheets.
+
+References
+----------
+.. [1] Zhao P. (2026), "Design and engagement simulation of diaphragm spring clutch for
+   unmanned helicopters", the source paper (000), eq. (11) (slip work) and Table 3 (masses).
+.. [2] Limpert R., *Brake Design and Safety*, SAE, ch. 3: heat partition between rotor and pad
+   by their effusivities, material values of cast iron and organic friction materials.
+.. [3] Carslaw H.S., Jaeger J.C. (1959), *Conduction of Heat in Solids*, 2nd ed., ch. II: the
+   semi-infinite solid heated at its surface, Duhamel's theorem.
 """
 
 from __future__ import annotations
@@ -115,9 +124,26 @@ MATERIALS = {
 
 
 def effusivity(density, specific_heat, conductivity):
-    """Thermal effusivity e = √(ρ c k) [W s^0.5/(m² K)] of density ρ [kg/m³], specific heat c
-    [J/(kg K)] and conductivity k [W/(m K)]; NaN where one is not positive, finite and plausible
-    (:mod:`clutchlab.plausible`)."""
+    """Thermal effusivity e = √(ρ c k) of a material.
+
+    Parameters
+    ----------
+    density : float or array_like [kg/m³]
+        Density ρ.
+    specific_heat : float or array_like [J/(kg K)]
+        Specific heat c.
+    conductivity : float or array_like [W/(m K)]
+        Thermal conductivity k.
+
+    Returns
+    -------
+    numpy.ndarray [W s^0.5/(m² K)]
+        e; NaN where an input is not positive, finite and plausible (:mod:`clutchlab.plausible`).
+
+    References
+    ----------
+    Limpert [2], ch. 3: the effusivity governs the heat partition at a sliding contact.
+    """
     inputs = dict(density=density, specific_heat=specific_heat, conductivity=conductivity)
     return st.nan_screened(_effusivity, inputs, _domain(inputs))
 
@@ -127,8 +153,18 @@ def _effusivity(*, density, specific_heat, conductivity):
 
 
 def lining_area(outer_radius, inner_radius):
-    """Area of one friction face of an annular lining, π(R₂² − R₁²) [m²] (outer and inner radius
-    [m]); NaN unless R₂ > R₁ > 0, finite and plausible (a negative area is no lining)."""
+    """Area of one friction face of an annular lining, π(R₂² − R₁²).
+
+    Parameters
+    ----------
+    outer_radius, inner_radius : float or array_like [m]
+        Outer and inner lining radius R₂ > R₁ > 0.
+
+    Returns
+    -------
+    numpy.ndarray [m²]
+        The area; NaN unless R₂ > R₁ > 0, finite and plausible (a negative area is no lining).
+    """
     inputs = dict(outer_radius=outer_radius, inner_radius=inner_radius)
     return st.nan_screened(_lining_area, inputs, _domain(inputs, _ANNULUS))
 
@@ -138,10 +174,30 @@ def _lining_area(*, outer_radius, inner_radius):
 
 
 def face_shares(flywheel_effusivity, pressure_plate_effusivity, lining_effusivity):
-    """Shares of the slip work into the flywheel, the pressure plate and the driven plate (its two
-    linings): each face takes half, split between metal and lining in proportion to their
-    effusivities [W s^0.5/(m² K)]. The three shares sum to one; NaN where an effusivity is not
-    positive, finite and plausible."""
+    """Shares of the slip work into flywheel, pressure plate and driven plate (single plate).
+
+    Each of the two faces takes half; at a face the heat divides between the metal and the lining
+    in proportion to their effusivities (Blok's partition, module docstring).
+
+    Parameters
+    ----------
+    flywheel_effusivity : float or array_like [W s^0.5/(m² K)]
+        Effusivity of the flywheel's face.
+    pressure_plate_effusivity : float or array_like [W s^0.5/(m² K)]
+        Effusivity of the pressure plate's face.
+    lining_effusivity : float or array_like [W s^0.5/(m² K)]
+        Effusivity of the linings (both faces of the driven plate).
+
+    Returns
+    -------
+    tuple of numpy.ndarray [-]
+        (flywheel, pressure plate, driven plate) shares, summing to one; NaN where an effusivity
+        is not positive, finite and plausible.
+
+    References
+    ----------
+    Limpert [2], ch. 3 (heat partition by effusivity).
+    """
     inputs = dict(
         flywheel_effusivity=flywheel_effusivity,
         pressure_plate_effusivity=pressure_plate_effusivity,
@@ -157,13 +213,33 @@ def _face_shares(*, flywheel_effusivity, pressure_plate_effusivity, lining_effus
 
 
 def plate_shares(faces, metal_effusivity, lining_effusivity):
-    """Shares of the slip work into each part of a dry clutch of ``faces`` friction faces (even,
-    ≥ 2): a dict with the share of the flywheel, the pressure plate, each intermediate plate (0 with
-    two faces) and each driven plate, and ``intermediate_plates`` (n/2 − 1), ``driven_plates``
-    (n/2) [1]. Each face takes 1/n; its metal γ = e_m/(e_m + e_lining), its lining the rest (module
-    docstring): γ/n, γ/n, 2γ/n and 2(1 − γ)/n. Every metal face of one material (cast iron);
-    effusivities [W s^0.5/(m² K)]. NaN where the count is not even or an effusivity not positive,
-    finite and plausible."""
+    """Shares of the slip work into each part of a dry clutch of ``faces`` friction faces.
+
+    Each face takes 1/n; its metal γ = e_m/(e_m + e_lining), its lining the rest (module
+    docstring): the flywheel and the pressure plate γ/n each, every intermediate plate 2γ/n and
+    every driven plate 2(1 − γ)/n. Every metal face is of one material (cast iron).
+
+    Parameters
+    ----------
+    faces : int or array_like [-]
+        Number of friction faces n, even and ≥ 2.
+    metal_effusivity : float or array_like [W s^0.5/(m² K)]
+        Effusivity e_m of the metal faces.
+    lining_effusivity : float or array_like [W s^0.5/(m² K)]
+        Effusivity e_lining of the linings.
+
+    Returns
+    -------
+    dict of numpy.ndarray
+        ``flywheel``, ``pressure_plate``, ``intermediate_plate`` (each; 0 with two faces) and
+        ``driven_plate`` (each) shares [-]; ``intermediate_plates`` (n/2 − 1) and
+        ``driven_plates`` (n/2) counts. NaN where the count is not even or an effusivity not
+        positive, finite and plausible.
+
+    References
+    ----------
+    Limpert [2], ch. 3 (heat partition by effusivity).
+    """
     inputs = dict(
         faces=faces, metal_effusivity=metal_effusivity, lining_effusivity=lining_effusivity
     )
@@ -195,12 +271,31 @@ def _loading(slip_work, peak_slip_power, outer_radius, inner_radius, faces):
 
 
 def specific_loading(slip_work, peak_slip_power, outer_radius, inner_radius, faces=2):
-    """Per-area loading of one engagement on the whole friction area A = z_f·π(R₂² − R₁²):
-    specific friction work q_A = W/A [J/m²] and peak specific friction power P_max/A [W/m²].
+    """Per-area loading of one engagement on the whole friction area A = z_f·π(R₂² − R₁²).
 
-    Per scenario: slip work [J] and peak power [W] finite and ≥ 0, radii [m] R₂ > R₁ > 0, faces a
-    whole number in [1, 1000], all of plausible magnitude (:mod:`clutchlab.plausible`); otherwise
-    status ``invalid_input`` (``invalid_geometry`` for swapped radii) and NaN."""
+    Parameters
+    ----------
+    slip_work : float or array_like [J]
+        Slip work W of the engagement, ≥ 0.
+    peak_slip_power : float or array_like [W]
+        Peak slip power P_max, ≥ 0.
+    outer_radius, inner_radius : float or array_like [m]
+        Lining radii R₂ > R₁ > 0.
+    faces : int or array_like [-]
+        Number of friction faces z_f, a whole number in [1, 1000].
+
+    Returns
+    -------
+    dict of numpy.ndarray
+        ``friction_area`` A [m²], ``specific_friction_work`` q_A = W/A [J/m²],
+        ``peak_specific_friction_power`` P_max/A [W/m²] and ``status``: ``invalid_input`` (NaN)
+        where an input is not finite, of the wrong sign or implausible
+        (:mod:`clutchlab.plausible`), ``invalid_geometry`` for swapped radii.
+
+    References
+    ----------
+    Source paper (000), eq. (11) ([1] in the module docstring): the slip work W.
+    """
     inputs = dict(
         slip_work=slip_work,
         peak_slip_power=peak_slip_power,
@@ -212,9 +307,23 @@ def specific_loading(slip_work, peak_slip_power, outer_radius, inner_radius, fac
 
 
 def bulk_rise(heat, mass, specific_heat):
-    """Lumped (bulk) temperature rise Q/(m c) [K] of a part of mass m [kg] and specific heat c
-    [J/(kg K)] that takes the heat Q [J]; NaN where Q < 0, m or c ≤ 0, or one is not finite or
-    plausible (:mod:`clutchlab.plausible`)."""
+    """Lumped (bulk) temperature rise Q/(m c) of a part that takes the heat Q.
+
+    Parameters
+    ----------
+    heat : float or array_like [J]
+        Heat Q ≥ 0 into the part.
+    mass : float or array_like [kg]
+        Mass m of the part.
+    specific_heat : float or array_like [J/(kg K)]
+        Specific heat c of the part.
+
+    Returns
+    -------
+    numpy.ndarray [K]
+        The rise; NaN where Q < 0, m or c ≤ 0, or an input is not finite or plausible
+        (:mod:`clutchlab.plausible`).
+    """
     inputs = dict(heat=heat, mass=mass, specific_heat=specific_heat)
     return st.nan_screened(_bulk_rise, inputs, _domain(inputs))
 
@@ -224,9 +333,28 @@ def _bulk_rise(*, heat, mass, specific_heat):
 
 
 def surface_temperature_constant(flux, time, effusivity):
-    """Surface temperature rise of a semi-infinite body under a constant flux q [W/m²] from t = 0:
-    2q√(t/(πρck)) = 2q√t/(e√π) [K] at time t [s], effusivity e [W s^0.5/(m² K)]; NaN where
-    q, t < 0, e ≤ 0, or one is not finite or plausible."""
+    """Surface temperature rise of a semi-infinite body under a constant flux q from t = 0.
+
+    ΔT = 2q√(t/(πρck)) = 2q√t/(e√π).
+
+    Parameters
+    ----------
+    flux : float or array_like [W/m²]
+        Heat flux q ≥ 0 into the surface.
+    time : float or array_like [s]
+        Time t ≥ 0 since the start of heating.
+    effusivity : float or array_like [W s^0.5/(m² K)]
+        Effusivity e of the body.
+
+    Returns
+    -------
+    numpy.ndarray [K]
+        ΔT; NaN where q, t < 0, e ≤ 0, or an input is not finite or plausible.
+
+    References
+    ----------
+    Carslaw and Jaeger [3], ch. II (semi-infinite solid, constant surface flux).
+    """
     inputs = dict(flux=flux, time=time, effusivity=effusivity)
     return st.nan_screened(_surface_temperature_constant, inputs, _domain(inputs))
 
@@ -236,9 +364,28 @@ def _surface_temperature_constant(*, flux, time, effusivity):
 
 
 def surface_temperature_ramp(rate, time, effusivity):
-    """Surface temperature rise under a linearly rising flux q = b t (b [W/(m² s)]):
-    (4/3)·b·t^{3/2}/(e√π) [K] at time t [s]; NaN where b, t < 0, e ≤ 0 or one is not finite or
-    plausible."""
+    """Surface temperature rise of a semi-infinite body under a linearly rising flux q = b·t.
+
+    ΔT = (4/3)·b·t^{3/2}/(e√π).
+
+    Parameters
+    ----------
+    rate : float or array_like [W/(m² s)]
+        Rate b ≥ 0 of the flux.
+    time : float or array_like [s]
+        Time t ≥ 0 since the start of heating.
+    effusivity : float or array_like [W s^0.5/(m² K)]
+        Effusivity e of the body.
+
+    Returns
+    -------
+    numpy.ndarray [K]
+        ΔT; NaN where b, t < 0, e ≤ 0 or an input is not finite or plausible.
+
+    References
+    ----------
+    Carslaw and Jaeger [3], ch. II (Duhamel's integral of a surface flux).
+    """
     inputs = dict(rate=rate, time=time, effusivity=effusivity)
     return st.nan_screened(_surface_temperature_ramp, inputs, _domain(inputs))
 
@@ -254,17 +401,34 @@ def _surface_temperature_ramp(*, rate, time, effusivity):
 
 
 def duhamel_surface_temperature(times, flux, effusivity):
-    """Surface temperature rise of a semi-infinite body, ΔT(t_k) = 1/(e√π) ∫₀^{t_k} q(τ)/√(t_k − τ) dτ,
-    at every sample time t_k of a flux q sampled at ``times`` (last axis; increasing, starting at the
-    start of heating) [K].
+    """Surface temperature rise of a semi-infinite body under a sampled flux, by Duhamel's integral.
 
-    q is taken linear between samples and each segment integrated exactly against the kernel:
-    with u = t_k − τ and q = A + B·u on the segment, ∫ (A u^{-1/2} + B u^{1/2}) du
-    = 2A(√u_j − √u_{j+1}) + (2/3)B(u_j^{3/2} − u_{j+1}^{3/2}), written without cancellation. Exact
-    for a constant or linearly rising flux; error O(h²) in the spacing h for a smooth flux (both
-    tested). Leading axes are scenarios; memory and work O(n²) in the samples n. A scenario whose
-    times are not finite and strictly increasing, whose flux [W/m²] is not finite (a cooling flux
-    may be negative) or whose effusivity [W s^0.5/(m² K)] is not positive and plausible gives NaN.
+    ΔT(t_k) = 1/(e√π) ∫₀^{t_k} q(τ)/√(t_k − τ) dτ at every sample time t_k. q is taken linear
+    between samples and each segment integrated exactly against the kernel: with u = t_k − τ and
+    q = A + B·u on the segment, ∫ (A u^{-1/2} + B u^{1/2}) du
+    = 2A(√u_j − √u_{j+1}) + (2/3)B(u_j^{3/2} − u_{j+1}^{3/2}), written without cancellation.
+    Exact for a constant or linearly rising flux; error O(h²) in the spacing h for a smooth flux
+    (both tested). Memory and work O(n²) in the samples n.
+
+    Parameters
+    ----------
+    times : array_like [s]
+        Sample times (last axis; leading axes are scenarios), finite, strictly increasing, starting
+        at the start of heating.
+    flux : array_like [W/m²]
+        Heat flux q at ``times``, finite (a cooling flux may be negative).
+    effusivity : float or array_like [W s^0.5/(m² K)]
+        Effusivity e of the body, per scenario.
+
+    Returns
+    -------
+    numpy.ndarray [K]
+        ΔT at every sample time (shape of ``times`` and ``flux`` broadcast); a scenario with an
+        invalid input is NaN.
+
+    References
+    ----------
+    Carslaw and Jaeger [3], ch. II (Duhamel's theorem).
     """
     t = np.asarray(times, dtype=float)
     q = np.asarray(flux, dtype=float)
@@ -305,11 +469,33 @@ def _duhamel(t, q, effusivity):
 
 
 def sequence_temperatures(rise, interval, time_constant, engagements):
-    """Temperature over ambient just after each of ``engagements`` engagements (last axis) of a
-    lumped part: each adds ``rise`` [K]; between them it cools exponentially (Newton's law,
-    time constant τ = m c/(h A) [s]) for ``interval`` [s]: T_n = r·T_{n−1} + ΔT, r = exp(−t_i/τ).
-    ``engagements`` (shared) is a whole number in [1, 1e6] (ValueError otherwise); a scenario with
-    a rise < 0, an interval or τ ≤ 0, or one not finite or plausible gives NaN."""
+    """Temperature over ambient just after each engagement of a sequence, of a lumped part.
+
+    Each engagement adds ``rise``; between them the part cools exponentially (Newton's law, time
+    constant τ = m c/(h A)) for ``interval``: T_n = r·T_{n−1} + ΔT, r = exp(−t_i/τ).
+
+    Parameters
+    ----------
+    rise : float or array_like [K]
+        Bulk rise ΔT ≥ 0 of one engagement.
+    interval : float or array_like [s]
+        Time t_i > 0 between engagements.
+    time_constant : float or array_like [s]
+        Cooling time constant τ > 0.
+    engagements : int [-]
+        Number of engagements (shared by every scenario), a whole number in [1, 1e6].
+
+    Returns
+    -------
+    numpy.ndarray [K]
+        Shape of the broadcast inputs plus a last axis of ``engagements``; NaN for a scenario
+        whose input is not finite, of the wrong sign or implausible.
+
+    Raises
+    ------
+    ValueError
+        If ``engagements`` is not a whole number in [1, 1e6].
+    """
     if not (
         np.isscalar(engagements) and 1 <= engagements <= 1e6 and engagements == int(engagements)
     ):
@@ -334,9 +520,25 @@ def _sequence_temperatures(*, rise, interval, time_constant, engagements):
 
 
 def periodic_temperature(rise, interval, time_constant):
-    """The sequence's periodic steady state just after an engagement, ΔT/(1 − r) [K] (geometric
-    sum), r = exp(−t_i/τ) (rise ΔT [K], interval t_i and time constant τ [s]); NaN where ΔT < 0,
-    t_i or τ ≤ 0, or one is not finite or plausible (a negative interval is no sequence)."""
+    """Periodic steady state of a sequence of engagements just after an engagement, ΔT/(1 − r).
+
+    The geometric sum of :func:`sequence_temperatures` with r = exp(−t_i/τ).
+
+    Parameters
+    ----------
+    rise : float or array_like [K]
+        Bulk rise ΔT ≥ 0 of one engagement.
+    interval : float or array_like [s]
+        Time t_i > 0 between engagements (a negative interval is no sequence).
+    time_constant : float or array_like [s]
+        Cooling time constant τ > 0.
+
+    Returns
+    -------
+    numpy.ndarray [K]
+        The periodic temperature over ambient; NaN where an input is not finite, of the wrong sign
+        or implausible.
+    """
     inputs = dict(rise=rise, interval=interval, time_constant=time_constant)
     return st.nan_screened(_periodic_temperature, inputs, _domain(inputs))
 
@@ -346,10 +548,27 @@ def _periodic_temperature(*, rise, interval, time_constant):
 
 
 def engagements_to_limit(rise, interval, time_constant, margin):
-    """Engagements in a row after which the part first reaches ``margin`` [K] over ambient (the
-    material limit minus ambient): the least n with ΔT(1 − rⁿ)/(1 − r) ≥ margin; inf if the
-    periodic state stays below it (or no heat). Rise ΔT [K], interval and time constant [s]; NaN
-    where ΔT < 0, interval, τ or margin ≤ 0, or one is not finite or plausible."""
+    """Engagements in a row after which the part first reaches ``margin`` over ambient.
+
+    The least n with ΔT(1 − rⁿ)/(1 − r) ≥ margin, r = exp(−t_i/τ).
+
+    Parameters
+    ----------
+    rise : float or array_like [K]
+        Bulk rise ΔT ≥ 0 of one engagement.
+    interval : float or array_like [s]
+        Time t_i > 0 between engagements.
+    time_constant : float or array_like [s]
+        Cooling time constant τ > 0.
+    margin : float or array_like [K]
+        Material limit minus ambient, > 0.
+
+    Returns
+    -------
+    numpy.ndarray [-]
+        n; inf if the periodic state stays below the margin (or no heat); NaN where an input is not
+        finite, of the wrong sign or implausible.
+    """
     inputs = dict(rise=rise, interval=interval, time_constant=time_constant, margin=margin)
     return st.nan_screened(_engagements_to_limit, inputs, _domain(inputs))
 
@@ -369,24 +588,25 @@ def _engagements_to_limit(*, rise, interval, time_constant, margin):
 
 
 def max_engagement_rate(rise, time_constant, margin):
-    """Largest engagement rate [1/s] at which the periodic bulk temperature just after each
-    engagement (:func:`periodic_temperature`) stays at or under the margin M: the periodic state
+    """Largest engagement rate at which the periodic bulk temperature stays at or under the margin.
+
+    The periodic state just after each engagement (:func:`periodic_temperature`)
     ΔT/(1 − exp(−t_i/τ)) ≤ M for t_i ≥ −τ·ln(1 − ΔT/M), so the rate is 1/t_i (× 3600 for
     engagements per hour). The engagement's own duration is neglected against t_i.
 
     Parameters
     ----------
-    rise : array_like
-        Bulk temperature rise ΔT of one engagement [K], ≥ 0.
-    time_constant : array_like
-        Cooling time constant τ = m c/(h A) [s], > 0.
-    margin : array_like
-        M, material limit minus ambient [K], > 0.
+    rise : float or array_like [K]
+        Bulk temperature rise ΔT ≥ 0 of one engagement.
+    time_constant : float or array_like [s]
+        Cooling time constant τ = m c/(h A) > 0.
+    margin : float or array_like [K]
+        M, material limit minus ambient, > 0.
 
     Returns
     -------
-    numpy.ndarray
-        Rate [1/s]: 0 where ΔT ≥ M (one engagement alone reaches the limit), inf where ΔT = 0;
+    numpy.ndarray [1/s]
+        Rate: 0 where ΔT ≥ M (one engagement alone reaches the limit), inf where ΔT = 0;
         NaN where an input is not finite, of the wrong sign or implausible
         (:mod:`clutchlab.plausible`).
     """
@@ -423,8 +643,13 @@ BULK_MATERIAL = {
 
 
 def part_effusivities() -> tuple[float, float, float]:
-    """Effusivities of the flywheel, pressure plate and driven-plate faces (:data:`MATERIALS`)
-    [W s^0.5/(m² K)]."""
+    """Effusivities of the flywheel, pressure-plate and driven-plate faces (:data:`MATERIALS`).
+
+    Returns
+    -------
+    tuple of float [W s^0.5/(m² K)]
+        (flywheel, pressure plate, driven plate): cast iron, cast iron, organic lining.
+    """
     return tuple(
         float(_effusivity(**MATERIALS[FACE_MATERIAL[p]]))
         for p in ("flywheel", "pressure_plate", "driven_plate")
@@ -502,29 +727,60 @@ def engagement_heat(
 ):
     """Heat of one engagement of a dry clutch of ``faces`` friction faces and of a sequence of them.
 
-    Returns per scenario: ``friction_area`` [m²], ``specific_friction_work`` [J/m²],
-    ``peak_specific_friction_power`` [W/m²] (:func:`specific_loading`); ``heat_flywheel``,
-    ``heat_pressure_plate``, ``heat_driven_plate`` (each driven plate, n/2 of them),
-    ``heat_intermediate_plate`` (each intermediate plate, n/2 − 1 of them; 0 with two faces) [J]
-    (:func:`plate_shares` of the slip work: the flywheel's, the pressure plate's and all plates'
-    heats sum to it); ``bulk_temperature_rise`` [K] of the hottest part (``hottest_part``: index
-    into :data:`PARTS`); ``engagements_to_limit``: engagements in a row, ``engagement_interval`` [s]
-    apart, after which that part's bulk temperature first exceeds ambient by ``temperature_margin``
-    [K] (material limit minus ambient), cooling by Newton's law with time constant
-    m c/(h A) (h ``heat_transfer_coefficient`` [W/(m² K)], A ``cooling_area`` [m²]); inf if never;
-    ``max_engagement_rate`` [1/s]: the largest rate of engagements at which no part's periodic
-    bulk temperature exceeds ambient by more than the margin (:func:`max_engagement_rate` of each
-    part, the smallest; every part cooled through the same h A; inf where no heat).
+    Parameters
+    ----------
+    slip_work : float or array_like [J]
+        Slip work W of one engagement, ≥ 0.
+    peak_slip_power : float or array_like [W]
+        Peak slip power, ≥ 0.
+    outer_radius, inner_radius : float or array_like [m]
+        Lining radii R₂ > R₁ > 0.
+    faces : int or array_like [-]
+        Number of friction faces n, even (n/2 driven plates lined on both sides, module docstring).
+    flywheel_mass : float or array_like [kg]
+        Flywheel mass (default 10.3 kg: the source paper (000), Table 3).
+    pressure_plate_mass : float or array_like [kg]
+        Pressure-plate mass (default 2.5 kg: Table 3).
+    driven_plate_mass : float or array_like [kg]
+        Mass of each driven plate (default 1.9 kg: Table 3).
+    heat_transfer_coefficient : float or array_like [W/(m² K)]
+        h of the parts' cooling (default 40: assumed, air moved by the spinning parts in a closed
+        bell housing).
+    cooling_area : float or array_like [m²]
+        Cooling area A of each part (default 0.1: assumed, both sides and the rim of a 225 mm
+        plate).
+    engagement_interval : float or array_like [s]
+        Time between engagements of a sequence (default 60: assumed, a retried start).
+    temperature_margin : float or array_like [K]
+        Material limit minus ambient (default 210: assumed, 250 °C, the upper service temperature
+        of organic linings in Limpert ch. 3, over 40 °C in the housing).
+    intermediate_plate_mass : float or array_like [kg]
+        Mass of each intermediate plate (default 2.5: assumed, the pressure plate's; unused with
+        two faces).
 
-    Defaults: masses of seed 000 Table 3 (flywheel 10.3 kg, pressure plate 2.5 kg, driven plate
-    1.9 kg); h = 40 W/(m² K) (assumed: air moved by the spinning parts in a closed bell housing),
-    A = 0.1 m² (assumed: both sides and the rim of a 225 mm plate), 60 s between engagements
-    (assumed: a retried start), margin 210 K (assumed: 250 °C, the upper service temperature of
-    organic linings in Limpert ch. 3, over 40 °C in the housing); intermediate plates 2.5 kg each
-    (assumed: the pressure plate's mass; unused with two faces). ``faces`` must be even (n/2
-    driven plates lined on both sides, module docstring): an odd count gives status
-    ``invalid_input``, as do non-finite, non-positive or implausible inputs
-    (:mod:`clutchlab.plausible`); swapped lining radii (R₂ ≤ R₁) give ``invalid_geometry``.
+    Returns
+    -------
+    dict of numpy.ndarray
+        ``friction_area`` [m²], ``specific_friction_work`` [J/m²],
+        ``peak_specific_friction_power`` [W/m²] (:func:`specific_loading`); ``heat_flywheel``,
+        ``heat_pressure_plate``, ``heat_driven_plate`` (each driven plate, n/2 of them),
+        ``heat_intermediate_plate`` (each intermediate plate, n/2 − 1 of them; 0 with two faces)
+        [J] (:func:`plate_shares` of the slip work: the flywheel's, the pressure plate's and all
+        plates' heats sum to it); ``bulk_temperature_rise`` [K] of the hottest part
+        (``hottest_part``: index into :data:`PARTS`); ``engagements_to_limit``: engagements in a
+        row, ``engagement_interval`` apart, after which that part's bulk temperature first exceeds
+        ambient by ``temperature_margin``, cooling by Newton's law with time constant m c/(h A);
+        inf if never; ``max_engagement_rate`` [1/s]: the largest rate of engagements at which no
+        part's periodic bulk temperature exceeds ambient by more than the margin
+        (:func:`max_engagement_rate` of each part, the smallest; every part cooled through the same
+        h A; inf where no heat); ``status``: ``invalid_input`` where ``faces`` is odd or an input
+        is not finite, not positive or implausible (:mod:`clutchlab.plausible`),
+        ``invalid_geometry`` for swapped lining radii (R₂ ≤ R₁).
+
+    References
+    ----------
+    Source paper (000), eq. (11) (slip work) and Table 3 (masses) ([1] in the module docstring);
+    Limpert [2], ch. 3 (heat partition, service temperature of organic linings).
     """
     domain = {
         "slip_work": _RULES["slip_work"],
@@ -560,13 +816,38 @@ def engagement_heat(
 
 
 def kernel_modes(cut=4000.0, span=10.0, ratio=2.5, top=4.0):
-    """The exponential modes of the smooth part of Duhamel's kernel that the engagement solver
-    integrates for the friction-face temperature (friction fade; constants of
-    :mod:`clutchlab._engagement_kernel`, which this regenerates): (λ_k [1/s], w_k [s^-0.5]) with
-    Σ w_k e^{−λ_k s} ≈ erf(√(λ_c s))/√s on s ∈ [0, span], by non-negative least squares weighted by
-    √s (the error relative to the whole kernel 1/√s), λ_k geometric with ``ratio`` from
-    ``top``·λ_c down to 0.1/span; modes of zero weight dropped. ``cut`` [1/s], ``span`` [s] and
-    ``top`` must be finite and > 0, ``ratio`` > 1, at most 1000 modes (ValueError otherwise)."""
+    """Exponential modes of the smooth part of Duhamel's kernel (the solver's face temperature).
+
+    The engagement solver integrates the friction-face temperature (friction fade) with these
+    modes; the constants of :mod:`clutchlab._engagement_kernel` are regenerated by this function.
+    Σ w_k e^{−λ_k s} ≈ erf(√(λ_c s))/√s on s ∈ [0, span], fitted by non-negative least squares
+    weighted by √s (the error relative to the whole kernel 1/√s), λ_k geometric with ``ratio`` from
+    ``top``·λ_c down to 0.1/span; modes of zero weight dropped.
+
+    Parameters
+    ----------
+    cut : float [1/s]
+        λ_c, the rate that splits the kernel 1/√s = erf(√(λ_c s))/√s + erfc(√(λ_c s))/√s (the
+        solver takes the second part, on s ≲ 1/λ_c, quasi-statically); finite and > 0.
+    span : float [s]
+        Length of time over which the fit holds; finite and > 0.
+    ratio : float [-]
+        Ratio of neighbouring rates, > 1.
+    top : float [-]
+        Largest rate over λ_c, finite and > 0.
+
+    Returns
+    -------
+    lam : numpy.ndarray [1/s]
+        Rates λ_k.
+    weights : numpy.ndarray [s^-0.5]
+        Weights w_k.
+
+    Raises
+    ------
+    ValueError
+        If an argument is out of range or more than 1000 modes would be needed.
+    """
     from scipy.optimize import nnls
 
     for name, v in (("cut", cut), ("span", span), ("top", top)):
@@ -590,12 +871,32 @@ def kernel_modes(cut=4000.0, span=10.0, ratio=2.5, top=4.0):
 
 
 def face_temperature_rise(duhamel_integral, outer_radius, inner_radius, faces=2):
-    """Friction-face (flash) temperature rise of the cast-iron faces (flywheel and pressure plate take
-    the same share γ = e_m/(e_m + e_lining) of their face's heat, as do the intermediate plates'
-    faces of a multi-plate clutch) from the solver's Duhamel integral of the slip power,
-    I = ∫ P(τ)/√(t − τ) dτ [W s^0.5]: ΔT = γ·I/(A·e_m·√π), A the friction area of all faces (each
-    of the n faces takes P/n on A/n) [K]. Lining radii [m]; NaN where I < 0, R₂ ≤ R₁ ≤ 0,
-    faces not a whole number in [1, 1000], or an input not finite or plausible."""
+    """Friction-face (flash) temperature rise of the cast-iron faces from a Duhamel integral.
+
+    The flywheel and the pressure plate take the same share γ = e_m/(e_m + e_lining) of their face's
+    heat, as do the intermediate plates' faces of a multi-plate clutch. With the solver's integral
+    of the slip power I = ∫ P(τ)/√(t − τ) dτ: ΔT = γ·I/(A·e_m·√π), A the friction area of all faces
+    (each of the n faces takes P/n on A/n).
+
+    Parameters
+    ----------
+    duhamel_integral : float or array_like [W s^0.5]
+        I ≥ 0.
+    outer_radius, inner_radius : float or array_like [m]
+        Lining radii R₂ > R₁ > 0.
+    faces : int or array_like [-]
+        Number of friction faces, a whole number in [1, 1000].
+
+    Returns
+    -------
+    numpy.ndarray [K]
+        ΔT; NaN where I < 0, R₂ ≤ R₁ ≤ 0, ``faces`` not a whole number in [1, 1000], or an input
+        not finite or plausible.
+
+    References
+    ----------
+    Carslaw and Jaeger [3], ch. II (Duhamel's theorem); Limpert [2], ch. 3 (heat partition).
+    """
     inputs = dict(
         duhamel_integral=duhamel_integral,
         outer_radius=outer_radius,

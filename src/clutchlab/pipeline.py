@@ -8,6 +8,10 @@ A design comes from :func:`clutchlab.doe.build_design`; a chunk is computed by t
 
 from __future__ import annotations
 
+import contextlib
+import hashlib
+import os
+import tempfile
 import time
 from pathlib import Path
 
@@ -24,6 +28,7 @@ __all__ = [
     "run_chunk",
     "merge",
     "merge_to_file",
+    "traces_to_file",
     "run_study",
 ]
 
@@ -106,7 +111,7 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=N
     idx, inputs = chunk_inputs(design, chunks, i)
     choices = option_factors(design)
     codes = {o: inputs.pop(o) for o in choices}
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     n = idx.size
 
     physical = _with_noise(design, inputs)
@@ -123,6 +128,10 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=N
             )
         return study.compute(part, options)
 
+    if n:
+        with _kernel_lock():  # the first call compiles (or loads from numba's cache) the kernels
+            compute(slice(0, 1))  # this chunk uses: one job at a time, so that parallel jobs
+            # of a first run do not compile the same kernel twice
     if n <= PROGRESS_MIN:
         ds = compute(slice(None))
     else:
@@ -145,7 +154,7 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=N
         )
     ds = _curve_subset(ds, idx, int(design.attrs.get("curve_stride", 1)))
     # (the traces of the design the pages show are computed after the merge: clutchlab.traces)
-    seconds = time.perf_counter() - start
+    seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
     coords = {"run": ("run", idx, {"long_name": "scenario index", "units": "1"})}
     for f in _factors(design):
         coords[f] = (
@@ -158,7 +167,33 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=N
     ds.attrs.update(_provenance(design, chunks, i))
     ds.attrs["chunk"] = f"{i + 1} of {chunks}"
     ds.attrs["compute_seconds"] = seconds  # the physics' own time (benchmark_million); not merged
+    ds.attrs["compute_cpu_seconds"] = cpu  # (its CPU time: the machine may be shared)
     return ds
+
+
+@contextlib.contextmanager
+def _kernel_lock():
+    """An exclusive lock (``fcntl.flock``) held by one process at a time of this user and this
+    numba cache (``NUMBA_CACHE_DIR``, else the installed package's: the cache lives beside its
+    source); none where the platform or the temporary folder does not allow one."""
+    try:
+        import fcntl
+    except ImportError:  # not a POSIX system
+        yield
+        return
+    cache = os.environ.get("NUMBA_CACHE_DIR") or str(Path(__file__).resolve().parent)
+    name = f"clutchlab-{os.getuid()}-{hashlib.sha256(cache.encode()).hexdigest()[:12]}.lock"
+    try:
+        fh = open(Path(tempfile.gettempdir()) / name, "a")  # noqa: SIM115 (closed below)
+    except OSError:
+        yield
+        return
+    with fh:
+        try:
+            fcntl.flock(fh, fcntl.LOCK_EX)
+        except OSError:
+            pass
+        yield  # closing the file releases the lock
 
 
 def _provenance(design: xr.Dataset, chunks: int, i: int) -> dict:
@@ -257,6 +292,7 @@ CHUNK_ATTRS = (
     "chunk_index",
     "chunk_count",
     "compute_seconds",
+    "compute_cpu_seconds",
     "clutchlab_checksum",
     "clutchlab_checksum_variables",
 )
@@ -492,6 +528,30 @@ def merge_to_file(
         with xr.open_dataset(path, engine=store.ENGINE) as lazy:
             answers = explore.robust(lazy, list(objectives), constraints)
         store.write(answers, robust_path, with_checksum=True)
+
+
+# attributes of a merged result that its traces file carries (what it was computed from)
+TRACES_ATTRS = (
+    "study",
+    "config",
+    "clutchlab_version",
+    "clutchlab_source",
+    "clutchlab_design_hash",
+)
+
+
+def traces_to_file(result_path, options: dict, path) -> None:
+    """Write the traces of the design a study's pages show (:func:`clutchlab.traces.compute`),
+    chosen from the merged result at ``result_path`` (only the columns the choice needs are
+    read), with the result's provenance attributes and its own checksum."""
+    from . import store, traces
+
+    with store.open(result_path) as lazy:
+        ds = lazy[traces.needed(lazy)].load()
+        ds.attrs = dict(lazy.attrs)
+    out = traces.compute(ds, dict(options))
+    out.attrs.update({k: ds.attrs[k] for k in TRACES_ATTRS if k in ds.attrs})
+    store.write(out, path, with_checksum=True)
 
 
 def _load_chunk(p, design, position: int, count: int, checked: tuple) -> xr.Dataset:

@@ -106,6 +106,7 @@ def within(x, unit: str):
     Returns
     -------
     numpy.ndarray of bool
+        The mask, shaped like ``x``.
     """
     lo, hi = bounds(unit)
     a = np.abs(np.asarray(x, dtype=float))

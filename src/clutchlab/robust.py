@@ -105,6 +105,11 @@ def apply_noise(inputs: dict, draws: dict, relative: dict, index) -> dict:
         Parameter -> True where its draws are relative deviations [1].
     index : numpy.ndarray of int
         The noise draw of each scenario of the chunk.
+
+    Returns
+    -------
+    dict
+        ``inputs`` with each noise parameter replaced by its per-scenario value [SI].
     """
     out = dict(inputs)
     for name, values in draws.items():

@@ -1,21 +1,22 @@
-"""Sprag clutch under transient impact (seed 002): impact torque, gripping angle with race
-deflection, Hertz contact and shaft stresses.
+"""Sprag clutch under transient impact (the source paper (002)): impact torque, gripping angle
+with race deflection, Hertz contact and shaft stresses.
 
 All functions are pure and broadcast over numpy arrays; SI units (m, N, Pa, rad, s).
 
-Geometry (seed 002 Fig. 2, Table 1): O is the clutch centre, A the centre of the sprag's inner
-arc (radius ``r_i``), B the centre of its outer arc (``r_o``), ``|AB| = Z``. The sprag touches the
-inner race (radius ``R_i``) on the ray OA and the outer race (``R_o``) on the ray OB, so
+Geometry (the source paper (002), Fig. 2, Table 1): O is the clutch centre, A the centre of the
+sprag's inner arc (radius ``r_i``), B the centre of its outer arc (``r_o``), ``|AB| = Z``. The sprag
+touches the inner race (radius ``R_i``) on the ray OA and the outer race (``R_o``) on the ray OB, so
 ``|OA| = R_i + r_i`` and ``|OB| = R_o - r_o``; ψ = ∠AOB. A sprag is a two-force member: the load
 acts along the chord between the contact points, at the gripping angle V to the radius at the inner
 contact and W at the outer one, with V = W + ψ and ``R_i sin V = R_o sin W``.
 
 References
 ----------
-[1] seed 002: "Analysis on the transient impact and wedging performance of the sprag clutch in
-    the turbine starter", Aeronautical Science & Technology 35(3), 2024. Eqs. (1)-(8), Tables 1-2.
-[2] Harris, T. A., Kotzalas, M. N., Rolling Bearing Analysis, 5th ed., 2007: Palmgren's
-    line-contact approach δ = 3.84e-5 Q^0.9 / l^0.8 (mm, N; steel).
+.. [1] "Analysis on the transient impact and wedging performance of the sprag clutch in the
+   turbine starter", Aeronautical Science & Technology 35(3), 2024: the source paper (002),
+   eqs. (1)-(8), Tables 1-2.
+.. [2] Harris, T. A., Kotzalas, M. N., Rolling Bearing Analysis, 5th ed., 2007: Palmgren's
+   line-contact approach δ = 3.84e-5 Q^0.9 / l^0.8 (mm, N; steel).
 """
 
 from __future__ import annotations
@@ -43,7 +44,7 @@ __all__ = [
     "SEED_GEOMETRY",
 ]
 
-#: seed 002 Table 1 [m], sprag count; steel (E, ν not printed: bearing steel 206 GPa, 0.3 assumed)
+#: the source paper (002), Table 1 [m], sprag count; steel (E, ν not printed: bearing steel 206 GPa, 0.3 assumed)
 SEED_GEOMETRY = dict(
     inner_bore_radius=15.875e-3,
     inner_race_radius=22.225e-3,
@@ -80,27 +81,37 @@ def _impact(compute, **inputs):
 
 
 def impact_speed(time, *, power, inertia, damping, initial_speed=0.0):
-    """Output speed ω(t) under constant input power with quadratic damping (seed 002 eqs. 3-5).
+    """Output speed ω(t) under constant input power and quadratic damping (equations (3)–(5)).
 
     J ω dω/dt + C ω² = P₀ is linear in ω²:  ω² = [P₀ − (P₀ − C ω₀²) e^(−2Ct/J)] / C.
 
     Parameters
     ----------
-    time : array_like [s]
-    power : array_like [W]   constant input power P₀
-    inertia : array_like [kg m^2]   output-side inertia J_r
-    damping : array_like [N m s^2]  quadratic damping coefficient C_t
-    initial_speed : array_like [rad/s]   ω₀
+    time : float or array_like [s]
+        Time t ≥ 0 since the start of the impact.
+    power : float or array_like [W]
+        Constant input power P₀ > 0.
+    inertia : float or array_like [kg m²]
+        Output-side inertia J_r > 0.
+    damping : float or array_like [N m s²]
+        Quadratic damping coefficient C_t > 0.
+    initial_speed : float or array_like [rad/s]
+        Output speed ω₀ ≥ 0 at t = 0.
 
     Returns
     -------
-    ndarray [rad/s]
-        NaN where t, ω₀ < 0, P₀, J, C ≤ 0, or an input is not finite or plausible
+    numpy.ndarray [rad/s]
+        ω(t); NaN where t, ω₀ < 0, P₀, J, C ≤ 0, or an input is not finite or plausible
         (:mod:`clutchlab.plausible`).
 
     Notes
     -----
-    Eq. (4) of [1] is printed garbled; this is its exact solution, equivalent to T = P₀/ω.
+    Erratum: eq. (4) of [1] is printed garbled; this is its exact solution, equivalent to
+    T = P₀/ω.
+
+    References
+    ----------
+    Source paper (002), eqs. (1)–(5) ([1] in the module docstring).
     """
     return _impact(
         _impact_speed,
@@ -122,9 +133,33 @@ def _impact_speed(*, time, power, inertia, damping, initial_speed):
 
 
 def impact_torque(time, *, power, inertia, damping, initial_speed=0.0):
-    """Clutch torque T(t) = P₀ / ω(t) (seed 002 eqs. 2, 4, 5) [N m]; infinite at t = 0 for ω₀ = 0,
-    hence the finite rise time t₀ of :func:`peak_torque` (the curve is used for t ≥ t₀). Inputs
-    as :func:`impact_speed` (NaN where invalid)."""
+    """Clutch torque T(t) = P₀ / ω(t) of the impact (equations (2), (4), (5) of [1]).
+
+    Infinite at t = 0 for ω₀ = 0, hence the finite rise time t₀ of :func:`peak_torque` (the curve
+    is used for t ≥ t₀).
+
+    Parameters
+    ----------
+    time : float or array_like [s]
+        Time t ≥ 0 since the start of the impact.
+    power : float or array_like [W]
+        Constant input power P₀ > 0.
+    inertia : float or array_like [kg m²]
+        Output-side inertia J_r > 0.
+    damping : float or array_like [N m s²]
+        Quadratic damping coefficient C_t > 0.
+    initial_speed : float or array_like [rad/s]
+        Output speed ω₀ ≥ 0 at t = 0.
+
+    Returns
+    -------
+    numpy.ndarray [N m]
+        T(t); NaN where an input is invalid (as :func:`impact_speed`).
+
+    References
+    ----------
+    Source paper (002), eqs. (2), (4), (5) ([1] in the module docstring).
+    """
     return _impact(
         _impact_torque,
         time=time,
@@ -143,8 +178,29 @@ def _impact_torque(*, time, power, inertia, damping, initial_speed):
 
 
 def steady_torque(*, power, damping):
-    """T(∞) = √(P₀ C_t) [N m] (seed 002 section 2.1; the printed "T_e = P₀C_t" is garbled), P₀ [W],
-    C_t [N m s²]; NaN where one is not positive, finite and plausible."""
+    """Steady impact torque T(∞) = √(P₀ C_t).
+
+    Parameters
+    ----------
+    power : float or array_like [W]
+        Constant input power P₀ > 0.
+    damping : float or array_like [N m s²]
+        Quadratic damping coefficient C_t > 0.
+
+    Returns
+    -------
+    numpy.ndarray [N m]
+        T(∞); NaN where an input is not positive, finite and plausible.
+
+    Notes
+    -----
+    Erratum: section 2.1 of [1] prints "T_e = P₀C_t", which is garbled: the steady state of
+    eq. (3) gives ω² = P₀/C and T = P₀/ω = √(P₀ C).
+
+    References
+    ----------
+    Source paper (002), eq. (3) and section 2.1 ([1] in the module docstring).
+    """
     return _impact(_steady_torque, power=power, damping=damping)
 
 
@@ -153,10 +209,32 @@ def _steady_torque(*, power, damping):
 
 
 def peak_torque(*, rise_time, power, inertia, damping, initial_speed=0.0):
-    """Peak torque T₀ = T(t₀) reached at the end of the rise time t₀ (seed 002 section 1.1) [N m].
+    """Peak torque T₀ = T(t₀) reached at the end of the rise time t₀.
 
-    Rises with P₀, J and C and falls with ω₀ and t₀ (seed 002 Fig. 4 b-e). t₀ > 0 [s], the rest
-    as :func:`impact_speed`; NaN where an input is invalid."""
+    Rises with P₀, J and C and falls with ω₀ and t₀ (Fig. 4 b–e of [1]).
+
+    Parameters
+    ----------
+    rise_time : float or array_like [s]
+        Rise time t₀ > 0.
+    power : float or array_like [W]
+        Constant input power P₀ > 0.
+    inertia : float or array_like [kg m²]
+        Output-side inertia J_r > 0.
+    damping : float or array_like [N m s²]
+        Quadratic damping coefficient C_t > 0.
+    initial_speed : float or array_like [rad/s]
+        Output speed ω₀ ≥ 0 at t = 0.
+
+    Returns
+    -------
+    numpy.ndarray [N m]
+        T₀; NaN where an input is invalid (as :func:`impact_speed`).
+
+    References
+    ----------
+    Source paper (002), section 1.1 and Fig. 4 ([1] in the module docstring).
+    """
     return _impact(
         _peak_torque,
         rise_time=rise_time,
@@ -174,10 +252,33 @@ def _peak_torque(*, rise_time, power, inertia, damping, initial_speed):
 
 
 def rise_time_for_peak(*, peak, power, inertia, damping, initial_speed=0.0):
-    """The rise time t₀ at which T(t₀) equals ``peak`` [s]: the inverse of :func:`peak_torque`.
+    """Rise time t₀ at which T(t₀) equals ``peak``: the inverse of :func:`peak_torque`.
 
-    t₀ = J/(2C) ln[(P₀ − Cω₀²)/(P₀ − C (P₀/T₀)²)]; NaN unless √(P₀C) < T₀ < P₀/ω₀, or where an
-    input is invalid (as :func:`impact_speed`; T₀ > 0 [N m])."""
+    t₀ = J/(2C) ln[(P₀ − Cω₀²)/(P₀ − C (P₀/T₀)²)].
+
+    Parameters
+    ----------
+    peak : float or array_like [N m]
+        Peak torque T₀ > 0.
+    power : float or array_like [W]
+        Constant input power P₀ > 0.
+    inertia : float or array_like [kg m²]
+        Output-side inertia J_r > 0.
+    damping : float or array_like [N m s²]
+        Quadratic damping coefficient C_t > 0.
+    initial_speed : float or array_like [rad/s]
+        Output speed ω₀ ≥ 0 at t = 0.
+
+    Returns
+    -------
+    numpy.ndarray [s]
+        t₀; NaN unless √(P₀C) < T₀ < P₀/ω₀, or where an input is invalid (as
+        :func:`impact_speed`).
+
+    References
+    ----------
+    Source paper (002), eqs. (3)–(5) inverted ([1] in the module docstring).
+    """
     return _impact(
         _rise_time_for_peak,
         peak=peak,
@@ -198,9 +299,30 @@ def _rise_time_for_peak(*, peak, power, inertia, damping, initial_speed):
 
 
 def inertia_for_peak(*, peak, rise_time, power, damping):
-    """Output inertia J for which T(t₀) = ``peak`` from rest (ω₀ = 0) [kg m^2]:
-    J = 2 C t₀ / −ln(1 − P₀C/T₀²); NaN unless T₀ > √(P₀C), or where an input is invalid (T₀
-    [N m], t₀ [s], P₀ [W], C [N m s²] positive, finite and plausible)."""
+    """Output inertia J for which T(t₀) = ``peak`` from rest (ω₀ = 0).
+
+    J = 2 C t₀ / −ln(1 − P₀C/T₀²).
+
+    Parameters
+    ----------
+    peak : float or array_like [N m]
+        Peak torque T₀ > 0.
+    rise_time : float or array_like [s]
+        Rise time t₀ > 0.
+    power : float or array_like [W]
+        Constant input power P₀ > 0.
+    damping : float or array_like [N m s²]
+        Quadratic damping coefficient C > 0.
+
+    Returns
+    -------
+    numpy.ndarray [kg m²]
+        J; NaN unless T₀ > √(P₀C), or where an input is not positive, finite and plausible.
+
+    References
+    ----------
+    Source paper (002), eqs. (3)–(5) inverted ([1] in the module docstring).
+    """
     return _impact(_inertia_for_peak, peak=peak, rise_time=rise_time, power=power, damping=damping)
 
 
@@ -257,7 +379,7 @@ def _domain(names):
 
 
 def _full_geometry(geometry):
-    """The seed 002 geometry and steel with ``geometry``'s values (unknown keys: TypeError)."""
+    """The source paper (002)'s geometry and steel, updated by ``geometry`` (unknown: TypeError)."""
     unknown = set(geometry) - set(SEED_GEOMETRY) - set(STEEL)
     if unknown:
         raise TypeError(f"unknown geometry argument(s): {', '.join(sorted(unknown))}")
@@ -287,11 +409,37 @@ def rest_geometry(
     centre_distance,
     **_,
 ):
-    """Unloaded ψ₀, V₀, W₀ [rad] and the radial overlap d₀ = OA − OB [m].
+    """Unloaded angles ψ₀, V₀, W₀ and the radial overlap d₀ = OA − OB of a sprag in its races.
 
     The sprag spans the races only for 0 < d₀ < Z (d₀ ≥ Z: it does not reach both races; d₀ ≤ 0: it
-    stands past radial). Seed 002 geometry: ψ₀ = 0.642°, V₀ = 2.354°. NaN where a radius is not
-    positive, finite and plausible or the races are out of order (R_i < R_o)."""
+    stands past radial). The source paper (002)'s geometry gives ψ₀ = 0.642°, V₀ = 2.354°.
+
+    Parameters
+    ----------
+    inner_race_radius : float or array_like [m]
+        Inner race radius R_i.
+    outer_race_radius : float or array_like [m]
+        Outer race radius R_o > R_i.
+    sprag_inner_radius : float or array_like [m]
+        Radius r_i of the sprag's inner arc.
+    sprag_outer_radius : float or array_like [m]
+        Radius r_o of the sprag's outer arc.
+    centre_distance : float or array_like [m]
+        Distance Z = ``|AB|`` of the arcs' centres.
+    **_ : dict
+        Further keyword arguments (e.g. the rest of a geometry dict) are ignored.
+
+    Returns
+    -------
+    dict of numpy.ndarray
+        ``psi``, ``V``, ``W`` [rad], ``overlap`` [m]; NaN where a radius is not positive, finite and
+        plausible or the races are out of order (R_i < R_o).
+
+    References
+    ----------
+    Source paper (002), Fig. 2 and Table 1 ([1] in the module docstring); the geometry of eq. (6)
+    (module docstring).
+    """
     inputs = dict(
         inner_race_radius=inner_race_radius,
         outer_race_radius=outer_race_radius,
@@ -323,10 +471,30 @@ def _rest_geometry(
 
 
 def contact_approach(load, *, sprag_length, youngs_modulus=206e9, poisson_ratio=0.3):
-    """Mutual approach of a line contact δ = 3.84e-5 Q^0.9 / l^0.8 (mm, N) [m] (Palmgren, [2]),
-    scaled as (E*_steel / E*)^0.9 for other moduli (the power of Q/(l E*) in that formula). Load
-    Q ≥ 0 [N], contact length l > 0 [m], E > 0 [Pa], ν ∈ (−1, 0.5); NaN where not, or not
-    finite or plausible."""
+    """Mutual approach of a steel line contact, δ = 3.84e-5 Q^0.9 / l^0.8 (mm, N) (Palmgren, [2]).
+
+    Scaled as (E*_steel / E*)^0.9 for other moduli (the power of Q/(l E*) in that formula).
+
+    Parameters
+    ----------
+    load : float or array_like [N]
+        Contact load Q ≥ 0.
+    sprag_length : float or array_like [m]
+        Contact length l > 0.
+    youngs_modulus : float or array_like [Pa]
+        Young's modulus E > 0 of both bodies.
+    poisson_ratio : float or array_like [-]
+        Poisson's ratio ν ∈ (−1, 0.5).
+
+    Returns
+    -------
+    numpy.ndarray [m]
+        δ; NaN where an input is out of range, not finite or not plausible.
+
+    References
+    ----------
+    Harris and Kotzalas [2] (Palmgren's line-contact approach).
+    """
     inputs = dict(
         load=load,
         sprag_length=sprag_length,
@@ -356,11 +524,50 @@ def race_deflections(
     poisson_ratio=0.3,
     **_,
 ):
-    """Radial displacement of the race surfaces under the smeared sprag pressure [m] (Lamé thick
-    cylinders, plane stress): inner shaft under external pressure p_i = n N_i/(2π R_i l) (u_i < 0),
-    outer race under internal pressure p_o = n N_o/(2π R_o l) (u_o > 0). Loads ≥ 0 [N], radii
-    [m] in order 0 ≤ R_id < R_i < R_o < R_od, sprag count whole in [1, 1000]; NaN where not, or
-    an input is not finite or plausible."""
+    """Radial displacement of the race surfaces under the smeared sprag pressure.
+
+    Lamé thick cylinders, plane stress: inner shaft under external pressure
+    p_i = n N_i/(2π R_i l) (u_i < 0), outer race under internal pressure p_o = n N_o/(2π R_o l)
+    (u_o > 0).
+
+    Parameters
+    ----------
+    load_inner : float or array_like [N]
+        Normal load N_i ≥ 0 per sprag at the inner contact.
+    load_outer : float or array_like [N]
+        Normal load N_o ≥ 0 per sprag at the outer contact.
+    sprags : int or array_like [-]
+        Sprag count n, a whole number in [1, 1000].
+    sprag_length : float or array_like [m]
+        Sprag (contact) length l.
+    inner_bore_radius : float or array_like [m]
+        Bore radius R_id ≥ 0 of the inner shaft.
+    inner_race_radius : float or array_like [m]
+        Inner race radius R_i.
+    outer_race_radius : float or array_like [m]
+        Outer race radius R_o.
+    outer_rim_radius : float or array_like [m]
+        Outer radius R_od of the outer race; 0 ≤ R_id < R_i < R_o < R_od.
+    youngs_modulus : float or array_like [Pa]
+        Young's modulus E of the races.
+    poisson_ratio : float or array_like [-]
+        Poisson's ratio ν ∈ (−1, 0.5).
+    **_ : dict
+        Further keyword arguments (e.g. the rest of a geometry dict) are ignored.
+
+    Returns
+    -------
+    u_inner : numpy.ndarray [m]
+        Radial displacement of the inner race surface (negative: inwards).
+    u_outer : numpy.ndarray [m]
+        Radial displacement of the outer race surface (positive: outwards). Both NaN where an
+        input is out of range, not finite or not plausible.
+
+    References
+    ----------
+    Source paper (002), eq. (6) (the deflection it needs; module docstring); Lamé's thick
+    cylinder.
+    """
     inputs = dict(
         load_inner=load_inner,
         load_outer=load_outer,
@@ -437,7 +644,7 @@ def _deformed(torque, v, g, compliance_factor, inner_passes=3):
     )
     d_i = compliance_factor * _contact_approach(load=n_i, sprag_length=length, **mat)
     d_o = compliance_factor * _contact_approach(load=n_o, sprag_length=length, **mat)
-    # the contact approach shortens the sprag's effective arc radii (the r̄ of seed 002 eq. 7)
+    # the contact approach shortens the sprag's effective arc radii (the r̄ of the source paper (002), eq. 7)
     si_bar, so_bar = g["sprag_inner_radius"] - d_i, g["sprag_outer_radius"] - d_o
     oa, ob = ri_bar + si_bar, ro_bar - so_bar
     psi = _central_angle(oa, ob, g["centre_distance"])
@@ -464,15 +671,15 @@ def _geometry(kw):
 
 
 def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **geometry):
-    """Gripping angle V under torque with race deflection and contact approach (seed 002 eq. 6).
+    """Gripping angle V under torque with race deflection and contact approach (equation (6)).
 
-    Eq. (6) is cited from the Aero-engine Design Manual vol. 13 but not printed. Reconstruction
-    (PHYSICS.md): loads along the contact chord N_i = T cot V/(n R̄_i), N_o = T cot W/(n R̄_o);
-    races deflect as Lamé cylinders under the smeared pressure (:func:`race_deflections`); the
-    contacts approach by Palmgren's line-contact law (:func:`contact_approach`); the deformed
-    OA = R̄_i + r̄_i, OB = R̄_o − r̄_o give ψ and tan V = R̄_o sin ψ/(R̄_o cos ψ − R̄_i).
-    Deflection ``compliance_factor`` times the physical one (1 = physical; :func:`fit_compliance_factor`
-    fits it to Table 2 at 750 N m: 1.726).
+    Eq. (6) is cited from the Aero-engine Design Manual vol. 13 but not printed. Reconstruction:
+    loads along the contact chord N_i = T cot V/(n R̄_i), N_o = T cot W/(n R̄_o); races deflect as
+    Lamé cylinders under the smeared pressure (:func:`race_deflections`); the contacts approach by
+    Palmgren's line-contact law (:func:`contact_approach`); the deformed OA = R̄_i + r̄_i,
+    OB = R̄_o − r̄_o give ψ and tan V = R̄_o sin ψ/(R̄_o cos ψ − R̄_i). The deflection is
+    ``compliance_factor`` times the physical one (1 = physical; :func:`fit_compliance_factor` fits
+    it to Table 2 at 750 N·m: 1.726).
 
     The fixed point V = V_new(V) is solved as a root of G(V) = V − V_new(V), which increases
     strictly (more V, less load, less deflection, smaller V_new), by vectorised regula falsi
@@ -480,23 +687,47 @@ def gripping_angle(torque, *, compliance_factor=1.0, tol=1e-12, max_iter=60, **g
 
     Parameters
     ----------
-    torque : array_like [N m]
-    compliance_factor : array_like [1]
-    tol : float [rad]   bracket width at which a scenario is converged
-    **geometry : keyword arrays [m] and sprag count, E [Pa], ν: the keys of ``SEED_GEOMETRY`` and
-        ``youngs_modulus``, ``poisson_ratio``; missing ones take the seed 002 values.
+    torque : float or array_like [N m]
+        Torque T ≥ 0 through the clutch.
+    compliance_factor : float or array_like [-]
+        Multiplier of the physical deflection, in [1e-6, 1000].
+    tol : float
+        Bracket width [rad] at which a scenario is converged, in (0, 0.1].
+    max_iter : int
+        Bracketing steps at most, a whole number in [1, 1000].
+    **geometry : float or array_like
+        The keys of :data:`SEED_GEOMETRY` (radii and lengths [m], the sprag count [-]) and
+        ``youngs_modulus`` [Pa], ``poisson_ratio`` [-]; missing ones take the source paper (002)'s
+        values (Table 1; bearing steel 206 GPa, 0.3 assumed). An unknown key raises TypeError.
 
     Returns
     -------
-    dict of ndarrays: ``V``, ``W``, ``psi`` [rad]; deformed radii ``inner_race_radius``,
-    ``outer_race_radius``, ``sprag_inner_radius``, ``sprag_outer_radius`` [m]; ``load_inner``,
-    ``load_outer`` [N]; ``status`` (ok, invalid_geometry: the sprag does not span the races at rest,
-    or the races are out of order (0 ≤ R_id < R_i < R_o < R_od, r_o < R_o); roll_over: the loaded
-    races open past the sprag's reach; not_converged; invalid_input: an input not finite, not
-    physical (T < 0, a sprag count that is not whole, ν outside (−1, 0.5), ...) or of an
-    implausible magnitude (:mod:`clutchlab.plausible`)); ``n_iterations`` (bracketing steps
-    taken). At zero torque the result is the rest geometry (:func:`rest_geometry`) with zero loads.
-    ``tol`` in (0, 0.1] rad and ``max_iter`` a whole number in [1, 1000] (ValueError otherwise).
+    dict of numpy.ndarray
+        ``V``, ``W``, ``psi`` [rad]; deformed radii ``inner_race_radius``, ``outer_race_radius``,
+        ``sprag_inner_radius``, ``sprag_outer_radius`` [m]; ``load_inner``, ``load_outer`` [N];
+        ``status`` (ok, invalid_geometry: the sprag does not span the races at rest, or the races
+        are out of order (0 ≤ R_id < R_i < R_o < R_od, r_o < R_o); roll_over: the loaded races open
+        past the sprag's reach; not_converged; invalid_input: an input not finite, not physical
+        (T < 0, a sprag count that is not whole, ν outside (−1, 0.5), ...) or of an implausible
+        magnitude (:mod:`clutchlab.plausible`)); ``n_iterations`` (bracketing steps taken). At zero
+        torque the result is the rest geometry (:func:`rest_geometry`) with zero loads.
+
+    Raises
+    ------
+    ValueError
+        If ``tol`` or ``max_iter`` is out of range.
+    TypeError
+        For an unknown geometry keyword.
+
+    Notes
+    -----
+    With the physical compliance (factor 1) V comes out about 11 % below Table 2 of [1] and the
+    stresses 6–12 % above; the fitted factor reproduces every Table 2 number within 0.4 %.
+
+    References
+    ----------
+    Source paper (002), eq. (6) (cited, not printed), Table 1 (geometry) and Table 2 (V at 267.5
+    and 750 N·m) ([1] in the module docstring); Harris and Kotzalas [2].
     """
     _check_fixed_point(tol, max_iter)
     inputs = dict(torque=torque, compliance_factor=compliance_factor, **_full_geometry(geometry))
@@ -613,15 +844,55 @@ def contact_stress(
     poisson_ratio=0.3,
     **_,
 ):
-    """Hertz line-contact stress at the inner and outer contact (seed 002 eq. 7) [Pa].
+    """Hertz line-contact stress at the inner and outer contact (equation (7) of [1]).
 
     σ_ci = √[T cot V (1/r̄_i + 1/R̄_i) / (π n l R̄_i · 2(1−ν²)/E)],
     σ_co = √[T cot W (1/r̄_o − 1/R̄_o) / (π n l R̄_o · 2(1−ν²)/E)] (concave outer race).
-    The square root covers the whole fraction (the printed layout is ambiguous). Pass the deformed
-    radii (:func:`gripping_angle`) as eq. 7 does, or the rest radii; one steel for all three parts
-    (eq. 7 allows E₁, E₂, E₃: the paper prints none). Returns (σ_ci, σ_co); NaN where T < 0, V or
-    W outside (0, π/2), a length [m] or E [Pa] not positive, the races out of order (R_i < R_o,
-    r̄_o < R̄_o), or an input not finite or plausible.
+    Pass the deformed radii (:func:`gripping_angle`) as eq. (7) does, or the rest radii; one steel
+    for all three parts (eq. (7) allows E₁, E₂, E₃: the paper prints none).
+
+    Parameters
+    ----------
+    torque : float or array_like [N m]
+        Torque T ≥ 0.
+    V : float or array_like [rad]
+        Gripping angle at the inner contact, in (0, π/2].
+    W : float or array_like [rad]
+        Gripping angle at the outer contact, in (0, π/2].
+    sprags : int or array_like [-]
+        Sprag count n.
+    sprag_length : float or array_like [m]
+        Sprag (contact) length l.
+    inner_race_radius : float or array_like [m]
+        Inner race radius R̄_i.
+    outer_race_radius : float or array_like [m]
+        Outer race radius R̄_o > R̄_i.
+    sprag_inner_radius : float or array_like [m]
+        Radius r̄_i of the sprag's inner arc.
+    sprag_outer_radius : float or array_like [m]
+        Radius r̄_o < R̄_o of the sprag's outer arc.
+    youngs_modulus : float or array_like [Pa]
+        Young's modulus E.
+    poisson_ratio : float or array_like [-]
+        Poisson's ratio ν.
+    **_ : dict
+        Further keyword arguments (e.g. the rest of a geometry dict) are ignored.
+
+    Returns
+    -------
+    inner : numpy.ndarray [Pa]
+        σ_ci.
+    outer : numpy.ndarray [Pa]
+        σ_co. Both NaN where T < 0, V or W outside (0, π/2], a length or E not positive, the races
+        out of order (R_i < R_o, r̄_o < R̄_o), or an input not finite or plausible.
+
+    Notes
+    -----
+    The square root covers the whole fraction; the printed layout of eq. (7) is ambiguous.
+
+    References
+    ----------
+    Source paper (002), eq. (7) and Table 2 ([1] in the module docstring).
     """
     inputs = dict(
         torque=torque,
@@ -693,16 +964,50 @@ def shaft_stress(
     outer_rim_radius,
     **_,
 ):
-    """Von Mises stress of the inner shaft and the outer race (seed 002 eq. 8) [Pa].
+    """Von Mises stress of the inner shaft and the outer race (equation (8) of [1]).
 
     Plane stress (no axial load): Lamé radial and hoop stress under the smeared sprag pressure
     (p_i = n N_i/(2π R̄_i l) outside the inner shaft, p_o = n N_o/(2π R̄_o l) inside the outer race)
-    plus the torsional shear T ρ/J_p. Eq. (8) is not legible in the paper; this is its stated
-    content (Fig. 3, "fourth strength theory"). Returns a dict with the stress at both surfaces of
-    each part (``inner_bore``, ``inner_surface``, ``outer_bore``, ``outer_surface``) and the maxima
-    ``inner``, ``outer`` (at the bores for seed-like proportions); NaN where T < 0, V or W outside
-    (0, π/2), the races out of order (0 ≤ R_id < R_i < R_o < R_od), or an input not finite,
-    not physical or not plausible.
+    plus the torsional shear T ρ/J_p.
+
+    Parameters
+    ----------
+    torque : float or array_like [N m]
+        Torque T ≥ 0.
+    V : float or array_like [rad]
+        Gripping angle at the inner contact, in (0, π/2].
+    W : float or array_like [rad]
+        Gripping angle at the outer contact, in (0, π/2].
+    sprags : int or array_like [-]
+        Sprag count n.
+    sprag_length : float or array_like [m]
+        Sprag (contact) length l.
+    inner_bore_radius : float or array_like [m]
+        Bore radius R_id ≥ 0 of the inner shaft.
+    inner_race_radius : float or array_like [m]
+        Inner race radius R_i.
+    outer_race_radius : float or array_like [m]
+        Outer race radius R_o.
+    outer_rim_radius : float or array_like [m]
+        Outer radius R_od of the outer race; 0 ≤ R_id < R_i < R_o < R_od.
+    **_ : dict
+        Further keyword arguments (e.g. the rest of a geometry dict) are ignored.
+
+    Returns
+    -------
+    dict of numpy.ndarray [Pa]
+        The stress at both surfaces of each part (``inner_bore``, ``inner_surface``,
+        ``outer_bore``, ``outer_surface``) and the maxima ``inner``, ``outer`` (at the bores for
+        proportions like the source paper's); NaN where T < 0, V or W outside (0, π/2], the races
+        out of order, or an input not finite, not physical or not plausible.
+
+    Notes
+    -----
+    Eq. (8) is not legible in [1]; this is its stated content (Fig. 3, "fourth strength theory").
+
+    References
+    ----------
+    Source paper (002), eq. (8), Fig. 3 and Table 2 ([1] in the module docstring).
     """
     inputs = dict(
         torque=torque,
@@ -751,13 +1056,13 @@ def _shaft_stress(
     return out
 
 
-#: The allowables of seed 002 Table 2 [Pa, Pa, rad] (:data:`clutchlab.published.SPRAG_CLUTCH`).
+#: The allowables of the source paper (002), Table 2 [Pa, Pa, rad] (:data:`clutchlab.published.SPRAG_CLUTCH`).
 ALLOWABLES = dict(
     contact_allowable=SPRAG_CLUTCH["contact_allowable"].value * 1e6,
     shaft_allowable=SPRAG_CLUTCH["shaft_allowable"].value * 1e6,
     gripping_angle_allowable=np.deg2rad(SPRAG_CLUTCH["gripping_angle_allowable"].value),
 )
-_PEAK = SPRAG_TABLE2[750.0]  # seed 002 Table 2, theory column, at the peak torque
+_PEAK = SPRAG_TABLE2[750.0]  # the source paper (002), Table 2, theory column, at the peak torque
 _PEAK_V = float(np.deg2rad(_PEAK.gripping_angle))  # [rad]
 
 
@@ -770,22 +1075,47 @@ def statics(
     gripping_angle_allowable=ALLOWABLES["gripping_angle_allowable"],
     **geometry,
 ):
-    """Gripping angle, contact and shaft stresses, margins and checks for a torque (seed 002).
+    """Gripping angle, contact and shaft stresses, margins and checks for a torque.
 
-    Parameters as :func:`gripping_angle`, plus the allowables of seed 002 Table 2: contact
-    3400 MPa, shaft von Mises 793 MPa, gripping angle 5° [Pa, rad].
+    Parameters
+    ----------
+    torque : float or array_like [N m]
+        Torque T ≥ 0.
+    compliance_factor : float or array_like [-]
+        Multiplier of the physical deflection (:func:`gripping_angle`).
+    contact_allowable : float or array_like [Pa]
+        Allowable contact stress (3400 MPa: Table 2 of [1]).
+    shaft_allowable : float or array_like [Pa]
+        Allowable von Mises stress of shaft and race (793 MPa: Table 2).
+    gripping_angle_allowable : float or array_like [rad]
+        Allowable gripping angle (5°: Table 2).
+    **geometry : float or array_like
+        The keys of :data:`SEED_GEOMETRY` (radii and lengths [m], the sprag count [-]) and
+        ``youngs_modulus`` [Pa], ``poisson_ratio`` [-]; missing ones take the source paper (002)'s
+        values (Table 1; bearing steel 206 GPa, 0.3 assumed). An unknown key raises TypeError.
 
     Returns
     -------
-    dict: ``V``, ``W``, ``psi`` [rad]; ``contact_stress_inner``, ``contact_stress_outer``,
-    ``vm_stress_inner``, ``vm_stress_outer`` [Pa]; ``margin_*`` = allowable/value − 1 for the five
-    checks (``contact_inner``, ``contact_outer``, ``vm_inner``, ``vm_outer``, ``gripping_angle``);
-    ``status``: invalid_input (an input not finite or not physical: negative torque, a sprag
-    count that is not whole, ν outside (−1, 0.5), ...), invalid_geometry / roll_over /
-    not_converged (no numbers), else pop_out_risk when V exceeds its allowable, else
-    above_allowable when a stress does, else ok. Zero torque: the rest geometry, zero stresses.
-    Magnitudes outside :mod:`clutchlab.plausible` (a million sprags, E = 1e308 Pa) are
-    invalid_input; races out of order (0 ≤ R_id < R_i < R_o < R_od, r_o < R_o) invalid_geometry.
+    dict of numpy.ndarray
+        ``V``, ``W``, ``psi`` [rad]; ``contact_stress_inner``, ``contact_stress_outer``,
+        ``vm_stress_inner``, ``vm_stress_outer`` [Pa]; ``margin_*`` = allowable/value − 1 [-] for
+        the five checks (``contact_inner``, ``contact_outer``, ``vm_inner``, ``vm_outer``,
+        ``gripping_angle``); ``n_iterations``; ``status``: invalid_input (an input not finite or
+        not physical: negative torque, a sprag count that is not whole, ν outside (−1, 0.5), ...),
+        invalid_geometry / roll_over / not_converged (no numbers), else pop_out_risk when V exceeds
+        its allowable, else above_allowable when a stress does, else ok. Zero torque: the rest
+        geometry, zero stresses. Magnitudes outside :mod:`clutchlab.plausible` (a million sprags,
+        E = 1e308 Pa) are invalid_input; races out of order (0 ≤ R_id < R_i < R_o < R_od,
+        r_o < R_o) invalid_geometry.
+
+    Raises
+    ------
+    TypeError
+        For an unknown geometry keyword.
+
+    References
+    ----------
+    Source paper (002), eqs. (6)–(8) and Table 2 ([1] in the module docstring).
     """
     inputs = dict(
         torque=torque,
@@ -856,12 +1186,35 @@ def _statics(
 
 
 def fit_compliance_factor(*, torque=_PEAK.torque, gripping_angle_target=_PEAK_V, **geometry):
-    """The compliance factor for which :func:`gripping_angle` gives ``gripping_angle_target`` at
-    ``torque`` (default seed 002 Table 2 theory column at 750 N m: 5.097°) [1].
+    """Compliance factor at which :func:`gripping_angle` gives the target angle at ``torque``.
 
-    V grows monotonically with the factor, so a scalar bracketed root (Brent) finds it. NaN where
-    the torque, the target (in (0, π/2) rad) or the geometry is invalid (as :func:`statics`);
-    ValueError where no factor up to 100 reaches the target.
+    V grows monotonically with the factor, so a scalar bracketed root (Brent) finds it.
+
+    Parameters
+    ----------
+    torque : float [N m]
+        Torque (default: 750 N·m, the peak of Table 2 of [1]).
+    gripping_angle_target : float [rad]
+        Target V in (0, π/2) (default: 5.097°, Table 2's theory column at 750 N·m).
+    **geometry : float or array_like
+        The keys of :data:`SEED_GEOMETRY` (radii and lengths [m], the sprag count [-]) and
+        ``youngs_modulus`` [Pa], ``poisson_ratio`` [-]; missing ones take the source paper (002)'s
+        values (Table 1; bearing steel 206 GPa, 0.3 assumed). An unknown key raises TypeError.
+
+    Returns
+    -------
+    float [-]
+        The factor (1.726 for the defaults); NaN where the torque, the target or the geometry is
+        invalid (as :func:`statics`).
+
+    Raises
+    ------
+    ValueError
+        Where no factor up to 100 reaches the target, or the target lies beyond the sprag's reach.
+
+    References
+    ----------
+    Source paper (002), Table 2 ([1] in the module docstring).
     """
     from scipy.optimize import brentq
 

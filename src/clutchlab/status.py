@@ -36,7 +36,18 @@ DTYPE = np.int8
 
 
 def attrs(description: str = "") -> dict:
-    """CF attributes of a ``status`` variable."""
+    """CF attributes of a ``status`` variable (``flag_values``, ``flag_meanings``).
+
+    Parameters
+    ----------
+    description : str
+        A comment for the attributes (none if empty).
+
+    Returns
+    -------
+    dict
+        ``long_name``, ``units``, ``flag_values``, ``flag_meanings`` and ``comment``.
+    """
     out = {
         "long_name": "scenario status",
         "units": "1",
@@ -56,31 +67,117 @@ def attrs(description: str = "") -> dict:
 
 
 def finite(x):
+    """Predicate: finite (any sign).
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Values of one input, one per scenario.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        True where the value is admissible.
+    """
     return np.isfinite(x)
 
 
 def positive(x):
+    """Predicate: finite and > 0.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Values of one input, one per scenario.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        True where the value is admissible.
+    """
     return np.isfinite(x) & (x > 0)
 
 
 def nonnegative(x):
+    """Predicate: finite and ≥ 0.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Values of one input, one per scenario.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        True where the value is admissible.
+    """
     return np.isfinite(x) & (x >= 0)
 
 
 def positive_or_inf(x):
-    """> 0, inf allowed (a held engine, a constant μ, no release): NaN is not."""
+    """Predicate: > 0, inf allowed (a held engine, a constant μ, no release); NaN is not.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Values of one input, one per scenario.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        True where the value is admissible.
+    """
     return x > 0
 
 
 def nonnegative_or_inf(x):
+    """Predicate: ≥ 0, inf allowed; NaN is not.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Values of one input, one per scenario.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        True where the value is admissible.
+    """
     return x >= 0
 
 
 def at_least(lo):
+    """Rule: finite and ≥ ``lo``.
+
+    Parameters
+    ----------
+    lo : float
+        The least admissible value, in the input's unit.
+
+    Returns
+    -------
+    callable
+        A predicate: an array of values to a boolean mask of the admissible ones.
+    """
     return lambda x: np.isfinite(x) & (x >= lo)
 
 
 def between(lo, hi, *, lo_open=False, hi_open=False):
+    """Rule: finite and within [lo, hi] (either end open on request).
+
+    Parameters
+    ----------
+    lo, hi : float
+        The ends of the interval, in the input's unit.
+    lo_open, hi_open : bool
+        Whether ``lo`` and ``hi`` themselves are excluded.
+
+    Returns
+    -------
+    callable
+        A predicate: an array of values to a boolean mask of the admissible ones.
+    """
+
     def check(x):
         return (
             np.isfinite(x)
@@ -92,11 +189,34 @@ def between(lo, hi, *, lo_open=False, hi_open=False):
 
 
 def whole(minimum):
+    """Rule: a finite whole number ≥ ``minimum``.
+
+    Parameters
+    ----------
+    minimum : int
+        The least admissible value.
+
+    Returns
+    -------
+    callable
+        A predicate: an array of values to a boolean mask of the admissible ones.
+    """
     return lambda x: np.isfinite(x) & (x >= minimum) & (x == np.round(x))
 
 
 def all_of(*rules):
-    """A predicate true where every one of ``rules`` is."""
+    """Rule true where every one of ``rules`` is.
+
+    Parameters
+    ----------
+    *rules : callable
+        Predicates (at least one).
+
+    Returns
+    -------
+    callable
+        A predicate: an array of values to a boolean mask of the admissible ones.
+    """
 
     def check(x):
         ok = rules[0](x)
@@ -108,11 +228,25 @@ def all_of(*rules):
 
 
 def plausible(unit, *, lo=None, hi=None):
-    """Predicate: finite, and zero or of a magnitude within the plausible range of SI ``unit``
-    (:mod:`clutchlab.plausible`); ``lo``/``hi`` replace the table's bounds where an input's own
-    physics narrows them (a friction coefficient ≤ 2, a count ≤ COUNT_MAX) or where the unit
-    stands for another kind of quantity (a temperature difference in K). Zero is judged by each
-    input's own sign rule (combine with :func:`positive`, :func:`nonnegative`)."""
+    """Rule: finite, and zero or of a magnitude within the plausible range of SI ``unit``.
+
+    The range is :func:`clutchlab.plausible.bounds`; ``lo``/``hi`` replace it where an input's own
+    physics narrows it (a friction coefficient ≤ 2, a count ≤ COUNT_MAX) or where the unit stands
+    for another kind of quantity (a temperature difference in K). Zero is judged by each input's
+    own sign rule (combine with :func:`positive`, :func:`nonnegative`).
+
+    Parameters
+    ----------
+    unit : str
+        SI unit of the input, as :data:`clutchlab.plausible.RANGES` spells it.
+    lo, hi : float or None
+        Smallest non-zero and largest magnitude, replacing the table's.
+
+    Returns
+    -------
+    callable
+        A predicate: an array of values to a boolean mask of the admissible ones.
+    """
     lo0, hi0 = _plausible.bounds(unit)
     lo = lo0 if lo is None else lo
     hi = hi0 if hi is None else hi
@@ -125,41 +259,134 @@ def plausible(unit, *, lo=None, hi=None):
 
 
 def positive_in(unit, **bounds):
-    """> 0, finite and plausible (:func:`plausible`)."""
+    """Rule: > 0, finite and plausible (:func:`plausible`).
+
+    Parameters
+    ----------
+    unit : str
+        SI unit of the input, as :data:`clutchlab.plausible.RANGES` spells it.
+    **bounds : float
+        ``lo`` and ``hi``, replacing the table's bounds (:func:`plausible`).
+
+    Returns
+    -------
+    callable
+        A predicate: an array of values to a boolean mask of the admissible ones.
+    """
     return all_of(positive, plausible(unit, **bounds))
 
 
 def nonnegative_in(unit, **bounds):
-    """≥ 0, finite and plausible (:func:`plausible`)."""
+    """Rule: ≥ 0, finite and plausible (:func:`plausible`).
+
+    Parameters
+    ----------
+    unit : str
+        SI unit of the input, as :data:`clutchlab.plausible.RANGES` spells it.
+    **bounds : float
+        ``lo`` and ``hi``, replacing the table's bounds (:func:`plausible`).
+
+    Returns
+    -------
+    callable
+        A predicate: an array of values to a boolean mask of the admissible ones.
+    """
     return all_of(nonnegative, plausible(unit, **bounds))
 
 
 def finite_in(unit, **bounds):
-    """Any sign, finite and plausible (:func:`plausible`)."""
+    """Rule: any sign, finite and plausible (:func:`plausible`).
+
+    Parameters
+    ----------
+    unit : str
+        SI unit of the input, as :data:`clutchlab.plausible.RANGES` spells it.
+    **bounds : float
+        ``lo`` and ``hi``, replacing the table's bounds (:func:`plausible`).
+
+    Returns
+    -------
+    callable
+        A predicate: an array of values to a boolean mask of the admissible ones.
+    """
     return plausible(unit, **bounds)
 
 
 def positive_or_inf_in(unit, **bounds):
-    """inf (a held engine, a constant μ, no release), or > 0 and plausible: NaN is not."""
+    """Rule: inf (a held engine, a constant μ, no release), or > 0 and plausible; NaN is not.
+
+    Parameters
+    ----------
+    unit : str
+        SI unit of the input, as :data:`clutchlab.plausible.RANGES` spells it.
+    **bounds : float
+        ``lo`` and ``hi``, replacing the table's bounds (:func:`plausible`).
+
+    Returns
+    -------
+    callable
+        A predicate: an array of values to a boolean mask of the admissible ones.
+    """
     rule = positive_in(unit, **bounds)
     return lambda x: rule(x) | (x == np.inf)
 
 
 def nonnegative_or_inf_in(unit, **bounds):
-    """inf, or ≥ 0 and plausible."""
+    """Rule: inf, or ≥ 0 and plausible; NaN is not.
+
+    Parameters
+    ----------
+    unit : str
+        SI unit of the input, as :data:`clutchlab.plausible.RANGES` spells it.
+    **bounds : float
+        ``lo`` and ``hi``, replacing the table's bounds (:func:`plausible`).
+
+    Returns
+    -------
+    callable
+        A predicate: an array of values to a boolean mask of the admissible ones.
+    """
     rule = nonnegative_in(unit, **bounds)
     return lambda x: rule(x) | (x == np.inf)
 
 
 def count(minimum=1, maximum=None):
-    """A whole number in [minimum, maximum] (default :data:`clutchlab.plausible.COUNT_MAX`)."""
+    """Rule: a whole number in [minimum, maximum].
+
+    Parameters
+    ----------
+    minimum : int
+        The least count.
+    maximum : int or None
+        The largest count (default :data:`clutchlab.plausible.COUNT_MAX`).
+
+    Returns
+    -------
+    callable
+        A predicate: an array of values to a boolean mask of the admissible ones.
+    """
     top = _plausible.COUNT_MAX if maximum is None else maximum
     return lambda x: np.isfinite(x) & (x >= minimum) & (x <= top) & (x == np.round(x))
 
 
 def admissible(inputs: dict, domain: dict):
-    """The inputs broadcast together (a dict of float arrays) and the mask of scenarios whose
-    inputs all lie in ``domain`` (see :func:`screened`)."""
+    """The inputs broadcast together and the mask of scenarios whose inputs all lie in ``domain``.
+
+    Parameters
+    ----------
+    inputs : dict
+        Input name -> per-scenario values (broadcast together).
+    domain : dict
+        Input name -> predicate, and optionally ``None`` -> a predicate of all inputs (see
+        :func:`screened`).
+
+    Returns
+    -------
+    arrays : dict of numpy.ndarray
+        The inputs as float arrays of the broadcast shape.
+    ok : numpy.ndarray of bool
+        True where every rule holds.
+    """
     arrays = dict(
         zip(
             inputs,
@@ -182,14 +409,33 @@ def _mask(arrays, domain, shape):
 def screened(compute, inputs: dict, domain: dict, *, extra=None, geometry=None) -> dict:
     """Run ``compute(**inputs)`` on the scenarios whose inputs lie in ``domain`` only.
 
-    ``inputs`` maps names to per-scenario arrays (broadcast together); ``domain`` maps some of
-    them to a predicate giving True where the value is admissible, and may hold the key ``None``:
-    a predicate of all inputs (e.g. a relation between two of them). ``geometry`` (same form):
-    relations of a part's geometry (radii in order, a shoe inside its drum), checked where the
-    inputs are admissible; a scenario that breaks one gets status ``invalid_geometry``. ``extra``
-    (scalars, options) is passed unchanged. Returns ``compute``'s dict with every array (nested
-    dicts too) shaped like the broadcast inputs (plus its own trailing axes), NaN (integers: 0)
-    and status ``invalid_input`` (or ``invalid_geometry``) where an input was bad.
+    A scenario with an input outside the domain gets NaN outputs and status ``invalid_input`` (or
+    ``invalid_geometry``); the others are computed as a batch of their own, so they are
+    bit-identical to a batch without the bad ones.
+
+    Parameters
+    ----------
+    compute : callable
+        The unscreened computation, called with the inputs (and ``extra``) as keywords; returns a
+        dict of arrays (nested dicts allowed), optionally with ``status``.
+    inputs : dict
+        Input name -> per-scenario array (broadcast together).
+    domain : dict
+        Input name -> predicate giving True where the value is admissible; the key ``None`` may
+        hold a predicate of all inputs (e.g. a relation between two of them).
+    extra : dict or None
+        Scalars and options passed to ``compute`` unchanged.
+    geometry : dict or None
+        Relations of a part's geometry (radii in order, a shoe inside its drum), in the form of
+        ``domain``, checked where the inputs are admissible; a scenario that breaks one gets status
+        ``invalid_geometry``.
+
+    Returns
+    -------
+    dict
+        ``compute``'s dict with every array (nested dicts too) shaped like the broadcast inputs
+        (plus its own trailing axes), NaN (integers: 0) and the status ``invalid_input`` (or
+        ``invalid_geometry``) where an input was bad.
     """
     extra = extra or {}
     arrays, ok = admissible(inputs, domain)
@@ -207,9 +453,26 @@ def screened(compute, inputs: dict, domain: dict, *, extra=None, geometry=None) 
 
 
 def nan_screened(compute, inputs: dict, domain: dict, *, extra=None):
-    """:func:`screened` for a helper that returns a plain array (or a tuple of them): the result
-    is NaN (integers 0, booleans False) where an input lies outside ``domain``; a numpy scalar for
-    scalar inputs."""
+    """:func:`screened` for a helper that returns a plain array (or a tuple of them).
+
+    Parameters
+    ----------
+    compute : callable
+        The unscreened computation, called with the inputs (and ``extra``) as keywords; returns an
+        array or a tuple of arrays.
+    inputs : dict
+        Input name -> per-scenario array (broadcast together).
+    domain : dict
+        As in :func:`screened`.
+    extra : dict or None
+        Scalars and options passed to ``compute`` unchanged.
+
+    Returns
+    -------
+    numpy.ndarray or tuple of numpy.ndarray
+        ``compute``'s result, NaN (integers 0, booleans False) where an input lies outside
+        ``domain``; a numpy scalar for scalar inputs.
+    """
     extra = extra or {}
     arrays, ok = admissible(inputs, domain)
     if ok.all():

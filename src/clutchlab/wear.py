@@ -2,9 +2,9 @@
 engagement and life in engagements, and the largest engagement rate the cooling allows.
 
 Wear along the spring curve. As the facings wear by Δ (all faces together), the pressure plate
-follows towards the flywheel by Δ and the spring relaxes by Δ at its pressure-plate load radius:
-the operating point moves from λ_B to λ_B − Δ on the spring's own Almen–László curve (seed 000,
-eq. 10). A spring whose B lies on the falling branch (λ_B > λ_A) first gains load towards the
+follows towards the flywheel by Δ and the spring relaxes by Δ at its pressure-plate load radius: the
+operating point moves from λ_B to λ_B − Δ on the spring's own Almen–László curve (the source paper
+(000), eq. 10). A spring whose B lies on the falling branch (λ_B > λ_A) first gains load towards the
 hump A, then loses it; one whose B lies on the rising branch loses load from the first wear on.
 Where λ_B − Δ ≤ 0 the spring is unloaded: no clamp load.
 
@@ -33,7 +33,8 @@ arrives at once).
 References
 ----------
 .. [1] Zhao P. (2026), "Design and engagement simulation of diaphragm spring clutch for
-   unmanned helicopters" (seed 000), eq. (10) and Fig. 6: B at 0.8–1.0 λ_C on the falling branch.
+   unmanned helicopters", the source paper (000), eq. (10) and Fig. 6: B at 0.8–1.0 λ_C on the
+   falling branch.
 .. [2] VDI 2241 Blatt 1 (1982), "Schaltbare fremdbetätigte Reibkupplungen und -bremsen":
    specific wear rate q_V (worn volume per friction work).
 """
@@ -76,20 +77,21 @@ _ANNULUS = {None: lambda a: a["outer_radius"] > a["inner_radius"]}
 
 
 def worn_deflection(deflection_operating, wear):
-    """Spring deflection at the pressure-plate load point after the facings wore ``wear`` (all
-    faces together) [m]: λ_B − Δ (the pressure plate follows the wear; see the module docstring).
+    """Spring deflection at the pressure-plate load point after the facings wore ``wear``: λ_B − Δ.
+
+    The pressure plate follows the wear (module docstring).
 
     Parameters
     ----------
-    deflection_operating : array_like
-        λ_B of the new clutch [m], > 0.
-    wear : array_like
-        Δ [m], ≥ 0.
+    deflection_operating : float or array_like [m]
+        λ_B of the new clutch, > 0.
+    wear : float or array_like [m]
+        Δ, the lining wear of all faces together, ≥ 0.
 
     Returns
     -------
-    numpy.ndarray
-        λ_B − Δ [m] (≤ 0: the spring is unloaded); NaN where an input is not finite, of the wrong
+    numpy.ndarray [m]
+        λ_B − Δ (≤ 0: the spring is unloaded); NaN where an input is not finite, of the wrong
         sign or implausible (:mod:`clutchlab.plausible`).
     """
     inputs = dict(deflection_operating=deflection_operating, wear=wear)
@@ -102,24 +104,30 @@ def _worn_deflection(*, deflection_operating, wear):
 
 
 def worn_clamp_load(wear, *, deflection_operating, **spring):
-    """Clamp load of the diaphragm spring after the facings wore ``wear`` [N]: eq. (10) of [1] at
-    λ_B − Δ, 0 where the spring is unloaded (λ_B − Δ ≤ 0).
+    """Clamp load of the diaphragm spring after the facings wore ``wear``: equation (10) at λ_B − Δ.
+
+    0 where the spring is unloaded (λ_B − Δ ≤ 0).
 
     Parameters
     ----------
-    wear : array_like
-        Δ, the lining wear of all faces together [m], ≥ 0.
-    deflection_operating : array_like
-        λ_B of the new clutch [m].
-    **spring
-        The spring's Almen–László arguments (:func:`clutchlab.diaphragm.almen_laszlo_load`: E [Pa],
-        ν, h, H, R, r, R₁, r₁ [m]).
+    wear : float or array_like [m]
+        Δ, the lining wear of all faces together, ≥ 0.
+    deflection_operating : float or array_like [m]
+        λ_B of the new clutch.
+    **spring : float or array_like
+        The spring's Almen–László arguments (:func:`clutchlab.diaphragm.almen_laszlo_load`):
+        ``youngs_modulus`` [Pa], ``poisson_ratio`` [-], ``sheet_thickness``, ``cone_height``,
+        ``outer_radius``, ``inner_radius``, ``load_radius_outer``, ``load_radius_inner`` [m].
 
     Returns
     -------
-    numpy.ndarray
-        F(λ_B − Δ) [N]; NaN where an input is invalid (as in
+    numpy.ndarray [N]
+        F(λ_B − Δ); NaN where an input is invalid (as in
         :func:`clutchlab.diaphragm.almen_laszlo_load` and :func:`worn_deflection`).
+
+    References
+    ----------
+    Source paper (000), eq. (10) and Fig. 6 ([1] in the module docstring).
     """
     lam = worn_deflection(deflection_operating, wear)
     with np.errstate(invalid="ignore"):
@@ -128,15 +136,31 @@ def worn_clamp_load(wear, *, deflection_operating, **spring):
 
 
 def least_clamp_load(wear_allowance, *, deflection_operating, **spring):
-    """Least clamp load over the wear travel Δ ∈ [0, Δ_allow] [N]: eq. (10) of [1] is a cubic in
-    λ, so its least value on [λ_B − Δ_allow, λ_B] (clipped at 0: an unloaded spring) lies at an
-    end or at a stationary point inside (the valley D, where B was placed past it; the hump A
-    is a maximum and never the least). Same inputs and screening as :func:`worn_clamp_load`.
+    """Least clamp load over the wear travel Δ ∈ [0, Δ_allow].
+
+    Eq. (10) of [1] is a cubic in λ, so its least value on [λ_B − Δ_allow, λ_B] (clipped at 0: an
+    unloaded spring) lies at an end or at a stationary point inside (the valley D, where B was
+    placed past it; the hump A is a maximum and never the least).
+
+    Parameters
+    ----------
+    wear_allowance : float or array_like [m]
+        Δ_allow, the wear the clutch may take, ≥ 0.
+    deflection_operating : float or array_like [m]
+        λ_B of the new clutch.
+    **spring : float or array_like
+        The spring's Almen–László arguments (:func:`clutchlab.diaphragm.almen_laszlo_load`):
+        ``youngs_modulus`` [Pa], ``poisson_ratio`` [-], ``sheet_thickness``, ``cone_height``,
+        ``outer_radius``, ``inner_radius``, ``load_radius_outer``, ``load_radius_inner`` [m].
 
     Returns
     -------
-    numpy.ndarray
-        min F over the travel [N]; NaN where an input is invalid.
+    numpy.ndarray [N]
+        min F over the travel; NaN where an input is invalid (as :func:`worn_clamp_load`).
+
+    References
+    ----------
+    Source paper (000), eq. (10) and Fig. 6 ([1] in the module docstring).
     """
     worn = worn_clamp_load(wear_allowance, deflection_operating=deflection_operating, **spring)
     new = worn_clamp_load(0.0 * wear_allowance, deflection_operating=deflection_operating, **spring)
@@ -150,22 +174,27 @@ def least_clamp_load(wear_allowance, *, deflection_operating, **spring):
 
 
 def wear_per_engagement(slip_work, specific_wear_rate, outer_radius, inner_radius):
-    """Closing-up of the plates by the lining wear of one engagement, δ = q_V·W/A [m] (the sum
-    over the faces of each face's wear depth, A = π(R₂² − R₁²) one face's area; VDI 2241 [2]).
+    """Closing-up of the plates by the lining wear of one engagement, δ = q_V·W/A.
+
+    The sum over the faces of each face's wear depth, A = π(R₂² − R₁²) one face's area.
 
     Parameters
     ----------
-    slip_work : array_like
-        Slip (friction) work W of the engagement [J], ≥ 0.
-    specific_wear_rate : array_like
-        q_V [m³/J], > 0 (:data:`SPECIFIC_WEAR_RATE`).
-    outer_radius, inner_radius : array_like
-        Lining radii R₂ > R₁ > 0 [m].
+    slip_work : float or array_like [J]
+        Slip (friction) work W of the engagement, ≥ 0.
+    specific_wear_rate : float or array_like [m³/J]
+        q_V > 0 (:data:`SPECIFIC_WEAR_RATE`).
+    outer_radius, inner_radius : float or array_like [m]
+        Lining radii R₂ > R₁ > 0.
 
     Returns
     -------
-    numpy.ndarray
-        δ [m]; NaN where an input is not finite, of the wrong sign or implausible, or R₂ ≤ R₁.
+    numpy.ndarray [m]
+        δ; NaN where an input is not finite, of the wrong sign or implausible, or R₂ ≤ R₁.
+
+    References
+    ----------
+    VDI 2241 Blatt 1 [2] (module docstring): the worn volume proportional to the friction work.
     """
     inputs = dict(
         slip_work=slip_work,
@@ -183,22 +212,23 @@ def _wear_per_engagement(*, slip_work, specific_wear_rate, outer_radius, inner_r
 
 
 def life_engagements(wear_allowance, wear_new, wear_half, wear_worn):
-    """Engagements the wear allowance lasts, N = ∫₀^Δ dx/δ(x), by Simpson's rule over the wear per
-    engagement δ [m] of the new, the half-worn and the fully worn clutch (the clamp load following
-    the wear; module docstring) [1]. Constant δ: exactly Δ/δ.
+    """Engagements the wear allowance lasts, N = ∫₀^Δ dx/δ(x), by Simpson's rule.
+
+    Over the wear per engagement δ of the new, the half-worn and the fully worn clutch (the clamp
+    load following the wear; module docstring). Constant δ: exactly Δ/δ.
 
     Parameters
     ----------
-    wear_allowance : array_like
-        Δ [m], ≥ 0.
-    wear_new, wear_half, wear_worn : array_like
-        δ at wear 0, Δ/2 and Δ [m/engagement], ≥ 0.
+    wear_allowance : float or array_like [m]
+        Δ, ≥ 0.
+    wear_new, wear_half, wear_worn : float or array_like [m]
+        δ per engagement at wear 0, Δ/2 and Δ, ≥ 0.
 
     Returns
     -------
-    numpy.ndarray
-        N [-] (not rounded); inf where an engagement wears nothing, 0 for no allowance; NaN where
-        an input is not finite, negative or implausible.
+    numpy.ndarray [-]
+        N (not rounded); inf where an engagement wears nothing, 0 for no allowance; NaN where an
+        input is not finite, negative or implausible.
     """
     inputs = dict(
         wear_allowance=wear_allowance, wear_new=wear_new, wear_half=wear_half, wear_worn=wear_worn

@@ -60,6 +60,12 @@ def first_robust(study):
     return str(Path(refine_source(study)).parent / "robust.h5")
 
 
+def traces_files(study):
+    """The traces of the design a study's pages show, beside its result (written by its merge
+    job); none for a study without traces."""
+    return [f"{RESULTS}/{study}/traces.h5"] if study in TRACED else []
+
+
 def study_config(study):
     """The study's resolved config text: what its design, chunks and result must have been computed
     from (their `config` attribute; checked by the merge and the report, clutchlab.verify)."""

@@ -14,7 +14,7 @@ ROBUST = [s for s in STUDIES if robust_files(s)]  # robust studies: their robust
 BENCHMARK_PAGE = RESOLVED["report"]["benchmark"]  # the engagement work-precision page (runs the benchmark)
 HARD_CASES = RESOLVED["report"]["hard_cases"]  # the hard-case table of the studies run
 NUMERICS = [f"{RESULTS}/numerics/{f}" for f in _numerics_files(STUDIES)] if RESOLVED["report"]["numerics"] else []
-# validation.csv and its page exist only where a study reproduces seed numbers
+# validation.csv and its page exist only where a study reproduces published numbers
 REPORT_FILES = [f"{REPORT_DIR}/report.pdf"] + ([f"{REPORT_DIR}/validation.csv"] if VALIDATED else []) + [
     f"{REPORT_DIR}/{stem}.png"
     for stem in _figure_stems(STUDIES, BENCHMARK_PAGE, [s for s in STUDIES if sensitivity_files(s)], REFINED,
@@ -41,6 +41,10 @@ for _study, _page in EXPLORERS.items():
             results(_study),
         output:
             report(_page, caption=_CAPTION_FILES[_page], category=_study),
+        benchmark:
+            f"{WORK}/{_study}/benchmark/explorer.tsv"
+        log:
+            f"{WORK}/{_study}/log/explorer.log",
         params:
             config=study_config(_study),  # the result is verified against its own config
             source=SOURCE,
@@ -69,6 +73,8 @@ rule report:
          for f in REPORT_FILES],
     benchmark:
         f"{WORK}/report_benchmark.tsv"
+    log:
+        f"{WORK}/log/report.log",
     params:
         names=STUDIES,
         sensitivity_names=[s for s in STUDIES if sensitivity_files(s)],
@@ -93,6 +99,10 @@ rule hard_cases:
     # each hard case of the studies run: right answer, clutchlab's value, error, off-the-shelf solver
     output:
         f"{RESULTS}/numerics/hard_cases.h5",
+    benchmark:
+        f"{WORK}/benchmark/hard_cases.tsv"
+    log:
+        f"{WORK}/log/hard_cases.log",
     params:
         studies=STUDIES,
         source=SOURCE,
@@ -109,7 +119,12 @@ if NUMERICS:
         # small work-precision runs of the solvers the studies use (about 20 s; clutchlab.bench.numerics)
         output:
             NUMERICS,
+        benchmark:
+            f"{WORK}/benchmark/numerics.tsv"
+        log:
+            f"{WORK}/log/numerics.log",
         params:
+            outdir=lambda wc, output: Path(output[0]).parent,
             studies=STUDIES,
             python=sys.executable,
             source=SOURCE,
@@ -117,7 +132,7 @@ if NUMERICS:
             runtime=10,
             mem_mb=2000,
         shell:
-            "{params.python} -m clutchlab.bench.numerics {RESULTS}/numerics {params.studies}"
+            "{params.python} -m clutchlab.bench.numerics {params.outdir} {params.studies} 2>&1 | tee {log}"
 
 
 rule benchmark:
@@ -128,10 +143,13 @@ rule benchmark:
         f"{RESULTS}/benchmark/engagement_benchmark.csv",
         f"{RESULTS}/benchmark/work_precision.png",
     threads: ALL_CORES  # alone on the machine: timings are not disturbed by other jobs
+    log:
+        f"{RESULTS}/benchmark/log/engagement.log",
     params:
         python=sys.executable,
+        outdir=lambda wc, output: Path(output[0]).parent,
     shell:
-        "{params.python} -m clutchlab.bench.engagement {RESULTS}/benchmark"
+        "{params.python} -m clutchlab.bench.engagement {params.outdir} 2>&1 | tee {log}"
 
 
 rule benchmark_sprag:
@@ -140,10 +158,13 @@ rule benchmark_sprag:
     output:
         f"{RESULTS}/benchmark/sprag_benchmark.csv",
     threads: ALL_CORES
+    log:
+        f"{RESULTS}/benchmark/log/sprag.log",
     params:
         python=sys.executable,
+        outdir=lambda wc, output: Path(output[0]).parent,
     shell:
-        "{params.python} -m clutchlab.bench.sprag {RESULTS}/benchmark"
+        "{params.python} -m clutchlab.bench.sprag {params.outdir} 2>&1 | tee {log}"
 
 
 rule benchmark_pareto:
@@ -153,10 +174,13 @@ rule benchmark_pareto:
     output:
         f"{RESULTS}/benchmark/pareto_benchmark.csv",
         f"{RESULTS}/benchmark/hypervolume_benchmark.csv",
+    log:
+        f"{RESULTS}/benchmark/log/pareto.log",
     params:
         python=sys.executable,
+        outdir=lambda wc, output: Path(output[0]).parent,
     shell:
-        "{params.python} -m clutchlab.bench.pareto {RESULTS}/benchmark"
+        "{params.python} -m clutchlab.bench.pareto {params.outdir} 2>&1 | tee {log}"
 
 
 rule benchmark_million:
@@ -167,10 +191,13 @@ rule benchmark_million:
     output:
         f"{RESULTS}/benchmark/million_benchmark.csv",
     threads: ALL_CORES
+    log:
+        f"{RESULTS}/benchmark/log/million.log",
     params:
         python=sys.executable,
+        outdir=lambda wc, output: Path(output[0]).parent,
     shell:
-        "{params.python} -m clutchlab.bench.million {RESULTS}/benchmark --cores {threads}"
+        "{params.python} -m clutchlab.bench.million {params.outdir} --cores {threads} 2>&1 | tee {log}"
 
 
 rule benchmark_roller:
@@ -179,10 +206,13 @@ rule benchmark_roller:
     output:
         f"{RESULTS}/benchmark/roller_benchmark.csv",
     threads: ALL_CORES
+    log:
+        f"{RESULTS}/benchmark/log/roller.log",
     params:
         python=sys.executable,
+        outdir=lambda wc, output: Path(output[0]).parent,
     shell:
-        "{params.python} -m clutchlab.bench.roller {RESULTS}/benchmark"
+        "{params.python} -m clutchlab.bench.roller {params.outdir} 2>&1 | tee {log}"
 
 
 rule benchmark_compliant:
@@ -193,7 +223,10 @@ rule benchmark_compliant:
         f"{RESULTS}/benchmark/compliant_benchmark.csv",
         f"{RESULTS}/benchmark/compliant_work_precision.png",
     threads: ALL_CORES
+    log:
+        f"{RESULTS}/benchmark/log/compliant.log",
     params:
         python=sys.executable,
+        outdir=lambda wc, output: Path(output[0]).parent,
     shell:
-        "{params.python} -m clutchlab.bench.compliant {RESULTS}/benchmark"
+        "{params.python} -m clutchlab.bench.compliant {params.outdir} 2>&1 | tee {log}"

@@ -6,6 +6,11 @@ rule design:
         lambda wc: [refine_source(wc.study)] if wc.study in REFINED else [],
     output:
         f"{WORK}/{{study}}/design.h5",
+    benchmark:
+        f"{WORK}/{{study}}/benchmark/design.tsv"
+    log:
+        f"{WORK}/{{study}}/log/design.log",
+    priority: 1  # (the chunks wait for it)
     params:
         study=lambda wc: RESOLVED[wc.study],
         source=SOURCE,
@@ -25,6 +30,9 @@ rule chunk:
         f"{WORK}/{{study}}/benchmark/chunk_{{i}}.tsv"  # wall time and peak RSS of the job
     log:
         f"{WORK}/{{study}}/log/chunk_{{i}}.log",  # progress: scenarios done, rate, time left
+    # before the jobs that call the kernels outside a study (numerics, hard cases, benchmark):
+    # a chunk compiles each kernel it needs once (pipeline.run_chunk), and they load it
+    priority: 1
     params:
         options=lambda wc: RESOLVED[wc.study]["options"],
         chunks=lambda wc: RESOLVED[wc.study]["chunks"],
@@ -40,6 +48,9 @@ rule chunk:
 for _study in STUDIES:
 
     rule:
+        # the merged result; then, in the same job (one start-up fewer a study), its design
+        # answers, sensitivity indices, robust answers and the traces of the design the study's
+        # pages show (clutchlab.traces: the best design is only known once the chunks are merged)
         name:
             f"merge_{_study}"
         input:
@@ -49,11 +60,15 @@ for _study in STUDIES:
             results(_study),
             sensitivity_files(_study),
             robust_files(_study),
+            traces_files(_study),
         benchmark:
             f"{WORK}/{_study}/benchmark/merge.tsv"
+        log:
+            f"{WORK}/{_study}/log/merge.log",
         params:
             objectives=RESOLVED[_study]["objectives"],
             constraints=RESOLVED[_study]["constraints"],
+            options=RESOLVED[_study]["options"],  # (the traces')
             config=study_config(_study),  # each chunk and the design must come from it
             source=SOURCE,
         resources:
@@ -62,30 +77,21 @@ for _study in STUDIES:
             "../scripts/merge.py"
 
 
-rule validation:
-    output:
-        f"{RESULTS}/{{study}}/validation.h5",
-    params:
-        source=SOURCE,
-    resources:
-        runtime=5,
-        mem_mb=1000,
-    script:
-        "../scripts/validation.py"
+if VALIDATED:
 
-
-rule traces:
-    # the traces of the design the study's pages show (clutchlab.traces): its best design is only
-    # known once the chunks are merged
-    input:
-        lambda wc: results(wc.study),
-    output:
-        f"{RESULTS}/{{study}}/traces.h5",
-    params:
-        options=lambda wc: RESOLVED[wc.study]["options"],
-        source=SOURCE,
-    resources:
-        runtime=10,
-        mem_mb=lambda wc: _cluster.merge_resources(RESOLVED[wc.study])["mem_mb"],
-    script:
-        "../scripts/traces.py"
+    rule validation:
+        # the published numbers every validated study reproduces: one job (each takes a moment)
+        output:
+            [f"{RESULTS}/{s}/validation.h5" for s in VALIDATED],
+        benchmark:
+            f"{WORK}/benchmark/validation.tsv"
+        log:
+            f"{WORK}/log/validation.log",
+        params:
+            studies=VALIDATED,
+            source=SOURCE,
+        resources:
+            runtime=5,
+            mem_mb=1000,
+        script:
+            "../scripts/validation.py"

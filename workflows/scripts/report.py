@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from clutchlab import report, verify
+from clutchlab._joblog import job_log
 
 sm = snakemake  # noqa: F821
 
@@ -25,6 +25,8 @@ def job_seconds(study):
 
 
 def verify_inputs():
+    from clutchlab import verify
+
     """The report is built from verified files only: each study result against its checksum, its
     study config, this source and its design (work/<study>/design.h5); each sensitivity file
     against its checksum, the first-stage result of a refinement against its checksum and
@@ -49,23 +51,30 @@ def verify_inputs():
         ) from None
 
 
-verify_inputs()
-report.build(
-    dict(zip(sm.params.names, sm.input.studies, strict=False)),
-    list(sm.input.validation),
-    Path(sm.output[0]).parent,
-    title=sm.params.title,
-    dpi=sm.params.dpi,
-    benchmark_csv=sm.input.benchmark[0] if sm.input.benchmark else None,
-    sensitivity_files=dict(zip(sm.params.sensitivity_names, sm.input.sensitivity, strict=False)),
-    refine_files=dict(zip(sm.params.refined_names, sm.input.refined, strict=False)),
-    traces_files=dict(zip(sm.params.traced_names, sm.input.traces, strict=False)),
-    robust_files=dict(zip(sm.params.robust_names, sm.input.robust, strict=False)),
-    refine_robust_files=dict(
-        zip(sm.params.refined_robust_names, sm.input.refined_robust, strict=True)
-    ),
-    hard_cases_file=sm.input.hard_cases[0] if sm.input.hard_cases else None,
-    numerics_dir=Path(sm.input.numerics[0]).parent if sm.input.numerics else None,
-    job_seconds={s: t for s in sm.params.names if (t := job_seconds(s))},
-    explorers={s: Path(f).name for s, f in zip(sm.params.names, sm.input.explorers, strict=True)},
-)
+with job_log(sm.log[0]):
+    from clutchlab import report
+
+    verify_inputs()
+    report.build(
+        dict(zip(sm.params.names, sm.input.studies, strict=False)),
+        list(sm.input.validation),
+        Path(sm.output[0]).parent,
+        title=sm.params.title,
+        dpi=sm.params.dpi,
+        benchmark_csv=sm.input.benchmark[0] if sm.input.benchmark else None,
+        sensitivity_files=dict(
+            zip(sm.params.sensitivity_names, sm.input.sensitivity, strict=False)
+        ),
+        refine_files=dict(zip(sm.params.refined_names, sm.input.refined, strict=False)),
+        traces_files=dict(zip(sm.params.traced_names, sm.input.traces, strict=False)),
+        robust_files=dict(zip(sm.params.robust_names, sm.input.robust, strict=False)),
+        refine_robust_files=dict(
+            zip(sm.params.refined_robust_names, sm.input.refined_robust, strict=True)
+        ),
+        hard_cases_file=sm.input.hard_cases[0] if sm.input.hard_cases else None,
+        numerics_dir=Path(sm.input.numerics[0]).parent if sm.input.numerics else None,
+        job_seconds={s: t for s in sm.params.names if (t := job_seconds(s))},
+        explorers={
+            s: Path(f).name for s, f in zip(sm.params.names, sm.input.explorers, strict=True)
+        },
+    )

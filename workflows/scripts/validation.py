@@ -1,6 +1,10 @@
-"""Snakemake script: the seed numbers a study reproduces, as a validation Dataset."""
+"""Snakemake script: the published numbers each validated study reproduces, as validation Datasets."""
 
-from clutchlab import store, studies
+from clutchlab._joblog import job_log
 
 sm = snakemake  # noqa: F821
-store.write(studies.get(sm.wildcards.study).validation(), sm.output[0], with_checksum=True)
+with job_log(sm.log[0]):
+    from clutchlab import store, studies
+
+    for name, path in zip(sm.params.studies, sm.output, strict=True):
+        store.write(studies.get(name).validation(), path, with_checksum=True)

@@ -1,15 +1,16 @@
-"""The robust-study benchmark: 1000 engagement designs × 4 operating conditions × 256 noise draws
-(and the 2 corners): about 10^6 scenarios, run as chunk files on the machine's cores, merged with
-their robust answers, and measured (not a unit test).
+"""The robust-study benchmark: 1000 engagement designs × 4 operating conditions × 256 noise draws (and
+the 2 corners): about 10^6 scenarios, run as chunk files on the machine's cores, merged with their
+robust answers, and measured (not a unit test).
 
 ``python -m clutchlab.bench.robust [outdir] [--designs 1000] [--noise-samples 256] [--chunks 8]
-[--cores 2]`` writes ``robust_benchmark.csv``: scenarios, chunks, the wall time, the physics' own
-time (the sum over chunks of the time inside the study's compute function), the chunk jobs' and
-the merge's time (the merge includes the robust answers), the robust answers' own time, and the
-share of job time outside the physics. The designs are Latin-hypercube samples of sheet
-thickness, ramp time and the lining's nominal friction coefficient (rigid driveline, held
-engine: the closed form); the conditions the default study's driven inertias and load torques;
-the noise the friction coefficient's ±20 % scatter. Run it alone on the machine.
+[--cores 2] [--driveline rigid|compliant]`` writes ``robust_benchmark.csv``: scenarios, chunks, the
+wall time, the physics' own time (the sum over chunks of the time inside the study's compute
+function), the chunk jobs' and the merge's time (the merge includes the robust answers), the robust
+answers' own time, and the share of job time outside the physics. The designs are Latin-hypercube
+samples of sheet thickness, ramp time and the lining's nominal friction coefficient (held engine;
+rigid driveline: the closed form, or ``--driveline compliant`` as the default study runs it: every
+phase in closed form, accuracy 1e-6); the conditions the default study's driven inertias and load
+torques; the noise the friction coefficient's ±20 % scatter. Run it alone on the machine.
 """
 
 from __future__ import annotations
@@ -23,14 +24,15 @@ from .. import config, doe, explore, pipeline, store
 from ._common import write_rows
 
 
-def section(designs=1000, noise_samples=256, chunks=8) -> dict:
+def section(designs=1000, noise_samples=256, chunks=8, driveline="rigid") -> dict:
     """The benchmark's resolved engagement study (a crossed robust design)."""
     raw = {
         "design": "lhs",
         "samples": designs,
         "seed": 1,
         "chunks": chunks,
-        "options": {"driveline": "rigid"},
+        "options": {"driveline": driveline},
+        "accuracy": 1.0e-6,
         "parameters": {
             "sheet_thickness": {"min": "2.1 mm", "max": "2.6 mm"},
             "ramp_time": {"min": "0.05 s", "max": "0.3 s"},
@@ -56,11 +58,11 @@ def _chunk(args) -> tuple[float, float]:
     return time.perf_counter() - start, physics
 
 
-def measure(outdir, designs=1000, noise_samples=256, chunks=8, cores=2) -> dict:
+def measure(outdir, designs=1000, noise_samples=256, chunks=8, cores=2, driveline="rigid") -> dict:
     """Run the benchmark in ``outdir``; returns its row of figures."""
     out = Path(outdir)
     out.mkdir(parents=True, exist_ok=True)
-    sec = section(designs, noise_samples, chunks)
+    sec = section(designs, noise_samples, chunks, driveline)
     start = time.perf_counter()
     design = doe.build_design(sec)
     store.write(design, out / "design.h5", with_checksum=True)
@@ -88,6 +90,7 @@ def measure(outdir, designs=1000, noise_samples=256, chunks=8, cores=2) -> dict:
     for p in paths:
         p.unlink()
     return {
+        "driveline": driveline,
         "scenarios": pipeline.n_scenarios(design),
         "designs": designs,
         "conditions": 4,
@@ -112,8 +115,11 @@ def main(argv=None) -> None:
     parser.add_argument("--noise-samples", type=int, default=256)
     parser.add_argument("--chunks", type=int, default=8)
     parser.add_argument("--cores", type=int, default=2)
+    parser.add_argument("--driveline", choices=("rigid", "compliant"), default="rigid")
     args = parser.parse_args(argv)
-    row = measure(args.outdir, args.designs, args.noise_samples, args.chunks, args.cores)
+    row = measure(
+        args.outdir, args.designs, args.noise_samples, args.chunks, args.cores, args.driveline
+    )
     write_rows([row], Path(args.outdir) / "robust_benchmark.csv")
     for k, v in row.items():
         print(f"{k}: {v}")

@@ -1,7 +1,7 @@
 """Report: figures and a PDF built from stored Datasets only (no solver is ever re-run).
 
 :func:`build` writes one PNG per figure, ``report.pdf`` with every figure as a page, and
-``validation.csv`` with every reproduced seed number.
+``validation.csv`` with every reproduced published number.
 """
 
 from __future__ import annotations
@@ -67,7 +67,7 @@ def figure_stems(
 ) -> list[str]:
     """PNG stems the report produces for these studies (for Snakemake outputs); a sensitivity page
     for the studies in ``sensitivity`` (factorial grids), a refinement page for those in ``refined``
-    (design refine); the validation table only where one of them reproduces seed numbers; the
+    (design refine); the validation table only where one of them reproduces published numbers; the
     hard-case table with ``hard_cases``; the work-precision pages of the solvers used with ``numerics``."""
     from ..bench.numerics import stems as numerics_stems
 
@@ -239,26 +239,7 @@ def build(
             robust.get(name),
             first_robust.get(name),
         )
-    if benchmark_csv is not None:
-        from ..bench.engagement import read_rows, work_precision_figure
-
-        rows = read_rows(benchmark_csv)
-        pages.append(Page("engagement_work_precision", lambda: work_precision_figure(rows)))
-    if validations:
-        pages.append(_table_page("validation_table", validation_table(validations)))
-        with store.atomic(outdir / "validation.csv") as tmp:
-            to_csv(validations, tmp)
-    if numerics_dir is not None:
-        from ..bench.numerics import pages as numerics_pages
-
-        pages += [Page(stem, (lambda f=fig: f)) for stem, fig in numerics_pages(numerics_dir)]
-    if hard_cases_file is not None:
-        from ..hardcases import to_csv as hard_cases_csv
-
-        cases = store.load(hard_cases_file)
-        pages.append(_table_page("hard_cases", hard_case_table(cases)))
-        with store.atomic(outdir / "hard_cases.csv") as tmp:
-            hard_cases_csv(cases, tmp)
+    pages += _run_pages(outdir, validations, benchmark_csv, numerics_dir, hard_cases_file)
     # the summary page opens the report and names each study's pages by their page numbers
     numbers, k = {}, 2
     for page in pages:
@@ -283,6 +264,33 @@ def build(
         explorers,
     )
     return written + [outdir / "report.pdf"]
+
+
+def _run_pages(outdir, validations, benchmark_csv, numerics_dir, hard_cases_file) -> list[Page]:
+    """The pages of the run after the studies' (work-precision, validation table, numerics, hard
+    cases), and their CSV files (written now)."""
+    pages = []
+    if benchmark_csv is not None:
+        from ..bench.engagement import read_rows, work_precision_figure
+
+        rows = read_rows(benchmark_csv)
+        pages.append(Page("engagement_work_precision", lambda: work_precision_figure(rows)))
+    if validations:
+        pages.append(_table_page("validation_table", validation_table(validations)))
+        with store.atomic(outdir / "validation.csv") as tmp:
+            to_csv(validations, tmp)
+    if numerics_dir is not None:
+        from ..bench.numerics import pages as numerics_pages
+
+        pages += [Page(stem, (lambda f=fig: f)) for stem, fig in numerics_pages(numerics_dir)]
+    if hard_cases_file is not None:
+        from ..hardcases import to_csv as hard_cases_csv
+
+        cases = store.load(hard_cases_file)
+        pages.append(_table_page("hard_cases", hard_case_table(cases)))
+        with store.atomic(outdir / "hard_cases.csv") as tmp:
+            hard_cases_csv(cases, tmp)
+    return pages
 
 
 def _write_pages(pages, outdir, title, dpi) -> list[Path]:

@@ -212,7 +212,6 @@ def page(name, ds):
     the run's scenarios), the front's designs as a table, and an answer at the edge of a factor's
     range said as such; every number in the units engineers read."""
     objectives = ds["pareto_rank"].attrs["objectives"].split()
-    outs = [o.split(":")[0] for o in objectives]
     feas = _flat(ds, "feasible").astype(bool)
     rank = ds["pareto_rank"].values.reshape(-1)
     fig = plt.figure(figsize=A4_LANDSCAPE)
@@ -228,27 +227,59 @@ def page(name, ds):
     )
     ax_c = fig.add_subplot(grid[0, 0])
     ax_t = fig.add_subplot(grid[1, :])
-    names, viol, colours = _failing(ds)
-    ax_c.barh(range(len(names)), viol, height=0.6, color=colours)
-    ax_c.set_yticks(range(len(names)), [_wrap_name(n, 18) for n in names], fontsize=8)
-    ax_c.set_ylim(len(names) - 0.5, -0.5)
-    ax_c.set_xlabel(("scenarios" if "noise" in ds.dims else "designs") + " failing it")
-    ax_c.xaxis.set_major_locator(plt.MaxNLocator(4, integer=True))
-    ax_c.set_title(textwrap.fill("constraints: " + limits_text(ds), 55), fontsize=8)
-    # the front: over the two objectives, or every pair of them (projections) for three or more
-    within = ds["pareto_rank"].attrs.get("ranked_within", "").split()
+    _failing_panel(ax_c, ds)
     # a crossed (robust) result: every scenario is a design at a condition and a noise draw; its
     # fronts are drawn per operating condition, pooled over the draws (markers, not joined)
     crossed = "noise" in ds.dims
+    within = ds["pareto_rank"].attrs.get("ranked_within", "").split()
     groups = [w for w in within if w != "noise"]
+    _front_panels(fig, grid[0, 1], ds, objectives, feas, rank, groups, crossed)
+    fig.text(
+        0.64, top + 0.012, _front_caption(ds, objectives, groups, crossed), fontsize=8,
+        ha="center", va="bottom",
+    )  # fmt: skip
+    _front_table(ax_t, ds)
+    life = life_text(ds)
+    if life:  # the best design over its life (wear allowance, lining life, engagement rate)
+        fig.text(0.06, 0.925, textwrap.shorten("best design over its life: " + life, 190),
+                 fontsize=8, va="top")  # fmt: skip
+    n = feas.size
+    what = "scenarios" if crossed else "designs"
+    title = (
+        f"Design answers, study '{name}': {int(feas.sum())} of {n} {what} feasible "
+        f"({100 * feas.mean():.0f} %), {int((rank == 0).sum())} on the Pareto front"
+        + (
+            f" (table: up to {MAX_ROWS} spread along it; {name}_pareto.csv)"
+            if (rank == 0).any()
+            else ""
+        )
+    )
+    fig.suptitle(textwrap.fill(title, 120), fontsize=11)
+    return fig
+
+
+def _failing_panel(ax, ds):
+    """The statuses and constraints that fail most, as bars (designs or scenarios failing each)."""
+    names, viol, colours = _failing(ds)
+    ax.barh(range(len(names)), viol, height=0.6, color=colours)
+    ax.set_yticks(range(len(names)), [_wrap_name(n, 18) for n in names], fontsize=8)
+    ax.set_ylim(len(names) - 0.5, -0.5)
+    ax.set_xlabel(("scenarios" if "noise" in ds.dims else "designs") + " failing it")
+    ax.xaxis.set_major_locator(plt.MaxNLocator(4, integer=True))
+    ax.set_title(textwrap.fill("constraints: " + limits_text(ds), 55), fontsize=8)
+
+
+def _front_panels(fig, cell_spec, ds, objectives, feas, rank, groups, crossed):
+    """The front over the two objectives, or over every pair of them (projections, 2 rows and one
+    cell left for the legend) for three or more, in the grid cell ``cell_spec``."""
+    outs = [o.split(":")[0] for o in objectives]
     pairs = (
         list(itertools.combinations(outs, 2))[:6] if len(outs) > 2 else [tuple((outs + outs)[:2])]
     )
-    # projections: 2 rows, one cell left for the legend
     cell = (
-        grid[0, 1].subgridspec(1, 1)
+        cell_spec.subgridspec(1, 1)
         if len(pairs) == 1
-        else grid[0, 1].subgridspec(2, -(-(len(pairs) + 1) // 2), wspace=0.75, hspace=0.6)
+        else cell_spec.subgridspec(2, -(-(len(pairs) + 1) // 2), wspace=0.75, hspace=0.6)
     )
     sense = dict(o.split(":") for o in objectives)
     marks = _marks(ds)
@@ -270,55 +301,34 @@ def page(name, ds):
         lax.legend(handles, labels, fontsize=8, loc="center", title="front at" if groups else None)
     else:
         ax.legend(fontsize=8, title="front at" if groups else None, title_fontsize=8)
+
+
+def _front_caption(ds, objectives, groups, crossed) -> str:
+    """What the front panels show: the objectives, the groups and how a robust result is drawn."""
     mixed = ds["pareto_rank"].attrs.get("conditions_mixed", "")
-    fig.text(
-        0.64,
-        top + 0.012,
-        textwrap.fill(
-            f"Pareto front over {' and '.join(objectives)}"
-            + (" (projections: front designs marked, not joined)" if len(outs) > 2 else "")
-            + (
-                f", one per {' and '.join(groups)} (operating conditions, not choices)"
-                if groups
-                else ""
-            )
-            + (
-                "; a scenario is a design at a condition and a noise draw, ranked per condition "
-                "and draw; the fronts of all draws shown per condition (the robust page ranks "
-                "the designs over all of them)"
-                if crossed
-                else ""
-            )
-            + (
-                f"; {mixed} sampled: ranked together with the design factors, a front design may "
-                "owe its place to a light operating condition"
-                if mixed
-                else ""
-            ),
-            85,
-        ),
-        fontsize=8,
-        ha="center",
-        va="bottom",
-    )
-    _front_table(ax_t, ds)
-    life = life_text(ds)
-    if life:  # the best design over its life (wear allowance, lining life, engagement rate)
-        fig.text(0.06, 0.925, textwrap.shorten("best design over its life: " + life, 190),
-                 fontsize=8, va="top")  # fmt: skip
-    n = feas.size
-    what = "scenarios" if crossed else "designs"
-    title = (
-        f"Design answers, study '{name}': {int(feas.sum())} of {n} {what} feasible "
-        f"({100 * feas.mean():.0f} %), {int((rank == 0).sum())} on the Pareto front"
+    return textwrap.fill(
+        f"Pareto front over {' and '.join(objectives)}"
+        + (" (projections: front designs marked, not joined)" if len(objectives) > 2 else "")
         + (
-            f" (table: up to {MAX_ROWS} spread along it; {name}_pareto.csv)"
-            if (rank == 0).any()
+            f", one per {' and '.join(groups)} (operating conditions, not choices)"
+            if groups
             else ""
         )
+        + (
+            "; a scenario is a design at a condition and a noise draw, ranked per condition "
+            "and draw; the fronts of all draws shown per condition (the robust page ranks "
+            "the designs over all of them)"
+            if crossed
+            else ""
+        )
+        + (
+            f"; {mixed} sampled: ranked together with the design factors, a front design may "
+            "owe its place to a light operating condition"
+            if mixed
+            else ""
+        ),
+        85,
     )
-    fig.suptitle(textwrap.fill(title, 120), fontsize=11)
-    return fig
 
 
 def _wrap_name(name, width) -> str:
@@ -561,78 +571,12 @@ def refinement_page(name, first, second, gain):
     """How the refining stage moved the fronts: hypervolume per operating condition before and
     after, and the fronts of the first stage and of both stages over the first two objectives."""
     objectives = first["pareto_rank"].attrs["objectives"].split()
-    outs = [o.split(":")[0] for o in objectives]
     within = gain.attrs["ranked_within"].split()
     fig, (ax_h, ax_f) = plt.subplots(
         1, 2, figsize=A4_LANDSCAPE, gridspec_kw={"width_ratios": [1.0, 1.6]}
     )
-    labels = [
-        ", ".join(_value_text(first, w, float(gain[w].sel(group=g))) for w in within)
-        or "all designs"
-        for g in gain["group"].values
-    ]
-    y = np.arange(len(labels))
-    ax_h.barh(
-        y - 0.2, gain["hypervolume_before"], height=0.4, color="tab:blue", label="first stage"
-    )
-    ax_h.barh(y + 0.2, gain["hypervolume_after"], height=0.4, color="tab:red", label="both stages")
-    for k, (b, a) in enumerate(
-        zip(gain["hypervolume_before"].values, gain["hypervolume_after"].values, strict=False)
-    ):
-        if b > 0:
-            ax_h.text(a, k + 0.2, f" {100 * (a / b - 1):+.1f} %", va="center", fontsize=8)
-    ax_h.set_yticks(y, [textwrap.fill(lab, 22) for lab in labels], fontsize=8)
-    ax_h.set_ylim(len(labels) - 0.5, -0.5)
-    ax_h.set_xlabel("hypervolume (objectives normalised per group)")
-    ax_h.legend(fontsize=8, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncol=2)
-    ax_h.grid(alpha=0.3, axis="x")
-    ox, oy = (outs + outs)[:2]
-    ux, uy = display.unit_of(first, ox), display.unit_of(first, oy)
-    x1, y1, x2, y2 = (
-        ux(_flat(first, ox)),
-        uy(_flat(first, oy)),
-        ux(_flat(second, ox)),
-        uy(_flat(second, oy)),
-    )
-    f1, ok1, key1 = objective_table(first, objectives, within)
-    f2, ok2, key2 = objective_table(second, objectives, within)
-    f_all = np.concatenate([f1, f2])
-    ax_f.scatter(
-        x1[drawn(ok1)], y1[drawn(ok1)], s=8, c="0.7", label="first stage, feasible", rasterized=True
-    )
-    ax_f.scatter(
-        x2[drawn(ok2)],
-        y2[drawn(ok2)],
-        s=8,
-        c="tab:orange",
-        label="refining stage, feasible",
-        rasterized=True,
-    )
-    sense = np.array([1.0 if o.endswith(":min") else -1.0 for o in objectives[:2]])
-    x_all, y_all = np.r_[x1, x2], np.r_[y1, y2]
-    front1 = first["pareto_rank"].values.reshape(-1) == 0  # ranked per group already
-    for j, g in enumerate(gain["group"].values):
-        combo = np.array([float(gain[w].sel(group=g)) for w in within])
-        in1 = ok1 & (key1 == combo).all(axis=1)
-        joint = pareto_rank(f_all, np.r_[in1, ok2 & (key2 == combo).all(axis=1)]) == 0
-        for members, xs, ys, style, which in (
-            (front1 & in1, x1, y1, "--", "first-stage"),
-            (joint, x_all, y_all, "-", "joint"),
-        ):
-            order = np.argsort(xs[members] * sense[0], kind="stable")
-            label = f"{which} front" + (f", {labels[j]}" if within else "") if j < 4 else None
-            ax_f.plot(
-                xs[members][order],
-                ys[members][order],
-                style,
-                color=plt.cm.tab10(j % 10),
-                lw=1.2,
-                label=label,
-            )
-    ax_f.set_xlabel(display.label(ox, display.unit_of(first, ox)))
-    ax_f.set_ylabel(display.label(oy, display.unit_of(first, oy)))
-    ax_f.grid(alpha=0.3)
-    ax_f.legend(fontsize=8, ncol=2)
+    labels = _hypervolume_panel(ax_h, first, gain, within)
+    _refined_fronts_panel(ax_f, first, second, gain, objectives, within, labels)
     n1, n2 = int(gain.attrs["scenarios_first"]), int(gain.attrs["scenarios_second"])
     before, after = float(gain["hypervolume_before"].sum()), float(gain["hypervolume_after"].sum())
     robust = bool(second.attrs.get("robust_view"))
@@ -665,3 +609,80 @@ def refinement_page(name, first, second, gain):
     )
     fig.tight_layout(rect=(0, 0.06, 1, 0.92))
     return fig
+
+
+def _hypervolume_panel(ax, first, gain, within) -> list[str]:
+    """The hypervolume of each group before and after the refinement, as bars; the groups'
+    labels (their operating conditions)."""
+    labels = [
+        ", ".join(_value_text(first, w, float(gain[w].sel(group=g))) for w in within)
+        or "all designs"
+        for g in gain["group"].values
+    ]
+    y = np.arange(len(labels))
+    ax.barh(y - 0.2, gain["hypervolume_before"], height=0.4, color="tab:blue", label="first stage")
+    ax.barh(y + 0.2, gain["hypervolume_after"], height=0.4, color="tab:red", label="both stages")
+    for k, (b, a) in enumerate(
+        zip(gain["hypervolume_before"].values, gain["hypervolume_after"].values, strict=False)
+    ):
+        if b > 0:
+            ax.text(a, k + 0.2, f" {100 * (a / b - 1):+.1f} %", va="center", fontsize=8)
+    ax.set_yticks(y, [textwrap.fill(lab, 22) for lab in labels], fontsize=8)
+    ax.set_ylim(len(labels) - 0.5, -0.5)
+    ax.set_xlabel("hypervolume (objectives normalised per group)")
+    ax.legend(fontsize=8, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncol=2)
+    ax.grid(alpha=0.3, axis="x")
+    return labels
+
+
+def _refined_fronts_panel(ax, first, second, gain, objectives, within, labels):
+    """Both stages' feasible designs over the first two objectives, with the first stage's front
+    (dashed) and the front of both stages together (solid) of each group."""
+    outs = [o.split(":")[0] for o in objectives]
+    ox, oy = (outs + outs)[:2]
+    ux, uy = display.unit_of(first, ox), display.unit_of(first, oy)
+    x1, y1, x2, y2 = (
+        ux(_flat(first, ox)),
+        uy(_flat(first, oy)),
+        ux(_flat(second, ox)),
+        uy(_flat(second, oy)),
+    )
+    f1, ok1, key1 = objective_table(first, objectives, within)
+    f2, ok2, key2 = objective_table(second, objectives, within)
+    f_all = np.concatenate([f1, f2])
+    ax.scatter(
+        x1[drawn(ok1)], y1[drawn(ok1)], s=8, c="0.7", label="first stage, feasible", rasterized=True
+    )
+    ax.scatter(
+        x2[drawn(ok2)],
+        y2[drawn(ok2)],
+        s=8,
+        c="tab:orange",
+        label="refining stage, feasible",
+        rasterized=True,
+    )
+    sense = np.array([1.0 if o.endswith(":min") else -1.0 for o in objectives[:2]])
+    x_all, y_all = np.r_[x1, x2], np.r_[y1, y2]
+    front1 = first["pareto_rank"].values.reshape(-1) == 0  # ranked per group already
+    for j, g in enumerate(gain["group"].values):
+        combo = np.array([float(gain[w].sel(group=g)) for w in within])
+        in1 = ok1 & (key1 == combo).all(axis=1)
+        joint = pareto_rank(f_all, np.r_[in1, ok2 & (key2 == combo).all(axis=1)]) == 0
+        for members, xs, ys, style, which in (
+            (front1 & in1, x1, y1, "--", "first-stage"),
+            (joint, x_all, y_all, "-", "joint"),
+        ):
+            order = np.argsort(xs[members] * sense[0], kind="stable")
+            label = f"{which} front" + (f", {labels[j]}" if within else "") if j < 4 else None
+            ax.plot(
+                xs[members][order],
+                ys[members][order],
+                style,
+                color=plt.cm.tab10(j % 10),
+                lw=1.2,
+                label=label,
+            )
+    ax.set_xlabel(display.label(ox, display.unit_of(first, ox)))
+    ax.set_ylabel(display.label(oy, display.unit_of(first, oy)))
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, ncol=2)

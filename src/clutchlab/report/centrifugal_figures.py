@@ -106,50 +106,13 @@ def capacity_curves(ds):
 
 
 def release_map(ds):
+    """Release margin and forward reserve over (α, f): a map of the grid at the design shown, or
+    of every design of a sampled run."""
     fig, axes = plt.subplots(1, 2, figsize=A4_LANDSCAPE, gridspec_kw={"wspace": 0.35})
     keep = ("pressure_angle", "friction_coefficient")
     if "run" in ds.dims or not set(keep) <= set(ds.dims):
-        code = ds["status"].values.reshape(-1)
-        ok = code != st.CODE["jammed"]
-        # colour limits from the designs without a near-singular capacity (near_jam: M ∝ 1/(1 - f tan(alpha)))
-        scale = code == st.CODE["ok"]
-        for ax, name in zip(axes, ("release_margin", "reserve_factor"), strict=False):
-            x = (
-                np.rad2deg(ds["pressure_angle"].values.ravel())
-                if "pressure_angle" in ds.coords
-                else np.zeros(ok.size)
-            )
-            y = (
-                ds["friction_coefficient"].values.ravel()
-                if "friction_coefficient" in ds.coords
-                else np.zeros(ok.size)
-            )
-            z = np.broadcast_to(ds[name].values, ds["status"].shape).reshape(-1)
-            limits = robust_limits(
-                z[scale] if scale.any() else z[ok], symmetric=name == "release_margin", cap=4.0
-            )
-            sampled_value_map(
-                ax,
-                x[ok],
-                y[ok],
-                z[ok],
-                f"{name} [{ds[name].attrs['units']}]",
-                cmap="RdBu" if name == "release_margin" else "viridis",
-                limits=limits,
-            )
-            ax.set_xlabel("pressure angle [deg]")
-            ax.set_ylabel("friction coefficient f")
-        near = int((code == st.CODE["near_jam"]).sum())
-        fig.suptitle(
-            f"Release margin and forward reserve of {ok.size} designs ({int((~ok).sum())} jammed left "
-            f"out, {near} near_jam drawn but not scaling the colours;\ncolours clipped to the 1st-99th "
-            "percentiles of the ok designs, reserve at 4)"
-        )
-        return fig
+        return _sampled_release_map(fig, axes, ds)
     sub = seed_view(ds, keep=keep).transpose("friction_coefficient", "pressure_angle", ...)
-    a = np.rad2deg(sub["pressure_angle"].values)
-    f = sub["friction_coefficient"].values
-    code = sub["status"].values
     for ax, name, cmap, label in (
         (
             axes[0],
@@ -165,64 +128,111 @@ def release_map(ds):
             "reserve factor M / T_e at rated [-] (colour capped at 4)",
         ),
     ):
-        z = np.where(code == st.CODE["jammed"], np.nan, sub[name].values)
-        if name == "release_margin":  # (inf where M' = 0: not scaling the colours)
-            lim = np.nanmax(np.abs(z[np.isfinite(z)])) if np.isfinite(z).any() else 1.0
-            m = ax.pcolormesh(a, f, z, shading="nearest", cmap=cmap, vmin=-lim, vmax=lim)
-            contour_level(ax, a, f, z, 0.0, colors="k", linewidths=1.5)
-        else:
-            m = ax.pcolormesh(
-                a, f, z, shading="nearest", cmap=cmap, vmin=0.0, vmax=min(np.nanmax(z), 4.0)
-            )
-            if (
-                contour_level(ax, a, f, z, 1.5, colors="w", linewidths=1.2, linestyles="--")
-                is not None
-            ):
-                ax.plot([], [], "w--", label="reserve 1.5")
-        fig.colorbar(m, ax=ax, label=label)
-        # jam region: f tan(alpha) >= 1, drawn exactly as the curve f = 1/tan(alpha)
-        aa = np.linspace(a.min(), a.max(), 200)
-        fj = 1.0 / np.tan(np.deg2rad(aa))
-        ax.fill_between(
-            aa,
-            fj,
-            f.max() + 0.5 * (f.max() - f.min()),
-            where=fj <= f.max(),
-            hatch="xx",
-            facecolor="none",
-            edgecolor="k",
-            lw=0.5,
-            label="jammed: f tan(alpha) >= 1",
-        )
-        if "friction_scatter" in sub and sub["friction_scatter"].ndim == 0:
-            scatter = float(sub["friction_scatter"])
-            ax.plot(
-                aa,
-                fj / (1.0 + scatter),
-                "k--",
-                lw=1.0,
-                label=f"near_jam above: {1 + scatter:g} f tan(alpha) >= 1",
-            )
-        for i, name, colour in _marks(ds, slice_only=True):
-            ax.plot(
-                np.rad2deg(flat(ds, "pressure_angle")[i]),
-                flat(ds, "friction_coefficient")[i],
-                "*",
-                ms=16,
-                mfc=colour,
-                mec="k",
-                label=name,
-            )
-        ax.set_ylim(f.min(), f.max())
-        ax.set_xlabel("linkage pressure angle alpha [deg]")
-        ax.set_ylabel("friction coefficient f")
-        ax.legend(loc="lower left", fontsize=8)
+        _release_panel(fig, ax, ds, sub, name, cmap, label)
     fixed = fixed_text(sub, [d for d in ds.dims if d not in keep])
     fig.suptitle(
         "Release margin and forward reserve over (alpha, f)"
         + (f"\n(other factors at the design shown: {fixed})" if fixed else "")
     )
     return fig
+
+
+def _sampled_release_map(fig, axes, ds):
+    """Release margin and reserve of every design of a sampled run (or a grid without both α and
+    f), jammed designs left out."""
+    code = ds["status"].values.reshape(-1)
+    ok = code != st.CODE["jammed"]
+    # colour limits from the designs without a near-singular capacity (near_jam: M ∝ 1/(1 - f tan(alpha)))
+    scale = code == st.CODE["ok"]
+    for ax, name in zip(axes, ("release_margin", "reserve_factor"), strict=False):
+        x = (
+            np.rad2deg(ds["pressure_angle"].values.ravel())
+            if "pressure_angle" in ds.coords
+            else np.zeros(ok.size)
+        )
+        y = (
+            ds["friction_coefficient"].values.ravel()
+            if "friction_coefficient" in ds.coords
+            else np.zeros(ok.size)
+        )
+        z = np.broadcast_to(ds[name].values, ds["status"].shape).reshape(-1)
+        limits = robust_limits(
+            z[scale] if scale.any() else z[ok], symmetric=name == "release_margin", cap=4.0
+        )
+        sampled_value_map(
+            ax,
+            x[ok],
+            y[ok],
+            z[ok],
+            f"{name} [{ds[name].attrs['units']}]",
+            cmap="RdBu" if name == "release_margin" else "viridis",
+            limits=limits,
+        )
+        ax.set_xlabel("pressure angle [deg]")
+        ax.set_ylabel("friction coefficient f")
+    near = int((code == st.CODE["near_jam"]).sum())
+    fig.suptitle(
+        f"Release margin and forward reserve of {ok.size} designs ({int((~ok).sum())} jammed left "
+        f"out, {near} near_jam drawn but not scaling the colours;\ncolours clipped to the 1st-99th "
+        "percentiles of the ok designs, reserve at 4)"
+    )
+    return fig
+
+
+def _release_panel(fig, ax, ds, sub, name, cmap, label):
+    """One output over the (α, f) grid ``sub``: its colour map and contour, the jam region, the
+    near-jam line and the marked designs."""
+    a = np.rad2deg(sub["pressure_angle"].values)
+    f = sub["friction_coefficient"].values
+    z = np.where(sub["status"].values == st.CODE["jammed"], np.nan, sub[name].values)
+    if name == "release_margin":  # (inf where M' = 0: not scaling the colours)
+        lim = np.nanmax(np.abs(z[np.isfinite(z)])) if np.isfinite(z).any() else 1.0
+        m = ax.pcolormesh(a, f, z, shading="nearest", cmap=cmap, vmin=-lim, vmax=lim)
+        contour_level(ax, a, f, z, 0.0, colors="k", linewidths=1.5)
+    else:
+        m = ax.pcolormesh(
+            a, f, z, shading="nearest", cmap=cmap, vmin=0.0, vmax=min(np.nanmax(z), 4.0)
+        )
+        if contour_level(ax, a, f, z, 1.5, colors="w", linewidths=1.2, linestyles="--") is not None:
+            ax.plot([], [], "w--", label="reserve 1.5")
+    fig.colorbar(m, ax=ax, label=label)
+    # jam region: f tan(alpha) >= 1, drawn exactly as the curve f = 1/tan(alpha)
+    aa = np.linspace(a.min(), a.max(), 200)
+    fj = 1.0 / np.tan(np.deg2rad(aa))
+    ax.fill_between(
+        aa,
+        fj,
+        f.max() + 0.5 * (f.max() - f.min()),
+        where=fj <= f.max(),
+        hatch="xx",
+        facecolor="none",
+        edgecolor="k",
+        lw=0.5,
+        label="jammed: f tan(alpha) >= 1",
+    )
+    if "friction_scatter" in sub and sub["friction_scatter"].ndim == 0:
+        scatter = float(sub["friction_scatter"])
+        ax.plot(
+            aa,
+            fj / (1.0 + scatter),
+            "k--",
+            lw=1.0,
+            label=f"near_jam above: {1 + scatter:g} f tan(alpha) >= 1",
+        )
+    for i, mark, colour in _marks(ds, slice_only=True):
+        ax.plot(
+            np.rad2deg(flat(ds, "pressure_angle")[i]),
+            flat(ds, "friction_coefficient")[i],
+            "*",
+            ms=16,
+            mfc=colour,
+            mec="k",
+            label=mark,
+        )
+    ax.set_ylim(f.min(), f.max())
+    ax.set_xlabel("linkage pressure angle alpha [deg]")
+    ax.set_ylabel("friction coefficient f")
+    ax.legend(loc="lower left", fontsize=8)
 
 
 def traces(ds):

@@ -210,51 +210,74 @@ def heat_page(ds):
     fig, axes = plt.subplots(
         2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.45, "wspace": 0.5, "top": 0.85}
     )
-    ax = axes[0, 0]
     if "trace_surface_temperature" in ds:
-        t = ds["trace_time"].values * 1e3
-        ax.plot(
-            t,
-            ds["trace_surface_temperature"].values - 273.15,
-            "r-",
-            label="friction face (flash, Duhamel)",
-        )
-        ax.plot(t, ds["trace_bulk_temperature"].values - 273.15, "k--", label="bulk (lumped)")
-        ax2 = ax.twinx()
-        ax2.plot(t, ds["trace_slip_power"].values / 1e3, "b:", lw=1)
-        ax2.set_ylabel("slip power [kW] (dotted)")
-        ax.set_xlabel("time [ms]")
-        ax.set_ylabel("pressure plate temperature [°C]")
-        ax.legend(fontsize=8, loc="center right")
-        ax.set_title(
-            "(a) design shown: peak face %.1f °C"
-            % (float(ds["trace_peak_surface_temperature"]) - 273.15),
-            fontsize=10,
-        )
-        ax = axes[0, 1]
-        n = ds["engagement_number"].values
-        ax.plot(n, ds["trace_sequence_temperature"].values - 273.15, "ko-", ms=3)
-        ax.set_xlabel("engagement in a row")
-        ax.set_ylabel("bulk temperature just after it [°C]")
-        ax.set_title(
-            "(b) design shown, engagements in a row: "
-            + ds["trace_sequence_temperature"]
-            .attrs["long_name"]
-            .split(" just")[0]
-            .replace("bulk temperature of the ", ""),
-            fontsize=10,
-        )
+        _heat_traces(axes[0, 0], axes[0, 1], ds)
     else:
-        ax.text(
+        axes[0, 0].text(
             0.5,
             0.5,
             textwrap.fill(f"no traces: {shown_name(ds)}", 50),
             ha="center",
-            transform=ax.transAxes,
+            transform=axes[0, 0].transAxes,
         )
     temp = _flat(ds, "peak_surface_temperature") - 273.15
     ok = (_flat(ds, "status") == st.CODE["ok"]) & np.isfinite(temp)
-    ax = axes[1, 0]
+    _heat_map(axes[1, 0], ds, temp, ok)
+    _heat_tradeoff(fig, axes[1, 1], ds, temp, ok)
+    for a in axes.ravel():
+        a.grid(alpha=0.3)
+    fig.suptitle(
+        "\n".join(
+            [
+                "Heat: friction face and parts (pressure plate, flywheel: cast iron; linings: "
+                "organic; assumed materials, clutchlab.heat)"
+            ]
+            + textwrap.wrap(f"(a), (b): {shown_name(ds)}", 125)
+        ),
+        fontsize=10,
+    )
+    return fig
+
+
+def _heat_traces(ax, ax_seq, ds):
+    """(a) the face and bulk temperature of the design shown over its engagement, with the slip
+    power; (b) its bulk temperature over engagements in a row."""
+    t = ds["trace_time"].values * 1e3
+    ax.plot(
+        t,
+        ds["trace_surface_temperature"].values - 273.15,
+        "r-",
+        label="friction face (flash, Duhamel)",
+    )
+    ax.plot(t, ds["trace_bulk_temperature"].values - 273.15, "k--", label="bulk (lumped)")
+    ax2 = ax.twinx()
+    ax2.plot(t, ds["trace_slip_power"].values / 1e3, "b:", lw=1)
+    ax2.set_ylabel("slip power [kW] (dotted)")
+    ax.set_xlabel("time [ms]")
+    ax.set_ylabel("pressure plate temperature [°C]")
+    ax.legend(fontsize=8, loc="center right")
+    ax.set_title(
+        "(a) design shown: peak face %.1f °C"
+        % (float(ds["trace_peak_surface_temperature"]) - 273.15),
+        fontsize=10,
+    )
+    n = ds["engagement_number"].values
+    ax_seq.plot(n, ds["trace_sequence_temperature"].values - 273.15, "ko-", ms=3)
+    ax_seq.set_xlabel("engagement in a row")
+    ax_seq.set_ylabel("bulk temperature just after it [°C]")
+    ax_seq.set_title(
+        "(b) design shown, engagements in a row: "
+        + ds["trace_sequence_temperature"]
+        .attrs["long_name"]
+        .split(" just")[0]
+        .replace("bulk temperature of the ", ""),
+        fontsize=10,
+    )
+
+
+def _heat_map(ax, ds, temp, ok):
+    """(c) the peak face temperature over ramp time and clamp force (a grid: the hottest design
+    of each point over the other factors)."""
     x = 1e3 * flat(ds, "ramp_time") if "ramp_time" in ds.coords else np.zeros(ok.size)
     x, y, z = x[ok], flat(ds, "clamp_load")[ok] / 1e3, temp[ok]
     pairs, inverse = np.unique(np.stack([x, y], axis=1), axis=0, return_inverse=True)
@@ -272,7 +295,11 @@ def heat_page(ds):
         f"(c) peak face temperature, one engagement ({note.replace('the hottest', 'max')})",
         fontsize=10,
     )
-    ax = axes[1, 1]
+
+
+def _heat_tradeoff(fig, ax, ds, temp, ok):
+    """(d) the specific friction work against the peak jerk, coloured by the peak face
+    temperature."""
     show = drawn(ok)
     m = ax.scatter(
         _flat(ds, "specific_friction_work")[show] / 1e3,
@@ -294,19 +321,6 @@ def heat_page(ds):
         ),
         fontsize=10,
     )
-    for a in axes.ravel():
-        a.grid(alpha=0.3)
-    fig.suptitle(
-        "\n".join(
-            [
-                "Heat: friction face and parts (pressure plate, flywheel: cast iron; linings: "
-                "organic; assumed materials, clutchlab.heat)"
-            ]
-            + textwrap.wrap(f"(a), (b): {shown_name(ds)}", 125)
-        ),
-        fontsize=10,
-    )
-    return fig
 
 
 # page stem -> function drawing it from the study's Dataset, in report order

@@ -170,8 +170,23 @@ class Relation:
 
 
 def value_range(section: dict, name: str, finite: bool = False) -> tuple[float, float]:
-    """(smallest, largest) value of parameter ``name`` over the scenarios of a resolved study
-    section: its fixed value, or its factor's values or min/max (``finite``: inf left out)."""
+    """Smallest and largest value of a parameter over the scenarios of a resolved study section.
+
+    Parameters
+    ----------
+    section : dict
+        A resolved study section (:func:`clutchlab.config.resolve`): ``fixed`` values and
+        ``factors``.
+    name : str
+        The parameter.
+    finite : bool
+        Whether to leave inf out.
+
+    Returns
+    -------
+    (float, float)
+        Its fixed value twice, or the minimum and maximum of its factor's values or range [SI].
+    """
     if name in section["fixed"]:
         vals = [section["fixed"][name]]
     else:
@@ -183,9 +198,22 @@ def value_range(section: dict, name: str, finite: bool = False) -> tuple[float, 
 
 
 def failed_relation(section: dict, relations) -> tuple[str, str] | None:
-    """(config key, problem) of the first relation that fails for some scenario of a resolved
-    study section (checked at the worst corner of its design, naming every parameter in it), or
-    None."""
+    """The first relation that fails for some scenario of a resolved study section.
+
+    Checked at the worst corner of its design (:class:`Relation`), naming every parameter in it.
+
+    Parameters
+    ----------
+    section : dict
+        A resolved study section (:func:`clutchlab.config.resolve`).
+    relations : sequence of Relation
+        The study's relations.
+
+    Returns
+    -------
+    (str, str) or None
+        (config key, problem) of the first relation that fails, or None.
+    """
     study = get(section["name"])
     for rel in relations:
         corner = {}
@@ -206,8 +234,18 @@ def failed_relation(section: dict, relations) -> tuple[str, str] | None:
 
 
 def units_metadata(kind: str | None) -> dict:
-    """CF ``units_metadata`` of a temperature of ``kind`` ("absolute": on the scale; "difference")
-    (CF 1.11, section 3.1.2), empty for anything else."""
+    """CF ``units_metadata`` of a temperature of ``kind`` (CF 1.11, section 3.1.2).
+
+    Parameters
+    ----------
+    kind : str or None
+        "absolute" (a temperature on the scale), "difference" (a rise), or anything else.
+
+    Returns
+    -------
+    dict
+        ``{"units_metadata": ...}`` for a temperature, else empty.
+    """
     if kind == "absolute":
         return {"units_metadata": "temperature: on_scale"}
     if kind == "difference":
@@ -291,6 +329,23 @@ class Study:
         return (spec, None) if isinstance(spec, str) else tuple(spec)
 
     def parameter(self, name: str) -> Parameter:
+        """The parameter called ``name``.
+
+        Parameters
+        ----------
+        name : str
+            A parameter of the study.
+
+        Returns
+        -------
+        Parameter
+            Its definition.
+
+        Raises
+        ------
+        KeyError
+            If the study has no such parameter.
+        """
         for p in self.parameters:
             if p.name == name:
                 return p
@@ -309,7 +364,23 @@ class Study:
 
 
 def flat_inputs(inputs) -> dict:
-    """Broadcast a chunk's inputs (flat arrays and scalars) to flat float arrays of one length."""
+    """Broadcast a chunk's inputs (flat arrays and scalars) to flat float arrays of one length.
+
+    Parameters
+    ----------
+    inputs : dict
+        Parameter name -> scalar or flat array [SI].
+
+    Returns
+    -------
+    dict of numpy.ndarray
+        Parameter name -> flat float array, all of one length (read-only broadcasts).
+
+    Raises
+    ------
+    ValueError
+        If two arrays have different lengths.
+    """
     arrays = {k: np.asarray(v, dtype=float) for k, v in inputs.items()}
     sizes = {a.size for a in arrays.values() if a.ndim}
     if len(sizes) > 1:
@@ -319,9 +390,23 @@ def flat_inputs(inputs) -> dict:
 
 
 def seed_design(parameters, inputs) -> dict:
-    """One design: the parameters' defaults (the source paper's design), overridden by the scalar
-    ``inputs``; a study's ``traces`` draw it (given every input of the design shown as a scalar,
-    :mod:`clutchlab.traces`)."""
+    """One design: the parameters' defaults (the source paper's), overridden by scalar inputs.
+
+    A study's ``traces`` draw it (given every input of the design shown as a scalar,
+    :mod:`clutchlab.traces`).
+
+    Parameters
+    ----------
+    parameters : sequence of Parameter
+        The study's parameters.
+    inputs : dict
+        Parameter name -> value [SI]; the scalars among them override the defaults.
+
+    Returns
+    -------
+    dict
+        Parameter name -> float [SI].
+    """
     out = {p.name: p.default for p in parameters}
     out.update({k: float(v) for k, v in inputs.items() if np.ndim(v) == 0 and k in out})
     return out
@@ -331,11 +416,29 @@ REGISTRY: dict[str, Study] = {}
 
 
 def apply_valid_statuses(ds, table: dict):
-    """``ds`` (a study's compute result, scenario dimension ``run``) with every per-scenario output
-    NaN (an integer one −1) where its scenario's status is not one of its valid statuses
-    (``table``: output -> status names or :data:`ALL_STATUSES`; a float output not listed: ``ok``
-    only, an integer one: every status), each carrying the attribute ``valid_statuses``. Valid
-    values are not touched (bit-identical)."""
+    """Each per-scenario output NaN where its scenario's status is not one of its valid statuses.
+
+    An integer output is set to −1 instead. Every output gets the attribute ``valid_statuses``.
+    Valid values are not touched (bit-identical).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A study's compute result (scenario dimension ``run``, a ``status``); changed in place.
+    table : dict
+        Output -> status names or :data:`ALL_STATUSES`; a float output not listed: ``ok`` only, an
+        integer one: every status.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``ds``.
+
+    Raises
+    ------
+    KeyError
+        For a status name that does not exist.
+    """
     code = np.asarray(ds["status"].values)
     for name, var in ds.data_vars.items():
         if name == "status" or "run" not in var.dims:
@@ -366,8 +469,21 @@ def _with_valid_statuses(compute: Callable, table: dict) -> Callable:
 
 
 def register(study: Study) -> Study:
-    """Register ``study``, its ``compute`` wrapped so that every result follows the status rule
-    (:func:`apply_valid_statuses` with the study's :attr:`Study.valid_statuses`)."""
+    """Register ``study``, its ``compute`` wrapped so that each result follows the status rule.
+
+    The wrapper applies :func:`apply_valid_statuses` with the study's
+    :attr:`Study.valid_statuses`.
+
+    Parameters
+    ----------
+    study : Study
+        The study to register.
+
+    Returns
+    -------
+    Study
+        The registered study (with the wrapped ``compute``).
+    """
     study = dataclasses.replace(
         study, compute=_with_valid_statuses(study.compute, study.valid_statuses)
     )
@@ -376,7 +492,23 @@ def register(study: Study) -> Study:
 
 
 def get(name: str) -> Study:
-    """The registered study called ``name``."""
+    """The registered study called ``name``.
+
+    Parameters
+    ----------
+    name : str
+        One of ``diaphragm_spring``, ``engagement``, ``centrifugal``, ``sprag``, ``roller``.
+
+    Returns
+    -------
+    Study
+        The study, its ``compute`` following the status rule.
+
+    Raises
+    ------
+    KeyError
+        For an unknown study, naming the known ones.
+    """
     _load_all()
     try:
         return REGISTRY[name]

@@ -1,4 +1,4 @@
-"""Study "centrifugal": centrifugal clutch with overrunning linkage (paper 001).
+"""Study "centrifugal": centrifugal clutch with overrunning linkage (source paper 001).
 
 Per scenario (closed form, no ODE): engagement speed, forward and reverse capacity at rated
 speed and as curves over engine speed, reserve factor against the engine torque, release margin
@@ -180,8 +180,62 @@ def _status(p, code, rel):
 
 
 def compute(inputs, options=None) -> xr.Dataset:
+    """Results of a chunk of scenarios of the study "centrifugal".
+
+    Per scenario: capacities, reserve and release after an engine failure (closed form).
+
+    Parameters
+    ----------
+    inputs : dict
+        Parameter name -> flat array (one entry per scenario of the chunk) or scalar, in SI units
+        (:data:`PARAMETERS`).
+    options : dict or None
+        Unused (the study has no options).
+
+    Returns
+    -------
+    xarray.Dataset
+        One entry per scenario on dimension ``run`` (curves with a further dimension): the outputs
+        of the module docstring, each with ``units`` and ``long_name``, and ``status``
+        (:mod:`clutchlab.status`). The registered ``compute`` (:func:`clutchlab.studies.get`) also
+        applies the status rule (:func:`clutchlab.studies.apply_valid_statuses`).
+    """
     p = flat_inputs(inputs)
     cap = {k: p[k] for k in _CAP}
+    code, values = _scalars(p, cap)
+    # (which of them a jammed or not engaged scenario keeps: VALID_STATUSES, applied on return;
+    # an input the models refuse, invalid_input or invalid_geometry, keeps none)
+    refused = np.isin(code, [st.CODE["invalid_input"], st.CODE["invalid_geometry"]])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        data = {
+            k: ("run", np.asarray(v, float), {"units": OUTPUTS[k][0], "long_name": OUTPUTS[k][1]})
+            for k, v in values.items()
+        }
+    data["status"] = (
+        "run",
+        code,
+        st.attrs(
+            "jammed: f tan(alpha) >= 1 (forward linkage self-locks); not_engaged: "
+            "springs beat the centrifugal force at rated speed, or M < rotor load; "
+            "near_jam: works, but (1 + friction_scatter) f tan(alpha) >= 1: a "
+            "friction rise within the scatter jams it (outputs kept, exact); "
+            "invalid_geometry: shoe centroid radius not inside the drum; invalid_input: an "
+            "input not physical or implausible, or idle speed not below rated speed"
+        ),
+    )
+    data.update(_curves(p, cap, refused[:, None]))
+    ds = xr.Dataset(
+        data, coords={"speed": ("speed", SPEEDS, {"units": "rad/s", "long_name": "engine speed"})}
+    )
+    ds.attrs["model_used"] = (
+        "closed form (eqs. 1-2; release: exact quadratic root and integral); traces: DOP853"
+    )
+    return ds
+
+
+def _scalars(p, cap) -> tuple[np.ndarray, dict]:
+    """The status and the per-scenario outputs at rated (and idle) speed of flat parameter arrays
+    ``p`` (``cap``: the capacity's arguments among them)."""
     code = cf.design_status(
         rated_speed=p["rated_speed"],
         rotor_load_torque=p["rotor_load_torque"],
@@ -223,31 +277,16 @@ def compute(inputs, options=None) -> xr.Dataset:
         "release_speed": rel["release_speed"],
         "release_time": rel["release_time"],
     }
-    # (which of them a jammed or not engaged scenario keeps: VALID_STATUSES, applied on return;
-    # an input the models refuse, invalid_input or invalid_geometry, keeps none)
-    refused = np.isin(code, [st.CODE["invalid_input"], st.CODE["invalid_geometry"]])
-    with np.errstate(invalid="ignore", divide="ignore"):
-        data = {
-            k: ("run", np.asarray(v, float), {"units": OUTPUTS[k][0], "long_name": OUTPUTS[k][1]})
-            for k, v in values.items()
-        }
-    data["status"] = (
-        "run",
-        code,
-        st.attrs(
-            "jammed: f tan(alpha) >= 1 (forward linkage self-locks); not_engaged: "
-            "springs beat the centrifugal force at rated speed, or M < rotor load; "
-            "near_jam: works, but (1 + friction_scatter) f tan(alpha) >= 1: a "
-            "friction rise within the scatter jams it (outputs kept, exact); "
-            "invalid_geometry: shoe centroid radius not inside the drum; invalid_input: an "
-            "input not physical or implausible, or idle speed not below rated speed"
-        ),
-    )
-    # capacity curves over engine speed (Fig. 5), per scenario
+    return code, values
+
+
+def _curves(p, cap, refused) -> dict:
+    """The capacity, engine and passive torque curves over engine speed (Fig. 5 of the source
+    paper (001)) of every scenario, NaN where its inputs are ``refused`` (a column)."""
     w = SPEEDS[None, :]
     cw = {k: v[:, None] for k, v in cap.items()}
     fc, rc = cf.capacity(speed=w, **cw)
-    refused = refused[:, None]
+    data = {}
     data["capacity_forward_curve"] = (
         ("run", "speed"),
         np.where(refused, np.nan, fc),
@@ -274,18 +313,31 @@ def compute(inputs, options=None) -> xr.Dataset:
         ),
         {"units": "N m", "long_name": "passive engine torque"},
     )
-    ds = xr.Dataset(
-        data, coords={"speed": ("speed", SPEEDS, {"units": "rad/s", "long_name": "engine speed"})}
-    )
-    ds.attrs["model_used"] = (
-        "closed form (eqs. 1-2; release: exact quadratic root and integral); traces: DOP853"
-    )
-    return ds
+    return data
 
 
 def seed_traces(inputs, options=None) -> xr.Dataset:
-    """Start-up and engine-failure traces of one design (the scalar ``inputs`` over the defaults:
-    the design a run's pages show, :mod:`clutchlab.traces`)."""
+    """Start-up and engine-failure speed traces of one design: the design a run's pages show.
+
+    Parameters
+    ----------
+    inputs : dict
+        Parameter name -> value [SI]; the scalars override the defaults
+        (:func:`clutchlab.studies.seed_design`).
+    options : dict or None
+        Unused (the study has no options).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``failure_*`` and ``startup_*`` traces of engine speed, rotor speed and clutch torque on
+        their own time dimensions, the release and lock-up times; empty where the design is not ok
+        or a trace fails (:mod:`clutchlab.traces`).
+
+    References
+    ----------
+    Source paper (001), Figs. 6 and 8.
+    """
     p = seed_design(PARAMETERS, inputs)
     coords = {}
     data = {}
@@ -335,8 +387,17 @@ def seed_traces(inputs, options=None) -> xr.Dataset:
 
 
 def validation():
-    """Paper 001's numbers (:data:`clutchlab.published.CENTRIFUGAL_CLUTCH`: section 2.3, Fig. 5,
-    the test section) reproduced by clutchlab, as validation rows."""
+    """The source paper (001)'s numbers reproduced by clutchlab, as validation rows.
+
+    :data:`clutchlab.published.CENTRIFUGAL_CLUTCH`: section 2.3, Fig. 5, the test section.
+
+    Returns
+    -------
+    xarray.Dataset
+        Validation rows on dimension ``row`` (:func:`clutchlab.validation.to_dataset`): each
+        published number, clutchlab's value, the relative error and its tolerance, and where the
+        number is printed.
+    """
     from ..validation import to_dataset
 
     return to_dataset(

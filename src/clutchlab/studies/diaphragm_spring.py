@@ -1,4 +1,4 @@
-"""Study "diaphragm_spring": Almen–László statics, clamp load and torque capacity (paper 000).
+"""Study "diaphragm_spring": Almen–László statics, clamp load, torque capacity (source paper 000).
 
 Inputs are the spring geometry (thickness h, cone-height ratio H/h, radius ratio R/r and the
 load-point offsets), the release-bearing operating point factor λ_B/λ_C, and the lining and
@@ -146,7 +146,22 @@ def _attrs(long_name, units, **extra):
 
 
 def spring_geometry(p) -> dict:
-    """Almen-Laszlo arguments from the study parameters (h, H/h, R, R/r and load-point offsets)."""
+    """Almen–László arguments from the study parameters (h, H/h, R, R/r and load-point offsets).
+
+    Parameters
+    ----------
+    p : dict of numpy.ndarray
+        The study's parameters as flat arrays of one length [SI]
+        (:func:`clutchlab.studies.flat_inputs`).
+
+    Returns
+    -------
+    dict of numpy.ndarray
+        The keyword arguments of :func:`clutchlab.diaphragm.almen_laszlo_load` but the
+        deflection: ``youngs_modulus`` [Pa], ``poisson_ratio`` [-], ``sheet_thickness``,
+        ``cone_height``, ``outer_radius``, ``inner_radius``, ``load_radius_outer``,
+        ``load_radius_inner`` [m].
+    """
     h, R = p["sheet_thickness"], p["outer_radius"]
     r = R / p["radius_ratio"]
     return dict(
@@ -191,10 +206,35 @@ def _capacity(clamp_load, p, assumption):
 
 
 def wear_states(p, spring, pts, assumption="uniform_pressure") -> dict:
-    """Clamp load, torque capacity and reserve factor of the half-worn and the fully worn clutch
-    (the operating point at λ_B − Δ/2 and λ_B − Δ on the spring's curve, Δ = ``wear_allowance``;
-    :func:`clutchlab.wear.worn_clamp_load`), the deflection at full wear and the least reserve
-    factor over the whole wear travel, for flat parameter arrays ``p``."""
+    """Clamp load, torque capacity and reserve factor of the half-worn and the fully worn clutch.
+
+    The operating point at λ_B − Δ/2 and λ_B − Δ on the spring's curve, Δ = ``wear_allowance``
+    (:func:`clutchlab.wear.worn_clamp_load`), and the least over the whole wear travel
+    (:func:`clutchlab.wear.least_clamp_load`).
+
+    Parameters
+    ----------
+    p : dict of numpy.ndarray
+        The study's parameters as flat arrays of one length [SI]
+        (:func:`clutchlab.studies.flat_inputs`).
+    spring : dict of numpy.ndarray
+        The spring's Almen–László arguments (:func:`spring_geometry`).
+    pts : dict of numpy.ndarray
+        Its characteristic points (:func:`clutchlab.diaphragm.characteristic_points`).
+    assumption : {"uniform_pressure", "uniform_wear"}
+        Pressure distribution of the friction radius (:func:`clutchlab.friction.effective_radius`).
+
+    Returns
+    -------
+    dict of numpy.ndarray
+        ``clamp_load_*`` [N], ``torque_capacity_*`` [N m] and ``reserve_factor_*`` [-] for
+        ``half``, ``worn`` and ``least``, and ``deflection_worn`` [m] (≤ 0: the spring is unloaded)
+        (:data:`WEAR_OUTPUTS`).
+
+    References
+    ----------
+    Source paper (000), eq. (10) and eqs. (13)–(14) corrected (:mod:`clutchlab.friction`).
+    """
     out = {}
     lam_b = pts["deflection_B"]
     loads = {
@@ -231,12 +271,51 @@ WEAR_OUTPUTS = {
 
 
 def compute(inputs, options=None) -> xr.Dataset:
-    """Compute the statics of a chunk of scenarios (see module docstring)."""
+    """Results of a chunk of scenarios of the study "diaphragm_spring".
+
+    Per scenario: the spring's characteristic points, clamp load, capacity and reserve, new and
+    worn.
+
+    Parameters
+    ----------
+    inputs : dict
+        Parameter name -> flat array (one entry per scenario of the chunk) or scalar, in SI units
+        (:data:`PARAMETERS`).
+    options : dict or None
+        The study's options (:data:`OPTIONS`: ``friction_radius``); missing: uniform pressure.
+
+    Returns
+    -------
+    xarray.Dataset
+        One entry per scenario on dimension ``run`` (curves with a further dimension): the outputs
+        of the module docstring, each with ``units`` and ``long_name``, and ``status``
+        (:mod:`clutchlab.status`). The registered ``compute`` (:func:`clutchlab.studies.get`) also
+        applies the status rule (:func:`clutchlab.studies.apply_valid_statuses`).
+
+    References
+    ----------
+    Source paper (000), eqs. (10) and (13)–(14) corrected.
+    """
     options = options or {}
     assumption = options.get("friction_radius", "uniform_pressure")
     p = flat_inputs(inputs)
     spring = spring_geometry(p)
-    r = spring["inner_radius"]
+    ds = xr.Dataset(
+        _variables(_statics(p, spring, assumption), spring, assumption),
+        coords={
+            "deflection_ratio": (
+                "deflection_ratio",
+                CURVE_POINTS,
+                _attrs("deflection over flat-point deflection, lambda/lambda_C", "1"),
+            )
+        },
+    )
+    return ds
+
+
+def _statics(p, spring, assumption) -> dict:
+    """The spring's characteristic points, capacity, reserve, worn states and curve of flat
+    parameter arrays ``p``, and the status; NaN where a model refuses the scenario."""
     pts = diaphragm.characteristic_points(
         **spring, operating_point_factor=p["operating_point_factor"]
     )
@@ -258,7 +337,23 @@ def compute(inputs, options=None) -> xr.Dataset:
     worn = {k: np.where(refused, np.nan, v) for k, v in worn.items()}
     lam_curve = np.where(refused[:, None], np.nan, lam_curve)
     load_curve = np.where(refused[:, None], np.nan, load_curve)
+    return dict(
+        pts=pts,
+        capacity=capacity,
+        reserve=reserve,
+        worn=worn,
+        code=code,
+        lam_curve=lam_curve,
+        load_curve=load_curve,
+    )
 
+
+def _variables(res, spring, assumption) -> dict:
+    """The result's variables on ``run`` from :func:`_statics`'s ``res``."""
+    pts, worn = res["pts"], res["worn"]
+    capacity, reserve, code = res["capacity"], res["reserve"], res["code"]
+    lam_curve, load_curve = res["lam_curve"], res["load_curve"]
+    r = spring["inner_radius"]
     run = "run"
     data = {
         "clamp_load": (run, pts["load_B"], _attrs("clamp load at operating point B (eq. 10)", "N")),
@@ -313,17 +408,7 @@ def compute(inputs, options=None) -> xr.Dataset:
             ),
         ),
     }
-    ds = xr.Dataset(
-        data,
-        coords={
-            "deflection_ratio": (
-                "deflection_ratio",
-                CURVE_POINTS,
-                _attrs("deflection over flat-point deflection, lambda/lambda_C", "1"),
-            )
-        },
-    )
-    return ds
+    return data
 
 
 # the status rule (clutchlab.studies): a spring without a hump (H/h <= sqrt(2)) has no A and no D
@@ -365,9 +450,16 @@ LINING_RO, LINING_RI = 112.5 * MM, 75 * MM  # lining radii, Table 2: D = 225 mm,
 
 
 def seed_spring() -> dict:
-    """The Almen–László parameter set of PHYSICS.md that gives F_B = 2500 N at λ_B = 0.9·λ_C.
+    """An Almen–László parameter set that gives F_B = 2500 N at λ_B = 0.9·λ_C.
 
-    Paper 000 prints no spring dimensions; this is one set (of many) consistent with its 2500 N.
+    The source paper (000) prints no spring dimensions; this is one set (of many) consistent with
+    its 2500 N: E = 206 GPa, ν = 0.3, h = 2.334 mm, H = 3.50 mm, R/r/R₁/r₁ = 110/85/108/86 mm.
+
+    Returns
+    -------
+    dict
+        The keyword arguments of :func:`clutchlab.diaphragm.almen_laszlo_load` but the
+        deflection [SI].
     """
     return dict(
         youngs_modulus=206e9,
@@ -382,8 +474,17 @@ def seed_spring() -> dict:
 
 
 def validation() -> xr.Dataset:
-    """Paper 000's statics and engagement numbers (:data:`clutchlab.published.DIAPHRAGM_CLUTCH`)
-    reproduced by clutchlab, as validation rows."""
+    """The source paper (000)'s statics and engagement numbers reproduced, as validation rows.
+
+    :data:`clutchlab.published.DIAPHRAGM_CLUTCH`.
+
+    Returns
+    -------
+    xarray.Dataset
+        Validation rows on dimension ``row`` (:func:`clutchlab.validation.to_dataset`): each
+        published number, clutchlab's value, the relative error and its tolerance, and where the
+        number is printed.
+    """
     return to_dataset(
         _statics_rows() + _engagement_rows(),
         "paper 000: diaphragm spring, damper, spline, capacity, engagement",

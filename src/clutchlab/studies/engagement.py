@@ -1,4 +1,4 @@
-"""Study "engagement": spring design -> clamp force -> capacity -> engagement (paper 000).
+"""Study "engagement": spring design -> clamp force -> capacity -> engagement (source paper 000).
 
 The diaphragm spring's clamp load at its operating point (eq. 10) and the friction capacity
 (eqs. 13-14 corrected) set the peak clutch torque; the clamp force rises to it along a profile
@@ -375,10 +375,31 @@ SOLVER_STATS = {
 
 
 def bearing_force(p, pts, points=41):
-    """Release-bearing force over the plate lift x ∈ [0, g + c] (flat arrays ``p``, characteristic
-    points ``pts``) [N], shape (scenarios, points): (F_s(λ_B + x) − F_c(x)) / i, with F_s the
-    Almen–László load (eq. 10; the plate lifts against the spring, deflecting it further), F_c the
-    cushion force F_B·max(0, 1 − x/c) and i the finger lever ratio; 0 when engaged."""
+    """Release-bearing force over the plate lift x ∈ [0, g + c].
+
+    (F_s(λ_B + x) − F_c(x)) / i, with F_s the Almen–László load (eq. (10) of the source paper
+    (000); the plate lifts against the spring, deflecting it further), F_c the cushion force
+    F_B·max(0, 1 − x/c) and i the finger lever ratio; 0 when engaged.
+
+    Parameters
+    ----------
+    p : dict of numpy.ndarray
+        The study's parameters as flat arrays of one length [SI]
+        (:func:`clutchlab.studies.flat_inputs`).
+    pts : dict of numpy.ndarray
+        The spring's characteristic points (:func:`clutchlab.diaphragm.characteristic_points`).
+    points : int
+        Number of points of the lift.
+
+    Returns
+    -------
+    numpy.ndarray [N]
+        Shape (scenarios, points).
+
+    References
+    ----------
+    Source paper (000), eq. (10).
+    """
     lift = (p["air_gap"] + p["cushion_travel"])[:, None] * np.linspace(0.0, 1.0, points)[None, :]
     geom = {k: np.asarray(v)[:, None] for k, v in spring_geometry(p).items()}
     f_spring = diaphragm.almen_laszlo_load(pts["deflection_B"][:, None] + lift, **geom)
@@ -387,8 +408,35 @@ def bearing_force(p, pts, points=41):
 
 
 def capacity(p, options, with_points=False):
-    """Clamp load at the spring's operating point (eq. 10), peak kinetic capacity (eqs. 13-14) and
-    the spring status (and the characteristic points), for flat parameter arrays ``p``."""
+    """Clamp load at the spring's operating point, peak kinetic capacity and the spring status.
+
+    Parameters
+    ----------
+    p : dict of numpy.ndarray
+        The study's parameters as flat arrays of one length [SI]
+        (:func:`clutchlab.studies.flat_inputs`).
+    options : dict
+        The study's options, complete (:data:`OPTIONS`: ``capacity_formula`` used here).
+    with_points : bool
+        Whether to return the characteristic points too.
+
+    Returns
+    -------
+    force : numpy.ndarray [N]
+        Clamp load F_B at the operating point (eq. (10)).
+    capacity : numpy.ndarray [N m]
+        Peak kinetic capacity (:func:`capacity_of`); 0 where the spring or the lining has no
+        geometry.
+    spring_bad : numpy.ndarray of bool
+        True where the spring's load points are off it or the lining radii are swapped.
+    points : dict of numpy.ndarray
+        The characteristic points (:func:`clutchlab.diaphragm.characteristic_points`); only with
+        ``with_points``.
+
+    References
+    ----------
+    Source paper (000), eqs. (10) and (13)–(14).
+    """
     pts = diaphragm.characteristic_points(
         **spring_geometry(p), operating_point_factor=p["operating_point_factor"]
     )
@@ -403,8 +451,30 @@ def capacity(p, options, with_points=False):
 
 
 def capacity_of(force, p, options):
-    """Peak kinetic capacity [N m] at the clamp load ``force`` [N] (eqs. 13-14 corrected, or eq. 14
-    as printed per the option ``capacity_formula``), for flat parameter arrays ``p``."""
+    """Peak kinetic capacity at the clamp load ``force``.
+
+    Eqs. (13)–(14) of the source paper (000) corrected (:func:`clutchlab.friction.torque_capacity`),
+    or eq. (14) as printed per the option ``capacity_formula``.
+
+    Parameters
+    ----------
+    force : numpy.ndarray [N]
+        Clamp load.
+    p : dict of numpy.ndarray
+        The study's parameters as flat arrays of one length [SI]
+        (:func:`clutchlab.studies.flat_inputs`).
+    options : dict
+        The study's options, complete (:data:`OPTIONS`: ``capacity_formula`` used here).
+
+    Returns
+    -------
+    numpy.ndarray [N m]
+        The capacity; NaN where the friction model refuses an input.
+
+    References
+    ----------
+    Source paper (000), eqs. (13)–(14) (erratum: :func:`clutchlab.friction.torque_capacity`).
+    """
     if options["capacity_formula"] == "eq14_as_printed":
         cap = friction.torque_capacity_eq14_as_printed(
             force,
@@ -479,8 +549,22 @@ def _life(p, pts, options, closed, res) -> dict:
 
 
 def tolerances(accuracy):
-    """(rtol, atol) of the integrated phases that give ``accuracy`` (relative) in lock-up time, slip
-    work and peak jerk (calibration in the module docstring; checked in tests/test_compliant.py)."""
+    """Tolerances of the integrated phases giving ``accuracy`` in lock-up time, slip work and jerk.
+
+    Calibration in the module docstring; checked in the tests (``tests/test_compliant.py``).
+
+    Parameters
+    ----------
+    accuracy : float
+        Relative accuracy of lock-up time, slip work and peak jerk.
+
+    Returns
+    -------
+    rtol : float
+        accuracy/10.
+    atol : float
+        accuracy/10³.
+    """
     return accuracy / 10.0, accuracy / 1e3
 
 
@@ -579,9 +663,23 @@ RELATIONS = SPRING_RELATIONS + (
 
 
 def check_config(section):
-    """A friction table replaces the Stribeck law and is read relative to a fixed
-    friction_coefficient: refuse it with a Stribeck speed or a friction coefficient factor (the
-    relations between parameters: :data:`RELATIONS`)."""
+    """Refuse a combination of values the study cannot read physically.
+
+    An odd face count (the heat model stacks n/2 driven plates lined on both sides); a friction
+    table with a friction coefficient factor or a finite Stribeck speed (a friction table replaces
+    the Stribeck law and is read relative to a fixed friction coefficient). The relations between
+    parameters are :data:`RELATIONS`.
+
+    Parameters
+    ----------
+    section : dict
+        The resolved study section (:func:`clutchlab.config.resolve`).
+
+    Returns
+    -------
+    (str, str) or None
+        (config key, problem) of the first combination that cannot be read, or None.
+    """
 
     def bounds(name):
         return value_range(section, name)
@@ -678,6 +776,32 @@ def _model_used(inputs, options) -> str:
 
 
 def compute(inputs, options=None) -> xr.Dataset:
+    """Results of a chunk of scenarios of the study "engagement".
+
+    Per scenario: clamp load, capacity, lock-up, slip work, jerk, heat and wear (module docstring).
+
+    Parameters
+    ----------
+    inputs : dict
+        Parameter name -> flat array (one entry per scenario of the chunk) or scalar, in SI units
+        (:data:`PARAMETERS`).
+    options : dict or None
+        The study's options (:data:`OPTIONS`, ``accuracy``, ``friction_table``); a missing one takes
+        its first choice (``accuracy``: :data:`ACCURACY`).
+
+    Returns
+    -------
+    xarray.Dataset
+        One entry per scenario on dimension ``run`` (curves with a further dimension): the outputs
+        of the module docstring, each with ``units`` and ``long_name``, and ``status``
+        (:mod:`clutchlab.status`). The registered ``compute`` (:func:`clutchlab.studies.get`) also
+        applies the status rule (:func:`clutchlab.studies.apply_valid_statuses`).
+
+    References
+    ----------
+    Source paper (000), eqs. (1)–(2) (engagement), (10) (spring), (11) (slip work), (12) (jerk),
+    (13)–(14) corrected (capacity).
+    """
     options = {k: v[0] for k, v in OPTIONS.items()} | {"accuracy": ACCURACY} | (options or {})
     p = flat_inputs(inputs)
     force, cap, spring_bad, pts = capacity(p, options, with_points=True)
@@ -813,9 +937,28 @@ SEQUENCE_ENGAGEMENTS = 30  # engagements in a row drawn for the design shown
 
 
 def seed_traces(inputs, options) -> xr.Dataset:
-    """Time traces of one design (the scalar ``inputs`` over the parameter defaults: the design a
-    run's pages show, :mod:`clutchlab.traces`), the equivalents of paper 000 Figs. 7-11: clamp
-    force, speeds, slip work, friction torque, jerk."""
+    """Time traces of one design: the design a run's pages show (:mod:`clutchlab.traces`).
+
+    The equivalents of Figs. 7–11 of the source paper (000): clamp force, speeds, slip work,
+    friction torque, jerk.
+
+    Parameters
+    ----------
+    inputs : dict
+        Parameter name -> value [SI]; the scalars override the defaults
+        (:func:`clutchlab.studies.seed_design`).
+    options : dict
+        The study's options, complete (:data:`OPTIONS`, ``accuracy``).
+
+    Returns
+    -------
+    xarray.Dataset
+        The traces on dimension ``trace_time``; empty where the design has no capacity.
+
+    References
+    ----------
+    Source paper (000), Figs. 7–11.
+    """
     p = {k: np.atleast_1d(v) for k, v in seed_design(PARAMETERS, inputs).items()}
     force, cap, bad = capacity(p, options)
     if bad[0] or not cap[0] > 0:

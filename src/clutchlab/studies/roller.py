@@ -1,4 +1,4 @@
-"""Study "roller": roller-type controllable overrunning clutch (paper 003).
+"""Study "roller": roller-type controllable overrunning clutch (source paper 003).
 
 Per scenario: the statics of eqs. (1)-(4) (computed torque, normal force, Hertz stress, spring
 preload, self-locking margin) in closed form, then — only where the wedge can self-lock and the
@@ -9,7 +9,7 @@ control ring stops. A scenario whose peak dynamic contact stress exceeds 1.5 × 
 (``DYNAMIC_STRESS_FACTOR``) gets status ``dynamic_overstress``: the number is kept, but it is far
 out (with the paper's contact damping the wedging impact gives 4-10 × the allowable over the
 default grid) and such a design is not feasible. The engagement trace of the run's best design
-(paper 003 Fig. 7) is computed after the merge (:mod:`clutchlab.traces`).
+(source paper 003, Fig. 7) is computed after the merge (:mod:`clutchlab.traces`).
 
 Options: ``mode`` (bidirectional_lock, bidirectional_overrun, overrun_forward, overrun_reverse)
 with the ``drive_direction`` parameter; ``stress_reading``: ``one_flank`` (z/2 rollers loaded in
@@ -209,7 +209,18 @@ RELATIONS = (
 
 
 def check_config(section):
-    """The one-flank reading loads z/2 rollers per direction: refuse an odd count for it."""
+    """Refuse an odd roller count where the one-flank reading loads z/2 rollers per direction.
+
+    Parameters
+    ----------
+    section : dict
+        The resolved study section (:func:`clutchlab.config.resolve`).
+
+    Returns
+    -------
+    (str, str) or None
+        (config key, problem) of the first combination that cannot be read, or None.
+    """
     readings = section.get("option_factors", {}).get(
         "stress_reading", [section["options"]["stress_reading"]]
     )
@@ -231,7 +242,28 @@ def check_config(section):
 
 
 def statics(p, reading):
-    """Closed-form statics (paper 003 eqs. 1-4) for flat parameter arrays ``p``."""
+    """Closed-form statics of the roller clutch, equations (1)–(4) of the source paper (003).
+
+    Parameters
+    ----------
+    p : dict of numpy.ndarray
+        The study's parameters as flat arrays of one length [SI]
+        (:func:`clutchlab.studies.flat_inputs`).
+    reading : {"one_flank", "all"}
+        Which rollers carry the torque (:func:`clutchlab.roller.loaded_rollers`).
+
+    Returns
+    -------
+    dict of numpy.ndarray
+        ``computed_torque`` [N m], ``normal_force`` [N], ``contact_stress`` [Pa],
+        ``contact_stress_margin`` [-], ``self_locking_margin`` [-], ``limit_wedge_angle`` [rad],
+        ``roller_mass`` [kg], ``spring_preload`` [N], ``spring_margin`` [-], ``loaded`` (the
+        loaded rollers) [-] and ``rho`` (the equivalent radius) [m].
+
+    References
+    ----------
+    Source paper (003), eqs. (1)–(4) and section 1.1.
+    """
     tc = p["service_factor"] * p["max_torque"]
     zl = rl.loaded_rollers(p["rollers"], reading)
     na = rl.normal_force(
@@ -270,7 +302,22 @@ def statics(p, reading):
 
 
 def dynamics_inputs(p, s):
-    """Keyword arrays of :func:`clutchlab.roller.simulate` for the scenarios ``p`` with statics ``s``."""
+    """Keyword arrays of :func:`clutchlab.roller.simulate` for scenarios ``p`` with statics ``s``.
+
+    Parameters
+    ----------
+    p : dict of numpy.ndarray
+        The study's parameters as flat arrays of one length [SI]
+        (:func:`clutchlab.studies.flat_inputs`).
+    s : dict of numpy.ndarray
+        Their statics (:func:`statics`).
+
+    Returns
+    -------
+    dict of numpy.ndarray
+        The scenario arguments of :func:`clutchlab.roller.simulate` [SI]: the load torque is the
+        computed torque, the contact stiffness Hertz's (:func:`clutchlab.contact.hertz_stiffness`).
+    """
     return dict(
         driving_speed=p["rated_speed"],
         load_torque=s["computed_torque"],
@@ -339,6 +386,31 @@ def _refused(p, s):
 
 
 def compute(inputs, options=None) -> xr.Dataset:
+    """Results of a chunk of scenarios of the study "roller".
+
+    Per scenario: statics and, where the clutch can lock, the wedging dynamics.
+
+    Parameters
+    ----------
+    inputs : dict
+        Parameter name -> flat array (one entry per scenario of the chunk) or scalar, in SI units
+        (:data:`PARAMETERS`).
+    options : dict or None
+        The study's options (:data:`OPTIONS`); a missing one takes its first
+        choice.
+
+    Returns
+    -------
+    xarray.Dataset
+        One entry per scenario on dimension ``run`` (curves with a further dimension): the outputs
+        of the module docstring, each with ``units`` and ``long_name``, and ``status``
+        (:mod:`clutchlab.status`). The registered ``compute`` (:func:`clutchlab.studies.get`) also
+        applies the status rule (:func:`clutchlab.studies.apply_valid_statuses`).
+
+    References
+    ----------
+    Source paper (003), eqs. (1)–(4) and section 3.
+    """
     options = {k: v[0] for k, v in OPTIONS.items()} | (options or {})
     p = flat_inputs(inputs)
     s = statics(p, options["stress_reading"])
@@ -420,8 +492,28 @@ def compute(inputs, options=None) -> xr.Dataset:
 
 
 def seed_trace(inputs, options) -> xr.Dataset:
-    """Engagement (and release) trace of one design (the scalar ``inputs`` over the defaults: the
-    design a run's pages show), like paper 003 Figs. 7 and 9."""
+    """Engagement (and release) trace of one design: the design a run's pages show.
+
+    Like Figs. 7 and 9 of the source paper (003).
+
+    Parameters
+    ----------
+    inputs : dict
+        Parameter name -> value [SI]; the scalars override the defaults
+        (:func:`clutchlab.studies.seed_design`).
+    options : dict
+        The study's options, complete (:data:`OPTIONS`).
+
+    Returns
+    -------
+    xarray.Dataset
+        Ring speeds and the contact force on dimension ``trace_time``, the stick, engagement and
+        release times; empty where the wedge cannot self-lock.
+
+    References
+    ----------
+    Source paper (003), Figs. 7 and 9.
+    """
     p = {k: np.atleast_1d(v) for k, v in seed_design(PARAMETERS, inputs).items()}
     s = statics(p, options["stress_reading"])
     if s["self_locking_margin"][0] <= 0.0:
@@ -463,8 +555,17 @@ def seed_trace(inputs, options) -> xr.Dataset:
 
 
 def validation():
-    """Paper 003's numbers (:data:`clutchlab.published.ROLLER_CLUTCH`: section 2.2, Table 1 and
-    sections 3.2-3.3) reproduced by clutchlab, as validation rows."""
+    """The source paper (003)'s numbers reproduced by clutchlab, as validation rows.
+
+    :data:`clutchlab.published.ROLLER_CLUTCH`: section 2.2, Table 1 and sections 3.2–3.3.
+
+    Returns
+    -------
+    xarray.Dataset
+        Validation rows on dimension ``row`` (:func:`clutchlab.validation.to_dataset`): each
+        published number, clutchlab's value, the relative error and its tolerance, and where the
+        number is printed.
+    """
     from ..validation import to_dataset
 
     d = {q.name: np.atleast_1d(q.default) for q in PARAMETERS}

@@ -1,10 +1,10 @@
-"""Study "sprag": sprag clutch statics under a given or an impact-produced torque (paper 002).
+"""Study "sprag": sprag clutch statics under a given or an impact torque (source paper 002).
 
 Per scenario (no ODE): gripping angles V, W from the deflection fixed point (eq. 6 reconstructed),
-Hertz contact stresses (eq. 7), shaft von Mises stresses (eq. 8), margins against the allowables
-and a status. The torque is either a factor of the design (option ``torque_source: given``) or the
-peak T(t₀) of the impact model (eqs. 1-5) over the impact parameters (``impact_peak``). The
-impact-torque trace and the peak-torque trends of paper 002 Fig. 4 around the nominal impact
+Hertz contact stresses (eq. 7), shaft von Mises stresses (eq. 8), margins against the allowables and
+a status. The torque is either a factor of the design (option ``torque_source: given``) or the peak
+T(t₀) of the impact model (eqs. 1-5) over the impact parameters (``impact_peak``). The impact-torque
+trace and the peak-torque trends of the source paper (002), Fig. 4, around the nominal impact
 parameters are stored on their own dimensions for the report.
 
 Option ``compliance``: ``physical`` uses the ``compliance_factor`` parameter (1 = physical
@@ -169,7 +169,15 @@ VALID_STATUSES = {
 
 @functools.lru_cache(maxsize=1)
 def seed_compliance() -> float:
-    """Compliance factor fitted to paper 002 Table 2 (V = 5.097 deg at 750 N m, seed geometry)."""
+    """Compliance factor fitted to the source paper (002)'s Table 2.
+
+    V = 5.097° at 750 N·m with the paper's geometry (:func:`clutchlab.sprag.fit_compliance_factor`).
+
+    Returns
+    -------
+    float [-]
+        The factor.
+    """
     peak = SPRAG_TABLE2[750.0]
     return float(
         sp.fit_compliance_factor(
@@ -182,6 +190,32 @@ GRIP_TOL = 1e-12  # rad: clutchlab.sprag.gripping_angle's bracket width at conve
 
 
 def compute(inputs, options=None) -> xr.Dataset:
+    """Results of a chunk of scenarios of the study "sprag".
+
+    Per scenario: gripping angles, contact and shaft stresses and margins under a given or impact
+    torque.
+
+    Parameters
+    ----------
+    inputs : dict
+        Parameter name -> flat array (one entry per scenario of the chunk) or scalar, in SI units
+        (:data:`PARAMETERS`).
+    options : dict or None
+        The study's options (:data:`OPTIONS`); a missing one takes its first
+        choice.
+
+    Returns
+    -------
+    xarray.Dataset
+        One entry per scenario on dimension ``run`` (curves with a further dimension): the outputs
+        of the module docstring, each with ``units`` and ``long_name``, and ``status``
+        (:mod:`clutchlab.status`). The registered ``compute`` (:func:`clutchlab.studies.get`) also
+        applies the status rule (:func:`clutchlab.studies.apply_valid_statuses`).
+
+    References
+    ----------
+    Source paper (002), eqs. (1)–(8) and Tables 1–2.
+    """
     options = {k: v[0] for k, v in OPTIONS.items()} | (options or {})
     p = flat_inputs(inputs)
     c = (
@@ -266,9 +300,29 @@ def _k(name):
 
 
 def impact_curves(inputs, options=None) -> xr.Dataset:
-    """Paper 002 Fig. 4: T(t) after the peak, and the peak T₀ against P₀, J, C, ω₀ one at a time
-    around the nominal impact parameters (defaults overridden by the scalar ``inputs``: those of
-    the design a run's pages show)."""
+    """Impact torque after its peak, and the peak against each impact parameter (source paper 002).
+
+    T(t) after the rise time, and the peak T₀ against P₀, J, C, ω₀ one at a time around the
+    nominal impact parameters.
+
+    Parameters
+    ----------
+    inputs : dict
+        Parameter name -> value [SI]; the scalars override the defaults
+        (:func:`clutchlab.studies.seed_design`).
+    options : dict or None
+        Unused (the curves do not depend on the study's options).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``impact_torque`` on ``impact_time``, ``impact_steady_torque``, and
+        ``peak_torque_vs_<parameter>`` on a sweep dimension of each parameter [N m].
+
+    References
+    ----------
+    Source paper (002), eqs. (1)–(5) and Fig. 4.
+    """
     nom = seed_design(PARAMETERS, inputs)
     imp = {_k(k): nom[k] for k in _IMPACT}
     t0 = nom["rise_time"]
@@ -328,9 +382,18 @@ TABLE2_LABELS = {
 
 
 def validation():
-    """Paper 002's Table 2 (theory column, :data:`clutchlab.published.SPRAG_TABLE2`) three ways:
-    fed with the published V, physical deflection (compliance 1), and the compliance factor
-    fitted at 750 N m."""
+    """The source paper (002)'s Table 2 (theory column) reproduced three ways, as validation rows.
+
+    :data:`clutchlab.published.SPRAG_TABLE2`, fed with the published V, with physical deflection
+    (compliance 1), and with the compliance factor fitted at 750 N·m.
+
+    Returns
+    -------
+    xarray.Dataset
+        Validation rows on dimension ``row`` (:func:`clutchlab.validation.to_dataset`): each
+        published number, clutchlab's value, the relative error and its tolerance, and where the
+        number is printed.
+    """
     from ..validation import to_dataset
 
     rows = _fed_published_angle_rows()
