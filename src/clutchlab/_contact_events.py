@@ -26,7 +26,7 @@ import numpy as np
 from numba import njit
 
 from . import _dop853, _sdirk4
-from ._contact_systems import JIT, event
+from ._contact_systems import JIT, N_EVENTS, event
 
 EXPLICIT, IMPLICIT = 0, 1
 EVENT_TIME_TOL = 1e-14  # s
@@ -34,15 +34,23 @@ ROOT_MAXIT = 100
 RESTEP_MAXIT = 60
 
 #: the piece's derivatives at its start f0 and end f1 (implicit steps), its end state y_end, the
-#: interpolant's value y_at, and scratch f and jac for the event functions
-EventWork = namedtuple("EventWork", ["f0", "f1", "y_end", "y_at", "f", "jac"])
+#: interpolant's value y_at, every event's value at the piece's start g0 and end g1 (indexed by the
+#: event), and scratch f and jac for the event functions
+EventWork = namedtuple("EventWork", ["f0", "f1", "y_end", "y_at", "g0", "g1", "f", "jac"])
 
 
 @njit(cache=True, error_model="numpy")
 def work(n):
     """A fresh :data:`EventWork` for systems of size n."""
     return EventWork(
-        np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros((n, n))
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(N_EVENTS),
+        np.zeros(N_EVENTS),
+        np.zeros(n),
+        np.zeros((n, n)),
     )
 
 

@@ -56,10 +56,9 @@ from ._contact_systems import (
     Y_SLIP,
     Y_TRAVEL,
     Y_WEDGE,
-    contact_rates,
-    event,
     initial_mode,
     next_break,
+    point_values,
     rhs,
     roller_contact,
     switch_mode,
@@ -109,16 +108,21 @@ ST_RUNNING = -1
 N_TRACE_COLUMNS = 5
 
 #: the roller driver's scalars: time t, next step size h, the current step's size h_step, its
-#: piece still looked at h_piece (cut by a switching event) and error norm err; the mode, the
+#: piece still looked at h_piece (cut by a switching event), the piece's end t_end and the step's
+#: error norm err; the mode, the
 #: method of the current step, the status; flags (0/1): engaged (synced), ``dp.k[0]`` holds f at
 #: (t, y) (fsal), the step's continuous extension is computed (dense), the last attempt was
-#: rejected (after_reject); counters: accepted, rejected and failed steps, implicit steps, f evals
+#: rejected (after_reject), the implicit method in use (stiff); counters: accepted, rejected and
+#: failed steps, implicit steps, f evals, explicit attempts in a row cut to the stability limit
+#: (capped); at (t, y) and at the piece's end: the contact force, the contact's decay and growth
+#: rates (:func:`clutchlab._contact_systems.contact_rates`)
 DRIVER = np.dtype(
     [
         ("t", "f8"),
         ("h", "f8"),
         ("h_step", "f8"),
         ("h_piece", "f8"),
+        ("t_end", "f8"),
         ("err", "f8"),
         ("mode", "i8"),
         ("method", "i8"),
@@ -134,7 +138,12 @@ DRIVER = np.dtype(
         ("nfev", "i8"),
         ("stiff", "i8"),
         ("capped", "i8"),
+        ("force", "f8"),
+        ("decay", "f8"),
         ("growth", "f8"),
+        ("force_end", "f8"),
+        ("decay_end", "f8"),
+        ("growth_end", "f8"),
     ]
 )
 #: a driver's arrays: the state y, a step's end y_new, an event's state y_ev, the absolute
@@ -203,13 +212,27 @@ def impact(p, v, rtol, atol, h0, max_steps):
 
 
 # ----------------------------------------------------------------------------------- roller
-@njit(cache=True, error_model="numpy")
-def _roller_work(p, rtol):
-    """The roller driver's arrays for one scenario (the tolerances scaled by its driving speed)."""
-    atol = np.empty(4)
-    atol[Y_SLIP], atol[Y_WEDGE] = rtol * 1e-4, rtol * p[WD]
-    atol[Y_TRAVEL], atol[Y_DRIVEN] = rtol * 1e-4, rtol * p[WD]
-    return _work(atol)
+@njit(**JIT)
+def _start(p, rtol, s, w, res):
+    """A scenario's start: its tolerances (scaled by its driving speed), the state at rest, the
+    initial mode and step, the results' defaults, and everything at the first point."""
+    w.atol[Y_SLIP], w.atol[Y_WEDGE] = rtol * 1e-4, rtol * p[WD]
+    w.atol[Y_TRAVEL], w.atol[Y_DRIVEN] = rtol * 1e-4, rtol * p[WD]
+    for i in range(w.y.size):
+        w.y[i] = 0.0
+    w.sd.eta[0] = 0.0  # the Newton convergence factor of the implicit steps
+    s.mode, s.h, s.status = initial_mode(p), min(1e-8, p[HMAX]), ST_RUNNING
+    for k in range(N_STEPS):
+        res[k] = np.nan
+    res[PEAK_FORCE] = 0.0
+    _refresh(p, s, w)
+
+
+@njit(**JIT)
+def _refresh(p, s, w):
+    """Everything at the current point (t, y) in the current mode: every event's value (ev.g0),
+    the contact force, the contact's decay and growth rates."""
+    s.force, s.decay, s.growth = point_values(s.t, w.y, p, s.mode, w.ev.g0, w.ev.f)
 
 
 @njit(**JIT)
@@ -221,13 +244,12 @@ def _controller(method, h, err, after_reject):
 
 
 @njit(**JIT)
-def _method_and_step(p, s, w):
+def _method_and_step(p, s):
     """The method and size of the next attempt: DOP853 at the error control's step, cut to the
     stability limit h·decay = STIFF_LIMIT where it would not be stable; SDIRK4 once STIFF_AFTER
     attempts in a row were cut so, until its own step would be stable explicitly again."""
     h = min(s.h, next_break(s.t, p) - s.t, p[HMAX])
-    decay, s.growth = contact_rates(s.t, w.y, p, s.mode)
-    stable = h * decay <= STIFF_LIMIT
+    stable = h * s.decay <= STIFF_LIMIT
     if s.stiff:
         s.stiff = 0 if stable else 1
         if s.stiff:
@@ -239,14 +261,14 @@ def _method_and_step(p, s, w):
     if s.capped > STIFF_AFTER:
         s.stiff, s.capped = 1, 0
         return IMPLICIT, h
-    return EXPLICIT, STIFF_LIMIT / decay
+    return EXPLICIT, STIFF_LIMIT / s.decay
 
 
 @njit(**JIT)
 def _attempt(p, rtol, s, w):
     """One step attempt from (s.t, w.y) into w.y_new (:func:`_method_and_step`); True if
-    accepted (the piece looked at for events is then the whole step)."""
-    s.method, hs = _method_and_step(p, s, w)
+    accepted (the piece looked at for events is then the whole step, its end values in ev.g1)."""
+    s.method, hs = _method_and_step(p, s)
     s.h_step = hs
     if s.method == EXPLICIT:
         # the first stage is f at (t, y): the last step's final one unless the equations changed
@@ -271,25 +293,37 @@ def _attempt(p, rtol, s, w):
         return False
     # accepted: the piece looked at for events is the whole step
     s.steps += 1
-    s.implicit += s.method
+    s.implicit += s.method  # (EXPLICIT = 0, IMPLICIT = 1)
     s.err, s.h_piece, s.dense = err, hs, 0
-    _copy(w.y_new, w.ev.y_end)
+    _piece_end(p, s, w, w.y_new)
     if s.method == IMPLICIT:
         _copy(w.sd.f0, w.ev.f0)
-        _copy(w.sd.f1, w.ev.f1)
     return True
 
 
 @njit(**JIT)
-def _crossing(p, e, s, w):
-    """Event e's values at the piece's start and end, and whether it falls through zero there."""
-    ga = event(ROLLER, s.t, w.y, p, s.mode, e, w.ev.f, w.ev.jac)
-    gb = event(ROLLER, s.t + s.h_piece, w.ev.y_end, p, s.mode, e, w.ev.f, w.ev.jac)
-    return ga, gb, ga > 0.0 and gb <= 0.0
+def _piece_end(p, s, w, y_end):
+    """The piece ends at y_end: its state, derivative (implicit steps: the last SDIRK4 step's)
+    and every event's value there (ev.g1)."""
+    _copy(y_end, w.ev.y_end)
+    if s.method == IMPLICIT:
+        _copy(w.sd.f1, w.ev.f1)
+    # a step cut by the clock's break ends exactly at its time
+    nb = next_break(s.t, p)
+    s.t_end = nb if s.h_piece == s.h_step and s.h_step == nb - s.t else s.t + s.h_piece
+    s.force_end, s.decay_end, s.growth_end = point_values(
+        s.t_end, w.ev.y_end, p, s.mode, w.ev.g1, w.ev.f
+    )
 
 
 @njit(**JIT)
-def _locate(p, rtol, e, ga, gb, s, w):
+def _falls(w, e):
+    """Whether event e falls through zero in the piece."""
+    return w.ev.g0[e] > 0.0 and w.ev.g1[e] <= 0.0
+
+
+@njit(**JIT)
+def _locate(p, rtol, e, s, w):
     """Time after s.t of event e in the piece (its state in w.y_ev): on the continuous extension
     of an explicit step (computed once, when the step's first event needs it), by true steps in
     an implicit one."""
@@ -297,8 +331,8 @@ def _locate(p, rtol, e, ga, gb, s, w):
         s.nfev += _dop853.prepare_dense(ROLLER, s.t, w.y, w.y_new, s.h_step, p, s.mode, w.dp)
         s.dense = 1
     x, nf = _ev.locate(
-        ROLLER, e, s.method, s.t, w.y, s.h_step, s.h_piece, ga, gb, p, s.mode, rtol, w.atol,
-        w.y_ev, w, EVENT_TIME_TOL,
+        ROLLER, e, s.method, s.t, w.y, s.h_step, s.h_piece, w.ev.g0[e], w.ev.g1[e], p, s.mode,
+        rtol, w.atol, w.y_ev, w, EVENT_TIME_TOL,
     )  # fmt: skip
     s.nfev += nf
     return x
@@ -307,18 +341,12 @@ def _locate(p, rtol, e, ga, gb, s, w):
 @njit(**JIT)
 def _earliest_switch(p, rtol, s, w):
     """The earliest switching event in the accepted step (−1 if none). Each one found cuts the
-    piece at its time (its end state and derivative updated), so the last one found is the
-    earliest."""
+    piece at its time (its end values updated), so the last one found is the earliest."""
     switch = -1
     for e in SWITCHING:
-        if not switching_active(e, s.mode, s.t, p):
-            continue
-        ga, gb, falls = _crossing(p, e, s, w)
-        if falls:
-            s.h_piece = _locate(p, rtol, e, ga, gb, s, w)
-            _copy(w.y_ev, w.ev.y_end)
-            if s.method == IMPLICIT:
-                _copy(w.sd.f1, w.ev.f1)
+        if switching_active(e, s.mode, s.t, p) and _falls(w, e):
+            s.h_piece = _locate(p, rtol, e, s, w)
+            _piece_end(p, s, w, w.y_ev)
             switch = e
     return switch
 
@@ -327,16 +355,13 @@ def _earliest_switch(p, rtol, s, w):
 def _record(p, rtol, s, w, res):
     """The recording events in the piece: the engagement (time and total backlash) and a force
     maximum (its value)."""
-    if s.synced == 0:
-        ga, gb, falls = _crossing(p, EV_SYNC, s, w)
-        if falls:
-            x = _locate(p, rtol, EV_SYNC, ga, gb, s, w)
-            s.synced = 1
-            res[SYNC_TIME] = s.t + x
-            res[TOTAL_BACKLASH] = (w.y_ev[Y_SLIP] + w.y_ev[Y_TRAVEL]) / p[RC]
-    ga, gb, falls = _crossing(p, EV_PEAK, s, w)
-    if falls:
-        x = _locate(p, rtol, EV_PEAK, ga, gb, s, w)
+    if s.synced == 0 and _falls(w, EV_SYNC):
+        x = _locate(p, rtol, EV_SYNC, s, w)
+        s.synced = 1
+        res[SYNC_TIME] = s.t + x
+        res[TOTAL_BACKLASH] = (w.y_ev[Y_SLIP] + w.y_ev[Y_TRAVEL]) / p[RC]
+    if _falls(w, EV_PEAK):
+        x = _locate(p, rtol, EV_PEAK, s, w)
         _, _, (fp, _, _, _) = roller_contact(s.t + x, w.y_ev, p, s.mode)
         res[PEAK_FORCE] = max(res[PEAK_FORCE], fp)
 
@@ -344,10 +369,9 @@ def _record(p, rtol, s, w, res):
 @njit(**JIT)
 def _advance(p, s, w, switch, res):
     """Move to the piece's end; switch the mode there (a switching event, or the claws reaching
-    the rollers) and record the switch's outputs. Returns the contact force there."""
+    the rollers) and record the switch's outputs; everything at the new point."""
     whole = s.h_piece == s.h_step
-    # the clock's break ends the step exactly at its time
-    s.t = next_break(s.t, p) if whole and s.h_step == next_break(s.t, p) - s.t else s.t + s.h_piece
+    s.t = s.t_end
     _copy(w.ev.y_end, w.y)
     mode = s.mode
     if switch >= 0:
@@ -355,28 +379,31 @@ def _advance(p, s, w, switch, res):
     if s.t >= p[TCLAW]:
         mode |= CLAWS
     # f at the step's end is the next step's first stage if the equations stay the same
-    if s.method == EXPLICIT and whole and mode == s.mode:
+    same = mode == s.mode and switch < 0
+    if s.method == EXPLICIT and whole and same:
         _copy(w.dp.k[_dop853.N_STAGES], w.dp.k[0])
-        s.fsal = 1
-    else:
-        s.fsal = 0
+    s.fsal = 1 if s.method == EXPLICIT and whole and same else 0
     s.mode = mode
     if switch == EV_STICK:
         res[STICK_TIME] = s.t
         res[SLIP_BACKLASH] = w.y[Y_SLIP] / p[RC]
     elif switch == EV_RELEASE:
         res[RELEASE_TIME] = s.t - p[TREL]
-    _, _, (F, _, _, _) = roller_contact(s.t, w.y, p, s.mode)
-    res[PEAK_FORCE] = max(res[PEAK_FORCE], F)
-    return F
+    # the piece's end values hold at the new point unless the mode or the state changed
+    if same:
+        _copy(w.ev.g1, w.ev.g0)
+        s.force, s.decay, s.growth = s.force_end, s.decay_end, s.growth_end
+    else:
+        _refresh(p, s, w)
+    res[PEAK_FORCE] = max(res[PEAK_FORCE], s.force)
 
 
 @njit(**JIT)
-def _trace_row(p, s, w, F, trace, row):
+def _trace_row(p, s, w, trace, row):
     """Trace row: t, ω_d, ω_w, ω_o, N."""
     trace[row, 0], trace[row, 1] = s.t, p[WD]
     trace[row, 2] = w.y[Y_WEDGE] if (s.mode & STICK) == 0 else p[WD]
-    trace[row, 3], trace[row, 4] = w.y[Y_DRIVEN], F
+    trace[row, 3], trace[row, 4] = w.y[Y_DRIVEN], s.force
 
 
 @njit(**JIT)
@@ -385,19 +412,25 @@ def _done(p, s, w, switch):
     and past the force peak (model only what is asked)."""
     if switch == EV_RELEASE:
         return True
-    if s.synced == 0 or p[TREL] < np.inf:
-        return False
-    return event(ROLLER, s.t, w.y, p, s.mode, EV_PEAK, w.ev.f, w.ev.jac) <= 0.0
+    return s.synced != 0 and not p[TREL] < np.inf and w.ev.g0[EV_PEAK] <= 0.0
+
+
+@njit(**JIT)
+def _next_h(s, switch, growth_before):
+    """The next step: by the error control (a growing mode that grew faster over the step
+    shrinks it in proportion), or after a switch from the piece's size."""
+    if switch >= 0:
+        return max(s.h_piece, 1e-3 * s.h_step)
+    h = _controller(s.method, s.h_step, s.err, s.after_reject)
+    return h * growth_before / s.growth if s.growth > growth_before else h
 
 
 @njit(cache=True, error_model="numpy")
-def _roller_one(p, rtol, max_steps, res, trace, n_trace):
-    """One roller-clutch engagement (and release); fills ``res``; returns the trace length."""
-    w = _roller_work(p, rtol)
+def _roller_one(p, rtol, max_steps, res, trace, n_trace, w):
+    """One roller-clutch engagement (and release) with the arrays ``w``; fills ``res``; returns
+    the trace length."""
     s = np.zeros(1, DRIVER)[0]
-    s.mode, s.h, s.status = initial_mode(p), min(1e-8, p[HMAX]), ST_RUNNING
-    res[:N_STEPS] = np.nan
-    res[PEAK_FORCE] = 0.0
+    _start(p, rtol, s, w, res)
     n_tr = 0
     while s.t < p[TEND] and s.status == ST_RUNNING:
         # the work budget: every attempt, accepted or not; a step cut to nothing
@@ -407,28 +440,20 @@ def _roller_one(p, rtol, max_steps, res, trace, n_trace):
         if not _attempt(p, rtol, s, w):
             continue
         # events in the accepted step: the earliest switch cuts it, the others are recorded
+        growth_before = s.growth
         switch = _earliest_switch(p, rtol, s, w)
         _record(p, rtol, s, w, res)
-        F = _advance(p, s, w, switch, res)
+        _advance(p, s, w, switch, res)
         if n_tr < n_trace:
-            _trace_row(p, s, w, F, trace, n_tr)
+            _trace_row(p, s, w, trace, n_tr)
             n_tr += 1
         if _done(p, s, w, switch):
             break
-        # the next step: by the error control, or restarting after a switch from the piece's size
-        if switch < 0:
-            s.h = _controller(s.method, s.h_step, s.err, s.after_reject)
-            # a growing mode that grew faster over the step: its step shrinks in proportion
-            _, growth = contact_rates(s.t, w.y, p, s.mode)
-            if growth > s.growth:
-                s.h *= s.growth / growth
-        else:
-            s.h = max(s.h_piece, 1e-3 * s.h_step)
+        s.h = _next_h(s, switch, growth_before)
         s.after_reject = 0
-    _, _, (F, _, _, _) = roller_contact(s.t, w.y, p, s.mode)
-    res[FINAL_FORCE] = F
     if s.status == ST_RUNNING:
         s.status = ST_OK if s.synced else ST_NEVER
+    res[FINAL_FORCE] = s.force
     res[N_STEPS], res[N_FEV], res[N_REJECTED] = s.steps, s.nfev, s.rejected
     res[N_NEWTON_FAIL], res[N_IMPLICIT], res[STATUS] = s.failed, s.implicit, s.status
     return n_tr
@@ -436,14 +461,16 @@ def _roller_one(p, rtol, max_steps, res, trace, n_trace):
 
 @njit(cache=True, error_model="numpy")
 def simulate_roller(P, rtol, max_steps, trace_row, n_trace):
-    """Every scenario (rows of P); the trace (t, ω_d, ω_w, ω_o, F) of row ``trace_row``."""
+    """Every scenario (rows of P), one after another with the same arrays; the trace (t, ω_d,
+    ω_w, ω_o, F) of row ``trace_row``."""
     out = np.full((P.shape[0], len(RESULTS)), np.nan)
     trace = np.zeros((n_trace, N_TRACE_COLUMNS))
     none = np.zeros((0, N_TRACE_COLUMNS))
+    w = _work(np.zeros(4))
     n_tr = 0
     for i in range(P.shape[0]):
         if i == trace_row:
-            n_tr = _roller_one(P[i], rtol, max_steps, out[i], trace, n_trace)
+            n_tr = _roller_one(P[i], rtol, max_steps, out[i], trace, n_trace, w)
         else:
-            _roller_one(P[i], rtol, max_steps, out[i], none, 0)
+            _roller_one(P[i], rtol, max_steps, out[i], none, 0, w)
     return out, trace[:n_tr]

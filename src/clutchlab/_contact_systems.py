@@ -111,22 +111,25 @@ def _gains(p, mode):
 
 
 @njit(**JIT)
-def _roller_rhs(t, y, p, mode, f, jac, want_jac):
-    """The roller's right-hand side f (and its Jacobian ``jac`` if ``want_jac``) at (t, y)."""
-    rc, th = p[RC], p[TH]
-    _, _, (F, dF, dFd, _) = roller_contact(t, y, p, mode)
+def _roller_f(y, p, mode, F, f):
+    """The roller's right-hand side f at state y with contact force F."""
     a_w, a_o = _gains(p, mode)
     slip = (mode & STICK) == 0
-    turning = (mode & HELD) == 0  # a held driven ring stays at rest: its load holds it
     ww = y[Y_WEDGE] if slip else p[WD]
-    f[Y_SLIP] = rc * (p[WD] - ww) if slip else 0.0
+    f[Y_SLIP] = p[RC] * (p[WD] - ww) if slip else 0.0
     f[Y_WEDGE] = a_w * F
-    f[Y_TRAVEL] = rc * (ww - y[Y_DRIVEN])
+    f[Y_TRAVEL] = p[RC] * (ww - y[Y_DRIVEN])
     # the passive load opposes the motion of a turning ring (which only turns forward: it stops
-    # and is held at rest before it could turn backwards, EV_STOP)
-    f[Y_DRIVEN] = a_o * F - p[TL] / p[JO] if turning else 0.0
-    if not want_jac:
-        return
+    # and is held at rest before it could turn backwards, EV_STOP); a held ring stays at rest
+    f[Y_DRIVEN] = a_o * F - p[TL] / p[JO] if (mode & HELD) == 0 else 0.0
+
+
+@njit(**JIT)
+def _roller_jac(p, mode, dF, dFd, jac):
+    """The roller's Jacobian from the contact force's derivatives ∂F/∂δ, ∂F/∂δ̇."""
+    rc, th = p[RC], p[TH]
+    a_w, a_o = _gains(p, mode)
+    slip = (mode & STICK) == 0
     # ∂F/∂ω_w, ∂F/∂u, ∂F/∂ω_o through δ̇ = tan(α/2)·R_C·(ω_w − ω_o)/2 and δ = δ₀ + tan(α/2)·u/2
     g1 = 0.5 * dFd * th * rc if slip else 0.0
     g2 = 0.5 * dF * th
@@ -161,8 +164,30 @@ def rhs(system, t, y, p, mode, f, jac, want_jac):
     """Right-hand side f(t, y) of ``system`` into ``f`` (and its Jacobian into ``jac``)."""
     if system == IMPACT:
         _impact_rhs(y, p, f, jac, want_jac)
-    else:
-        _roller_rhs(t, y, p, mode, f, jac, want_jac)
+        return
+    _, _, (F, dF, dFd, _) = roller_contact(t, y, p, mode)
+    _roller_f(y, p, mode, F, f)
+    if want_jac:
+        _roller_jac(p, mode, dF, dFd, jac)
+
+
+@njit(**JIT)
+def _roller_event(which, y, p, d, dd, F, dF, dFd, f):
+    """Roller event ``which`` at state y with penetration d, its rate dd, the force law's F,
+    ∂F/∂δ, ∂F/∂δ̇ and (for the force peak) the right-hand side f."""
+    if which == EV_STICK:
+        return p[WD] - y[Y_WEDGE]
+    if which == EV_SYNC:
+        return p[WSYNC] - y[Y_DRIVEN]
+    if which == EV_STOP:
+        return y[Y_DRIVEN]
+    if which == EV_RELEASE:
+        return d  # the rollers come free: penetration back to zero
+    if which == EV_BREAKAWAY:
+        return p[TL] - p[Z] * p[RC] * p[TH] * F  # load minus the wedge's drive torque
+    # EV_PEAK: dF/dt = ∂F/∂δ·δ̇ + ∂F/∂δ̇·δ̈ with δ̈ = (tan(α/2)/2)·R_C·(dω_w/dt − dω_o/dt)
+    ddd = 0.5 * p[TH] * p[RC] * (f[Y_WEDGE] - f[Y_DRIVEN])
+    return dF * dd + dFd * ddd
 
 
 @njit(**JIT)
@@ -171,30 +196,15 @@ def event(system, t, y, p, mode, which, f, jac):
     ``jac`` are scratch arrays (the force peak needs the right-hand side)."""
     if system == IMPACT:
         return y[0] if which == EV_SEPARATION else y[1]
-    if which == EV_STICK:
-        return p[WD] - y[Y_WEDGE]
-    if which == EV_SYNC:
-        return p[WSYNC] - y[Y_DRIVEN]
-    if which == EV_STOP:
-        return y[Y_DRIVEN]
     d, dd, (F, dF, dFd, _) = roller_contact(t, y, p, mode)
-    if which == EV_RELEASE:
-        return d  # the rollers come free: penetration back to zero
-    if which == EV_BREAKAWAY:
-        return p[TL] - p[Z] * p[RC] * p[TH] * F  # load minus the wedge's drive torque
-    # EV_PEAK: dF/dt = ∂F/∂δ·δ̇ + ∂F/∂δ̇·δ̈ with δ̈ = (tan(α/2)/2)·R_C·(dω_w/dt − dω_o/dt)
-    _roller_rhs(t, y, p, mode, f, jac, False)
-    ddd = 0.5 * p[TH] * p[RC] * (f[Y_WEDGE] - f[Y_DRIVEN])
-    return dF * dd + dFd * ddd
+    if which == EV_PEAK:
+        _roller_f(y, p, mode, F, f)
+    return _roller_event(which, y, p, d, dd, F, dF, dFd, f)
 
 
 @njit(**JIT)
-def contact_rates(t, y, p, mode):
-    """Rates [1/s] of the contact's two modes at (t, y), from the eigenvalues λ of the
-    linearised δ̈ = G·N(δ, δ̇) + H: (decay, growth), the largest |λ| with Re λ < 0 (0 if none
-    decays: an explicit step h is stable where h·decay lies inside its stability region) and the
-    largest Re λ > 0 (0 if none grows: the wedging force's build-up while the wedge ring slips)."""
-    _, _, (F, dF, dFd, _) = roller_contact(t, y, p, mode)
+def _rates(p, mode, dF, dFd):
+    """(decay, growth) of :func:`contact_rates` from the force law's ∂F/∂δ and ∂F/∂δ̇."""
     a_w, a_o = _gains(p, mode)
     g = 0.5 * p[TH] * p[RC] * (a_w - a_o)
     # λ² − b·λ − c = 0 with b = G·∂N/∂δ̇, c = G·∂N/∂δ
@@ -205,6 +215,29 @@ def contact_rates(t, y, p, mode):
         return max(0.0, -0.5 * (b - r)), max(0.0, 0.5 * (b + r))
     # a complex pair, |λ|² = −c, Re λ = b/2
     return (math.sqrt(-c), 0.0) if b < 0.0 else (0.0, 0.5 * b)
+
+
+@njit(**JIT)
+def contact_rates(t, y, p, mode):
+    """Rates [1/s] of the contact's two modes at (t, y), from the eigenvalues λ of the
+    linearised δ̈ = G·N(δ, δ̇) + H: (decay, growth), the largest |λ| with Re λ < 0 (0 if none
+    decays: an explicit step h is stable where h·decay lies inside its stability region) and the
+    largest Re λ > 0 (0 if none grows: the wedging force's build-up while the wedge ring slips)."""
+    _, _, (_, dF, dFd, _) = roller_contact(t, y, p, mode)
+    return _rates(p, mode, dF, dFd)
+
+
+@njit(**JIT)
+def point_values(t, y, p, mode, g, f):
+    """Everything the roller's driver needs at a point (t, y), from one evaluation of the force
+    law: every event's value into g (indexed by EV_*), the right-hand side into f; returns the
+    contact force [N] and the rates (decay, growth) [1/s] of :func:`contact_rates`."""
+    d, dd, (F, dF, dFd, _) = roller_contact(t, y, p, mode)
+    _roller_f(y, p, mode, F, f)
+    for e in range(N_EVENTS):
+        g[e] = _roller_event(e, y, p, d, dd, F, dF, dFd, f)
+    decay, growth = _rates(p, mode, dF, dFd)
+    return F, decay, growth
 
 
 @njit(**JIT)
