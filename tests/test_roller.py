@@ -131,8 +131,9 @@ def test_engagement_against_tight_radau():
 # every output the roller study stores (its peak stress and dynamic factor follow from the peak
 # force), within this relative error of the tight reference; measured 2026-11-26 on 400 random
 # designs (200 of config/million.yaml's roller ranges, 200 of the default grid) at the study's
-# rtol 1e-8: engagement time 3.0e-6, the others at most 3.5e-7 (the code before the explicit steps:
-# 1.9e-5)
+# rtol 1e-8, the slip at 10x and the phase after the engagement at 30x it: engagement time
+# 3.2e-6, the others at most 2.2e-6 (all at rtol 1e-8: 3.0e-6 and 3.5e-7; the code before the
+# explicit steps: 1.9e-5)
 STUDY_TOLERANCE = 1e-5
 
 
