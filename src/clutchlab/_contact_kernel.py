@@ -80,6 +80,8 @@ STIFF_AFTER = 3
 # the others at most 2.2e-6; 16 % fewer steps than at one tolerance)
 SLIP_RTOL_FACTOR = 10.0
 ENGAGED_RTOL_FACTOR = 30.0
+# a phase's tolerance is loosened up to this at most (never beyond the scenario's rtol)
+LOOSEST_RTOL = 1e-3
 # roller result columns
 (
     STICK_TIME,
@@ -416,13 +418,13 @@ def _trace_row(p, s, w, trace, row):
 @njit(**JIT)
 def _phase_tolerances(p, rtol, s, w):
     """The current phase's relative tolerance (the scenario's rtol times SLIP_RTOL_FACTOR while
-    the wedge ring slips, times ENGAGED_RTOL_FACTOR after the engagement) and its absolute ones
-    in w.atol (scaled by the driving speed)."""
+    the wedge ring slips, times ENGAGED_RTOL_FACTOR after the engagement, up to LOOSEST_RTOL)
+    and its absolute ones in w.atol (scaled by the driving speed)."""
     rt = rtol
     if s.synced:
-        rt = rtol * ENGAGED_RTOL_FACTOR
+        rt = max(rtol, min(rtol * ENGAGED_RTOL_FACTOR, LOOSEST_RTOL))
     elif (s.mode & STICK) == 0:
-        rt = rtol * SLIP_RTOL_FACTOR
+        rt = max(rtol, min(rtol * SLIP_RTOL_FACTOR, LOOSEST_RTOL))
     w.atol[Y_SLIP], w.atol[Y_WEDGE] = rt * 1e-4, rt * p[WD]
     w.atol[Y_TRAVEL], w.atol[Y_DRIVEN] = rt * 1e-4, rt * p[WD]
     return rt

@@ -658,9 +658,9 @@ def simulate(*, rtol=1e-8, max_steps=200_000, trace_index=None, trace_points=20_
     rtol : float
         Integrator tolerance, in (0, 1): of the stick phase before the engagement, which sets the
         engagement time (the most sensitive output); the wedge ring's slip is integrated at 10
-        times it and the phase after the engagement at 30 times it
-        (:data:`clutchlab._contact_kernel.SLIP_RTOL_FACTOR`, ``ENGAGED_RTOL_FACTOR``), which
-        keeps the other outputs' errors below the engagement time's.
+        times it and the phase after the engagement at 30 times it, up to 1e-3
+        (:data:`clutchlab._contact_kernel.SLIP_RTOL_FACTOR`, ``ENGAGED_RTOL_FACTOR``,
+        ``LOOSEST_RTOL``), which keeps the other outputs' errors below the engagement time's.
     max_steps : int
         Step attempts a scenario may spend, a whole number in [1, 1e9].
     trace_index : int or None
