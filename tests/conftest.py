@@ -60,6 +60,15 @@ def without_robust(section: dict) -> dict:
     return out
 
 
+def pytest_collection_modifyitems(config, items):
+    """Under pytest-xdist (``-n auto --dist loadgroup``, pyproject.toml) the tests that share the
+    session's small Snakemake run go to one worker: the run is made once and its tests, some of
+    which rerun Snakemake in its folder, run one after another."""
+    for item in items:
+        if "small_run" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.xdist_group("small_run"))
+
+
 def snakemake_workdir(tmp_path: Path) -> Path:
     """A working folder with the workflow (Snakefile, workflows, config) as a user's clone has it."""
     import shutil
