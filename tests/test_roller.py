@@ -5,12 +5,16 @@ reference, working modes, the study."""
 import numpy as np
 import pytest
 
-from clutchlab import contact
+from clutchlab import _contact_kernel as _kernel
+from clutchlab import _contact_systems as _sys
+from clutchlab import _dop853, contact
+from clutchlab import _dop853_tableau as _tableau
 from clutchlab import roller as rl
 from clutchlab import status as st
 from clutchlab.bench import roller as bench
 from clutchlab.published import ROLLER_CLUTCH as PUB
 from clutchlab.studies import roller as study
+from conftest import ROOT
 
 K = contact.hertz_stiffness(roller_diameter=0.010)
 SEED = dict(
@@ -122,6 +126,109 @@ def test_engagement_against_tight_radau():
     got = rl.simulate(rtol=1e-9, **d)["engagement_time"]
     assert np.all(np.isfinite(ref))
     np.testing.assert_allclose(got, ref, rtol=0, atol=2e-9)
+
+
+# every output the roller study stores (its peak stress and dynamic factor follow from the peak
+# force), within this relative error of the tight reference; measured 2026-11-26 on 400 random
+# designs (200 of config/million.yaml's roller ranges, 200 of the default grid) at the study's
+# rtol 1e-8, the slip at 10x and the phase after the engagement at 30x it: engagement time
+# 3.2e-6, the others at most 2.2e-6 (all at rtol 1e-8: 3.0e-6 and 3.5e-7; the code before the
+# explicit steps: 1.9e-5)
+STUDY_TOLERANCE = 1e-5
+
+
+def _against_radau(kw):
+    """Largest relative error of each stored output against Radau rtol 1e-12, and whether every
+    status agrees."""
+    P, _ = rl.parameter_rows(**kw)
+    ref = [bench.scipy_outputs(p) for p in P]
+    got = rl.simulate(rtol=study.RTOL, **kw)
+    status = [st.CODE[r["status"]] for r in ref]
+    errors = {}
+    for k in bench.OUTPUTS:
+        a = np.array([r[k] for r in ref])
+        assert (np.isfinite(a) == np.isfinite(got[k])).all(), k
+        errors[k] = np.max(np.abs(got[k][np.isfinite(a)] / a[np.isfinite(a)] - 1.0), initial=0.0)
+    return errors, list(got["status"]) == status, got
+
+
+@pytest.mark.parametrize("configfile,samples", [("million.yaml", 1024), ("config.yaml", None)])
+def test_study_outputs_against_tight_radau(configfile, samples):
+    """The wedging at the study's tolerance (DOP853 steps with SDIRK4 where the contact is stiff,
+    events on the continuous extension) against scipy Radau at rtol 1e-12, on random designs the
+    study simulates (config/million.yaml's ranges; the default grid): stick time, backlash of the
+    wedge ring, engagement time, total backlash, peak contact force and release time within
+    STUDY_TOLERANCE (relative), the same statuses (ok or never_locked)."""
+    kw = bench.study_scenarios(ROOT / "config" / configfile, samples)
+    pick = np.random.default_rng(11).choice(kw["wedge_angle"].size, 3, replace=False)
+    errors, same_status, _ = _against_radau({k: v[pick] for k, v in kw.items()})
+    assert same_status
+    assert max(errors.values()) < STUDY_TOLERANCE, errors
+
+
+def test_stiff_contact_steps_implicitly_against_tight_radau():
+    """A stiff contact (a light driven ring, J_o = 1e-3 kg m², on ten times the damping): the
+    explicit steps would be unstable over the creep after the impact, so SDIRK4 takes over there
+    (implicit steps counted); the outputs stay within STUDY_TOLERANCE of Radau at rtol 1e-12."""
+    kw = {**SEED, "driven_inertia": 1e-3, "damping": 2e7, "control_stop_time": 1e-3}
+    kw["claw_clearance"] = 1e-3
+    errors, same_status, got = _against_radau({k: np.atleast_1d(v) for k, v in kw.items()})
+    assert same_status and got["status"][0] == st.CODE["ok"]
+    assert 0 < got["n_implicit"][0] < got["n_steps"][0]
+    assert max(errors.values()) < STUDY_TOLERANCE, errors
+
+
+def test_contact_rates_are_the_jacobians_eigenvalues():
+    """The decay and growth rates the driver chooses its method by, in closed form from the
+    contact's (δ, δ̇) dynamics, against numpy's eigenvalues of the full 4 × 4 Jacobian (relative
+    1e-9) in each mode, at states of a wedging (slip: one mode grows; stick: both decay)."""
+    P, _ = rl.parameter_rows(**{**SEED, "control_stop_time": 1e-3})
+    p = P[0]
+    f, jac = np.zeros(4), np.zeros((4, 4))
+    rng = np.random.default_rng(2)
+    for mode in (_sys.SLIP, _sys.SLIP | _sys.HELD, _sys.STICK, _sys.STICK | _sys.CLAWS):
+        for _ in range(20):
+            y = np.array([0.0, rng.uniform(0, 200), rng.uniform(0, 4e-3), rng.uniform(0, 200)])
+            _sys.rhs(_sys.ROLLER, 1.1e-3, y, p, mode, f, jac, True)
+            lam = np.linalg.eigvals(jac)
+            decaying = lam[lam.real < -1e-9 * np.abs(lam).max()]
+            decay = np.abs(decaying).max(initial=0.0)
+            growth = max(lam.real.max(), 0.0)
+            got = _sys.contact_rates(1.1e-3, y, p, mode)
+            assert got[0] == pytest.approx(decay, rel=1e-9, abs=1e-9 * np.abs(lam).max())
+            assert got[1] == pytest.approx(growth, rel=1e-9, abs=1e-9 * np.abs(lam).max())
+
+
+def test_dop853_tableau_order_and_stability():
+    """The copied tableau is scipy's, bit for bit. The compiled step on a linear spring (the
+    impact system with exponent 1 and no damping: δ = 10·cos t) has the local error of a method of
+    order 8 or more (halving h divides it by more than 2^8.5), its continuous extension that of
+    order 7 (2⁸ within 2^±0.5, at mid-step). The stability function stays within 1 on the half-disc of radius
+    STABILITY_RADIUS up to 85° from the negative real axis, beyond the driver's STIFF_LIMIT."""
+    from scipy.integrate._ivp import dop853_coefficients as scipy_tableau
+
+    for name in ("A", "B", "C", "E3", "E5", "D"):
+        assert np.array_equal(getattr(_tableau, name), getattr(scipy_tableau, name)), name
+    p = np.array([1.0, 1.0, 1.0, 0.0, 1.0])  # mass, stiffness, exponent, damping, depth
+    y0, y1, mid = np.array([10.0, 0.0]), np.zeros(2), np.zeros(2)
+    ws = _dop853.work(2)
+    step_err, dense_err = [], []
+    for h in (1.2, 0.6):
+        _sys.rhs(_sys.IMPACT, 0.0, y0, p, 0, ws.k[0], ws.jac, False)
+        _dop853.step(_sys.IMPACT, 0.0, y0, h, p, 0, 1e-8, np.ones(2), y1, ws)
+        _dop853.prepare_dense(_sys.IMPACT, 0.0, y0, y1, h, p, 0, ws)
+        _dop853.dense_state(ws, y0, 0.5, mid)
+        step_err.append(abs(y1[0] - 10.0 * np.cos(h)))
+        dense_err.append(abs(mid[0] - 10.0 * np.cos(0.5 * h)))
+    assert step_err[0] / step_err[1] > 2.0**8.5  # 978 = 2^9.9: R(z) − e^z = O(z^10) here
+    assert 2.0**7.5 < dense_err[0] / dense_err[1] < 2.0**8.5
+    a, b = _tableau.A[:12, :12], _tableau.B
+    radius = _dop853.STABILITY_RADIUS
+    for angle in np.deg2rad(np.linspace(0, 85, 18)):
+        for r in np.linspace(0.1, radius, 30):
+            z = -r * np.exp(1j * angle)
+            assert abs(1 + z * b @ np.linalg.solve(np.eye(12) - z * a, np.ones(12))) <= 1.0
+    assert _kernel.STIFF_LIMIT < radius
 
 
 def test_seed_engagement_of_published_order():

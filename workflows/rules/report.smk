@@ -202,7 +202,7 @@ rule benchmark_million:
 
 rule benchmark_roller:
     # Not part of `all`: `snakemake --cores 1 benchmark_roller` (a few minutes: the tight Radau
-    # reference is slow). Compiled SDIRK4 against per-scenario solve_ivp LSODA and Radau.
+    # reference is slow). Compiled DOP853/SDIRK4 against per-scenario solve_ivp LSODA and Radau.
     output:
         f"{RESULTS}/benchmark/roller_benchmark.csv",
     threads: ALL_CORES

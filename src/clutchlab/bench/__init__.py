@@ -5,7 +5,7 @@ and names the model, design and tolerance it measured; never asserted in unit te
   event-driven kernel) against per-scenario ``solve_ivp`` (``snakemake benchmark_compliant``);
 * :mod:`~clutchlab.bench.engagement` — the rigid Stribeck engagement, work against precision
   (``snakemake benchmark``);
-* :mod:`~clutchlab.bench.roller` — the roller wedging's compiled SDIRK4 against LSODA and Radau;
+* :mod:`~clutchlab.bench.roller` — the roller wedging's compiled DOP853/SDIRK4 against LSODA and Radau;
 * :mod:`~clutchlab.bench.sprag` — the vectorised gripping-angle fixed point against per-scenario
   root finding;
 * :mod:`~clutchlab.bench.pareto` — Pareto ranking of 10⁵–10⁶ designs and the hypervolume of

@@ -7,7 +7,7 @@ in the same run, and the ratio at equal error. The full benchmarks stay targets 
 * engagement — the compliant driveline the study runs (:mod:`clutchlab.bench.compliant`):
   clutchlab over its accuracy sweep against per-scenario ``solve_ivp`` RK45 (as usually written)
   and DOP853 (as an expert would), reference DOP853 at rtol 1e-13;
-* roller — the wedging (:mod:`clutchlab.bench.roller`): the compiled SDIRK4 against
+* roller — the wedging (:mod:`clutchlab.bench.roller`): the compiled DOP853/SDIRK4 against
   per-scenario LSODA and Radau, reference Radau at rtol 1e-12;
 * sprag — the gripping-angle fixed point (:mod:`clutchlab.bench.sprag`): vectorised against
   per-scenario ``brentq``, reference brentq at xtol 1e-15;
@@ -285,7 +285,7 @@ def roller_figure(rows):
         rows,
         "max_engagement_error_s",
         "clutchlab",
-        "Work-precision of the roller wedging (small sample of this run): compiled SDIRK4 against "
+        "Work-precision of the roller wedging (small sample of this run): compiled DOP853/SDIRK4 against "
         "per-scenario solve_ivp LSODA and Radau\nreference: Radau at rtol 1e-12 with the analytic "
         "Jacobian, piecewise over slip and stick; error = max |engagement time - reference|",
         "max |engagement time error| [s]",

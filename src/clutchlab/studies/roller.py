@@ -3,7 +3,7 @@
 Per scenario: the statics of eqs. (1)-(4) (computed torque, normal force, Hertz stress, spring
 preload, self-locking margin) in closed form, then — only where the wedge can self-lock and the
 working mode lets the driving direction lock — the wedging dynamics with stiff Hertz contact
-(compiled SDIRK4 with exact events): engagement time, backlash (total and its driving/wedge ring
+(compiled DOP853/SDIRK4 with exact events): engagement time, backlash (total and its driving/wedge ring
 part), peak dynamic contact force and stress against the static value, release time after the
 control ring stops. A scenario whose peak dynamic contact stress exceeds 1.5 × the allowable
 (``DYNAMIC_STRESS_FACTOR``) gets status ``dynamic_overstress``: the number is kept, but it is far
@@ -481,11 +481,11 @@ def compute(inputs, options=None) -> xr.Dataset:
     ds = xr.Dataset(data)
     ds.attrs.update(
         rtol=RTOL,
-        integrator="SDIRK4 (L-stable, embedded 3rd-order error estimate), analytic Jacobian",
+        integrator="DOP853 (explicit, order 8); L-stable SDIRK4 where the contact is stiff",
     )
     ds.attrs["model_used"] = (
         "statics closed form (eqs. 1-4, reading " + options["stress_reading"] + "); wedging: "
-        "reduced 2-ring model, Hertz contact with IMPACT damping, SDIRK4 with exact events; "
+        "reduced 2-ring model, Hertz contact with IMPACT damping, DOP853/SDIRK4 with exact events; "
         "mode " + options["mode"]
     )
     return ds
@@ -724,7 +724,8 @@ STUDY = register(
         parameters=PARAMETERS,
         compute=compute,
         traces=seed_trace,
-        model="statics closed form (eqs. 1-4); wedging dynamics: Hertz contact with IMPACT damping, compiled SDIRK4",
+        model="statics closed form (eqs. 1-4); wedging dynamics: Hertz contact with IMPACT damping, "
+        "compiled DOP853/SDIRK4",
         validation=validation,
         options=OPTIONS,
         outputs={
