@@ -309,12 +309,13 @@ def test_killed_run_unlock_and_resume(tmp_path):
 
 def _tiny_variant(path):
     """A config file cut to two scenarios per study: its first factor keeps two values, every other
-    factor one (still a dimension: the figures draw over them); no benchmark page (that runs alone
-    for a minute)."""
+    factor one (still a dimension: the figures draw over them); no benchmark, numerics or hard-case
+    pages (solver runs of their own that do not depend on the config's grid: the small run draws
+    them)."""
     import yaml
 
     cfg = yaml.safe_load(path.read_text())
-    cfg.setdefault("report", {})["benchmark"] = False
+    cfg.setdefault("report", {}).update(benchmark=False, numerics=False, hard_cases=False)
     cfg.pop("chunk_size", None)  # the test sets the chunk count (--config chunks=N)
     for name in cfg["studies"]:
         sec = cfg[name]
