@@ -4,7 +4,32 @@
 (function () {
   "use strict";
   const START = performance.now();  // plotly.js and the data parsed by now
+  performance.mark("clutchlab:script");
   const DATA = JSON.parse(document.getElementById("clutchlab-data").textContent);
+  // WebGL canvases at the screen's pixel ratio (plotly's default, 2, draws 4 times the pixels of
+  // a common screen: software WebGL is bound by them)
+  const GL_RATIO = Math.min(2, Math.max(1, window.devicePixelRatio || 1));
+  const CONFIG = { responsive: false, plotGlPixelRatio: GL_RATIO };
+  // WebGL drawn in software (SwiftShader, llvmpipe: a machine without a GPU) pays for
+  // antialiasing (multisampling) of every line of the parallel coordinates; there the page's
+  // contexts are made without (plotly has no option for it: its contexts are asked for here)
+  const SOFTWARE_GL = softwareWebGL();
+  if (SOFTWARE_GL) {
+    const getContext = HTMLCanvasElement.prototype.getContext;
+    HTMLCanvasElement.prototype.getContext = function (type, attrs) {
+      if (/webgl/.test(type)) attrs = Object.assign({}, attrs, { antialias: false });
+      return getContext.call(this, type, attrs);
+    };
+  }
+  function softwareWebGL() {  // the browser's WebGL renderer is a software one
+    const gl = document.createElement("canvas").getContext("webgl", { antialias: false });
+    if (!gl) return false;
+    const info = gl.getExtension("WEBGL_debug_renderer_info");
+    const name = info ? String(gl.getParameter(info.UNMASKED_RENDERER_WEBGL)) : "";
+    const lose = gl.getExtension("WEBGL_lose_context");
+    if (lose) lose.loseContext();
+    return /swiftshader|llvmpipe|softpipe|software/i.test(name);
+  }
   const QUAL = ["#1f77b4", "#d62728", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
     "#bcbd22", "#17becf", "#2ca02c", "#aec7e8", "#ffbb78", "#98df8a", "#ff9896", "#c5b0d5",
     "#c49c94", "#f7b6d2"];
@@ -19,6 +44,7 @@
   const AXES = DATA.axes.map((a) => Object.assign({}, a, { values: f64(a.values) }));
   const DESIGN = f64(DATA.design);
   const N = DESIGN.length;
+  performance.mark("clutchlab:data");
   const byName = {};
   AXES.forEach((a, k) => { byName[a.name] = k; });
 
@@ -186,12 +212,14 @@
       selected.length + " of " + N + " designs" + (N < DATA.studySize ? " shown (sample)" : "");
   }
   function redrawScatter() {
-    return Plotly.react(sc, scatterTraces(), scatterLayout(), { responsive: false });
+    return Plotly.react(sc, scatterTraces(), scatterLayout(), CONFIG);
   }
+  let pending = Promise.resolve();  // the redraw of the latest selection
   function update() {
     filter();
     showCount();
-    return redrawScatter();
+    pending = redrawScatter();
+    return pending;
   }
   function hover(ev) {
     const p = ev.points[0];
@@ -240,15 +268,17 @@
     if (k === undefined) throw new Error("no axis " + name);
     const attr = {};
     attr["dimensions[" + k + "].constraintrange"] = [[lo, hi]];
-    return Plotly.restyle(pc, attr, [0]).then(update).then(() => selected.length);
+    return Plotly.restyle(pc, attr, [0]).then(() => pending).then(() => selected.length);
   }
   function clearRanges() {
     const attr = {};
     AXES.forEach((_, k) => { attr["dimensions[" + k + "].constraintrange"] = [null]; });
-    return Plotly.restyle(pc, attr, [0]).then(update).then(() => selected.length);
+    return Plotly.restyle(pc, attr, [0]).then(() => pending).then(() => selected.length);
   }
   const api = {
-    ready: false, readyMs: null, startMs: START,
+    ready: false, readyMs: null, startMs: START, softwareWebGL: SOFTWARE_GL,
+    timings: () => Object.fromEntries(performance.getEntriesByType("mark")
+      .filter((m) => m.name.startsWith("clutchlab:")).map((m) => [m.name.slice(10), m.startTime])),
     setRange: setRange, clearRanges: clearRanges,
     count: () => selected.length, total: () => N, studySize: () => DATA.studySize,
     axes: () => AXES.map((a) => a.name), shownAxes: () => AXES.filter((a) => a.shown).map((a) => a.name),
@@ -277,8 +307,9 @@
     return Math.max(900, 95 * AXES.filter((a) => a.shown).length);
   }
   Plotly.newPlot(pc, [parcoordsTrace()], { width: width(), height: 520,
-    margin: { t: 110, l: 70, r: 200, b: 30 } }, { responsive: false })
+    margin: { t: 110, l: 70, r: 200, b: 30 } }, CONFIG)
     .then(() => {
+      performance.mark("clutchlab:parcoords");
       api.parcoordsMs = performance.now();
       pc.on("plotly_restyle", () => { update(); });
       filter();
@@ -303,7 +334,12 @@
         Plotly.update(pc, attr, { width: width() }, [0]);
       };
       document.getElementById("download").onclick = download;
-      api.readyMs = performance.now();
-      api.ready = true;
+      performance.mark("clutchlab:scatter");
+      // drawn: the frame after the one that shows both plots
+      requestAnimationFrame(() => requestAnimationFrame(() => {
+        performance.mark("clutchlab:drawn");
+        api.readyMs = performance.now();
+        api.ready = true;
+      }));
     });
 })();

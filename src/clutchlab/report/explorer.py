@@ -1,7 +1,9 @@
 """The interactive explorer of a study: one self-contained HTML page per study
 (``<study>_explorer.html``) with every design on parallel coordinates and a linked scatter.
 
-The page holds plotly.js (inline: no network needed), the designs' values in the units engineers
+The page holds plotly.js (inline: no network needed; its official ``gl2d`` partial bundle, which
+carries the parallel coordinates and the WebGL scatter, a third of the full bundle's size: see
+:data:`PLOTLY_BUNDLE`), the designs' values in the units engineers
 read (:mod:`clutchlab.display`) and a small script (``explorer.js`` beside this module) that links
 the views: brushing an axis of the parallel coordinates (plotly's ``constraintrange``) filters the
 scatter of any two quantities, shows the count of designs left and offers them as CSV; hovering a
@@ -32,7 +34,14 @@ from .. import display, store
 from .. import status as st
 from ..explore import flat
 
-__all__ = ["MAX_DESIGNS", "Axis", "axes", "sample", "page", "write"]
+__all__ = ["MAX_DESIGNS", "PLOTLY_BUNDLE", "Axis", "axes", "sample", "page", "plotly_js", "write"]
+
+#: plotly.js as the page inlines it: the official ``gl2d`` partial bundle (traces parcoords,
+#: scattergl, scatter, splom; 1.5 MB instead of the full bundle's 4.8 MB, about 2 s less CPU time
+#: to read in a browser, docs/explorer.md), the file ``dist/plotly-gl2d.min.js`` of plotly.js' npm
+#: package at the version of the full bundle plotly.py ships (a test checks the two agree;
+#: docs/explorer.md says how to refresh it)
+PLOTLY_BUNDLE = "plotly-gl2d.min.js"
 
 #: designs a page holds at most, from pages of the million run at 2 000 to 20 000 designs measured
 #: in headless Chromium with software WebGL (docs/explorer.md): drawing time grows with designs ×
@@ -254,10 +263,13 @@ def page_data(ds, limit=MAX_DESIGNS, seed=0) -> dict:
     }
 
 
+def plotly_js() -> str:
+    """The plotly.js bundle the page inlines (:data:`PLOTLY_BUNDLE`)."""
+    return resources.files(__package__).joinpath(PLOTLY_BUNDLE).read_text(encoding="utf-8")
+
+
 def page(ds, limit=MAX_DESIGNS, seed=0, version="") -> str:
     """The explorer of a study as one self-contained HTML text (plotly.js inline)."""
-    from plotly.offline import get_plotlyjs
-
     data = page_data(ds, limit, seed)
     app = resources.files(__package__).joinpath("explorer.js").read_text(encoding="utf-8")
     payload = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
@@ -267,7 +279,7 @@ def page(ds, limit=MAX_DESIGNS, seed=0, version="") -> str:
         heading=f"{title}: {data['title']}",
         note=data["note"],
         version=version,
-        plotly=get_plotlyjs(),
+        plotly=plotly_js(),
         data=payload,
         app=app,
     )
@@ -337,6 +349,7 @@ design). NaN: below an axis' range. clutchlab {version}.</div>
 <div id="parcoords"></div>
 <div id="lower"><div id="scatter"></div>
 <table id="design"><tr><td>hover a design in the scatter for its values</td></tr></table></div>
+<script>performance.mark("clutchlab:plotly");</script>
 <script type="text/javascript">{plotly}</script>
 <script type="application/json" id="clutchlab-data">{data}</script>
 <script type="text/javascript">{app}</script>
