@@ -299,16 +299,27 @@ def _check_page(driver, ds, path, shots):
 
 def _check_first_view(driver, ds) -> None:
     """The scatter opens on the designs whose status is ok (5 % margin), failed ones left out of
-    the view, where there are failed designs; else plotly's own autorange."""
+    the view, where there are failed designs, else plotly's own autorange; on a log axis where
+    every value is positive and those of the designs whose status is ok span two decades or more
+    (5 % margin in decades)."""
     ok = flat(ds, "status") == st.CODE["ok"]
     for axis in ("x", "y"):
         name = driver.execute_script(f"return document.getElementById('s{axis}').value;")
-        span = driver.execute_script(
-            f"return document.getElementById('scatter').layout.{axis}axis.range;"
+        kind, span = driver.execute_script(
+            f"const a = document.getElementById('scatter').layout.{axis}axis;"
+            "return [a.type, a.range];"
         )
-        v = _shown(ds, name)[ok]
-        v = v[np.isfinite(v)]
-        if ok.all() or not v.size:
+        v = _shown(ds, name)
+        v, every = v[ok & np.isfinite(v)], v[np.isfinite(v)]
+        if not v.size:
+            continue
+        if every.min() > 0 and v.max() >= 100 * v.min():
+            lo, hi = np.log10(v.min()), np.log10(v.max())
+            assert kind == "log"
+            np.testing.assert_allclose(span, [lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo)])
+            continue
+        assert kind == "linear"
+        if ok.all():
             continue
         pad = 0.05 * (v.max() - v.min()) if v.max() > v.min() else abs(v.min()) * 0.05 or 1
         np.testing.assert_allclose(span, [v.min() - pad, v.max() + pad], rtol=1e-5)

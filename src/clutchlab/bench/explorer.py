@@ -230,6 +230,7 @@ def measure(pages, shots=None, repeat=1) -> list[dict]:
         for page in pages:
             with browser() as driver:
                 driver.get("about:blank")
+                time.sleep(1.0)  # the browser's own start-up work settles
                 load = os.getloadavg()[0]
                 cpu0 = cpu_seconds(driver)
                 t = open_page(driver, page)

@@ -182,30 +182,36 @@
         line: { color: "black", width: 1 }, hoverinfo: "x+y" },
     ];
   }
-  function okRange(a) {  // the span of the selected designs whose status is ok (null: autorange)
-    const st = AXES[byName.status];
-    if (!st) return null;
+  function extent(a, okOnly) {  // finite span of the selected designs (of those whose status is ok)
+    const st = okOnly ? AXES[byName.status] : undefined;
     let lo = Infinity, hi = -Infinity, failed = 0;
     for (let k = 0; k < selected.length; k++) {
       const i = selected[k], v = a.values[i];
-      if (st.values[i] !== DATA.flagOk) { failed++; continue; }
+      if (st && st.values[i] !== DATA.flagOk) { failed++; continue; }
       if (a.nan !== undefined && v === a.nan) continue;
       if (v < lo) lo = v;
       if (v > hi) hi = v;
     }
-    if (!failed || !(hi >= lo)) return null;
-    const pad = hi > lo ? 0.05 * (hi - lo) : Math.abs(lo) * 0.05 || 1;
-    return [lo - pad, hi + pad];
+    return { lo: lo, hi: hi, failed: failed };
+  }
+  function axisLayout(a) {  // the span of the designs whose status is ok; log beyond 2 decades
+    const out = { title: { text: a.label }, type: "linear" };
+    const ok = extent(a, true), all = extent(a, false);
+    if (!(ok.hi >= ok.lo)) return out;  // no finite value: plotly's autorange
+    if (all.lo > 0 && ok.hi >= 100 * ok.lo) {
+      const lo = Math.log10(ok.lo), hi = Math.log10(ok.hi);
+      out.type = "log";
+      out.range = [lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo)];
+    } else if (ok.failed) {
+      const pad = ok.hi > ok.lo ? 0.05 * (ok.hi - ok.lo) : Math.abs(ok.lo) * 0.05 || 1;
+      out.range = [ok.lo - pad, ok.hi + pad];
+    }
+    return out;
   }
   function scatterLayout() {  // first view: the designs whose status is ok (double-click: all)
-    const ax = AXES[byName[sx.value]], ay = AXES[byName[sy.value]];
-    const xaxis = { title: { text: ax.label } }, yaxis = { title: { text: ay.label } };
-    const rx = okRange(ax), ry = okRange(ay);
-    if (rx) xaxis.range = rx;
-    if (ry) yaxis.range = ry;
-    return { width: 760, height: 520, margin: { t: 30, l: 70, r: 20, b: 60 }, xaxis: xaxis,
-      yaxis: yaxis, legend: { orientation: "h", x: 0, y: 1.01, yanchor: "bottom" },
-      hovermode: "closest" };
+    return { width: 760, height: 520, margin: { t: 30, l: 70, r: 20, b: 60 },
+      xaxis: axisLayout(AXES[byName[sx.value]]), yaxis: axisLayout(AXES[byName[sy.value]]),
+      legend: { orientation: "h", x: 0, y: 1.01, yanchor: "bottom" }, hovermode: "closest" };
   }
   function showCount() {
     document.getElementById("count").textContent =

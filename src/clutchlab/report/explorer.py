@@ -43,10 +43,11 @@ __all__ = ["MAX_DESIGNS", "PLOTLY_BUNDLE", "Axis", "axes", "sample", "page", "pl
 #: docs/explorer.md says how to refresh it)
 PLOTLY_BUNDLE = "plotly-gl2d.min.js"
 
-#: designs a page holds at most, from pages of the million run at 2 000 to 20 000 designs measured
-#: in headless Chromium with software WebGL (docs/explorer.md): drawing time grows with designs ×
-#: axes shown, and beyond this a brush takes longer than reading the page
-MAX_DESIGNS = 10_000
+#: designs a page holds at most, from pages of 1 000 to 10 000 designs measured in headless
+#: Chromium with software WebGL (docs/explorer.md): above a fixed cost of about 2 s of CPU time
+#: (plotly.js read, WebGL contexts and shaders), drawing takes about 0.5 ms of CPU time a design
+#: at 12 axes shown, and a brush drawn with the mouse stays under a second of it up to here
+MAX_DESIGNS = 3_000
 #: where a NaN sits below an axis' range, as a share of the range
 NAN_BAND = 0.08
 #: a study with more axes than this shows its other outputs (neither objective nor constrained)
@@ -336,7 +337,8 @@ h1 {{ font-size: 18px; margin: 0 0 4px 0; }}
 <div id="help">Drag along an axis to keep a range of it (drag again to add one, click outside a
 range to remove it); the scatter, the count and the CSV follow. Hover a design in the scatter for
 its values. The scatter opens on the designs whose status is ok (double-click it to see every
-design). NaN: below an axis' range. clutchlab {version}.</div>
+design), a quantity whose positive values span two decades or more on a log axis. NaN: below an
+axis' range. clutchlab {version}.</div>
 <div id="controls">
 <span id="count"></span>
 <label>colour <select id="colour"></select></label>
