@@ -130,9 +130,11 @@ def test_sample_keeps_every_front_design():
     np.testing.assert_array_equal(rows, explorer.sample(ds, limit=60, seed=1))
     assert not np.array_equal(rows, explorer.sample(ds, limit=60, seed=2))
     np.testing.assert_array_equal(explorer.sample(ds, limit=500), np.arange(500))
-    # a front larger than the limit: every front design all the same
+    # a front larger than the limit: every front design all the same, and the page says so
     rows = explorer.sample(ds, limit=2)
     assert rows.size == int((rank == 0).sum())
+    note = explorer.page_data(ds, limit=2)["note"]
+    assert note.startswith(f"The {rows.size} Pareto-front designs of the study's 500 designs")
 
 
 def test_page_is_self_contained_and_carries_the_values(tmp_path):

@@ -235,6 +235,11 @@ def _note(ds, rows, seed) -> str:
     if k == n:
         return f"Every design of the study: {n}."
     front = int((flat(ds, "pareto_rank") == 0).sum()) if "pareto_rank" in ds else 0
+    if k == front:
+        return (
+            f"The {front} Pareto-front designs of the study's {n} designs (a page holds every "
+            "front design, and no other where they fill it); counts are of the designs shown."
+        )
     return (
         f"A sample of {k} of the study's {n} designs: every Pareto-front design ({front}) and "
         f"a uniform random sample of the others (seed {seed}); counts are of the designs shown."
