@@ -4,7 +4,32 @@
 (function () {
   "use strict";
   const START = performance.now();  // plotly.js and the data parsed by now
+  performance.mark("clutchlab:script");
   const DATA = JSON.parse(document.getElementById("clutchlab-data").textContent);
+  // WebGL canvases at the screen's pixel ratio (plotly's default, 2, draws 4 times the pixels of
+  // a common screen: software WebGL is bound by them)
+  const GL_RATIO = Math.min(2, Math.max(1, window.devicePixelRatio || 1));
+  const CONFIG = { responsive: false, plotGlPixelRatio: GL_RATIO };
+  // WebGL drawn in software (SwiftShader, llvmpipe: a machine without a GPU) pays for
+  // antialiasing (multisampling) of every line of the parallel coordinates; there the page's
+  // contexts are made without (plotly has no option for it: its contexts are asked for here)
+  const SOFTWARE_GL = softwareWebGL();
+  if (SOFTWARE_GL) {
+    const getContext = HTMLCanvasElement.prototype.getContext;
+    HTMLCanvasElement.prototype.getContext = function (type, attrs) {
+      if (/webgl/.test(type)) attrs = Object.assign({}, attrs, { antialias: false });
+      return getContext.call(this, type, attrs);
+    };
+  }
+  function softwareWebGL() {  // the browser's WebGL renderer is a software one
+    const gl = document.createElement("canvas").getContext("webgl", { antialias: false });
+    if (!gl) return false;
+    const info = gl.getExtension("WEBGL_debug_renderer_info");
+    const name = info ? String(gl.getParameter(info.UNMASKED_RENDERER_WEBGL)) : "";
+    const lose = gl.getExtension("WEBGL_lose_context");
+    if (lose) lose.loseContext();
+    return /swiftshader|llvmpipe|softpipe|software/i.test(name);
+  }
   const QUAL = ["#1f77b4", "#d62728", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
     "#bcbd22", "#17becf", "#2ca02c", "#aec7e8", "#ffbb78", "#98df8a", "#ff9896", "#c5b0d5",
     "#c49c94", "#f7b6d2"];
@@ -19,6 +44,7 @@
   const AXES = DATA.axes.map((a) => Object.assign({}, a, { values: f64(a.values) }));
   const DESIGN = f64(DATA.design);
   const N = DESIGN.length;
+  performance.mark("clutchlab:data");
   const byName = {};
   AXES.forEach((a, k) => { byName[a.name] = k; });
 
@@ -156,42 +182,50 @@
         line: { color: "black", width: 1 }, hoverinfo: "x+y" },
     ];
   }
-  function okRange(a) {  // the span of the selected designs whose status is ok (null: autorange)
-    const st = AXES[byName.status];
-    if (!st) return null;
+  function extent(a, okOnly) {  // finite span of the selected designs (of those whose status is ok)
+    const st = okOnly ? AXES[byName.status] : undefined;
     let lo = Infinity, hi = -Infinity, failed = 0;
     for (let k = 0; k < selected.length; k++) {
       const i = selected[k], v = a.values[i];
-      if (st.values[i] !== DATA.flagOk) { failed++; continue; }
+      if (st && st.values[i] !== DATA.flagOk) { failed++; continue; }
       if (a.nan !== undefined && v === a.nan) continue;
       if (v < lo) lo = v;
       if (v > hi) hi = v;
     }
-    if (!failed || !(hi >= lo)) return null;
-    const pad = hi > lo ? 0.05 * (hi - lo) : Math.abs(lo) * 0.05 || 1;
-    return [lo - pad, hi + pad];
+    return { lo: lo, hi: hi, failed: failed };
+  }
+  function axisLayout(a) {  // the span of the designs whose status is ok; log beyond 2 decades
+    const out = { title: { text: a.label }, type: "linear" };
+    const ok = extent(a, true), all = extent(a, false);
+    if (!(ok.hi >= ok.lo)) return out;  // no finite value: plotly's autorange
+    if (all.lo > 0 && ok.hi >= 100 * ok.lo) {
+      const lo = Math.log10(ok.lo), hi = Math.log10(ok.hi);
+      out.type = "log";
+      out.range = [lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo)];
+    } else if (ok.failed) {
+      const pad = ok.hi > ok.lo ? 0.05 * (ok.hi - ok.lo) : Math.abs(ok.lo) * 0.05 || 1;
+      out.range = [ok.lo - pad, ok.hi + pad];
+    }
+    return out;
   }
   function scatterLayout() {  // first view: the designs whose status is ok (double-click: all)
-    const ax = AXES[byName[sx.value]], ay = AXES[byName[sy.value]];
-    const xaxis = { title: { text: ax.label } }, yaxis = { title: { text: ay.label } };
-    const rx = okRange(ax), ry = okRange(ay);
-    if (rx) xaxis.range = rx;
-    if (ry) yaxis.range = ry;
-    return { width: 760, height: 520, margin: { t: 30, l: 70, r: 20, b: 60 }, xaxis: xaxis,
-      yaxis: yaxis, legend: { orientation: "h", x: 0, y: 1.01, yanchor: "bottom" },
-      hovermode: "closest" };
+    return { width: 760, height: 520, margin: { t: 30, l: 70, r: 20, b: 60 },
+      xaxis: axisLayout(AXES[byName[sx.value]]), yaxis: axisLayout(AXES[byName[sy.value]]),
+      legend: { orientation: "h", x: 0, y: 1.01, yanchor: "bottom" }, hovermode: "closest" };
   }
   function showCount() {
     document.getElementById("count").textContent =
       selected.length + " of " + N + " designs" + (N < DATA.studySize ? " shown (sample)" : "");
   }
   function redrawScatter() {
-    return Plotly.react(sc, scatterTraces(), scatterLayout(), { responsive: false });
+    return Plotly.react(sc, scatterTraces(), scatterLayout(), CONFIG);
   }
+  let pending = Promise.resolve();  // the redraw of the latest selection
   function update() {
     filter();
     showCount();
-    return redrawScatter();
+    pending = redrawScatter();
+    return pending;
   }
   function hover(ev) {
     const p = ev.points[0];
@@ -240,15 +274,17 @@
     if (k === undefined) throw new Error("no axis " + name);
     const attr = {};
     attr["dimensions[" + k + "].constraintrange"] = [[lo, hi]];
-    return Plotly.restyle(pc, attr, [0]).then(update).then(() => selected.length);
+    return Plotly.restyle(pc, attr, [0]).then(() => pending).then(() => selected.length);
   }
   function clearRanges() {
     const attr = {};
     AXES.forEach((_, k) => { attr["dimensions[" + k + "].constraintrange"] = [null]; });
-    return Plotly.restyle(pc, attr, [0]).then(update).then(() => selected.length);
+    return Plotly.restyle(pc, attr, [0]).then(() => pending).then(() => selected.length);
   }
   const api = {
-    ready: false, readyMs: null, startMs: START,
+    ready: false, readyMs: null, startMs: START, softwareWebGL: SOFTWARE_GL,
+    timings: () => Object.fromEntries(performance.getEntriesByType("mark")
+      .filter((m) => m.name.startsWith("clutchlab:")).map((m) => [m.name.slice(10), m.startTime])),
     setRange: setRange, clearRanges: clearRanges,
     count: () => selected.length, total: () => N, studySize: () => DATA.studySize,
     axes: () => AXES.map((a) => a.name), shownAxes: () => AXES.filter((a) => a.shown).map((a) => a.name),
@@ -277,8 +313,9 @@
     return Math.max(900, 95 * AXES.filter((a) => a.shown).length);
   }
   Plotly.newPlot(pc, [parcoordsTrace()], { width: width(), height: 520,
-    margin: { t: 110, l: 70, r: 200, b: 30 } }, { responsive: false })
+    margin: { t: 110, l: 70, r: 200, b: 30 } }, CONFIG)
     .then(() => {
+      performance.mark("clutchlab:parcoords");
       api.parcoordsMs = performance.now();
       pc.on("plotly_restyle", () => { update(); });
       filter();
@@ -303,7 +340,12 @@
         Plotly.update(pc, attr, { width: width() }, [0]);
       };
       document.getElementById("download").onclick = download;
-      api.readyMs = performance.now();
-      api.ready = true;
+      performance.mark("clutchlab:scatter");
+      // drawn: the frame after the one that shows both plots
+      requestAnimationFrame(() => requestAnimationFrame(() => {
+        performance.mark("clutchlab:drawn");
+        api.readyMs = performance.now();
+        api.ready = true;
+      }));
     });
 })();

@@ -1,7 +1,9 @@
 """The interactive explorer of a study: one self-contained HTML page per study
 (``<study>_explorer.html``) with every design on parallel coordinates and a linked scatter.
 
-The page holds plotly.js (inline: no network needed), the designs' values in the units engineers
+The page holds plotly.js (inline: no network needed; its official ``gl2d`` partial bundle, which
+carries the parallel coordinates and the WebGL scatter, a third of the full bundle's size: see
+:data:`PLOTLY_BUNDLE`), the designs' values in the units engineers
 read (:mod:`clutchlab.display`) and a small script (``explorer.js`` beside this module) that links
 the views: brushing an axis of the parallel coordinates (plotly's ``constraintrange``) filters the
 scatter of any two quantities, shows the count of designs left and offers them as CSV; hovering a
@@ -32,12 +34,20 @@ from .. import display, store
 from .. import status as st
 from ..explore import flat
 
-__all__ = ["MAX_DESIGNS", "Axis", "axes", "sample", "page", "write"]
+__all__ = ["MAX_DESIGNS", "PLOTLY_BUNDLE", "Axis", "axes", "sample", "page", "plotly_js", "write"]
 
-#: designs a page holds at most, from pages of the million run at 2 000 to 20 000 designs measured
-#: in headless Chromium with software WebGL (docs/explorer.md): drawing time grows with designs ×
-#: axes shown, and beyond this a brush takes longer than reading the page
-MAX_DESIGNS = 10_000
+#: plotly.js as the page inlines it: the official ``gl2d`` partial bundle (traces parcoords,
+#: scattergl, scatter, splom; 1.5 MB instead of the full bundle's 4.8 MB, about 2 s less CPU time
+#: to read in a browser, docs/explorer.md), the file ``dist/plotly-gl2d.min.js`` of plotly.js' npm
+#: package at the version of the full bundle plotly.py ships (a test checks the two agree;
+#: docs/explorer.md says how to refresh it)
+PLOTLY_BUNDLE = "plotly-gl2d.min.js"
+
+#: designs a page holds at most, from pages of 1 000 to 10 000 designs measured in headless
+#: Chromium with software WebGL (docs/explorer.md): above a fixed cost of about 2 s of CPU time
+#: (plotly.js read, WebGL contexts and shaders), drawing takes about 0.5 ms of CPU time a design
+#: at 12 axes shown, and a brush drawn with the mouse stays under a second of it up to here
+MAX_DESIGNS = 3_000
 #: where a NaN sits below an axis' range, as a share of the range
 NAN_BAND = 0.08
 #: a study with more axes than this shows its other outputs (neither objective nor constrained)
@@ -225,6 +235,11 @@ def _note(ds, rows, seed) -> str:
     if k == n:
         return f"Every design of the study: {n}."
     front = int((flat(ds, "pareto_rank") == 0).sum()) if "pareto_rank" in ds else 0
+    if k == front:
+        return (
+            f"The {front} Pareto-front designs of the study's {n} designs (a page holds every "
+            "front design, and no other where they fill it); counts are of the designs shown."
+        )
     return (
         f"A sample of {k} of the study's {n} designs: every Pareto-front design ({front}) and "
         f"a uniform random sample of the others (seed {seed}); counts are of the designs shown."
@@ -254,10 +269,13 @@ def page_data(ds, limit=MAX_DESIGNS, seed=0) -> dict:
     }
 
 
+def plotly_js() -> str:
+    """The plotly.js bundle the page inlines (:data:`PLOTLY_BUNDLE`)."""
+    return resources.files(__package__).joinpath(PLOTLY_BUNDLE).read_text(encoding="utf-8")
+
+
 def page(ds, limit=MAX_DESIGNS, seed=0, version="") -> str:
     """The explorer of a study as one self-contained HTML text (plotly.js inline)."""
-    from plotly.offline import get_plotlyjs
-
     data = page_data(ds, limit, seed)
     app = resources.files(__package__).joinpath("explorer.js").read_text(encoding="utf-8")
     payload = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
@@ -267,7 +285,7 @@ def page(ds, limit=MAX_DESIGNS, seed=0, version="") -> str:
         heading=f"{title}: {data['title']}",
         note=data["note"],
         version=version,
-        plotly=get_plotlyjs(),
+        plotly=plotly_js(),
         data=payload,
         app=app,
     )
@@ -324,7 +342,8 @@ h1 {{ font-size: 18px; margin: 0 0 4px 0; }}
 <div id="help">Drag along an axis to keep a range of it (drag again to add one, click outside a
 range to remove it); the scatter, the count and the CSV follow. Hover a design in the scatter for
 its values. The scatter opens on the designs whose status is ok (double-click it to see every
-design). NaN: below an axis' range. clutchlab {version}.</div>
+design), a quantity whose positive values span two decades or more on a log axis. NaN: below an
+axis' range. clutchlab {version}.</div>
 <div id="controls">
 <span id="count"></span>
 <label>colour <select id="colour"></select></label>
@@ -337,6 +356,7 @@ design). NaN: below an axis' range. clutchlab {version}.</div>
 <div id="parcoords"></div>
 <div id="lower"><div id="scatter"></div>
 <table id="design"><tr><td>hover a design in the scatter for its values</td></tr></table></div>
+<script>performance.mark("clutchlab:plotly");</script>
 <script type="text/javascript">{plotly}</script>
 <script type="application/json" id="clutchlab-data">{data}</script>
 <script type="text/javascript">{app}</script>
