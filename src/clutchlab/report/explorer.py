@@ -242,7 +242,7 @@ def _note(ds, rows, seed) -> str:
         )
     return (
         f"A sample of {k} of the study's {n} designs: every Pareto-front design ({front}) and "
-        f"a uniform random sample of the others (seed {seed}); counts are of the designs shown."
+        f"a uniform random sample of the others (random-number seed {seed}); counts are of the designs shown."
     )
 
 
