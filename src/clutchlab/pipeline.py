@@ -129,9 +129,10 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=N
         return study.compute(part, options)
 
     if n:
-        with _kernel_lock():  # the first call compiles (or loads from numba's cache) the kernels
-            compute(slice(0, 1))  # this chunk uses: one job at a time, so that parallel jobs
-            # of a first run do not compile the same kernel twice
+        with _kernel_lock(study.name):  # the first call compiles (or loads from numba's cache)
+            compute(slice(0, 1))  # the kernels this chunk uses: one job of a study at a time, so
+            # that parallel jobs of a first run do not compile the same kernel twice (the jobs of
+            # other studies, with other kernels, compile theirs meanwhile)
     if n <= PROGRESS_MIN:
         ds = compute(slice(None))
     else:
@@ -172,17 +173,18 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=N
 
 
 @contextlib.contextmanager
-def _kernel_lock():
-    """An exclusive lock (``fcntl.flock``) held by one process at a time of this user and this
-    numba cache (``NUMBA_CACHE_DIR``, else the installed package's: the cache lives beside its
-    source); none where the platform or the temporary folder does not allow one."""
+def _kernel_lock(study: str):
+    """An exclusive lock (``fcntl.flock``) held by one process at a time of this user, this numba
+    cache (``NUMBA_CACHE_DIR``, else the installed package's: the cache lives beside its source)
+    and this study; none where the platform or the temporary folder does not allow one."""
     try:
         import fcntl
     except ImportError:  # not a POSIX system
         yield
         return
     cache = os.environ.get("NUMBA_CACHE_DIR") or str(Path(__file__).resolve().parent)
-    name = f"clutchlab-{os.getuid()}-{hashlib.sha256(cache.encode()).hexdigest()[:12]}.lock"
+    key = hashlib.sha256(cache.encode()).hexdigest()[:12]
+    name = f"clutchlab-{os.getuid()}-{key}-{study}.lock"
     try:
         fh = open(Path(tempfile.gettempdir()) / name, "a")  # noqa: SIM115 (closed below)
     except OSError:
