@@ -121,6 +121,21 @@ def test_nan_values_sit_on_a_band_below_the_range():
     assert spec["range"][0] < a.nan and spec["range"][1] == pytest.approx(finite.max())
 
 
+@pytest.mark.parametrize("value", [0.0, -1.0, 2.5e6])
+@pytest.mark.parametrize("with_nan", [False, True])
+def test_an_axis_of_one_value_has_one_tick_at_it(value, with_nan):
+    """Every design of a page on the Pareto front (pareto rank 0) or none (-1): one tick at the
+    value and a range about it, not plotly's ticks over a span of 2e-9 ("1n")."""
+    values = np.full(5, value)
+    if with_nan:
+        values[0] = np.nan
+    spec = explorer._numeric("pareto_rank", "pareto rank", "pareto_rank", "output", values).spec()
+    assert spec["tickvals"][-1] == value and spec["ticktext"][-1] == format(value, ".4g")
+    assert len(spec["tickvals"]) == 1 + with_nan
+    lo, hi = spec["range"]
+    assert lo < value < hi and hi - value >= 0.5
+
+
 def test_sample_keeps_every_front_design():
     ds = _study(n=500)
     rank = ds["pareto_rank"].values

@@ -85,10 +85,14 @@ class Axis:
             out["range"] = [min(shown, default=0) - 0.5, max(shown, default=0) + 0.5]
             out["codes"] = {str(k): v for k, v in self.codes.items()}
             return out
-        pad = 0.0 if hi > lo else max(abs(lo) * 0.05, 1e-9)
+        constant = not hi > lo  # one value (or none): one tick at it, not nano-scaled ones
+        value = lo
+        pad = 0.0 if not constant else max(abs(lo) * 0.05, 0.5)
         lo, hi = lo - pad, hi + pad
+        if constant:
+            out["tickvals"], out["ticktext"] = [value], [format(value, ".4g")]
         if self.nan is not None:
-            ticks = [float(t) for t in _ticks(lo, hi)]
+            ticks = [value] if constant else [float(t) for t in _ticks(lo, hi)]
             out["tickvals"] = [self.nan] + ticks
             out["ticktext"] = ["NaN"] + [format(t, ".4g") for t in ticks]
             out["nan"] = self.nan
