@@ -610,3 +610,43 @@ def test_every_default_constraint_can_bind(name):
     for output in sec["constraints"]:
         m = ds["constraint_margin"].sel(constraint=output).values
         assert (m < 0).any() and (m >= 0).any(), output
+
+
+@pytest.mark.parametrize(
+    "a",
+    [
+        np.random.default_rng(1).integers(0, 4, (5000, 3)).astype(float),
+        np.c_[
+            np.random.default_rng(2).choice([1.0, np.inf, -np.inf, -0.0, 0.0, 2.5], 5000),
+            np.random.default_rng(3).integers(0, 3, 5000),
+        ],
+        np.random.default_rng(4).random((3000, 2)),  # every row distinct
+        np.random.default_rng(5).integers(-3, 3, (400, 2)),  # integers
+        np.zeros((0, 2)),
+        np.array([[1.0, np.nan], [1.0, np.nan], [0.0, 1.0]]),  # NaN: numpy's answer
+    ],
+)
+def test_unique_rows_is_numpys_unique_along_rows(a):
+    rows, inverse = explore.unique_rows(a, return_inverse=True)
+    rows0, inverse0 = np.unique(a, axis=0, return_inverse=True)
+    assert rows.dtype == rows0.dtype
+    np.testing.assert_array_equal(rows, rows0)
+    np.testing.assert_array_equal(np.ravel(inverse), np.ravel(inverse0))
+
+
+def test_flat_broadcasts_like_xarray():
+    ds = xr.Dataset(
+        {
+            "status": (("a", "b"), np.zeros((3, 4), np.int8)),
+            "x": (("b", "a"), np.arange(12.0).reshape(4, 3)),
+            "y": ("a", [1.0, 2.0, 3.0]),
+            "z": ((), 7.0),
+        },
+        coords={"b": [10, 20, 30, 40]},
+    )
+    for name in ("x", "y", "z", "b", "status"):
+        expected = ds[name].broadcast_like(ds["status"]).transpose("a", "b").values.reshape(-1)
+        got = explore.flat(ds, name)
+        np.testing.assert_array_equal(got, expected)
+        got[:] = 0  # a new array: the Dataset is untouched
+    assert ds["x"].values.sum() == 66.0

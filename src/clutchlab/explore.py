@@ -234,8 +234,40 @@ def condition_factors(ds) -> tuple[list[str], list[str]]:
 
 def flat(ds, name) -> np.ndarray:
     """A per-scenario variable or factor coordinate of a study Dataset as a flat array, in the
-    order of ``status`` (grid or ``run``)."""
-    return ds[name].broadcast_like(ds["status"]).transpose(*ds["status"].dims).values.reshape(-1)
+    order of ``status`` (grid or ``run``); a new array (numpy's broadcasting: xarray's would copy
+    every coordinate of a sampled design on each call)."""
+    var, dims = ds[name], ds["status"].dims
+    if not set(var.dims) <= set(dims):
+        return var.broadcast_like(ds["status"]).transpose(*dims).values.reshape(-1)
+    values = var.transpose(*(d for d in dims if d in var.dims)).values
+    shape = [ds.sizes[d] if d in var.dims else 1 for d in dims]
+    return np.broadcast_to(values.reshape(shape), ds["status"].shape).reshape(-1).copy()
+
+
+def unique_rows(a, return_inverse=False):
+    """``numpy.unique(a, axis=0)``: the distinct rows of a 2-D array in lexicographic order (and,
+    with ``return_inverse``, the index of each row among them), in about linear time where a few
+    distinct rows repeat among 10^6 (pandas' hash factorisation, column by column; numpy sorts
+    the rows as records). Arrays with NaN go to numpy."""
+    import pandas as pd
+
+    a = np.asarray(a)
+    if a.ndim != 2 or 0 in a.shape or (a.dtype.kind == "f" and np.isnan(a).any()):
+        return np.unique(a, axis=0, return_inverse=return_inverse)
+    code, uniques = np.zeros(len(a), dtype=np.int64), []
+    for col in a.T:
+        c, u = pd.factorize(col, sort=True)
+        if len(u) and code.max() > (2**62) // len(u):  # too many combinations for one int64
+            return np.unique(a, axis=0, return_inverse=return_inverse)
+        code = code * len(u) + c
+        uniques.append(np.asarray(u, dtype=a.dtype))
+    inverse, keys = pd.factorize(code, sort=True)
+    keys = np.asarray(keys, dtype=np.int64)
+    rows = np.empty((len(keys), a.shape[1]), dtype=a.dtype)
+    for j in range(a.shape[1] - 1, -1, -1):
+        rows[:, j] = uniques[j][keys % len(uniques[j])]
+        keys = keys // len(uniques[j])
+    return (rows, inverse) if return_inverse else rows
 
 
 def group_ids(ds, within) -> np.ndarray | None:
@@ -488,7 +520,7 @@ def best_compromise(ds) -> int | None:
     ok &= np.isfinite(f).all(axis=1)
     rank = ds["pareto_rank"].values.reshape(-1)
     best, best_d = None, np.inf
-    combos = np.unique(key[ok], axis=0) if within else np.zeros((1, 0))
+    combos = unique_rows(key[ok]) if within else np.zeros((1, 0))
     if within and combos.size:  # the operating condition nearest the seed design's
         seed = studies.get(ds.attrs["study"]).defaults if "study" in ds.attrs else {}
         with np.errstate(invalid="ignore"):  # a condition may be inf (a held engine)
@@ -540,7 +572,7 @@ def refinement_gain(first, second):
     within = first["pareto_rank"].attrs.get("ranked_within", "").split()
     f1, ok1, k1 = objective_table(first, objectives, within)
     f2, ok2, k2 = objective_table(second, objectives, within)
-    combos = np.unique(k1[ok1], axis=0) if within else np.zeros((1, 0))
+    combos = unique_rows(k1[ok1]) if within else np.zeros((1, 0))
     rows = []
     for combo in combos:
         g1 = ok1 & (k1 == combo).all(axis=1) & np.isfinite(f1).all(axis=1)

@@ -9,7 +9,7 @@ import numpy as np
 
 from .. import display
 from .. import status as st
-from ..explore import flat
+from ..explore import flat, unique_rows
 from .answers import _marks
 from .common import (
     A4_LANDSCAPE,
@@ -280,7 +280,7 @@ def _heat_map(ax, ds, temp, ok):
     of each point over the other factors)."""
     x = 1e3 * flat(ds, "ramp_time") if "ramp_time" in ds.coords else np.zeros(ok.size)
     x, y, z = x[ok], flat(ds, "clamp_load")[ok] / 1e3, temp[ok]
-    pairs, inverse = np.unique(np.stack([x, y], axis=1), axis=0, return_inverse=True)
+    pairs, inverse = unique_rows(np.stack([x, y], axis=1), return_inverse=True)
     note = "all designs"
     if (
         len(pairs) < x.size
