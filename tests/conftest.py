@@ -60,10 +60,13 @@ def without_robust(section: dict) -> dict:
     return out
 
 
+@pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config, items):
     """Under pytest-xdist (``-n auto --dist loadgroup``, pyproject.toml) the tests that share the
     session's small Snakemake run go to one worker: the run is made once and its tests, some of
-    which rerun Snakemake in its folder, run one after another."""
+    which rerun Snakemake in its folder, run one after another. (First among the hooks: xdist's
+    own, which turns the mark into the group a test is scheduled by, runs before a conftest's
+    otherwise, and the mark came too late: each worker made the run.)"""
     for item in items:
         if "small_run" in getattr(item, "fixturenames", ()):
             item.add_marker(pytest.mark.xdist_group("small_run"))

@@ -242,8 +242,21 @@ def test_same_config_twice_gives_identical_files(small_run, tmp_path):
         assert (wd / f).read_bytes() == (small_run / f).read_bytes(), f
 
 
+def _without_solver_pages(wd) -> str:
+    """config/small.yaml in ``wd`` without the pages that run solvers of their own (benchmark,
+    numerics, hard cases; the small run draws them): the interrupt and kill tests are about the
+    workflow's files, not those pages. Returns the config's path relative to ``wd``."""
+    import yaml
+
+    cfg = yaml.safe_load((wd / "config/small.yaml").read_text())
+    cfg.setdefault("report", {}).update(benchmark=False, numerics=False, hard_cases=False)
+    (wd / "config/small_lite.yaml").write_text(yaml.safe_dump(cfg, sort_keys=False))
+    return "config/small_lite.yaml"
+
+
 def test_interrupt_and_resume(tmp_path):
     wd = _workdir(tmp_path)
+    lite = _without_solver_pages(wd)
     cmd = [
         sys.executable,
         "-m",
@@ -251,7 +264,7 @@ def test_interrupt_and_resume(tmp_path):
         "--cores",
         "1",
         "--configfile",
-        "config/small.yaml",
+        lite,
         "--config",
         "chunks=8",
     ]
@@ -267,7 +280,7 @@ def test_interrupt_and_resume(tmp_path):
     )
     for f in wd.rglob("*.h5"):  # whatever exists is complete and readable
         xr.open_dataset(f, engine="h5netcdf").close()
-    _snakemake(wd, "--configfile", "config/small.yaml", "--config", "chunks=8")
+    _snakemake(wd, "--configfile", lite, "--config", "chunks=8")
     assert (wd / "results/report/report.pdf").exists()
     assert not [p for p in wd.rglob("*.tmp")]
 
@@ -276,6 +289,7 @@ def test_killed_run_unlock_and_resume(tmp_path):
     """The documented recovery after a hard kill (docs/outputs.md): the lock left behind, `snakemake --unlock`, rerun;
     no temporary file of the killed jobs survives the rerun."""
     wd = _workdir(tmp_path)
+    lite = _without_solver_pages(wd)
     cmd = [
         sys.executable,
         "-m",
@@ -283,7 +297,7 @@ def test_killed_run_unlock_and_resume(tmp_path):
         "--cores",
         "2",
         "--configfile",
-        "config/small.yaml",
+        lite,
         "--config",
         "chunks=8",
     ]
@@ -297,12 +311,10 @@ def test_killed_run_unlock_and_resume(tmp_path):
     os.killpg(proc.pid, signal.SIGKILL)  # kill -9 of Snakemake and its jobs
     proc.wait(timeout=60)
     assert not (wd / "results/report/report.pdf").exists(), "run finished before it could be killed"
-    locked = _snakemake(
-        wd, "--configfile", "config/small.yaml", "--config", "chunks=8", check=False
-    )
+    locked = _snakemake(wd, "--configfile", lite, "--config", "chunks=8", check=False)
     assert locked.returncode != 0 and "cannot be locked" in locked.stdout + locked.stderr
-    _snakemake(wd, "--unlock", "--configfile", "config/small.yaml")
-    _snakemake(wd, "--configfile", "config/small.yaml", "--config", "chunks=8")
+    _snakemake(wd, "--unlock", "--configfile", lite)
+    _snakemake(wd, "--configfile", lite, "--config", "chunks=8")
     assert (wd / "results/report/report.pdf").exists()
     assert not [p for p in wd.rglob("*.tmp")]
 
