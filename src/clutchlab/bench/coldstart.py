@@ -92,7 +92,9 @@ print(json.dumps({"imports": imports, "first": calls[0], "warm": calls[1], "comp
 
 
 def _child(configfile, study, options, cache_dir) -> dict:
-    env = dict(os.environ, NUMBA_CACHE_DIR=cache_dir)
+    # the cache's base folder: clutchlab's own import passed its folder on to child processes
+    # (CLUTCHLAB_NUMBA_CACHE_BASE, which wins over NUMBA_CACHE_DIR)
+    env = dict(os.environ, NUMBA_CACHE_DIR=cache_dir, CLUTCHLAB_NUMBA_CACHE_BASE=cache_dir)
     out = subprocess.run(
         [sys.executable, "-c", _CHILD, str(configfile), study, json.dumps(options)],
         check=True,
