@@ -140,8 +140,9 @@ def simulate(
     trace_times : array_like or None [s]
         Times at which to record the state (breakpoints: no interpolation).
     power_history : bool
-        Return ``flash_peak`` (below); the compliant model with constant μ in ``config/million.yaml``'s
-        ranges takes about twice as long with it (53 against 28 µs a scenario).
+        Return ``flash_peak`` (below); the compliant model with constant μ, ramp profile, in
+        ``config/million.yaml``'s ranges at the engagement study's tolerances for accuracy 1e-6
+        takes about twice as long with it (53 against 28 µs of CPU a scenario).
     friction_table : (slip speeds [rad/s], μ/μ_k [-]) or None
         The slipping friction law μ(abs(Δω))/μ_k as a table (linear, constant beyond the ends;
         the Modelica library's ``mu_pos``; one for all scenarios), replacing the Stribeck law.

@@ -87,8 +87,9 @@ class Axis:
             return out
         constant = not hi > lo  # one value (or none): one tick at it, not nano-scaled ones
         value = lo
-        pad = 0.0 if not constant else max(abs(lo) * 0.05, 0.5)
-        lo, hi = lo - pad, hi + pad
+        if constant:
+            pad = max(abs(value) * 0.05, 0.5)
+            lo, hi = value - pad, value + pad
         if constant:
             out["tickvals"], out["ticktext"] = [value], [format(value, ".4g")]
         if self.nan is not None:
