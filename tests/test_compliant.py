@@ -468,3 +468,43 @@ def test_collocation_against_dop853_at_the_study_accuracy(variant):
                 if ref["status"] == "ok" or k != "lockup_time":
                     assert r[k][i] == pytest.approx(ref[k], rel=1e-6), (k, i, profile)
             assert r["flash_peak"][i] == pytest.approx(ref["flash_peak"], rel=5e-4)
+
+
+@pytest.mark.parametrize("degree", [3, 5, 8, 13])
+def test_polynomial_range_bounds_hold(degree):
+    """The exact phases skip ahead where polynomial range bounds exclude an event or a new peak:
+    the bounds (Bernstein coefficients from the Taylor ones) must contain every value on the
+    interval and be a monotone polynomial's end values (the Taylor spread bound before widened
+    that range on both sides)."""
+    from clutchlab.engagement import _linear_forms as lf
+
+    rng = np.random.default_rng(degree)
+    tmp = np.zeros(lf.NP)
+    for _ in range(200):
+        c = np.zeros(lf.NP)
+        c[: degree + 1] = rng.normal(size=degree + 1) * 10.0 ** rng.uniform(-3, 3, degree + 1)
+        lo, span = rng.uniform(-1.0, 1.0), 10.0 ** rng.uniform(-4, 0.5)
+        values = np.polynomial.polynomial.polyval(np.linspace(lo, lo + span, 4001), c)
+        pmin, pmax = lf.prange(c, degree, lo, lo + span, tmp)
+        size = np.max(np.abs(values)) + 1.0
+        assert pmin <= values.min() + 1e-12 * size and pmax >= values.max() - 1e-12 * size
+    c = np.zeros(lf.NP)  # x^degree on [1, 2]: monotone, its range is its end values
+    c[degree] = 1.0
+    pmin, pmax = lf.prange(c, degree, 1.0, 2.0, tmp)
+    assert pmin == pytest.approx(1.0, abs=1e-12 * 2.0**degree)
+    assert pmax == pytest.approx(2.0**degree, rel=1e-12)
+
+
+def test_polynomial_range_bounds_tighten_as_the_interval_shrinks():
+    """Bernstein bounds close in on an oscillating polynomial's range about four times a halving
+    of the interval (Chebyshev T₁₃ from 0.05)."""
+    from clutchlab.engagement import _linear_forms as lf
+
+    c = np.zeros(lf.NP)
+    c[:14] = np.polynomial.chebyshev.cheb2poly([0] * 13 + [1])
+    excess = []
+    for span in (0.4, 0.2, 0.1):
+        values = np.polynomial.polynomial.polyval(np.linspace(0.05, 0.05 + span, 40001), c)
+        pmin, pmax = lf.prange(c, 13, 0.05, 0.05 + span, np.zeros(lf.NP))
+        excess.append((pmax - pmin) - (values.max() - values.min()))
+    assert excess[0] > 0.1 and excess[1] < excess[0] / 3.0 and excess[2] < excess[1] / 3.0

@@ -86,30 +86,65 @@ def degree(c):
 
 @njit(**_JNIT)
 def prange(c, deg, lo, hi, tmp):
-    """Bounds (min, max) of the polynomial on [lo, hi]: exact for degree ≤ 2, else from its Taylor
-    coefficients b_j at lo (|P(lo + u) − P(lo)| ≤ Σ |b_j|·uʲ); ``tmp`` is a scratch row."""
+    """Bounds (min, max) of the polynomial on [lo, hi]: exact for degree <= 2, else its Bernstein
+    bounds from the Taylor coefficients at lo (:func:`taylor_range`); ``tmp`` is a scratch row."""
     a, b = pvd(c, deg, lo), pvd(c, deg, hi)
-    lo_v, hi_v = min(a, b), max(a, b)
     if deg <= 1:
-        return lo_v, hi_v
+        return min(a, b), max(a, b)
     if deg == 2:
+        lo_v, hi_v = min(a, b), max(a, b)
         if c[2] != 0.0:
             xv = -0.5 * c[1] / c[2]
             if lo < xv < hi:
                 v = c[0] + xv * (c[1] + xv * c[2])
                 lo_v, hi_v = min(lo_v, v), max(hi_v, v)
         return lo_v, hi_v
+    taylor(c, deg, lo, tmp)
+    return taylor_range(tmp, deg, hi - lo)
+
+
+@njit(**_JNIT)
+def taylor(c, deg, x, out):
+    """The Taylor coefficients of the polynomial at x (out[j] = P⁽ʲ⁾(x)/j!; synthetic division)."""
     for j in range(deg + 1):
-        tmp[j] = c[j]
-    for k in range(deg):  # Taylor shift to lo (synthetic division)
+        out[j] = c[j]
+    for k in range(deg):
         for j in range(deg - 1, k - 1, -1):
-            tmp[j] += lo * tmp[j + 1]
-    du = hi - lo
-    spread, upow = 0.0, 1.0
-    for j in range(1, deg + 1):
-        upow *= du
-        spread += abs(tmp[j]) * upow
-    return a - spread, a + spread
+            out[j] += x * out[j + 1]
+
+
+def _bernstein_weights():
+    """w[n, k, j] = C(k, j)/C(n, j): the Bernstein coefficients of degree n on [0, 1] from the
+    power ones, β_k = Σ_j w[n, k, j]·c_j."""
+    w = np.zeros((NP, NP, NP))
+    for n in range(NP):
+        for k in range(n + 1):
+            for j in range(k + 1):
+                w[n, k, j] = math.comb(k, j) / math.comb(n, j)
+    return w
+
+
+_BERNSTEIN = _bernstein_weights()
+
+
+@njit(**_JNIT)
+def taylor_range(b, deg, du):
+    """Bounds (min, max) of Σ b_j·uʲ over u in [0, du]: its extreme Bernstein coefficients on the
+    interval (the polynomial lies in their convex hull, and they tighten as du shrinks), widened
+    by their round-off."""
+    w = _BERNSTEIN[deg]
+    lo_v = hi_v = b[0]
+    size = 0.0
+    for k in range(1, deg + 1):
+        acc, upow, size = b[0], 1.0, abs(b[0])
+        for j in range(1, k + 1):
+            upow *= du
+            term = w[k, j] * b[j] * upow
+            acc += term
+            size += abs(term)
+        lo_v, hi_v = min(lo_v, acc), max(hi_v, acc)
+    noise = 4.0 * NP * _EPS * size  # (size: Σ |b_j|·du^j, the last coefficient's terms)
+    return lo_v - noise, hi_v + noise
 
 
 @njit(**_JNIT)

@@ -74,9 +74,13 @@ NOT_QUIET, QUIET_BOUNDS, QUIET_MONOTONE = range(3)
 #: The forms of a segment (scratch shared by all segments): ``table`` the form table
 #: (N_FROWS × NP), ``degree`` each row's polynomial degree, per form its ``role`` (OFF, EVENT,
 #: PEAK_FORM, PENDING), ``quiet`` (NOT_QUIET, QUIET_BOUNDS, QUIET_MONOTONE) up to
-#: ``quiet_until`` [s from the segment's start], ``t_arm`` the time it is armed from [s], and
-#: ``tmp`` a scratch row.
-Forms = namedtuple("Forms", ["table", "degree", "role", "quiet", "quiet_until", "t_arm", "tmp"])
+#: ``quiet_until`` [s from the segment's start], ``t_arm`` the time it is armed from [s], ``tmp``
+#: a scratch row, and per row its Taylor coefficients ``taylor`` at the time ``taylor_at`` [s]
+#: (NaN: none yet; the bounds of a row above degree 2 start from them).
+Forms = namedtuple(
+    "Forms",
+    ["table", "degree", "role", "quiet", "quiet_until", "t_arm", "tmp", "taylor", "taylor_at"],
+)
 
 #: The polynomial rows of a segment (NP ascending coefficients in τ): ``C`` the capacity, ``D``
 #: the drive of body A, ``F`` the oscillator's forcing, ``XP``/``XPD`` the particular solution
@@ -108,6 +112,8 @@ def new_forms():
         np.zeros(N_FORM),
         np.zeros(N_FORM),
         np.zeros(NP),
+        np.zeros((lf.N_FROWS, NP)),
+        np.zeros(lf.N_FROWS),
     )
 
 
@@ -344,6 +350,7 @@ def _locked_forms(ph, q, pl, fm):
 def _derive_forms(ph, fm):
     """The first and second derivatives of every active form, and the degrees of their rows."""
     ft, fd, role = fm.table, fm.degree, fm.role
+    fm.taylor_at[:] = np.nan
     for i in range(N_FORM):
         if role[i] != OFF:
             lf.fder(ft, i, i + N_FORM, ph.km, ph.cm)
@@ -401,6 +408,18 @@ def _peak_slot(form):
     return MAX_POWER if form == lf.F_POW else (MAX_TORQUE if form == lf.F_TORQ else MAX_JERK)
 
 
+@njit(**INLINE)
+def _row_range(fm, r, deg, lo, hi):
+    """Bounds of row r's polynomial on [lo, hi]; above degree 2 from its Taylor coefficients at
+    lo, kept for the next bounds from the same lo (the horizon's growing spans)."""
+    if deg <= 2:
+        return lf.prange(fm.table[r], deg, lo, hi, fm.tmp)
+    if fm.taylor_at[r] != lo:
+        lf.taylor(fm.table[r], deg, lo, fm.taylor[r])
+        fm.taylor_at[r] = lo
+    return lf.taylor_range(fm.taylor[r], deg, hi - lo)
+
+
 @njit(**JIT)
 def _form_bounds(fm, i, lo, hi, bounds, fr):
     """(min P, max P, bound of |U·h + W·h'|) of form i over [lo, hi]; hi may be inf (then P beyond
@@ -412,7 +431,7 @@ def _form_bounds(fm, i, lo, hi, bounds, fr):
     r = 3 * i
     dp, du, dw = int(fd[r]), int(fd[r + 1]), int(fd[r + 2])
     if math.isfinite(hi):
-        pmin, pmax = lf.prange(ft[r], dp, lo, hi, fm.tmp)
+        pmin, pmax = _row_range(fm, r, dp, lo, hi)
     else:
         if dp > 1 or du > 0 or dw > 0:
             return -np.inf, np.inf, np.inf
@@ -433,8 +452,8 @@ def _form_bounds(fm, i, lo, hi, bounds, fr):
             return pmin, pmax, amp * math.exp(-a * lo)
         um, wm = abs(u), abs(w)
     else:
-        u0, u1 = lf.prange(ft[r + 1], du, lo, hi, fm.tmp)
-        w0, w1 = lf.prange(ft[r + 2], dw, lo, hi, fm.tmp)
+        u0, u1 = _row_range(fm, r + 1, du, lo, hi)
+        w0, w1 = _row_range(fm, r + 2, dw, lo, hi)
         um, wm = max(abs(u0), abs(u1)), max(abs(w0), abs(w1))
     env = um * rh + wm * rd
     if env > 0.0:
