@@ -60,11 +60,9 @@ FreeResponse = namedtuple("FreeResponse", ["a", "w2", "h0", "h1", "t0"])
 
 @njit(**_JNIT)
 def pv(c, x):
-    """Polynomial value (ascending coefficients, Horner)."""
-    acc = 0.0
-    for i in range(NP - 1, -1, -1):
-        acc = acc * x + c[i]
-    return acc
+    """Polynomial value (ascending coefficients, Horner from the highest non-zero one: the same
+    value as from the top for a finite x, without the leading zeros' chain of multiplications)."""
+    return pvd(c, degree(c), x)
 
 
 @njit(**_JNIT)
@@ -170,10 +168,12 @@ def integ(src, dst):
 
 @njit(**_JNIT)
 def mul(a, b, dst):
-    """dst = a·b truncated to NP coefficients (callers keep the degrees inside; dst may be a or b)."""
+    """dst = a·b truncated to NP coefficients (callers keep the degrees inside; dst may be a or b;
+    the products of zero coefficients above a's and b's degrees are left out)."""
+    da, db = degree(a), degree(b)
     for i in range(NP - 1, -1, -1):
         acc = 0.0
-        for j in range(i + 1):
+        for j in range(max(0, i - db), min(i, da) + 1):
             acc += a[j] * b[i - j]
         dst[i] = acc
 
