@@ -60,18 +60,6 @@ def without_robust(section: dict) -> dict:
     return out
 
 
-@pytest.hookimpl(tryfirst=True)
-def pytest_collection_modifyitems(config, items):
-    """Under pytest-xdist (``-n auto --dist loadgroup``, pyproject.toml) the tests that share the
-    session's small Snakemake run go to one worker: the run is made once and its tests, some of
-    which rerun Snakemake in its folder, run one after another. (First among the hooks: xdist's
-    own, which turns the mark into the group a test is scheduled by, runs before a conftest's
-    otherwise, and the mark came too late: each worker made the run.)"""
-    for item in items:
-        if "small_run" in getattr(item, "fixturenames", ()):
-            item.add_marker(pytest.mark.xdist_group("small_run"))
-
-
 def snakemake_workdir(tmp_path: Path) -> Path:
     """A working folder with the workflow (Snakefile, workflows, config) as a user's clone has it."""
     import shutil
@@ -94,9 +82,46 @@ def run_snakemake(cwd, *args, check=True, **kw):
     return proc
 
 
+def _session_folder(tmp_path_factory) -> Path:
+    """The session's temporary folder that every pytest-xdist worker of the session shares (each
+    worker's own is a subfolder of it); without xdist, the session's own."""
+    base = tmp_path_factory.getbasetemp()
+    return base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
+
+
 @pytest.fixture(scope="session")
 def small_run(tmp_path_factory):
-    """config/small.yaml run through Snakemake once for the session (pipeline and notebook tests)."""
-    wd = snakemake_workdir(tmp_path_factory.mktemp("run"))
-    run_snakemake(wd, "--configfile", "config/small.yaml")
+    """config/small.yaml run through Snakemake once for the session (pipeline, notebook, explorer
+    and cluster tests), whichever pytest-xdist worker needs it first: the run is made under a lock
+    in the folder the workers share, the other workers wait for it and read the same folder, so
+    that its tests spread over the workers. Tests only read it: a test that runs Snakemake in the
+    run's folder, or writes there, takes its own copy (``small_run_copy``)."""
+    import fcntl
+
+    shared = _session_folder(tmp_path_factory)
+    wd, made, failed = shared / "small_run", shared / "small_run.made", shared / "small_run.failed"
+    with open(shared / "small_run.lock", "a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes
+        if failed.exists():  # another worker's attempt failed: the same error, not a second run
+            raise AssertionError(failed.read_text())
+        if not made.exists():
+            wd.mkdir()
+            try:
+                run_snakemake(snakemake_workdir(wd), "--configfile", "config/small.yaml")
+            except BaseException as exc:
+                failed.write_text(f"the session's small run failed:\n{exc}")
+                raise
+            # one line for each run made (tests/test_suite_setup.py: one a session)
+            with open(made, "a") as fh:
+                fh.write(f"{os.environ.get('PYTEST_XDIST_WORKER', 'main')} {wd}\n")
     return wd
+
+
+@pytest.fixture
+def small_run_copy(small_run, tmp_path):
+    """The test's own copy of the session's small run (every file with its modification time, and
+    Snakemake's records in .snakemake/): for a test that reruns Snakemake in the run's folder or
+    changes a file there, while other tests read the session's run."""
+    import shutil
+
+    return Path(shutil.copytree(small_run, tmp_path / "run", symlinks=True))
