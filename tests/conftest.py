@@ -60,6 +60,41 @@ def without_robust(section: dict) -> dict:
     return out
 
 
+# The tests that take longest (minutes each: Snakemake runs, the cluster), longest first as
+# measured in a full run on 2 cores: pytest-xdist hands out the tests in collection order, and
+# one of these started last kept one worker busy minutes after the other had finished. The
+# cluster test of the small config makes the session's small run first (tests/test_slurm.py);
+# the others, which do not read it, run meanwhile.
+LONG_FIRST = (
+    "tests/test_slurm.py::test_small_config_on_slurm_equals_the_local_run",
+    "tests/test_pipeline.py::test_every_config_runs_with_any_chunk_count[refine.yaml",
+    "tests/test_pipeline.py::test_interrupt_and_resume",
+    "tests/test_pipeline.py::test_killed_run_unlock_and_resume",
+    "tests/test_pipeline.py::test_every_config_runs_with_any_chunk_count[million.yaml",
+    "tests/test_pipeline.py::test_every_config_runs_with_any_chunk_count[config.yaml",
+    "tests/test_pipeline.py::test_every_config_runs_with_any_chunk_count[small.yaml",
+    "tests/test_slurm.py::test_a_chunk_job_cancelled_by_slurm",
+    "tests/test_pipeline.py::test_same_config_twice_gives_identical_files",
+    "tests/test_pipeline.py::test_malformed_configs_are_refused_before_any_job",
+    "tests/test_provenance.py::test_snakemake_finds_a_foreign_chunk_and_a_hand_edited_result",
+    "tests/test_pipeline.py::test_every_config_runs_with_any_chunk_count",
+    "tests/test_slurm.py::",
+)
+
+
+def pytest_collection_modifyitems(config, items):
+    """The tests of ``LONG_FIRST`` first, in its order; the others in collection order (the same
+    on every pytest-xdist worker, as xdist requires)."""
+
+    def rank(item):
+        for i, prefix in enumerate(LONG_FIRST):
+            if item.nodeid.startswith(prefix):
+                return i
+        return len(LONG_FIRST)
+
+    items.sort(key=rank)  # (stable: each rank keeps collection order)
+
+
 def snakemake_workdir(tmp_path: Path) -> Path:
     """A working folder with the workflow (Snakefile, workflows, config) as a user's clone has it."""
     import shutil
