@@ -60,16 +60,39 @@ def without_robust(section: dict) -> dict:
     return out
 
 
-@pytest.hookimpl(tryfirst=True)
+# The tests that take longest (minutes each: Snakemake runs, the cluster), longest first as
+# measured in a full run on 2 cores: pytest-xdist hands out the tests in collection order, and
+# one of these started last kept one worker busy minutes after the other had finished. The
+# cluster test of the small config makes the session's small run first (tests/test_slurm.py);
+# the others, which do not read it, run meanwhile.
+LONG_FIRST = (
+    "tests/test_slurm.py::test_small_config_on_slurm_equals_the_local_run",
+    "tests/test_pipeline.py::test_every_config_runs_with_any_chunk_count[refine.yaml",
+    "tests/test_pipeline.py::test_interrupt_and_resume",
+    "tests/test_pipeline.py::test_killed_run_unlock_and_resume",
+    "tests/test_pipeline.py::test_every_config_runs_with_any_chunk_count[million.yaml",
+    "tests/test_pipeline.py::test_every_config_runs_with_any_chunk_count[config.yaml",
+    "tests/test_pipeline.py::test_every_config_runs_with_any_chunk_count[small.yaml",
+    "tests/test_slurm.py::test_a_chunk_job_cancelled_by_slurm",
+    "tests/test_pipeline.py::test_same_config_twice_gives_identical_files",
+    "tests/test_pipeline.py::test_malformed_configs_are_refused_before_any_job",
+    "tests/test_provenance.py::test_snakemake_finds_a_foreign_chunk_and_a_hand_edited_result",
+    "tests/test_pipeline.py::test_every_config_runs_with_any_chunk_count",
+    "tests/test_slurm.py::",
+)
+
+
 def pytest_collection_modifyitems(config, items):
-    """Under pytest-xdist (``-n auto --dist loadgroup``, pyproject.toml) the tests that share the
-    session's small Snakemake run go to one worker: the run is made once and its tests, some of
-    which rerun Snakemake in its folder, run one after another. (First among the hooks: xdist's
-    own, which turns the mark into the group a test is scheduled by, runs before a conftest's
-    otherwise, and the mark came too late: each worker made the run.)"""
-    for item in items:
-        if "small_run" in getattr(item, "fixturenames", ()):
-            item.add_marker(pytest.mark.xdist_group("small_run"))
+    """The tests of ``LONG_FIRST`` first, in its order; the others in collection order (the same
+    on every pytest-xdist worker, as xdist requires)."""
+
+    def rank(item):
+        for i, prefix in enumerate(LONG_FIRST):
+            if item.nodeid.startswith(prefix):
+                return i
+        return len(LONG_FIRST)
+
+    items.sort(key=rank)  # (stable: each rank keeps collection order)
 
 
 def snakemake_workdir(tmp_path: Path) -> Path:
@@ -94,9 +117,46 @@ def run_snakemake(cwd, *args, check=True, **kw):
     return proc
 
 
+def _session_folder(tmp_path_factory) -> Path:
+    """The session's temporary folder that every pytest-xdist worker of the session shares (each
+    worker's own is a subfolder of it); without xdist, the session's own."""
+    base = tmp_path_factory.getbasetemp()
+    return base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
+
+
 @pytest.fixture(scope="session")
 def small_run(tmp_path_factory):
-    """config/small.yaml run through Snakemake once for the session (pipeline and notebook tests)."""
-    wd = snakemake_workdir(tmp_path_factory.mktemp("run"))
-    run_snakemake(wd, "--configfile", "config/small.yaml")
+    """config/small.yaml run through Snakemake once for the session (pipeline, notebook, explorer
+    and cluster tests), whichever pytest-xdist worker needs it first: the run is made under a lock
+    in the folder the workers share, the other workers wait for it and read the same folder, so
+    that its tests spread over the workers. Tests only read it: a test that runs Snakemake in the
+    run's folder, or writes there, takes its own copy (``small_run_copy``)."""
+    import fcntl
+
+    shared = _session_folder(tmp_path_factory)
+    wd, made, failed = shared / "small_run", shared / "small_run.made", shared / "small_run.failed"
+    with open(shared / "small_run.lock", "a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes
+        if failed.exists():  # another worker's attempt failed: the same error, not a second run
+            raise AssertionError(failed.read_text())
+        if not made.exists():
+            wd.mkdir()
+            try:
+                run_snakemake(snakemake_workdir(wd), "--configfile", "config/small.yaml")
+            except BaseException as exc:
+                failed.write_text(f"the session's small run failed:\n{exc}")
+                raise
+            # one line for each run made (tests/test_suite_setup.py: one a session)
+            with open(made, "a") as fh:
+                fh.write(f"{os.environ.get('PYTEST_XDIST_WORKER', 'main')} {wd}\n")
     return wd
+
+
+@pytest.fixture
+def small_run_copy(small_run, tmp_path):
+    """The test's own copy of the session's small run (every file with its modification time, and
+    Snakemake's records in .snakemake/): for a test that reruns Snakemake in the run's folder or
+    changes a file there, while other tests read the session's run."""
+    import shutil
+
+    return Path(shutil.copytree(small_run, tmp_path / "run", symlinks=True))

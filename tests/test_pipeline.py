@@ -136,14 +136,16 @@ def test_outputs_exist_and_open(small_run):
         assert (small_run / f"results/report/{name}_sensitivity.png").stat().st_size > 0
 
 
-def test_bad_config_fails_before_any_job(small_run):
-    target = small_run / "results/diaphragm_spring/diaphragm_spring.h5"
+def test_bad_config_fails_before_any_job(small_run_copy):
+    target = small_run_copy / "results/diaphragm_spring/diaphragm_spring.h5"
     before = (target.read_bytes(), target.stat().st_mtime_ns)
-    bad = small_run / "bad.yaml"
+    bad = small_run_copy / "bad.yaml"
     bad.write_text(
-        (small_run / "config/small.yaml").read_text().replace("radius_ratio:", "radius_ration:")
+        (small_run_copy / "config/small.yaml")
+        .read_text()
+        .replace("radius_ratio:", "radius_ration:")
     )
-    proc = _snakemake(small_run, "--configfile", "bad.yaml", "--forceall", check=False)
+    proc = _snakemake(small_run_copy, "--configfile", "bad.yaml", "--forceall", check=False)
     assert proc.returncode != 0
     assert "diaphragm_spring.parameters.radius_ration" in proc.stdout + proc.stderr
     assert "Execute" not in proc.stdout + proc.stderr
@@ -156,7 +158,7 @@ def _tree(root):
     }
 
 
-def test_malformed_configs_are_refused_before_any_job(small_run):
+def test_malformed_configs_are_refused_before_any_job(small_run_copy):
     """Every file of tests/malformed/ through Snakemake: one line 'clutchlab: config key ...' naming
     the key (or the file), no traceback, no job, results/ untouched. The files Snakemake's own
     loader would choke on (not UTF-8, not YAML, not a mapping, empty) or evaluate (a YTE template)
@@ -172,10 +174,10 @@ def test_malformed_configs_are_refused_before_any_job(small_run):
         for p in sorted((ROOT / "tests/malformed").glob("*.yaml"))
         if b"\n# snakemake: no\n" not in p.read_bytes()[:400]
     ]
-    before = _tree(small_run / "results")
+    before = _tree(small_run_copy / "results")
 
     def run(path):
-        return path, _snakemake(small_run, "--configfile", str(path), check=False)
+        return path, _snakemake(small_run_copy, "--configfile", str(path), check=False)
 
     with ThreadPoolExecutor(2) as pool:
         outcomes = list(pool.map(run, files))
@@ -195,37 +197,37 @@ def test_malformed_configs_are_refused_before_any_job(small_run):
         if proc.returncode == 0 or "Execute" in out or not ok:
             wrong.append((path.name, out))
     assert not wrong, wrong
-    assert _tree(small_run / "results") == before
+    assert _tree(small_run_copy / "results") == before
 
 
-def test_a_template_config_is_never_evaluated(small_run):
+def test_a_template_config_is_never_evaluated(small_run_copy):
     """A config file starting with `__use_yte__: true` used to run its Python expressions inside
     Snakemake's loader, even in a dry run; the default profile refuses it before that."""
-    bad = small_run / "template.yaml"
+    bad = small_run_copy / "template.yaml"
     bad.write_text(
         '__use_yte__: true\nstudies: ?open("evaluated", "w").write("x") and ["sprag"]\n'
         "sprag: {design: factorial}\n"
     )
-    proc = _snakemake(small_run, "--configfile", str(bad), "--dry-run", check=False)
+    proc = _snakemake(small_run_copy, "--configfile", str(bad), "--dry-run", check=False)
     assert (
         proc.returncode != 0 and "clutchlab: config key '__use_yte__'" in proc.stderr + proc.stdout
     )
-    assert not (small_run / "evaluated").exists()
+    assert not (small_run_copy / "evaluated").exists()
 
 
-def test_a_json_config_indented_with_tabs_is_accepted(small_run):
+def test_a_json_config_indented_with_tabs_is_accepted(small_run_copy):
     """JSON is a config's other form: Snakemake reads it as JSON, and so does clutchlab (YAML
     refuses tabs; this used to be refused as 'not valid YAML')."""
     import json
 
-    cfg = small_run / "tabs.json"
+    cfg = small_run_copy / "tabs.json"
     body = {
         "results": "results/tabs",
         "studies": ["sprag"],
         "sprag": {"design": "factorial", "parameters": {"torque": "500 N*m"}},
     }
     cfg.write_text(json.dumps(body, indent="\t"))
-    proc = _snakemake(small_run, "--configfile", str(cfg), "--dry-run", check=False)
+    proc = _snakemake(small_run_copy, "--configfile", str(cfg), "--dry-run", check=False)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert "merge_sprag" in proc.stdout
 
@@ -380,7 +382,10 @@ def test_every_config_runs_with_any_chunk_count(name, chunking, tmp_path, monkey
         (wd / "first.yaml").write_text(
             yaml.safe_dump(_tiny_variant(ROOT / "config" / "config.yaml"))
         )
-        _snakemake(wd, "--configfile", "first.yaml")
+        # only the results the second stage reads (its merge jobs): the first stage's other
+        # studies and its report are config.yaml's own run here (targets before --configfile,
+        # which takes every word after it)
+        _snakemake(wd, *refine_sources(cfg), "--configfile", "first.yaml")
         assert all((wd / s).exists() for s in refine_sources(cfg))
     monkeypatch.chdir(wd)  # relative paths of the config (refine.from) as Snakemake reads them
     resolved = config.resolve(cfg)
@@ -396,16 +401,16 @@ def test_every_config_runs_with_any_chunk_count(name, chunking, tmp_path, monkey
         assert int(ds["status"].size) == n, (s, chunks)
 
 
-def test_editing_the_physics_reruns_the_studies(small_run, tmp_path):
+def test_editing_the_physics_reruns_the_studies(small_run_copy, tmp_path):
     """Issue 14: results say what produced them (the package's source hash, also a param of every
     physics rule); an edited physics constant makes the next run recompute, where it used to say
     'Nothing to be done'."""
     import clutchlab
     from clutchlab import store
 
-    ds = store.load(small_run / "results/diaphragm_spring/diaphragm_spring.h5")
+    ds = store.load(small_run_copy / "results/diaphragm_spring/diaphragm_spring.h5")
     assert ds.attrs["clutchlab_source"] == clutchlab.source_hash()
-    same = _snakemake(small_run, "--configfile", "config/small.yaml", "--dry-run")
+    same = _snakemake(small_run_copy, "--configfile", "config/small.yaml", "--dry-run")
     assert "Nothing to be done" in same.stdout + same.stderr
     src = tmp_path / "src"
     shutil.copytree(
@@ -415,28 +420,28 @@ def test_editing_the_physics_reruns_the_studies(small_run, tmp_path):
     mod.write_text(mod.read_text() + "\n_EDITED_CONSTANT = 1.0  # an edit to the physics\n")
     assert clutchlab.source_hash(src / "clutchlab") != clutchlab.source_hash()
     env = {**os.environ, "PYTHONPATH": str(src)}
-    edited = _snakemake(small_run, "--configfile", "config/small.yaml", "--dry-run", env=env)
+    edited = _snakemake(small_run_copy, "--configfile", "config/small.yaml", "--dry-run", env=env)
     out = edited.stdout + edited.stderr
     assert "Nothing to be done" not in out and "chunk" in out and "merge_diaphragm_spring" in out
 
 
-def test_a_changed_chunk_is_found_by_the_merge_and_recomputed(small_run):
+def test_a_changed_chunk_is_found_by_the_merge_and_recomputed(small_run_copy):
     """Issue 14: a chunk file whose data changed after it was written used to be merged silently;
     the merge checks each chunk's checksum, names and removes the bad one, the next run recomputes."""
     import h5py
 
-    result = small_run / "results/sprag/sprag.h5"
+    result = small_run_copy / "results/sprag/sprag.h5"
     before = xr.load_dataset(result, engine="h5netcdf")
-    chunk = small_run / "results/work/sprag/chunk_0001.h5"
+    chunk = small_run_copy / "results/work/sprag/chunk_0001.h5"
     with h5py.File(chunk, "r+") as f:
         f["gripping_angle"][0] = 0.0
-    proc = _snakemake(small_run, "--configfile", "config/small.yaml", check=False)
+    proc = _snakemake(small_run_copy, "--configfile", "config/small.yaml", check=False)
     assert proc.returncode != 0
     assert (
         "results/work/sprag/chunk_0001.h5 does not match its checksum" in proc.stdout + proc.stderr
     )
     assert not chunk.exists()
-    _snakemake(small_run, "--configfile", "config/small.yaml")
+    _snakemake(small_run_copy, "--configfile", "config/small.yaml")
     xr.testing.assert_identical(xr.load_dataset(result, engine="h5netcdf"), before)
 
 
@@ -499,18 +504,18 @@ def test_every_report_page_keeps_its_text_on_the_page(small_run, tmp_path, monke
     assert "3 jobs, 12.5 s of job time" in " ".join(t.get_text() for t in page.texts)
 
 
-def test_snakemakes_own_report_holds_every_page_with_its_caption(small_run):
+def test_snakemakes_own_report_holds_every_page_with_its_caption(small_run_copy):
     """Issue 18 item 2: `snakemake --report` gives one HTML with every report file, each with its
     caption (clutchlab.report.captions), and the run's provenance (version, source hash, config)."""
     import clutchlab
     from clutchlab.report import captions
 
     _snakemake(
-        small_run, "--configfile", "config/small.yaml", "--report", "results/report.html"
+        small_run_copy, "--configfile", "config/small.yaml", "--report", "results/report.html"
     )  # as docs/outputs.md
-    html = (small_run / "results/report.html").read_text()
+    html = (small_run_copy / "results/report.html").read_text()
     names = ["diaphragm_spring", "centrifugal", "sprag", "roller"]
-    files = sorted(p.name for p in (small_run / "results/report").iterdir())
+    files = sorted(p.name for p in (small_run_copy / "results/report").iterdir())
     assert len(files) >= 25
     for name in files:
         assert name in html, name
@@ -529,8 +534,10 @@ def test_snakemakes_own_report_holds_every_page_with_its_caption(small_run):
     assert "Start with the summary page" in html and "results/report/report.pdf" in html
     import zipfile
 
-    _snakemake(small_run, "--configfile", "config/small.yaml", "--report", "results/report.zip")
-    with zipfile.ZipFile(small_run / "results/report.zip") as z:
+    _snakemake(
+        small_run_copy, "--configfile", "config/small.yaml", "--report", "results/report.zip"
+    )
+    with zipfile.ZipFile(small_run_copy / "results/report.zip") as z:
         assert any(n.endswith("report.html") for n in z.namelist()) and len(z.namelist()) > len(
             files
         )

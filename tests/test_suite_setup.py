@@ -1,19 +1,20 @@
-"""The suite's own set-up: the tests that share the session's small Snakemake run stay on one
-pytest-xdist worker (tests/conftest.py; `--dist loadgroup` in pyproject.toml)."""
+"""The suite's own set-up: the session's small Snakemake run is made once, whichever
+pytest-xdist worker needs it first, and every worker reads that one folder (tests/conftest.py)."""
+
+import os
 
 import pytest
 
 
-def test_the_small_run_tests_are_one_group(request):
-    """Each of them carries xdist's group suffix: else every worker makes the small run (minutes
-    each) and tests that rerun Snakemake in its folder run at the same time. (With pytest 9.2 the
-    suffix silently stopped taking, pytest-dev/pytest-xdist#1386; and a conftest hook that marks
-    the tests after xdist's has read the marks is too late.)"""
-    if not getattr(request.config.option, "loadgroup", False):
-        pytest.skip("not on a pytest-xdist worker with --dist loadgroup")
-    users = [i for i in request.session.items if "small_run" in getattr(i, "fixturenames", ())]
-    if not users:
-        pytest.skip("no test of this session uses the small run")
-    assert all(i.nodeid.endswith("@small_run") for i in users), [
-        i.nodeid for i in users if not i.nodeid.endswith("@small_run")
-    ][:5]
+@pytest.mark.slow  # it needs the small run
+def test_the_small_run_is_made_once_for_every_worker(small_run, tmp_path_factory):
+    """Else every worker makes the small run (minutes each). Under xdist the run lives in the
+    folder the workers share, not in this worker's own; the workers that did not make it waited
+    for it (a file lock) instead of making their own. (Tests that rerun Snakemake in the run's
+    folder take a copy of it: ``small_run_copy``.)"""
+    base = tmp_path_factory.getbasetemp()
+    shared = base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
+    assert small_run == shared / "small_run"
+    made = (shared / "small_run.made").read_text().splitlines()
+    assert len(made) == 1, made
+    assert (small_run / "results/report/report.pdf").stat().st_size > 0
