@@ -86,19 +86,18 @@ def degree(c):
 def prange(c, deg, lo, hi, tmp):
     """Bounds (min, max) of the polynomial on [lo, hi]: exact for degree <= 2, else its Bernstein
     bounds from the Taylor coefficients at lo (:func:`taylor_range`); ``tmp`` is a scratch row."""
+    if deg > 2:
+        taylor(c, deg, lo, tmp)
+        return taylor_range(tmp, deg, hi - lo)
     a, b = pvd(c, deg, lo), pvd(c, deg, hi)
-    if deg <= 1:
-        return min(a, b), max(a, b)
+    lo_v, hi_v = min(a, b), max(a, b)
     if deg == 2:
-        lo_v, hi_v = min(a, b), max(a, b)
         if c[2] != 0.0:
             xv = -0.5 * c[1] / c[2]
             if lo < xv < hi:
                 v = c[0] + xv * (c[1] + xv * c[2])
                 lo_v, hi_v = min(lo_v, v), max(hi_v, v)
-        return lo_v, hi_v
-    taylor(c, deg, lo, tmp)
-    return taylor_range(tmp, deg, hi - lo)
+    return lo_v, hi_v
 
 
 @njit(**_JNIT)
@@ -132,7 +131,7 @@ def taylor_range(b, deg, du):
     by their round-off."""
     w = _BERNSTEIN[deg]
     lo_v = hi_v = b[0]
-    size = 0.0
+    size = abs(b[0])
     for k in range(1, deg + 1):
         acc, upow, size = b[0], 1.0, abs(b[0])
         for j in range(1, k + 1):
