@@ -432,6 +432,27 @@ def test_collocated_scenarios_do_not_depend_on_their_batch():
             assert one[k] == batch[k][i] == rev[k][5 - i], k
 
 
+def test_exact_and_integrated_scenarios_do_not_depend_on_their_batch():
+    """A batch that mixes constant-μ scenarios (every phase exact: a compiled loop of their own)
+    with Stribeck, fade and rotor-drag ones (the integrators' loop) gives each scenario the bits it
+    gets in a batch of its own kind, in either order."""
+    d, rng = _held_design(8, 35)
+    kinds = np.array([0, 1, 0, 2, 3, 0, 1, 0])  # constant μ, Stribeck, fade, rotor drag
+    d["stribeck_speed"] = np.where(kinds == 1, rng.uniform(5.0, 50.0, 8), np.inf)
+    d["fade_coefficient"] = np.where(kinds == 2, 0.01, 0.0)
+    d["face_temperature_factor"] = np.full(8, 8.86e-4)  # [K/(W s^0.5)] (seed 000 lining)
+    d["aero_coefficient"] = np.where(kinds == 3, 2e-5, 0.0)
+    kw = dict(compliant=True, static_ratio=1.3, rtol=1e-7, atol=1e-9, power_history=True)
+    mixed = eng.simulate(**d, **kw)
+    rev = eng.simulate(**{k: (v[::-1] if np.ndim(v) else v) for k, v in d.items()}, **kw)
+    for rows in (kinds == 0, kinds > 0):
+        alone = eng.simulate(**{k: (v[rows] if np.ndim(v) else v) for k, v in d.items()}, **kw)
+        for k in ("status", "lockup_time", "slip_work", "peak_jerk", "flash_peak", "n_steps"):
+            np.testing.assert_array_equal(alone[k], mixed[k][rows], err_msg=k)
+            np.testing.assert_array_equal(alone[k], rev[k][::-1][rows], err_msg=k)
+    assert np.all(mixed["n_steps"][kinds == 0] == 0) and np.all(mixed["n_steps"][kinds > 0] > 0)
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("variant", ["stribeck", "table"])
 def test_collocation_against_dop853_at_the_study_accuracy(variant):

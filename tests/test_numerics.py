@@ -47,3 +47,29 @@ def test_small_runs_draw_their_pages(tmp_path):
     assert {"scipy solve_ivp LSODA per scenario", "scipy solve_ivp Radau per scenario"} <= {
         r["method"] for r in roller
     }
+
+
+def test_the_engagement_numerics_time_only_the_study_friction_laws(tmp_path, monkeypatch):
+    """The default study (constant μ) times its own solver only, so that its run compiles none of
+    the integrators the other friction laws need; the page draws one panel a law."""
+    from clutchlab import config
+    from clutchlab.studies.engagement import friction_laws
+
+    def laws(**params):
+        sec = {"design": "factorial", "parameters": params}
+        return friction_laws(
+            config.resolve({"studies": ["engagement"], "engagement": sec})["engagement"]
+        )
+
+    assert laws() == ["constant_mu"]
+    assert laws(stribeck_speed={"values": ["inf", "30 rad/s"]}) == ["constant_mu", "stribeck"]
+    assert laws(fade_coefficient={"values": [0.0, "0.01 1/K"]}) == ["constant_mu", "fade"]
+    monkeypatch.setitem(numerics.SIZES, "engagement", dict(n=20, n_ref=2))
+    numerics.run(tmp_path, ["engagement"], friction_laws=laws())
+    rows = numerics._read(tmp_path / "compliant_benchmark.csv")
+    assert {r["variant"] for r in rows} == {"constant_mu"}
+    ((stem, fig),) = numerics.pages(tmp_path)
+    assert stem == "numerics_engagement"
+    assert [ax.get_title().split("\n")[0] for ax in fig.axes if ax.get_visible()] == [
+        "constant μ (default study)"
+    ]

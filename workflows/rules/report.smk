@@ -8,6 +8,7 @@ from clutchlab.report import answer_files as _answer_files
 from clutchlab.report import figure_stems as _figure_stems
 from clutchlab.bench.numerics import files as _numerics_files
 from clutchlab.report import captions as _captions
+from clutchlab.studies.engagement import friction_laws as _friction_laws
 
 REPORT_DIR = f"{RESULTS}/report"
 ROBUST = [s for s in STUDIES if robust_files(s)]  # robust studies: their robust page leads
@@ -126,13 +127,16 @@ if NUMERICS:
         params:
             outdir=lambda wc, output: Path(output[0]).parent,
             studies=STUDIES,
+            # the engagement's friction laws (its benchmark compiles and times only these)
+            laws=",".join(_friction_laws(RESOLVED["engagement"])) if "engagement" in STUDIES else "constant_mu",
             python=sys.executable,
             source=SOURCE,
         resources:
             runtime=10,
             mem_mb=2000,
         shell:
-            "{params.python} -m clutchlab.bench.numerics {params.outdir} {params.studies} 2>&1 | tee {log}"
+            "{params.python} -m clutchlab.bench.numerics {params.outdir} {params.studies} "
+            "--friction-laws {params.laws} 2>&1 | tee {log}"
 
 
 rule benchmark:

@@ -32,13 +32,21 @@ CASES = (
     ("sprag", "sprag", {}),
     ("roller", "roller", {}),
 )
-# kernels the default run's benchmark, numerics and hard-case jobs call outside a study
+# kernels the default run's benchmark, numerics and hard-case jobs call outside a study (the
+# compliant one with a nonlinear friction law: the hard cases' judder)
 CALLS = (
     (
         "engagement kernel, rigid driveline",
         "from clutchlab import engagement as e; e.simulate(engine_speed=570.0, engine_inertia=1.0,"
         " engine_torque=0.0, driven_inertia=0.03, load_torque=50.0, peak_capacity=300.0,"
         " ramp_time=0.1)",
+    ),
+    (
+        "engagement kernel, compliant driveline, Stribeck μ",
+        "from clutchlab import engagement as e; e.simulate(engine_speed=570.0,"
+        " engine_inertia=float('inf'), engine_torque=0.0, driven_inertia=0.03, load_torque=50.0,"
+        " peak_capacity=300.0, ramp_time=0.1, static_ratio=1.3, stribeck_speed=30.0,"
+        " compliant=True, damper_stiffness=4498.0, damping_ratio=0.05)",
     ),
     (
         "Hertz impact",

@@ -135,11 +135,17 @@ def _row(variant, method, setting, seconds, errs, scenarios, cpu=None):
     return dict(zip(COLUMNS, values, strict=True))
 
 
-def run(outdir="results/benchmark", n=10_000, n_ref=10):
+def run(outdir="results/benchmark", n=10_000, n_ref=10, variants=VARIANTS):
+    """Time and check the compliant engagement on ``n`` scenarios of each friction law in
+    ``variants`` (of :data:`VARIANTS`; the reference on the first ``n_ref``); write
+    ``compliant_benchmark.csv`` and ``compliant_work_precision.png`` to ``outdir``."""
+    unknown = set(variants) - set(VARIANTS)
+    if unknown:
+        raise ValueError(f"unknown friction laws {sorted(unknown)}: choose from {VARIANTS}")
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     rows = []
-    for variant in VARIANTS:
+    for variant in variants:
         d = design(n, variant)
         ref_d = _head(d, n_ref)
         ref, row = _reference(ref_d, n_ref, variant)
@@ -147,7 +153,7 @@ def run(outdir="results/benchmark", n=10_000, n_ref=10):
         rows += _clutchlab_rows(d, n, n_ref, variant, ref)
         rows += _scipy_rows(ref_d, n_ref, variant, ref)
     write_rows(rows, outdir / "compliant_benchmark.csv")
-    for variant in VARIANTS:
+    for variant in variants:
         ratios = speed_ratios(rows, variant)
         for r, o, ratio in ratios:
             print(
@@ -256,13 +262,18 @@ def speed_ratios(rows, variant):
 
 
 def work_precision_figure(rows):
-    """Four panels (constant μ, Stribeck μ, μ table, fade): max relative error of lock-up time, slip
-    work and peak jerk against time per scenario, one line per method over its tolerances."""
+    """One panel per friction law in the rows (constant μ, Stribeck μ, μ table, fade): max relative
+    error of lock-up time, slip work and peak jerk against time per scenario, one line per method
+    over its tolerances."""
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(2, 2, figsize=(11.69, 8.27), sharey=True)
+    variants = [v for v in VARIANTS if any(r["variant"] == v for r in rows)]
+    shape = (2, 2) if len(variants) > 2 else (1, max(len(variants), 1))
+    fig, axes = plt.subplots(*shape, figsize=(11.69, 8.27), sharey=True, squeeze=False)
     colors = {CLUTCHLAB: "C0", RK45: "C1", DOP853: "C2"}
-    for ax, variant in zip(axes.flat, VARIANTS, strict=True):
+    for ax in axes.flat[len(variants) :]:
+        ax.set_visible(False)
+    for ax, variant in zip(axes.flat, variants, strict=False):
         label = LABELS[variant]
         for name, marker in ((CLUTCHLAB, "o-"), (RK45, "s-"), (DOP853, "^-")):
             pts = [r for r in rows if r["variant"] == variant and r["method"] == name]
@@ -272,7 +283,7 @@ def work_precision_figure(rows):
                 [r["seconds_per_scenario"] for r in pts],
                 [max(r["max_rel_error"], 1e-16) for r in pts],
                 marker,
-                label=name if variant == "constant_mu" else None,
+                label=name if variant == variants[0] else None,
                 color=colors[name],
                 ms=8 if len(pts) == 1 else 6,
             )

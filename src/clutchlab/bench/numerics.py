@@ -18,12 +18,12 @@ in the same run, and the ratio at equal error. The full benchmarks stay targets 
 The diaphragm statics and the centrifugal capacities are closed forms without an iterative
 alternative worth timing; their checks are the validation table and the hard cases.
 
-``python -m clutchlab.bench.numerics OUTDIR STUDY...`` writes ``<name>_benchmark.csv`` per solver.
+``python -m clutchlab.bench.numerics OUTDIR STUDY... [--friction-laws constant_mu,stribeck]``
+writes ``<name>_benchmark.csv`` per solver.
 """
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 __all__ = [
@@ -58,11 +58,17 @@ def files(study_names) -> list[str]:
     return [FILES[s] for s in study_names if s in FILES]
 
 
-def run(outdir, study_names) -> list[Path]:
+def run(outdir, study_names, friction_laws=None) -> list[Path]:
+    """Run the small benchmark of each study's solver into ``outdir``; the engagement's on the
+    friction laws ``friction_laws`` (of :data:`clutchlab.bench.compliant.VARIANTS`; default all:
+    a study's are :func:`clutchlab.studies.engagement.friction_laws`), so that a run compiles only
+    the solvers its studies use. Returns the CSV files written."""
+    from functools import partial
+
     from . import compliant, roller, sprag
 
     runner = {
-        "engagement": compliant.run,
+        "engagement": partial(compliant.run, variants=friction_laws or compliant.VARIANTS),
         "roller": roller.run,
         "sprag": sprag.run,
         "centrifugal": release_benchmark,
@@ -335,5 +341,21 @@ def stems(study_names) -> list[str]:
     return [f"numerics_{s}" for s in study_names if s in FILES]
 
 
+def main(argv=None) -> None:
+    import argparse
+
+    ap = argparse.ArgumentParser(prog="python -m clutchlab.bench.numerics", description=__doc__)
+    ap.add_argument("outdir")
+    ap.add_argument("studies", nargs="+")
+    ap.add_argument(
+        "--friction-laws",
+        default=None,
+        help="comma-separated friction laws of the engagement's benchmark (default: all of "
+        "constant_mu,stribeck,table,fade)",
+    )
+    a = ap.parse_args(argv)
+    run(a.outdir, a.studies, a.friction_laws.split(",") if a.friction_laws else None)
+
+
 if __name__ == "__main__":
-    run(sys.argv[1], sys.argv[2:])
+    main()

@@ -711,6 +711,32 @@ def check_config(section):
     return None
 
 
+def friction_laws(section: dict) -> list[str]:
+    """The friction laws the scenarios of a resolved engagement section slip with, by the names of
+    :data:`clutchlab.bench.compliant.VARIANTS` (the report's numerics time the solver on these).
+
+    Parameters
+    ----------
+    section : dict
+        A resolved ``engagement`` section (:func:`clutchlab.config.resolve`).
+
+    Returns
+    -------
+    list of str
+        ``"constant_mu"`` always (the exact phases every model has), then ``"stribeck"`` where a
+        scenario has a finite ``stribeck_speed``, ``"table"`` with a ``friction_table``, and
+        ``"fade"`` where a scenario has ``fade_coefficient`` > 0.
+    """
+    laws = ["constant_mu"]
+    if "friction_table" in section["options"]:
+        laws.append("table")
+    elif value_range(section, "stribeck_speed")[0] < np.inf:
+        laws.append("stribeck")
+    if value_range(section, "fade_coefficient")[1] > 0:
+        laws.append("fade")
+    return laws
+
+
 def _heat(p, slip_work, peak_slip_power):
     """clutchlab.heat.engagement_heat of the scenarios (NaN where the slip work is NaN)."""
     return heat.engagement_heat(
