@@ -363,8 +363,9 @@ MODEL = {"closed_form": 0, "rigid_events": 1, "compliant_events": 2}
 MODEL_TEXT = {
     "closed_form": "rigid two-inertia, closed form",
     "rigid_events": "rigid two-inertia, DOPRI5 with exact events",
-    "compliant_events": "compliant driveline (damper springs): linear phases in closed form, nonlinear "
-    "ones by DOPRI5, exact events",
+    "compliant_events": "compliant driveline (damper springs): linear phases in closed form, slip "
+    "with Stribeck, tabulated or fading friction by exponential collocation, other nonlinear ones "
+    "by DOPRI5, exact events",
 }
 # solver statistics stored per scenario (0 for the closed form): simulate's key -> long_name
 SOLVER_STATS = {
