@@ -31,8 +31,10 @@ rule chunk:
     log:
         f"{WORK}/{{study}}/log/chunk_{{i}}.log",  # progress: scenarios done, rate, time left
     # before the jobs that call the kernels outside a study (numerics, hard cases, benchmark):
-    # a chunk compiles each kernel it needs once (pipeline.run_chunk), and they load it
-    priority: 1
+    # a chunk compiles each kernel it needs once (pipeline.run_chunk), and they load it; each
+    # study's first chunk before the other chunks, so that the studies' kernels compile side by
+    # side (a study's second chunk would wait for its first one's compile under its lock)
+    priority: lambda wc: 2 if int(wc.i) == 0 else 1
     params:
         options=lambda wc: RESOLVED[wc.study]["options"],
         chunks=lambda wc: RESOLVED[wc.study]["chunks"],
