@@ -104,6 +104,10 @@ rule hard_cases:
         f"{WORK}/benchmark/hard_cases.tsv"
     log:
         f"{WORK}/log/hard_cases.log",
+    # alongside the chunks, after each study's first one: it compiles the rigid engagement, the
+    # compliant one's integrators and the Hertz impact (minutes on a first run), which a study's
+    # first chunk compiles only where it runs that model (then this job loads it)
+    priority: 1
     params:
         studies=STUDIES,
         source=SOURCE,

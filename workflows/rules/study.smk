@@ -10,7 +10,7 @@ rule design:
         f"{WORK}/{{study}}/benchmark/design.tsv"
     log:
         f"{WORK}/{{study}}/log/design.log",
-    priority: 1  # (the chunks wait for it)
+    priority: 3  # (the chunks wait for it: every design first, they take seconds)
     params:
         study=lambda wc: RESOLVED[wc.study],
         source=SOURCE,
