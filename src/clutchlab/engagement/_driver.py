@@ -737,7 +737,7 @@ def simulate_batch(
     compliant model are compiled separately (the constant flag removes their branches: ~25 %), and
     the compliant scenarios whose phases are all linear (constant μ, no rotor drag or engine
     torque table) by a loop of their own (:func:`_batch_exact`): a run that has only those
-    compiles that loop alone (about 55 s of CPU from an empty cache against 129 s)."""
+    compiles that loop alone (49 s of CPU from an empty cache against 142 s for the other)."""
     n = Q.shape[0]
     out = np.empty((n, N_RESULTS))
     trace = np.full((n, tt.size, N_TRACES), np.nan)
