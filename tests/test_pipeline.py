@@ -256,6 +256,13 @@ def _without_solver_pages(wd) -> str:
     return "config/small_lite.yaml"
 
 
+def _default_sigint():
+    """In the child before it runs Snakemake: SIGINT handled again (a shell's background job, as a
+    CI script may run the tests, inherits it ignored, and Python then never raises
+    KeyboardInterrupt)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _interrupt(proc, log):
     """Ctrl-C to a running Snakemake, again until it says it stops: Snakemake drops an interrupt
     that arrives while it writes a log line (its log handler swallows KeyboardInterrupt), as a
@@ -284,8 +291,10 @@ def test_interrupt_and_resume(tmp_path):
         "chunks=8",
     ]
     log = tmp_path / "snakemake.log"
-    with open(log, "w") as fh:
-        proc = subprocess.Popen(cmd, cwd=wd, stdout=fh, stderr=subprocess.STDOUT)
+    with open(log, "w") as fh:  # (Ctrl-C reaches it also where the test runs with it ignored)
+        proc = subprocess.Popen(
+            cmd, cwd=wd, stdout=fh, stderr=subprocess.STDOUT, preexec_fn=_default_sigint
+        )
     work = wd / "results/work/diaphragm_spring"
     deadline = time.time() + 120
     while time.time() < deadline and not list(work.glob("chunk_*.h5")):
