@@ -18,8 +18,10 @@ package only makes it fast:
   are allocated once a batch (:func:`simulate_batch`) and passed down as named records;
 * only the moving state components are integrated (4 for a held engine, 5 free, 8 compliant; with
   fade, while slipping, the 15 modes of the friction face's temperature too);
-* the rigid and the compliant model are compiled as two loops with the flag a constant; the
-  driver's stages are inlined into them (``inline="always"``), so the loop compiles as one body.
+* the rigid and the compliant model are compiled as two loops with the flag a constant, and the
+  compliant scenarios whose phases are all linear as a third one without the integrators
+  (:func:`_simulate_exact`); the driver's stages are inlined into them (``inline="always"``), so
+  each loop compiles as one body.
 """
 
 from __future__ import annotations
