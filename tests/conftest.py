@@ -67,19 +67,31 @@ def without_robust(section: dict) -> dict:
 # the others, which do not read it, run meanwhile.
 LONG_FIRST = (
     "tests/test_slurm.py::test_small_config_on_slurm_equals_the_local_run",
+    "tests/test_slurm.py::test_a_chunk_job_cancelled_by_slurm",
+    "tests/test_provenance.py::test_snakemake_finds_a_foreign_chunk_and_a_hand_edited_result",
     "tests/test_pipeline.py::test_every_config_runs_with_any_chunk_count[refine.yaml",
-    "tests/test_pipeline.py::test_interrupt_and_resume",
     "tests/test_pipeline.py::test_killed_run_unlock_and_resume",
+    "tests/test_pipeline.py::test_interrupt_and_resume",
+    "tests/test_pipeline.py::test_same_config_twice_gives_identical_files",
     "tests/test_pipeline.py::test_every_config_runs_with_any_chunk_count[million.yaml",
     "tests/test_pipeline.py::test_every_config_runs_with_any_chunk_count[config.yaml",
+    "tests/test_pipeline.py::test_every_config_runs_with_any_chunk_count[seed000.yaml",
     "tests/test_pipeline.py::test_every_config_runs_with_any_chunk_count[small.yaml",
-    "tests/test_slurm.py::test_a_chunk_job_cancelled_by_slurm",
-    "tests/test_pipeline.py::test_same_config_twice_gives_identical_files",
     "tests/test_pipeline.py::test_malformed_configs_are_refused_before_any_job",
-    "tests/test_provenance.py::test_snakemake_finds_a_foreign_chunk_and_a_hand_edited_result",
-    "tests/test_pipeline.py::test_every_config_runs_with_any_chunk_count",
+    "tests/test_report_pages.py::test_every_page_is_legible_and_shows_the_runs_design",
     "tests/test_slurm.py::",
+    "tests/test_pipeline.py::test_every_config_runs_with_any_chunk_count",
+    "tests/test_compliant.py::test_seed_design_exact_and_integrated_agree",
+    "tests/test_hang.py::test_every_input_ends_in_bounded_time_with_a_status[engagement.simulate",
+    "tests/test_pipeline.py::test_a_changed_chunk_is_found_by_the_merge_and_recomputed",
 )
+
+
+def pytest_xdist_auto_num_workers(config):
+    """``-n auto`` (pyproject's addopts): one pytest-xdist worker more than the cores this process
+    may use. The longest tests mostly wait (on their Snakemake subprocesses, on a SLURM status
+    check, on a run to interrupt); a third worker on 2 cores fills those waits."""
+    return len(os.sched_getaffinity(0)) + 1
 
 
 def pytest_collection_modifyitems(config, items):

@@ -288,7 +288,7 @@ def test_interrupt_and_resume(tmp_path):
         "--configfile",
         lite,
         "--config",
-        "chunks=8",
+        "chunks=3",
     ]
     log = tmp_path / "snakemake.log"
     with open(log, "w") as fh:  # (Ctrl-C reaches it also where the test runs with it ignored)
@@ -310,7 +310,7 @@ def test_interrupt_and_resume(tmp_path):
     )
     for f in wd.rglob("*.h5"):  # whatever exists is complete and readable
         xr.open_dataset(f, engine="h5netcdf").close()
-    _snakemake(wd, "--configfile", lite, "--config", "chunks=8")
+    _snakemake(wd, "--configfile", lite, "--config", "chunks=3")
     assert (wd / "results/report/report.pdf").exists()
     assert not [p for p in wd.rglob("*.tmp")]
 
@@ -329,7 +329,7 @@ def test_killed_run_unlock_and_resume(tmp_path):
         "--configfile",
         lite,
         "--config",
-        "chunks=8",
+        "chunks=3",
     ]
     proc = subprocess.Popen(
         cmd, cwd=wd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True
@@ -341,10 +341,10 @@ def test_killed_run_unlock_and_resume(tmp_path):
     os.killpg(proc.pid, signal.SIGKILL)  # kill -9 of Snakemake and its jobs
     proc.wait(timeout=60)
     assert not (wd / "results/report/report.pdf").exists(), "run finished before it could be killed"
-    locked = _snakemake(wd, "--configfile", lite, "--config", "chunks=8", check=False)
+    locked = _snakemake(wd, "--configfile", lite, "--config", "chunks=3", check=False)
     assert locked.returncode != 0 and "cannot be locked" in locked.stdout + locked.stderr
     _snakemake(wd, "--unlock", "--configfile", lite)
-    _snakemake(wd, "--configfile", lite, "--config", "chunks=8")
+    _snakemake(wd, "--configfile", lite, "--config", "chunks=3")
     assert (wd / "results/report/report.pdf").exists()
     assert not [p for p in wd.rglob("*.tmp")]
 

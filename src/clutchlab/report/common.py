@@ -215,13 +215,16 @@ def title_page(
     # the studies' lines share the page between the version line and the footnote
     height = A4_LANDSCAPE[1] * 72  # pt
     avail = (top - 0.05) - 0.07
+    lines = {}  # model line or not -> the studies' lines (computed once: a best design is slow)
     for size, model in ((9.5, True), (9.0, True), (8.5, True), (8.0, True), (8.0, False)):
-        blocks = [
-            _study_lines(
-                n, ds, numbers, job_seconds, model, (robust or {}).get(n), explorers.get(n)
-            )
-            for n, ds in results.items()
-        ]
+        if model not in lines:
+            lines[model] = [
+                _study_lines(
+                    n, ds, numbers, job_seconds, model, (robust or {}).get(n), explorers.get(n)
+                )
+                for n, ds in results.items()
+            ]
+        blocks = lines[model]
         chars = int(0.9 * A4_LANDSCAPE[0] * 72 / (0.53 * size))
         wrapped = [
             [w for line in b for w in textwrap.wrap(line, chars, subsequent_indent="    ")]
