@@ -90,7 +90,8 @@ LONG_FIRST = (
 def pytest_xdist_auto_num_workers(config):
     """``-n auto`` (pyproject's addopts): one pytest-xdist worker more than the cores this process
     may use. The longest tests mostly wait (on their Snakemake subprocesses, on a SLURM status
-    check, on a run to interrupt); a third worker on 2 cores fills those waits."""
+    check, on a run to interrupt), which a third worker on 2 cores can use (measured: within the
+    scatter between runs, docs/benchmarks.md)."""
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
     return (cores or 1) + 1
 

@@ -256,6 +256,11 @@ def _without_solver_pages(wd) -> str:
     return "config/small_lite.yaml"
 
 
+# the chunks a study of the interrupt and kill tests: the run is stopped at its first chunk file,
+# with the other chunks, the merges and the report still to come
+STOP_CHUNKS = "chunks=3"
+
+
 def _default_sigint():
     """In the child before it runs Snakemake: SIGINT handled again (a shell's background job, as a
     CI script may run the tests, inherits it ignored, and Python then never raises
@@ -288,7 +293,7 @@ def test_interrupt_and_resume(tmp_path):
         "--configfile",
         lite,
         "--config",
-        "chunks=3",
+        STOP_CHUNKS,
     ]
     log = tmp_path / "snakemake.log"
     with open(log, "w") as fh:  # (Ctrl-C reaches it also where the test runs with it ignored)
@@ -310,7 +315,7 @@ def test_interrupt_and_resume(tmp_path):
     )
     for f in wd.rglob("*.h5"):  # whatever exists is complete and readable
         xr.open_dataset(f, engine="h5netcdf").close()
-    _snakemake(wd, "--configfile", lite, "--config", "chunks=3")
+    _snakemake(wd, "--configfile", lite, "--config", STOP_CHUNKS)
     assert (wd / "results/report/report.pdf").exists()
     assert not [p for p in wd.rglob("*.tmp")]
 
@@ -329,7 +334,7 @@ def test_killed_run_unlock_and_resume(tmp_path):
         "--configfile",
         lite,
         "--config",
-        "chunks=3",
+        STOP_CHUNKS,
     ]
     proc = subprocess.Popen(
         cmd, cwd=wd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True
@@ -341,10 +346,10 @@ def test_killed_run_unlock_and_resume(tmp_path):
     os.killpg(proc.pid, signal.SIGKILL)  # kill -9 of Snakemake and its jobs
     proc.wait(timeout=60)
     assert not (wd / "results/report/report.pdf").exists(), "run finished before it could be killed"
-    locked = _snakemake(wd, "--configfile", lite, "--config", "chunks=3", check=False)
+    locked = _snakemake(wd, "--configfile", lite, "--config", STOP_CHUNKS, check=False)
     assert locked.returncode != 0 and "cannot be locked" in locked.stdout + locked.stderr
     _snakemake(wd, "--unlock", "--configfile", lite)
-    _snakemake(wd, "--configfile", lite, "--config", "chunks=3")
+    _snakemake(wd, "--configfile", lite, "--config", STOP_CHUNKS)
     assert (wd / "results/report/report.pdf").exists()
     assert not [p for p in wd.rglob("*.tmp")]
 
