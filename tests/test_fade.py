@@ -142,6 +142,48 @@ def test_negligible_fade_leaves_the_engagement_unchanged(compliant):
         assert base["n_linear"] > 0  # (the comparison is between two solvers)
 
 
+@pytest.mark.parametrize("compliant", [False, True])
+def test_fade_below_its_onset_is_left_out_and_the_rest_solved_with_it(compliant, monkeypatch):
+    """Engine speeds 400-700 rad/s against an onset at the middle of their face temperature rises:
+    a scenario whose rise stays below 0.99 of the onset without fade gets its fade-free results
+    (the compliant model's linear phases in closed form: no step), equal to the fade solver's
+    within 1e-9 (its μ is divided by 1 throughout; the flash peak within the history's 5e-4); the
+    others are the fade solver's, bit for bit; with traces every scenario is solved with fade."""
+    from clutchlab.engagement import _simulate
+
+    ex = COMPLIANT if compliant else {}
+    speed = np.linspace(400.0, 700.0, 8)
+    kw = dict(**{**SEED, "engine_speed": speed}, **ex, rtol=1e-9, atol=1e-9, power_history=True)
+    plain = engagement.simulate(**kw)
+    rise = K_FACE * plain["flash_peak"]
+    onset = float(np.median(rise))
+    kw |= dict(fade_coefficient=0.05, fade_onset=onset, face_temperature_factor=K_FACE)
+    short = engagement.simulate(**kw)
+    with monkeypatch.context() as m:
+        m.setattr(
+            _simulate,
+            "_batch_with_fade",
+            lambda Q, batch, ph: _simulate.simulate_batch(Q, with_hist=ph, **batch),
+        )
+        full = engagement.simulate(**kw)
+    cool = rise <= 0.99 * onset
+    assert 0 < cool.sum() < cool.size
+    for name in ("lockup_time", "slip_work", "peak_friction_torque", "peak_jerk"):
+        np.testing.assert_allclose(short[name][cool], full[name][cool], rtol=1e-9, err_msg=name)
+        np.testing.assert_array_equal(short[name][~cool], full[name][~cool], err_msg=name)
+    np.testing.assert_allclose(short["flash_peak"][cool], full["flash_peak"][cool], rtol=5e-4)
+    assert np.all(short["status"] == full["status"])
+    hot = rise > onset
+    assert np.all(short["lockup_time"][hot] > plain["lockup_time"][hot])  # (they fade)
+    if compliant:
+        assert np.all(short["n_steps"][cool] == 0) and np.all(full["n_steps"] > 0)
+    traced = engagement.simulate(**kw, trace_times=[0.1])
+    assert (
+        np.all(traced["n_steps"] > 0)
+        and np.isfinite(traced["trace"]["face_temperature_rise"]).all()
+    )
+
+
 def test_fade_off_is_the_default_and_costs_nothing():
     """β = 0 gives exactly the results of a call without the fade arguments (the face temperature
     trace is NaN then)."""

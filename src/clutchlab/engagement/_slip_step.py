@@ -31,6 +31,8 @@ from ._physics import capacity, load_static
 
 MAXIT = 20  # Picard iterations of a step, at most
 ITER_TOL = 0.1  # the iteration stops when D changes by less than ITER_TOL·rtol of its size
+EARLY_ITER = 1  # from this iteration on, a step whose torque's interpolation error exceeds …
+EARLY_REJECT = 100.0  # … EARLY_REJECT·rtol is rejected without converging
 
 
 # ---- the linear part: setup and exact solution for given forcing node values ------------------
@@ -359,6 +361,11 @@ def step(ec, q, prof, t0, h, y, parked, s, rtol):
             converged = True
             ec.sc[0].iters = it + 1
             break
+        # a step far too long for its forcing is rejected without converging
+        early = tail_error(ec.gnew) / scale
+        if it >= EARLY_ITER and early > EARLY_REJECT * rtol:
+            ec.sc[0].iters = it + 1
+            return True, early
         mix(ec, it)
     if not converged:
         return False, np.inf
