@@ -167,37 +167,43 @@ def _event_bound(ec, q, kind, rh, rd, rr, ra):
 
 
 @njit(**JIT)
-def _event_near(ec, q, kind, knot, amp, rr, ra):
-    """Whether event ``kind`` can fire in the step: positive at its start (a mode begun at its own
-    event has it zero) and within twice the free response's amplitude of zero at some node (its
-    polynomial part is smooth between the nodes)."""
+def _near_until(ec, q, kind, knot, amp, rr, ra):
+    """Up to where event ``kind`` can fire in the step: the node after the last node within twice
+    the free response's amplitude of zero (its polynomial part is smooth between the nodes, so
+    it cannot reach zero between two nodes farther away); −2 where it cannot fire at all (not
+    positive at its start — a mode begun at its own event has it zero — or no node near)."""
     if not node_event_values(ec, kind, 0, q, knot, rr, ra) > 0.0:
-        return False
+        return -2.0
+    last = -1
     for i in range(NN):
         if node_event_values(ec, kind, i, q, knot, rr, ra) <= 2.0 * amp * 1.05 + 1e-300:
-            return True
-    return False
+            last = i
+    return NODES[min(last + 1, NN - 1)] if last >= 0 else -2.0
 
 
 @njit(**JIT)
 def first_event(ec, q, kinds_mask, rr, ra):
     """The earliest event in the step: (kind, v) or (−1, 1.0). kinds_mask bits: LOCK, UNPARK, PARK;
     with a friction table also the ends of the step's segment (:func:`_event_bound`). An event that
-    can fire (:func:`_event_near`) is scanned on the dense solution (16 samples a period, up to the
-    earliest event found so far) for its first sign change, then placed by Illinois."""
+    can fire (:func:`_near_until`) is scanned on the dense solution (16 samples a period, up to
+    where it can fire or the earliest event found so far) for its first sign change, then placed
+    by Illinois."""
     rh, rd = free_amplitudes(ec, 1.0)
     best_kind, best_v = -1, 1.0
     for kind in (LOCK, UNPARK, PARK, KNOT, KNOT + 1):
         if kind < KNOT and not (kinds_mask >> kind) & 1:
             continue
         knot, amp = _event_bound(ec, q, kind, rh, rd, rr, ra)
-        if math.isnan(knot) or not _event_near(ec, q, kind, knot, amp, rr, ra):
+        if math.isnan(knot):
+            continue
+        v_scan = min(best_v, _near_until(ec, q, kind, knot, amp, rr, ra))
+        if v_scan < -1.0:
             continue
         # the scan for the first sign change
-        m = scan_count(ec, best_v, SCAN_PER_PERIOD)
+        m = scan_count(ec, v_scan, SCAN_PER_PERIOD)
         lo, g_lo = -1.0, node_event_values(ec, kind, 0, q, knot, rr, ra)
         for j in range(1, m + 1):
-            v = -1.0 + (best_v + 1.0) * j / m
+            v = -1.0 + (v_scan + 1.0) * j / m
             g = event_value(ec, kind, v, q, knot, rr, ra)
             if g <= 0.0:
                 best_v = locate(ec, kind, lo, v, g_lo, q, knot, rr, ra)
@@ -255,15 +261,31 @@ def _at_points(values, n_in, end_value, i):
 
 
 @njit(**JIT)
+def _outward(ec, which, v, right_end):
+    """Whether the slip power (``which`` PEAK_POWER) or |clutch torque| (PEAK_TORQUE) rises out of
+    the step at its end v (right_end) or falls from its start: the largest value next to that
+    end is the end's own, already recorded (the slope from the node values' interpolant)."""
+    if which == PEAK_POWER:
+        _, slope = poly_eval(ec.ap, NN, v)
+    else:
+        d, dd = poly_eval(ec.ad, NN, v)
+        slope = dd if d >= 0.0 else -dd
+    return slope > 0.0 if right_end else slope < 0.0
+
+
+@njit(**JIT)
 def _refine(ec, which, values, n_in, v_end, end_value, q, best):
     """The running maximum ``best`` refined by golden section between the neighbours of each of the
     step's points (nodes inside, v_end; the step's ends included) that is a local maximum within
-    0.9 of it."""
+    0.9 of it; not at an end the function rises out of (:func:`_outward`: its value is the
+    largest there)."""
     for i in range(n_in + 1):
         x = _at_points(values, n_in, end_value, i)
         left = _at_points(values, n_in, end_value, i - 1)
         right = _at_points(values, n_in, end_value, i + 1)
         if x >= left and x >= right and x >= 0.9 * best:
+            if (i == 0 or i == n_in) and _outward(ec, which, -1.0 if i == 0 else v_end, i > 0):
+                continue
             lo = NODES[max(i - 1, 0)]
             hi = NODES[i + 1] if i + 1 < n_in else v_end
             if hi > lo:
