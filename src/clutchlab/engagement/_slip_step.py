@@ -295,14 +295,30 @@ def start(ec, q, prof, t0, y, parked, s):
 
 
 @njit(**JIT)
+def _slow_rate(ec, q, p0):
+    """Fade: the rate of the face temperature's slow part at the step's start [K/s],
+    K·Σ w_k·(P₀ − λ_k·z_k) under the slip power P₀ [W] there (0 without fade)."""
+    if not q[FADE] > 0.0:
+        return 0.0
+    acc = 0.0
+    for m in range(NZ):
+        acc += SOE_WEIGHT[m] * (p0 - SOE_LAMBDA[m] * ec.modes[m])
+    return q[FACE_K] * acc
+
+
+@njit(**JIT)
 def predict(ec, q, d0, slow0, th0, thd0, wm0, parked):
     """First node values: the hub speed along its rate at the start (the mean speed along its own,
-    the twist rate taking the rest), D₀ and the start's face temperature at every node."""
+    the twist rate taking the rest), D₀, and the face temperature's slow part along its rate at
+    the start (fade)."""
     jh, jr, k, c = q[JH], q[JR], q[K], q[CD]
     jv = jh + jr
-    tm = ec.sc[0].tm
+    sc = ec.sc[0]
+    tm = sc.tm
     dwh0 = (d0 - k * th0 - c * thd0) / jh
     dwm0 = 0.0 if parked else (d0 - tm) / jv
+    wh0 = thd0 if parked else wm0 + jr / jv * thd0
+    dslow0 = _slow_rate(ec, q, d0 * (sc.we - wh0))
     for i in range(NN):
         tau = ec.tau[i]
         if parked:
@@ -312,7 +328,7 @@ def predict(ec, q, d0, slow0, th0, thd0, wm0, parked):
             ec.thd[i] = thd0 + (dwh0 - dwm0) * tau * jv / jr
             ec.wm[i] = wm0 + dwm0 * tau
         ec.d[i] = d0
-        ec.slow[i] = slow0
+        ec.slow[i] = slow0 + dslow0 * tau
 
 
 @njit(**JIT)
