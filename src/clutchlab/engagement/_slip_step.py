@@ -334,9 +334,10 @@ def predict(ec, q, d0, slow0, th0, thd0, wm0, parked):
 @njit(**JIT)
 def step(ec, q, prof, t0, h, y, parked, s, rtol):
     """One step of size h from the state y at t0 (held engine, slipping): Picard iteration (with
-    Anderson mixing) to a fixed point of the clutch torque at the nodes. Returns (converged, error
-    estimate relative to the forcing's size); the solution is then in ec for :func:`dense` and the
-    node rows."""
+    Anderson mixing) to a fixed point of the clutch torque at the nodes. Returns (whether the
+    error estimate holds: converged, or far above the tolerance from the second iteration on —
+    EARLY_REJECT —; the error estimate relative to the forcing's size); a converged solution is
+    then in ec for :func:`dense` and the node rows."""
     # the state at the step's start: twist, its rate and the mean speed
     jh, jr, k, c = q[JH], q[JR], q[K], q[CD]
     jv = jh + jr
@@ -378,10 +379,11 @@ def step(ec, q, prof, t0, h, y, parked, s, rtol):
             ec.sc[0].iters = it + 1
             break
         # a step far too long for its forcing is rejected without converging
-        early = tail_error(ec.gnew) / scale
-        if it >= EARLY_ITER and early > EARLY_REJECT * rtol:
-            ec.sc[0].iters = it + 1
-            return True, early
+        if it >= EARLY_ITER:
+            early = tail_error(ec.gnew) / scale
+            if early > EARLY_REJECT * rtol:
+                ec.sc[0].iters = it + 1
+                return True, early
         mix(ec, it)
     if not converged:
         return False, np.inf
