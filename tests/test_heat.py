@@ -228,7 +228,7 @@ def test_duhamel_peak_of_the_kernel_coarse_to_fine_equals_every_sample():
             else np.sin(2 * np.pi * t / t[-1]) ** 2 * (1 + 0.3 * (t > t[-1] / 2))
         )
         p = 5e4 * burst * rng.uniform(0.9, 1.1)
-        hist = np.stack([t, p])
+        hist = np.stack([t, p, np.zeros(n), np.zeros(n)])  # (rows 2, 3: scratch)
         full = k.duhamel_peak(hist, n, 1)
         fast = k.duhamel_peak(hist, n, max(1, int(math.sqrt(n / 2))))
         assert fast == pytest.approx(full, rel=1e-12), case

@@ -336,7 +336,9 @@ def _flash_peak(pieces, t_last):
     keep = np.concatenate([[True], np.diff(t) > 0])
     t, pw = t[keep], pw[keep]
     after = np.linspace(t_last, t_last + 0.5 * (t_last - t[0]) + 1e-3, 400)[1:]
-    hist = np.vstack([np.concatenate([t, after]), np.concatenate([pw, np.zeros(after.size)])])
+    hist = np.zeros((4, t.size + after.size))  # (rows 2, 3: the peak search's scratch)
+    hist[0] = np.concatenate([t, after])
+    hist[1, : t.size] = pw
     n = hist.shape[1]
     return float(duhamel_peak(np.ascontiguousarray(hist), n, max(1, int(math.sqrt(n / 2.0)))))
 
