@@ -463,3 +463,46 @@ def test_the_modes_summed_at_the_nodes_equal_each_mode():
             for v in sp.NODES
         ]
         np.testing.assert_allclose(out, one, rtol=1e-13)
+
+
+def test_the_step_grid_maps_equal_the_modes_solved_mode_by_mode():
+    """On the collocation's step grid (fade) the face temperature's modes come from per-step maps
+    (level_map) of the slip power's coefficients: the weighted sum at the nodes and every mode at
+    the step's end equal weighted_at_nodes and advance for the same power and start values (1e-12;
+    measured 5e-13), and the closed form of a linearly rising power (2e-12; measured 6e-13), for
+    steps of 0.1 ms, 10 ms and 40 ms rounded down to the grid (every mode in either regime). The
+    grid: steps at most 9 % below the asked one, found again by grid_level; others off it (-1)."""
+    from clutchlab.engagement import _colloc as sp
+    from clutchlab.engagement import _fade as k
+    from clutchlab.engagement import _heat_modes as hm
+
+    lam, w, nn, nz = k.SOE_LAMBDA, k.SOE_WEIGHT, sp.NN, k.SOE_LAMBDA.size
+    rng = np.random.default_rng(3)
+    z0 = rng.uniform(0, 5, nz)
+    p = 5e4 * (1 + np.sin(3 * sp.NODES)) + rng.uniform(0, 1e3, nn)
+    pc = sp.VINV @ p
+    zero = np.zeros(nz)
+    enode = np.zeros((nz, sp.NN))
+    out, comb, tmp = np.zeros(nn), np.zeros(sp.LSER), np.zeros(sp.LSER)
+    for asked in (1e-4, 0.01, 0.04):
+        h = hm.grid_step(asked)
+        assert asked * 2 ** (-1 / hm.LEVELS_PER_OCTAVE) < h <= asked
+        assert hm.grid_level(h) >= 0 and hm.grid_level(asked * (1 + 1e-9)) == -1
+        fmap, fdec, fend = np.zeros((nn, nn)), np.zeros((nz, nn)), np.zeros((nz, nn + 1))
+        scratch = (np.zeros((nz, sp.LSER)), np.zeros(sp.LSER), np.zeros(sp.LSER), zero)
+        hm.level_map(lam, w, h, sp.NODES, *scratch, comb, tmp, fmap, fdec, fend)
+        hm.node_decay(lam, h, sp.NODES, enode)
+        hm.weighted_at_nodes(lam, w, z0, pc, nn, h, sp.NODES, enode, out, comb, tmp)
+        np.testing.assert_allclose(fmap @ pc + fdec.T @ z0, out, rtol=1e-12)
+        z1 = np.zeros(nz)
+        hm.advance(lam, z0, pc, nn, h, 1.0, z1, tmp)
+        np.testing.assert_allclose(fend[:, :nn] @ pc + fend[:, nn] * z0, z1, rtol=1e-13)
+        # a linearly rising power a + b·τ: the closed form of each mode
+        a, b = 5e4, 2e6
+        tau = 0.5 * h * (1 + sp.NODES)
+        em1 = np.expm1(-np.outer(lam, tau))
+        modes = z0[:, None] * (1 + em1) - (a * em1 - b * (tau + em1 / lam[:, None])) / lam[:, None]
+        got = fmap @ (sp.VINV @ (a + b * tau)) + fdec.T @ z0
+        np.testing.assert_allclose(got, w @ modes, rtol=2e-12)
+    assert hm.grid_step(1e-12) == 1e-12 and hm.grid_level(1e-12) == -1  # below the grid
+    assert math.isnan(hm.grid_step(math.nan)) and hm.grid_level(math.nan) == -1

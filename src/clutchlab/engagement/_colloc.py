@@ -53,6 +53,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from ._heat_modes import N_LEVELS
 from ._layout import NZ
 
 JIT = dict(cache=True, error_model="numpy", _nrt=False)
@@ -113,7 +114,12 @@ NODES[0], NODES[-1] = -1.0, 1.0
 #: torque's power coefficients, ``thdp`` θ' less its free response, ``tmp``/``tmp2``/``ta``/``tb``
 #: scratch, ``modes`` the face temperature's modes at the step's start (NZ), ``comb``/``htmp`` the
 #: modes' summed and single series (scratch), ``enode`` e^(−Λ_k(1 + v_i)) of the modes (NZ × LSER),
-#: ``sc`` the step's scalars (a one-element array of :data:`STEP`).
+#: ``zfree`` the modes' weighted free decay from the step's start at the nodes; the batch's maps
+#: of the modes over the steps of the grid (:func:`clutchlab.engagement._heat_modes.level_map`,
+#: N_LEVELS of each): ``fmap`` the forced response at the nodes to each power vʲ (NN × NN), ``fdec``
+#: the free decay (NZ × NN),
+#: ``fend`` the modes at the step's end (NZ × (NN + 1)),
+#: ``fset`` 1 where built; ``sc`` the step's scalars (a one-element array of :data:`STEP`).
 Colloc = namedtuple(
     "Colloc",
     [
@@ -151,6 +157,11 @@ Colloc = namedtuple(
         "comb",
         "htmp",
         "enode",
+        "zfree",
+        "fmap",
+        "fdec",
+        "fend",
+        "fset",
         "sc",
     ],
 )
@@ -182,14 +193,21 @@ STEP = np.dtype(
         ("f_lo", np.float64),  # μ/μ_k at x_lo and its slope [s/rad] (the segment's line)
         ("slope", np.float64),
         ("n_scan", np.int64),  # dense jerk scans (a count, for the measurements)
+        ("level", np.int64),  # fade: the step's index on the step grid (−1: off it)
     ]
 )
 
 
 def new_colloc():
     """The batch's :class:`Colloc` record (allocated once; every scenario reuses it)."""
-    rows = [np.zeros(LSER) for _ in range(len(Colloc._fields) - 2)]
-    return Colloc(*rows, np.zeros((NZ, LSER)), np.zeros(1, STEP))
+    rows = [np.zeros(LSER) for _ in range(len(Colloc._fields) - 7)]
+    maps = (
+        np.zeros((N_LEVELS, NN, NN)),
+        np.zeros((N_LEVELS, NZ, NN)),
+        np.zeros((N_LEVELS, NZ, NN + 1)),
+        np.zeros(N_LEVELS),
+    )
+    return Colloc(*rows, np.zeros((NZ, LSER)), np.zeros(LSER), *maps, np.zeros(1, STEP))
 
 
 # ---- polynomials in v on the step's nodes ------------------------------------------------------

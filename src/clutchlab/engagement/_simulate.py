@@ -244,8 +244,9 @@ def _batch_with_fade(Q, batch, power_history):
     temperature rise, computed without fade, stays below FADE_MARGIN times the onset everywhere
     never fades (μ_k is divided by 1 only): its fade-free results are final, and only the others
     are solved with the face temperature as a state (several times as long a scenario). Not
-    with traces (they show the face temperature of the fade model)."""
-    fade = Q[:, lay.FADE] > 0.0
+    with traces (they show the face temperature of the fade model), nor where the onset is the
+    ambient temperature (every slipping scenario fades)."""
+    fade = (Q[:, lay.FADE] > 0.0) & (Q[:, lay.FADE_ON] > 0.0)
     if not fade.any() or batch["tt"].size:
         return simulate_batch(Q, with_hist=power_history, **batch)
     plain = Q[fade].copy()

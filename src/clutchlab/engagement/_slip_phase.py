@@ -18,7 +18,7 @@ from numba import njit
 
 from ._colloc import JIT, NDEG, NN, fit
 from ._fade import SOE_LAMBDA
-from ._heat_modes import advance
+from ._heat_modes import advance, grid_step
 from ._layout import (
     FADE,
     FTAB,
@@ -112,6 +112,21 @@ def _advance_state(ec, v_end, q, y):
 
 
 @njit(**JIT)
+def _advance_modes(ec, h, v_end):
+    """The face temperature's modes at v_end of the accepted step h [s] for its slip power (power
+    coefficients ``ap``): over a whole step of the grid by its map, else mode by mode."""
+    level = ec.sc[0].level
+    if v_end < 1.0 or level < 0:
+        advance(SOE_LAMBDA, ec.modes, ec.ap, NN, h, v_end, ec.modes, ec.htmp)
+        return
+    for k in range(NZ):
+        acc = ec.fend[level, k, NN] * ec.modes[k]
+        for j in range(NN):
+            acc += ec.fend[level, k, j] * ec.ap[j]
+        ec.modes[k] = acc
+
+
+@njit(**JIT)
 def _accept(ec, h_try, t_b, q, opts, w, hist, sc):
     """Take the accepted step [sc.t, sc.t + h_try] up to its first event: the peaks, power samples,
     works, the state and the face temperature's modes there; sc.t the new time. Returns the event's
@@ -134,7 +149,7 @@ def _accept(ec, h_try, t_b, q, opts, w, hist, sc):
     _advance_state(ec, v_end, q, w.y)
     # the face temperature's modes, exactly for the step's slip power
     if q[FADE] > 0.0:
-        advance(SOE_LAMBDA, ec.modes, ec.ap, NN, h_try, v_end, ec.modes, ec.htmp)
+        _advance_modes(ec, h_try, v_end)
         for m in range(NZ):
             w.y[Z0 + m] = ec.modes[m]
     sc.t = t_new
@@ -158,11 +173,14 @@ def segment(ec, t_b, q, prof, opts, w, hist, sc, budget):
         if used >= budget:
             kind = OUT_OF_WORK
             break
-        # the step: at most HMAX_PERIODS periods, cut at the breakpoint
+        # the step: at most HMAX_PERIODS periods, cut at the breakpoint; with fade on the step
+        # grid, whose face temperature maps the batch keeps (:func:`_slip_step.heat_setup`)
         h_try = min(h, HMAX_PERIODS * period)
         clipped = h_try >= t_b - sc.t
         if clipped:
             h_try = t_b - sc.t
+        elif q[FADE] > 0.0:
+            h_try = grid_step(h_try)
         ok, err = step(ec, q, prof, sc.t, h_try, w.y, sc.parked, sc.sign, opts.rtol)
         used += 1
         # the slip power and torque interpolants (the records and the error control use them)

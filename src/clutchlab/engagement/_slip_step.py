@@ -25,7 +25,7 @@ from ._colloc import (
 )
 from ._fade import SOE_LAMBDA, SOE_WEIGHT, face_rise, fade_factor
 from ._friction import friction_law
-from ._heat_modes import node_decay, weighted_at_nodes
+from ._heat_modes import grid_level, level_map, node_decay, weighted_at_nodes
 from ._layout import CD, FACE_K, FADE, FTAB, JH, JR, NZ, TH, Z0, E, H, K, R
 from ._physics import capacity, load_static
 
@@ -242,16 +242,51 @@ def mix(ec, it):
 
 
 @njit(**JIT)
+def heat_setup(ec, h):
+    """Fade: the face temperature's modes over the step h [s]: on the step grid their maps (the
+    batch's, built on first use: :func:`clutchlab.engagement._heat_modes.level_map`) and their
+    weighted free decay from the start's modes at the nodes (row ``zfree``); off it their decay
+    at the nodes for :func:`clutchlab.engagement._heat_modes.weighted_at_nodes`."""
+    sc = ec.sc[0]
+    level = grid_level(h)
+    sc.level = level
+    if level < 0:
+        node_decay(SOE_LAMBDA, h, NODES, ec.enode)
+        return
+    if ec.fset[level] == 0.0:
+        for k in range(NZ):
+            ec.tmp2[k] = 0.0
+        scratch = (ec.enode, ec.ta, ec.tb, ec.tmp2, ec.comb, ec.htmp)
+        maps = (ec.fmap[level], ec.fdec[level], ec.fend[level])
+        level_map(SOE_LAMBDA, SOE_WEIGHT, h, NODES, *scratch, *maps)
+        ec.fset[level] = 1.0
+    for i in range(NN):
+        acc = 0.0
+        for k in range(NZ):
+            acc += ec.fdec[level, k, i] * ec.modes[k]
+        ec.zfree[i] = acc
+
+
+@njit(**JIT)
 def face_rise_nodes(ec, q, rr):
     """Fade: the face temperature's slow part K·Σ w_k·z_k at the nodes (row R_TMP) for the slip
     power of the current iterate (clutch torque R_D times the solution's slip), its modes solved
-    exactly for that power's interpolant (:mod:`clutchlab._heat_modes`)."""
+    exactly for that power's interpolant: on the step grid by the step's maps
+    (:func:`heat_setup`), else mode by mode (:mod:`clutchlab._heat_modes`)."""
     sc = ec.sc[0]
     parked = sc.parked
     we = sc.we
     for i in range(NN):
         ec.p[i] = ec.d[i] * (we - node_state(ec, i, parked, rr))
     fit(ec.p, ec.ap)
+    level = sc.level
+    if level >= 0:
+        for i in range(NN):
+            acc = ec.zfree[i]
+            for j in range(NN):
+                acc += ec.fmap[level, i, j] * ec.ap[j]
+            ec.slow[i] = q[FACE_K] * acc
+        return
     weighted_at_nodes(
         SOE_LAMBDA,
         SOE_WEIGHT,
@@ -349,12 +384,12 @@ def step(ec, q, prof, t0, h, y, parked, s, rtol):
     # the torque and its frozen slope γ there, the nodes and the oscillator with γ
     d0, gamma, slow0 = start(ec, q, prof, t0, y, parked, s)
     hw = setup(ec, t0, h, gamma, parked, jh, jr, k, c, we, load_static(t0, q), s, q, prof)
-    # with fade the face temperature's modes at the start and their decay at the nodes
+    # with fade the face temperature's modes at the start and over the step
     fade = q[FADE] > 0.0
     if fade:
         for m in range(NZ):
             ec.modes[m] = y[Z0 + m]
-        node_decay(SOE_LAMBDA, h, NODES, ec.enode)
+        heat_setup(ec, h)
     # the first guess: the hub speed along its start's rate, the law's torque for it
     predict(ec, q, d0, slow0, th0, thd0, wm0, parked)
     node_torques(ec, q, prof, rr)
