@@ -26,11 +26,19 @@ def source_hash(root=None) -> str:
     number would not change for an edit), and stores it in every result."""
     root = Path(root) if root is not None else Path(__file__).parent
     h = hashlib.sha256()
-    for path in sorted(
-        p for p in root.rglob("*") if p.suffix in (".py", ".yaml") and "__pycache__" not in p.parts
-    ):
+    for path in sorted(_source_files(root, (".py", ".yaml"))):
         h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
     return h.hexdigest()[:16]
+
+
+def _source_files(root: Path, suffixes) -> list[Path]:
+    """The files below ``root`` ending in one of ``suffixes``, outside ``__pycache__`` folders
+    (not walked: numba's kernel cache holds thousands of files)."""
+    out = []
+    for folder, dirs, files in os.walk(root):
+        dirs[:] = [d for d in dirs if d != "__pycache__"]
+        out += [Path(folder) / f for f in files if f.endswith(suffixes)]
+    return out
 
 
 def _kernel_cache_dir(root=None) -> Path:
@@ -45,7 +53,7 @@ def _kernel_cache_dir(root=None) -> Path:
     machine code."""
     h = hashlib.sha256()
     root = Path(root) if root is not None else Path(__file__).parent
-    for path in sorted(root.rglob("*.py")):
+    for path in sorted(_source_files(root, (".py",))):
         rel = path.relative_to(root)
         if rel.parts[0] not in ("report", "bench"):
             h.update(rel.as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
