@@ -1,4 +1,4 @@
-"""Cluster resources of the Snakemake jobs (issue 19): what each job asks SLURM for.
+"""Cluster resources of the Snakemake jobs: what each job asks SLURM for.
 
 A chunk job's memory and run time follow from the scenarios it holds (the study's size over its
 chunk count) and the study's measured cost: a fixed part (Python, imports, the compiled-code

@@ -399,7 +399,7 @@ CURVE_DESIGNS = 1000
 
 
 def _curve_stride(name, section, design, n) -> int:
-    """Every how many scenarios a design stores its per-scenario curves (1: all; issue 16 item 5)."""
+    """Every how many scenarios a design stores its per-scenario curves (1: all)."""
     given = section.get("curves")
     if given == "all":
         return 1
@@ -917,7 +917,7 @@ def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -
 
 
 def _answers(study, section):
-    """The study's objectives and constraints: the config's, else the study's defaults (issue 15)."""
+    """The study's objectives and constraints: the config's, else the study's defaults."""
     name = study.name
     objectives = list(section.get("objectives", study.objectives))
     for i, item in enumerate(objectives):

@@ -303,7 +303,7 @@ CHUNK_ATTRS = (
 def _curve_subset(ds: xr.Dataset, idx, stride: int) -> xr.Dataset:
     """Keep the per-scenario curves (variables on ``run`` and another dimension) of every
     ``stride``-th scenario only, on dimension ``curve_run`` whose coordinate is their scenario
-    index (issue 16 item 5: a million spring curves are not stored unasked)."""
+    index (a million spring curves are not stored unasked)."""
     if stride <= 1:
         return ds
     curves = [n for n, v in ds.data_vars.items() if "run" in v.dims and v.ndim > 1]

@@ -620,7 +620,7 @@ def _deformed(torque, v, g, compliance_factor, inner_passes=3):
     point). The outer angle W = asin(R̄_i sin V / R̄_o) needs the deformed radii, which need the
     loads: three passes (contraction ~1e-3 per pass). They are not exact to rounding: the loads of
     the last pass and the radii they give disagree by up to 8.7e-7 relative (5.7e-6 near
-    roll-over, measured in issue 14), well below the model's own uncertainty (a fitted compliance
+    roll-over, measured), well below the model's own uncertainty (a fitted compliance
     factor); the outer fixed point for V is then solved to 1e-12 rad for this map."""
     n, length = g["sprags"], g["sprag_length"]
     mat = dict(youngs_modulus=g["youngs_modulus"], poisson_ratio=g["poisson_ratio"])
@@ -805,7 +805,7 @@ def _gripping_angle(torque, *, compliance_factor, tol, max_iter, **geometry):
     # roll-over: the loaded races open past the sprag's reach (deformed overlap ≤ 0), or the loads are
     # so far beyond it that the deformed geometry is no state of the clutch (radii that do not
     # settle, a sprag longer than it is wide): the roots found there are spurious (a status that
-    # grows back to above_allowable at 50x the roll-over torque, issue 14)
+    # grows back to above_allowable at 50x the roll-over torque)
     beyond = (
         (out["overlap"] <= 0)
         | ~(out["overlap"] < g["centre_distance"])

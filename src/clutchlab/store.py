@@ -89,7 +89,7 @@ _FILTER_KEYS = (
 
 
 def _encoding(ds: xr.Dataset, complevel: int) -> dict:
-    """HDF5 filters per variable (issue 16 item 5, measured on a 2^20-scenario roller result of 25
+    """HDF5 filters per variable (measured on a 2^20-scenario roller result of 25
     float columns, 195 MB raw): gzip 4 + shuffle saved a third (130 MB) but took 3.2 s to write
     and 28 ms to read one column (lzf: 143 MB, 1.3 s, 17 ms); uncompressed and contiguous took
     0.5 s and 1.2 ms. Physics outputs are floats with noisy mantissas, so floats are stored
@@ -590,7 +590,7 @@ def _flat_blocks(start: int, stop: int, shape: tuple) -> list[tuple[tuple, int, 
 
 class StreamWriter:
     """Write a study result scenario range by scenario range into a pre-sized HDF5 file, so that
-    no process holds more than one range (issue 16).
+    no process holds more than one range.
 
     Every range is a Dataset on ``run`` (a chunk's result); ``grid`` maps the flat scenario index
     onto the factor dimensions of a factorial design ({factor: coordinate DataArray}, in order),

@@ -1,4 +1,4 @@
-"""The million-design benchmark (issue 16): run ``config/million.yaml`` (every study at 2^20
+"""The million-design benchmark: run ``config/million.yaml`` (every study at 2^20
 sampled designs) through Snakemake and measure it (not a unit test).
 
 ``python -m clutchlab.bench.million [outdir] [--configfile config/million.yaml] [--cores 2]``

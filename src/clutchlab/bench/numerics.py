@@ -1,4 +1,4 @@
-"""The numerics section of the report (issue 17 item 1): a cheap run of each solver benchmark for
+"""The numerics section of the report: a cheap run of each solver benchmark for
 the studies of the run, in seconds on small samples, so the report of the run that produced the
 numbers shows how fast and how accurate each solver was against the natural alternatives measured
 in the same run, and the ratio at equal error. The full benchmarks stay targets of their own

@@ -1,4 +1,4 @@
-"""What one chunk job of each study costs per scenario (issue 19): the measurement behind the
+"""What one chunk job of each study costs per scenario: the measurement behind the
 cluster resources of :mod:`clutchlab.cluster` (not a unit test).
 
 ``python -m clutchlab.bench.resources [outdir] [--sizes 16384 262144]`` runs, for each study of

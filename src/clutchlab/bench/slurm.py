@@ -1,4 +1,4 @@
-"""A large config through the SLURM profile (issue 19): wall time, jobs, and the share of time spent
+"""A large config through the SLURM profile: wall time, jobs, and the share of time spent
 waiting on the scheduler (not a unit test; needs a SLURM cluster, e.g. ``bash .ci/slurm-up``).
 
 ``python -m clutchlab.bench.slurm [outdir] [--configfile config/million.yaml] [--local]``

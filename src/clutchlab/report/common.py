@@ -15,7 +15,7 @@ A4_LANDSCAPE = (11.69, 8.27)
 
 def with_curves(ds):
     """A sampled result that stores its per-scenario curves for a subset of scenarios (dimension
-    ``curve_run``, issue 16 item 5) as the Dataset of that subset on ``run``, curves included;
+    ``curve_run``) as the Dataset of that subset on ``run``, curves included;
     any other result unchanged. Pages that draw curves pick their designs from it."""
     if "curve_run" not in ds.dims:
         return ds

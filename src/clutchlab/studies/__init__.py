@@ -278,7 +278,7 @@ class Study:
     # relations between parameters the physics assumes for every scenario (a config whose design
     # breaks one for some scenario is refused, naming the parameters)
     relations: tuple[Relation, ...] = ()
-    # design answers (issue 15): the per-scenario outputs that objectives and constraints may name
+    # design answers: the per-scenario outputs that objectives and constraints may name
     # (name -> units, or (units, kind) for a temperature: "absolute" or "difference"), the default
     # objectives ("name:min"/"name:max") and constraints (output -> ("max" or "min", limit in
     # SI)), as the seed papers suggest

@@ -139,7 +139,7 @@ PARAMETERS = SPRING_PARAMETERS + (
         "end of the window searched for lock-up (a lock-up found is followed to its final metrics)",
         0.5,
     ),
-    # heat (issue 20, clutchlab.heat): masses of paper 000 Table 3; the rest assumed (see heat.engagement_heat)
+    # heat (clutchlab.heat): masses of paper 000 Table 3; the rest assumed (see heat.engagement_heat)
     Parameter("flywheel_mass", "kg", "flywheel mass (source paper 000, Table 3)", 10.3),
     Parameter("pressure_plate_mass", "kg", "pressure plate mass (source paper 000, Table 3)", 2.5),
     Parameter("driven_plate_mass", "kg", "driven plate mass (source paper 000, Table 3)", 1.9),
@@ -187,7 +187,7 @@ PARAMETERS = SPRING_PARAMETERS + (
         "0.2 cm^3/kWh, a resin-bonded dry lining; VDI 2241)",
         wear.SPECIFIC_WEAR_RATE,
     ),
-    # friction fade (issue 20 item 4; off by default): mu_k / (1 + beta (T_face - T_onset)+) while slipping
+    # friction fade (off by default): mu_k / (1 + beta (T_face - T_onset)+) while slipping
     Parameter(
         "fade_coefficient",
         "1/K",
@@ -773,7 +773,7 @@ _MODEL_INPUTS = (
 
 
 def _closed_form_applies(p, options):
-    """Where the cheapest exact model is the closed form (issue 16 item 2): a rigid driveline with
+    """Where the cheapest exact model is the closed form: a rigid driveline with
     a held engine, no drag, constant mu (no Stribeck law, friction table or fade) and no air gap."""
     return (
         (options["driveline"] == "rigid")
