@@ -506,3 +506,9 @@ def test_the_step_grid_maps_equal_the_modes_solved_mode_by_mode():
         np.testing.assert_allclose(got, w @ modes, rtol=2e-12)
     assert hm.grid_step(1e-12) == 1e-12 and hm.grid_level(1e-12) == -1  # below the grid
     assert math.isnan(hm.grid_step(math.nan)) and hm.grid_level(math.nan) == -1
+    # every step the grid rounds to is found on it, from its shortest to its longest
+    for h in np.geomspace(2.0**-31.9, 2.0**8, 997):
+        g = hm.grid_step(h)
+        assert g == h or 0 <= hm.grid_level(g) < hm.N_LEVELS, h
+    for h in (0.0, -1.0, math.inf, 5e-324, 1e300):
+        assert hm.grid_step(h) == h and hm.grid_level(h) == -1

@@ -163,7 +163,7 @@ def grid_step(h):
     """The longest step of the grid 2^(m/LEVELS_PER_OCTAVE) s not above h [s] (h > 0); h itself
     outside the grid's range (or NaN)."""
     x = LEVELS_PER_OCTAVE * math.log2(h)
-    if not (LEVEL_LO + 1.0 <= x < LEVEL_LO + N_LEVELS):
+    if not (LEVEL_LO + 1.0 <= x < LEVEL_LO + N_LEVELS - 1.0):  # (the levels grid_level finds)
         return h
     m = math.floor(x)
     g = 2.0 ** (m / LEVELS_PER_OCTAVE)
