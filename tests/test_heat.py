@@ -212,9 +212,10 @@ def test_seed_design_heat_numbers_and_their_trace_resolution():
 
 def test_duhamel_peak_of_the_kernel_coarse_to_fine_equals_every_sample():
     """The event solver's peak search (every stride-th sample, then around the best) finds the
-    same maximum as evaluating every sample, on slip power histories with one and with two bursts;
-    its integral at each sample equals heat.duhamel_surface_temperature's (the same exact segment
-    integrals), and the peak between samples lies within 1 % above the best sample."""
+    same maximum as evaluating every sample (each evaluation equal to duhamel_at within 1e-13), on
+    slip power histories with one and with two bursts; its integral at each sample equals
+    heat.duhamel_surface_temperature's (the same exact segment integrals), and the peak between
+    samples lies within 1 % above the best sample."""
     from clutchlab.engagement import _power as k
 
     rng = np.random.default_rng(5)
@@ -232,6 +233,10 @@ def test_duhamel_peak_of_the_kernel_coarse_to_fine_equals_every_sample():
         full = k.duhamel_peak(hist, n, 1)
         fast = k.duhamel_peak(hist, n, max(1, int(math.sqrt(n / 2))))
         assert fast == pytest.approx(full, rel=1e-12), case
+        # the peak search's evaluation (slopes and roots in rows 2 and 3, summed in any order)
+        # equals the plain one to round-off
+        sloped = [k._duhamel_sloped(hist, j) for j in range(1, n)]
+        np.testing.assert_allclose(sloped, [k.duhamel_at(hist, j) for j in range(1, n)], rtol=1e-13)
         ref = heat.duhamel_surface_temperature(t, p, 1.0) * math.sqrt(math.pi)
         np.testing.assert_allclose([k.duhamel_at(hist, j) for j in range(n)], ref, rtol=1e-10)
         # the peak between samples (vertex of the parabola through the best sample and its neighbours)
