@@ -117,9 +117,8 @@ NODES[0], NODES[-1] = -1.0, 1.0
 #: ``zfree`` the modes' weighted free decay from the step's start at the nodes; the batch's maps
 #: of the modes over the steps of the grid (:func:`clutchlab.engagement._heat_modes.level_map`,
 #: N_LEVELS of each): ``fmap`` the forced response at the nodes to each power vʲ (NN × NN), ``fdec``
-#: the free decay (NZ × NN),
-#: ``fend`` the modes at the step's end (NZ × (NN + 1)),
-#: ``fset`` 1 where built; ``sc`` the step's scalars (a one-element array of :data:`STEP`).
+#: the free decay (NZ × NN), ``fend`` the modes at the step's end (NZ × (NN + 1)), ``fset`` 1 where
+#: built; ``sc`` the step's scalars (a one-element array of :data:`STEP`).
 Colloc = namedtuple(
     "Colloc",
     [
