@@ -218,6 +218,25 @@ def test_truncated_when_an_event_follows_the_window():
     )
 
 
+@pytest.mark.parametrize("profile", ["ramp", "quintic"])
+@pytest.mark.parametrize("load_step", [False, True])
+def test_without_peaks_the_other_outputs_are_unchanged(profile, load_step):
+    """``peaks=False`` (the worn engagements of the study) leaves the friction torque's and the
+    jerk's peaks out (NaN) and the exact phases' search skips their forms: status, lock-up,
+    break-away, slip work, slip power peak and works stay those of the full solve (the events are
+    the same roots, found on the same grid: equal to round-off), re-slipping and truncated
+    scenarios included."""
+    d = _design(40, 12, load_step=load_step)
+    d["engine_torque"][:4] = 0.5 * d["load_torque"][:4]  # free engines that cannot carry the load
+    full = eng.simulate(**d, compliant=True, profile=profile)
+    lean = eng.simulate(**d, compliant=True, profile=profile, peaks=False)
+    np.testing.assert_array_equal(lean["status"], full["status"])
+    assert len(set(full["status"].tolist())) > 1  # ok and truncated at least
+    assert np.isnan(lean["peak_jerk"]).all() and np.isnan(lean["peak_friction_torque"]).all()
+    for k in ("lockup_time", "breakaway_time", "slip_work", "peak_slip_power", "load_work"):
+        np.testing.assert_allclose(lean[k], full[k], rtol=1e-13, atol=0, err_msg=k)
+
+
 def test_restart_at_an_event_does_not_fire_at_once():
     """PHYSICS.md hard case. Right after the output unparks its speed and acceleration are zero; the
     park function must not fire at the restart (it did, one ulp later, before the fix, and the output

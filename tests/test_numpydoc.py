@@ -80,6 +80,7 @@ NON_PHYSICAL = {
     "trace_index",
     "trace_points",
     "power_history",  # a switch
+    "peaks",  # a switch
     "compliant",  # a switch
     "rtol",  # solver tolerances, settings and iteration limits
     "atol",

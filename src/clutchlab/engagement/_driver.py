@@ -331,7 +331,15 @@ def _window_end(q, compliant, prof, opts, out, w, fm, pl, sc):
         return True  # a held engine at rest, hub locked to it, output parked: nothing moves again
     if is_linear(q, True):
         outcome, used = follow_linear(
-            sc.t, w.y, q, _mode(sc, compliant, prof), w.pk, fm, pl, opts.max_steps - sc.effort
+            sc.t,
+            w.y,
+            q,
+            _mode(sc, compliant, prof),
+            opts.peaks,
+            w.pk,
+            fm,
+            pl,
+            opts.max_steps - sc.effort,
         )
         sc.effort += used
         if outcome == FOLLOW_OUT_OF_WORK:
@@ -359,7 +367,7 @@ def _linear_step(nb, q, compliant, prof, tt, opts, out, trace, w, fm, pl, hist, 
     t = sc.t
     out[N_LINEAR] += 1
     t_new, kind, _, used, fr = linear_segment(
-        t, nb, t, w.y, q, mode, False, w.pk, fm, pl, opts.max_steps - sc.effort
+        t, nb, t, w.y, q, mode, False, opts.peaks, w.pk, fm, pl, opts.max_steps - sc.effort
     )
     sc.effort += used
     decay_modes(w.y, q, t_new - t)  # (a linear phase with fade is a locked one)
@@ -616,14 +624,13 @@ def store_trace(trace, tt, t, y, q, wr_col, fc, jk):
 
 @njit(**INLINE)
 def _finish(q, compliant, opts, out, w, hist, sc):
-    """The results: peaks, the power history's flash peak, solver counts and flags, and the works
+    """The results: peaks (the friction torque's and the jerk's NaN without ``opts.peaks``), the
+    power history's flash peak, solver counts and flags, and the works
     and energies over the window."""
     pk = w.pk
-    out[PEAK_SLIP_POWER], out[PEAK_FRICTION_TORQUE], out[PEAK_JERK] = (
-        pk[MAX_POWER],
-        pk[MAX_TORQUE],
-        pk[MAX_JERK],
-    )
+    out[PEAK_SLIP_POWER] = pk[MAX_POWER]
+    out[PEAK_FRICTION_TORQUE] = pk[MAX_TORQUE] if opts.peaks else np.nan
+    out[PEAK_JERK] = pk[MAX_JERK] if opts.peaks else np.nan
     n_hist = sc.n_hist
     out[N_POWER_SAMPLES] = n_hist if opts.with_hist else 0.0
     out[FLASH_PEAK] = (
@@ -733,13 +740,15 @@ def _rows(kernel, rows, Q, prof, tt, opts, out, trace, scratch):
 
 
 def simulate_batch(
-    Q, compliant, prof, tt, rtol, atol, max_step, first_step, max_steps, with_hist=False
+    Q, compliant, prof, tt, rtol, atol, max_step, first_step, max_steps, with_hist=False, peaks=True
 ):
     """Run every row of the parameter table Q; returns (results, traces). The rigid and the
     compliant model are compiled separately (the constant flag removes their branches: ~25 %), and
     the compliant scenarios whose phases are all linear (constant μ, no rotor drag or engine
     torque table) by a loop of their own (:func:`_batch_exact`): a run that has only those
-    compiles that loop alone (49 s of CPU from an empty cache against 142 s for the other)."""
+    compiles that loop alone (49 s of CPU from an empty cache against 142 s for the other).
+    Without ``peaks`` the exact linear phases leave the peak friction torque and output jerk out
+    (NaN in the results; the integrated phases' are dropped too): fewer forms to search."""
     n = Q.shape[0]
     out = np.empty((n, N_RESULTS))
     trace = np.full((n, tt.size, N_TRACES), np.nan)
@@ -750,6 +759,7 @@ def simulate_batch(
         float(first_step),
         int(max_steps),
         bool(with_hist),
+        bool(peaks),
     )
     hist = np.empty((4, POWER_SAMPLES_MAX))  # the slip power history of one scenario (_power)
     scratch = (new_work(), new_forms(), new_polys(), hist, np.zeros(1, SCENARIO))

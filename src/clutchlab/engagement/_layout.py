@@ -197,9 +197,10 @@ Forces = namedtuple(
     ],
 )
 
-#: The solver options, shared by all scenarios of a batch.
+#: The solver options, shared by all scenarios of a batch (``peaks``: whether the exact linear
+#: phases track the peak friction torque and output jerk; the slip power's peak always).
 Options = namedtuple(
-    "Options", ["rtol", "atol", "max_step", "first_step", "max_steps", "with_hist"]
+    "Options", ["rtol", "atol", "max_step", "first_step", "max_steps", "with_hist", "peaks"]
 )
 
 #: A scenario's scratch arrays (views of the batch's, of the scenario's state length): the state

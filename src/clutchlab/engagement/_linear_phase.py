@@ -123,19 +123,21 @@ def new_polys():
 
 
 @njit(**JIT)
-def linear_segment(t, t_b, t_load, y, q, mode, follow, pk, fm, pl, budget):
+def linear_segment(t, t_b, t_load, y, q, mode, follow, peaks, pk, fm, pl, budget):
     """Advance a linear phase of the compliant model exactly from t to the first event in (t, t_b]
     or to t_b (``t_b`` may be inf with ``follow``). Returns (time, event kind or NO_EVENT,
     settled, work, free response): y holds the state there (works updated unless ``follow``), pk
     the peaks inside the segment, work the passes of the root search it took (grid intervals and
     skips). With ``follow`` (after the window) the segment ends, settled, once no armed event can
     fire and no peak can grow any more (bounds of the decaying free response); unsettled after
-    10⁵ grid intervals. The load is the static load at ``t_load``. After ``budget`` passes the
+    10⁵ grid intervals. Without ``peaks`` only the slip power's peak is tracked (the friction
+    torque's and the output jerk's forms are off). The load is the static load at ``t_load``.
+    After ``budget`` passes the
     segment ends where it is, with kind OUT_OF_WORK (a free response far faster than the phase,
     e.g. a damper spring so stiff that its period is below the time's round-off, would take
     forever)."""
     ph = _phase(t, t_load, y, q, mode, pl)
-    _build_forms(ph, q, mode, pl, fm)
+    _build_forms(ph, q, mode, peaks, pl, fm)
     rh, rd, rate = lf.envelope(ph.fr)
     # grid: half of π/ω₀ (ω₀ ≥ ω_d: extrema of the free response are ≥ π/ω₀ apart)
     T = t_b - t
@@ -279,9 +281,10 @@ def _speeds(y, q, mode, tm, te, ia, ra, rr, osc_on, pl):
 
 
 @njit(**INLINE)
-def _build_forms(ph, q, mode, pl, fm):
-    """The forms (P + U·h + W·h') of the events and peaks that can happen in this phase, their
-    derivatives and the degrees of their rows."""
+def _build_forms(ph, q, mode, peaks, pl, fm):
+    """The forms (P + U·h + W·h') of the events and peaks that can happen in this phase (without
+    ``peaks`` no friction torque or output jerk), their derivatives and the degrees of their
+    rows."""
     ft, role = fm.table, fm.role
     for i in range(N_FORM):
         role[i] = OFF
@@ -290,7 +293,7 @@ def _build_forms(ph, q, mode, pl, fm):
     if not mode.locked:
         _slip_forms(ph, mode.sign, pl, fm)
     else:
-        _locked_forms(ph, q, pl, fm)
+        _locked_forms(ph, q, peaks, pl, fm)
     if mode.parked:  # the load's margin over the spring torque
         lf.axpy(-1.0, pl.T2, ph.tm, pl.ONE, pl.T1)
         lf.fset(ft, lf.F_UNPARK, pl.T1, -k, -c, pl.ONE, pl.ONE)
@@ -300,13 +303,14 @@ def _build_forms(ph, q, mode, pl, fm):
             pl.T1[n] = ph.PR[n] + ph.uR * pl.XPD[n]
         lf.fset(ft, lf.F_PARK, pl.T1, 0.0, ph.uR, pl.ONE, pl.ONE)
         role[lf.F_PARK] = EVENT
-        jd = lf.F_JERK + N_FORM
-        lf.fset(ft, jd, pl.T2, k, c, pl.ONE, pl.ONE)
-        lf.fder(ft, jd, lf.F_JERK, ph.km, ph.cm)
-        for r in range(3):
-            for n in range(NP):
-                ft[3 * lf.F_JERK + r, n] /= q[JR]
-        role[lf.F_JERK] = PEAK_FORM
+        if peaks:
+            jd = lf.F_JERK + N_FORM
+            lf.fset(ft, jd, pl.T2, k, c, pl.ONE, pl.ONE)
+            lf.fder(ft, jd, lf.F_JERK, ph.km, ph.cm)
+            for r in range(3):
+                for n in range(NP):
+                    ft[3 * lf.F_JERK + r, n] /= q[JR]
+            role[lf.F_JERK] = PEAK_FORM
     _derive_forms(ph, fm)
 
 
@@ -327,9 +331,9 @@ def _slip_forms(ph, s, pl, fm):
 
 
 @njit(**INLINE)
-def _locked_forms(ph, q, pl, fm):
+def _locked_forms(ph, q, peaks, pl, fm):
     """Locked: the static capacity's margin over the torque needed to stay locked, α·T_s + β,
-    in both directions (BREAK), and that torque itself (a peak)."""
+    in both directions (BREAK), and with ``peaks`` that torque itself (a peak)."""
     ft, T1, T2 = fm.table, pl.T1, pl.T2
     k, c, jh = q[K], q[CD], q[JH]
     alpha, beta = 1.0 - jh * ph.ia, jh * ph.ia * ph.te  # torque needed to stay locked: α·T_s + β
@@ -340,6 +344,8 @@ def _locked_forms(ph, q, pl, fm):
         T1[0] -= sign * beta
         lf.fset(ft, form, T1, -sign * alpha * k, -sign * alpha * c, pl.ONE, pl.ONE)
         fm.role[form] = EVENT
+    if not peaks:
+        return
     lf.axpy(alpha, T2, 0.0, T2, T1)
     T1[0] += beta
     lf.fset(ft, lf.F_TORQ, T1, alpha * k, alpha * c, pl.ONE, pl.ONE)
@@ -744,7 +750,7 @@ def _works(tau, th, thd, hA, hdA, hE, hdE, y, q, mode, ph, pl):
 
 
 @njit(**JIT)
-def follow_linear(t, y, q, mode, pk, fm, pl, budget):
+def follow_linear(t, y, q, mode, peaks, pk, fm, pl, budget):
     """After the window: follow a linear locked phase of the compliant model exactly to t = ∞
     (through the rest of the clamp profile) for its peaks and for any event. Returns (outcome,
     work): outcome FOLLOW_SETTLED when it settles with no event (the metrics are final),
@@ -758,7 +764,7 @@ def follow_linear(t, y, q, mode, pk, fm, pl, budget):
             if t < b < nb:
                 nb = b
         t, kind, settled, n, _ = linear_segment(
-            t, nb, q[TEND], y, q, locked, True, pk, fm, pl, budget - used
+            t, nb, q[TEND], y, q, locked, True, peaks, pk, fm, pl, budget - used
         )
         used += n
         if kind == OUT_OF_WORK:

@@ -56,6 +56,7 @@ OPTIONS = (
     "max_steps",
     "trace_times",
     "power_history",
+    "peaks",
 )
 
 
@@ -90,6 +91,7 @@ def simulate(
     max_steps=200000,
     trace_times=None,
     power_history=False,
+    peaks=True,
     friction_table=None,
     fade_coefficient=0.0,
     fade_onset=0.0,
@@ -143,6 +145,9 @@ def simulate(
         Return ``flash_peak`` (below); the compliant model with constant μ, ramp profile, in
         ``config/million.yaml``'s ranges at the engagement study's tolerances for accuracy 1e-6
         takes about twice as long with it (53 against 28 µs of CPU a scenario).
+    peaks : bool
+        Track the peak friction torque and output jerk (``False``: both NaN; the exact linear
+        phases then search fewer forms, the other outputs unchanged to round-off).
     friction_table : (slip speeds [rad/s], μ/μ_k [-]) or None
         The slipping friction law μ(abs(Δω))/μ_k as a table (linear, constant beyond the ends;
         the Modelica library's ``mu_pos``; one for all scenarios), replacing the Stribeck law.
@@ -199,6 +204,7 @@ def _simulate(
     max_steps,
     trace_times,
     power_history,
+    peaks,
     **scenario,
 ):
     """The screened scenarios through the compiled batch (:func:`simulate`'s arguments)."""
@@ -222,6 +228,7 @@ def _simulate(
         max_step=float(max_step),
         first_step=float(first_step or 0.0),
         max_steps=int(max_steps),
+        peaks=bool(peaks),
     )
     res, trace = _batch_with_fade(Q, batch, bool(power_history))
     out = _outputs(res, shape)

@@ -532,7 +532,7 @@ def _life(p, pts, options, closed, res) -> dict:
         )
         cap = capacity_of(force, p, options)
         with np.errstate(invalid="ignore"):
-            run = _engage(p, np.where(cap >= 0, cap, 0.0), options, closed, power_history=False)
+            run = _engage(p, np.where(cap >= 0, cap, 0.0), options, closed, worn=True)
         out["worn_not_locked"] |= run["status"] != st.CODE["ok"]
         per.append(wear.wear_per_engagement(run["slip_work"], q, ro, ri))
         rates.append(_heat(p, run["slip_work"], run["peak_slip_power"])["max_engagement_rate"])
@@ -859,13 +859,15 @@ def compute(inputs, options=None) -> xr.Dataset:
     return _dataset(res, code, hot, model, inputs, options)
 
 
-def _engage(p, cap, options, closed, power_history=True) -> dict:
+def _engage(p, cap, options, closed, worn=False) -> dict:
     """One engagement of every scenario at the peak capacity ``cap`` [N m]: the closed form where
     ``closed``, the event solver elsewhere (the outputs of :data:`OUTPUTS` they give, the solver's
-    status, capacity at lock-up, the solver statistics and, with ``power_history``, the flash
-    integral's peak: the worn engagements need no flash peak, and without it the compliant
-    solver takes about half the time, its other outputs bit-identical)."""
-    kw = _solver_inputs(p, cap, options) | {"power_history": power_history}
+    status, capacity at lock-up, the solver statistics and, unless ``worn``, the flash integral's
+    peak). A ``worn`` engagement needs only its status, lock-up time, slip work and peak slip
+    power: without the slip-power history the compliant solver takes about half the time, and
+    without the friction torque's and jerk's peaks (NaN) the exact phases search fewer forms; the
+    other outputs are unchanged to round-off."""
+    kw = _solver_inputs(p, cap, options) | {"power_history": not worn, "peaks": not worn}
     res = {}
     for mask, closed_form in ((closed, True), (~closed, False)):
         if not mask.any() and (
@@ -893,7 +895,7 @@ def _engage(p, cap, options, closed, power_history=True) -> dict:
                         "t_end",
                     )
                 },
-                power_history=power_history,
+                power_history=not worn,
             )
             part["peak_jerk"] = part.pop("slip_jerk")
         else:
