@@ -83,8 +83,27 @@ def test_the_rules_ask_for_what_clutchlab_cluster_computes(tmp_path):
             block
         )
         assert "cpus_per_task=1" in block
+        i = int(re.search(r"wildcards: study=\w+, i=(\d+)", block).group(1))
+        priority = int(re.search(r"priority: (\d+)", block).group(1))
+        assert priority == cluster.chunk_priority(res, study, i), block
         seen += 1
     assert seen == sum(res[s]["chunks"] for s in res["studies"])
+    report = out.split("\nrule report:")[1].split("\n\n")[0]
+    assert "cpus_per_task=2" in report and "threads: 2" in report, report
+
+
+def test_first_chunks_first_and_the_longest_first():
+    """Every study's first chunk (it compiles the study's kernels) before any later chunk; among
+    first (and among later) chunks the longest study first; the designs before every chunk."""
+    res = _resolved()
+    names = res["studies"]
+    first = {s: cluster.chunk_priority(res, s, 0) for s in names}
+    later = {s: cluster.chunk_priority(res, s, 1) for s in names}
+    assert min(first.values()) > max(later.values()) >= min(later.values()) >= 2
+    assert max(first.values()) < cluster.DESIGN_PRIORITY
+    by_length = sorted(names, key=lambda s: cluster.chunk_seconds(res[s]))
+    assert sorted(names, key=first.get) == by_length == sorted(names, key=later.get)
+    assert by_length[-1] == "engagement"  # three engagements a scenario: the longest chunk
 
 
 def test_the_slurm_profile_has_no_site_placeholders():

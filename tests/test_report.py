@@ -59,6 +59,11 @@ def test_report_pages(tmp_path, design):
     )
     rows = list(csv.DictReader(open(tmp_path / "report" / "validation.csv")))
     assert len(rows) == 14 and all(r["passed"] == "yes" for r in rows)
+    if design == "lhs":  # PNGs by a second process, the PDF by this one: the same bytes
+        two = report.build({"diaphragm_spring": spring}, [val], tmp_path / "two", processes=2)
+        assert [p.name for p in two] == [p.name for p in written]
+        for p in written:
+            assert (tmp_path / "two" / p.name).read_bytes() == p.read_bytes(), p.name
 
 
 def _variants():

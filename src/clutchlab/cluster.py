@@ -5,15 +5,16 @@ chunk count) and the study's measured cost: a fixed part (Python, imports, the c
 cache) plus a cost per scenario. :data:`CHUNK_COST` holds the measurement of
 ``python -m clutchlab.bench.resources --sizes 16384 262144`` (one chunk job of each size in a
 fresh process, on the widest ranges clutchlab ships, ``config/million.yaml``, with every scenario's
-curves stored as a factorial grid stores them; 2-core x86_64 workstation, 2026-11-24). A cluster
+curves stored as a factorial grid stores them; 2-core x86_64 workstation, 2026-11-27). A cluster
 node may be slower or shared, and a design's hard corner slower than the sample, so the request
 is the measurement times :data:`TIME_MARGIN` (at least :data:`MIN_RUNTIME` minutes) and times
 :data:`MEMORY_MARGIN` (at least :data:`MIN_MEM_MB`). Merge and report jobs read columns of the
-merged results: their memory grows with the scenarios too (session 8's million run: a 2^20 merge
+merged results: their memory grows with the scenarios too (the million run of 2026-11-24: a 2^20 merge
 peaked at 0.54 GB, the report of 5 x 2^20 at 1.38 GB).
 
-Every job runs on one core (``cpus_per_task`` 1): the physics is single-threaded per process,
-and a study runs in parallel as its chunk jobs.
+Every job but the report runs on one core (``cpus_per_task`` 1): the physics is single-threaded
+per process, and a study runs in parallel as its chunk jobs; the report writes its PNG and PDF
+pages in two processes.
 """
 
 from __future__ import annotations
@@ -24,11 +25,11 @@ from .config import scenario_count
 
 # study -> (fixed seconds, seconds per scenario, fixed MB, MB per scenario), measured (see above)
 CHUNK_COST = {
-    "diaphragm_spring": (1.02, 10.5e-6, 231, 2.91 / 1024),
-    "engagement": (1.36, 33.2e-6, 272, 0.30 / 1024),
-    "centrifugal": (0.98, 17.2e-6, 210, 4.56 / 1024),
-    "sprag": (1.18, 2.5e-6, 221, 0.30 / 1024),
-    "roller": (1.30, 79.6e-6, 272, 0.33 / 1024),
+    "diaphragm_spring": (1.70, 18.0e-6, 240, 2.98 / 1024),
+    "engagement": (2.07, 128.1e-6, 280, 0.59 / 1024),
+    "centrifugal": (1.45, 24.5e-6, 213, 4.41 / 1024),
+    "sprag": (1.72, 4.2e-6, 226, 0.31 / 1024),
+    "roller": (1.97, 32.5e-6, 280, 0.35 / 1024),
 }
 TIME_MARGIN = 5.0
 MEMORY_MARGIN = 1.5
@@ -48,12 +49,34 @@ def chunk_scenarios(resolved_study: dict) -> int:
     return -(-scenario_count(resolved_study) // resolved_study["chunks"])
 
 
+def chunk_seconds(resolved_study: dict) -> float:
+    """The measured wall time [s] of one chunk job of a resolved study (no margin)."""
+    fixed_s, per_s, _, _ = CHUNK_COST[resolved_study["name"]]
+    return fixed_s + per_s * chunk_scenarios(resolved_study)
+
+
 def chunk_resources(resolved_study: dict) -> dict:
     """mem_mb, runtime (minutes) and cpus_per_task of one chunk job of a resolved study."""
-    fixed_s, per_s, fixed_mb, per_mb = CHUNK_COST[resolved_study["name"]]
-    n = chunk_scenarios(resolved_study)
-    runtime = max(MIN_RUNTIME, math.ceil(TIME_MARGIN * (fixed_s + per_s * n) / 60))
-    return {"mem_mb": _mem(fixed_mb + per_mb * n), "runtime": runtime, "cpus_per_task": 1}
+    _, _, fixed_mb, per_mb = CHUNK_COST[resolved_study["name"]]
+    runtime = max(MIN_RUNTIME, math.ceil(TIME_MARGIN * chunk_seconds(resolved_study) / 60))
+    mb = fixed_mb + per_mb * chunk_scenarios(resolved_study)
+    return {"mem_mb": _mem(mb), "runtime": runtime, "cpus_per_task": 1}
+
+
+def chunk_priority(resolved: dict, study: str, i: int) -> int:
+    """Snakemake priority of chunk ``i`` of ``study`` in a resolved config: every study's first
+    chunk before any other chunk (a first chunk compiles the study's kernels, its other chunks
+    load them), and among equals the longest first (by :func:`chunk_seconds`: Graham's
+    longest-processing-time rule, so that the run does not end waiting for one long chunk). From
+    2 up to 1 + 2 x the studies (the design jobs ask for more: :data:`DESIGN_PRIORITY`)."""
+    order = sorted(resolved["studies"], key=lambda s: chunk_seconds(resolved[s]))
+    rank = 2 + order.index(study)
+    return rank + len(order) if int(i) == 0 else rank
+
+
+#: The design jobs' priority, above every chunk's (:func:`chunk_priority`): they take seconds and
+#: a study's chunks wait for its design.
+DESIGN_PRIORITY = 100
 
 
 def merge_resources(resolved_study: dict) -> dict:
@@ -72,5 +95,5 @@ def report_resources(resolved: dict) -> dict:
     return {
         "mem_mb": _mem(REPORT_MB[0] + REPORT_MB[1] * n),
         "runtime": MIN_RUNTIME + n // 500_000,
-        "cpus_per_task": 1,
+        "cpus_per_task": 2,  # (its PNG and PDF pages in two processes: the rule's threads)
     }

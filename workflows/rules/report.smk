@@ -90,6 +90,7 @@ rule report:
         version=clutchlab.__version__,
         work=WORK,
         chunks={s: RESOLVED[s]["chunks"] for s in STUDIES},
+    threads: 2  # PNG and PDF pages written side by side (one core: one after the other)
     resources:
         **_cluster.report_resources(RESOLVED),
     script:
@@ -107,7 +108,7 @@ rule hard_cases:
     # alongside the chunks, after each study's first one: it compiles the rigid engagement, the
     # compliant one's integrators and the Hertz impact (minutes on a first run), which a study's
     # first chunk compiles only where it runs that model (then this job loads it)
-    priority: 1
+    priority: 2  # (as the cheapest study's later chunks: _cluster.chunk_priority)
     params:
         studies=STUDIES,
         source=SOURCE,

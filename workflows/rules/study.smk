@@ -10,7 +10,7 @@ rule design:
         f"{WORK}/{{study}}/benchmark/design.tsv"
     log:
         f"{WORK}/{{study}}/log/design.log",
-    priority: 3  # (the chunks wait for it: every design first, they take seconds)
+    priority: _cluster.DESIGN_PRIORITY  # (the chunks wait for it: every design first)
     params:
         study=lambda wc: RESOLVED[wc.study],
         source=SOURCE,
@@ -33,8 +33,9 @@ rule chunk:
     # before the jobs that call the kernels outside a study (numerics, hard cases, benchmark):
     # a chunk compiles each kernel it needs once (pipeline.run_chunk), and they load it; each
     # study's first chunk before the other chunks, so that the studies' kernels compile side by
-    # side (a study's second chunk would wait for its first one's compile under its lock)
-    priority: lambda wc: 2 if int(wc.i) == 0 else 1
+    # side (a study's second chunk would wait for its first one's compile under its lock); among
+    # equals the longest study first
+    priority: lambda wc: _cluster.chunk_priority(RESOLVED, wc.study, wc.i)
     params:
         options=lambda wc: RESOLVED[wc.study]["options"],
         chunks=lambda wc: RESOLVED[wc.study]["chunks"],

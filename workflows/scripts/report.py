@@ -77,4 +77,5 @@ with job_log(sm.log[0]):
         explorers={
             s: Path(f).name for s, f in zip(sm.params.names, sm.input.explorers, strict=True)
         },
+        processes=sm.threads,
     )
