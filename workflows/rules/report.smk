@@ -129,6 +129,9 @@ if NUMERICS:
             f"{WORK}/benchmark/numerics.tsv"
         log:
             f"{WORK}/log/numerics.log",
+        # as the hard cases: alongside the later chunks (it loads the kernels the first chunks
+        # compiled), not after every merge where the report waits for it
+        priority: 2
         params:
             outdir=lambda wc, output: Path(output[0]).parent,
             studies=STUDIES,
