@@ -237,6 +237,22 @@ def test_without_peaks_the_other_outputs_are_unchanged(profile, load_step):
         np.testing.assert_allclose(lean[k], full[k], rtol=1e-13, atol=0, err_msg=k)
 
 
+def test_without_peaks_the_collocated_phases_are_unchanged():
+    """The same for the collocated slipping phases (Stribeck and fade): they refine the slip
+    power's peak only; the steps and every other output are bit-identical."""
+    d, rng = _held_design(12, 36)
+    d["stribeck_speed"] = np.where(np.arange(12) < 6, rng.uniform(5.0, 50.0, 12), np.inf)
+    d["fade_coefficient"] = np.where(np.arange(12) < 6, 0.0, 0.01)
+    d["face_temperature_factor"] = np.full(12, 8.86e-4)  # [K/(W s^0.5)] (seed 000 lining)
+    kw = dict(compliant=True, static_ratio=1.3, rtol=1e-7, atol=1e-9)
+    full = eng.simulate(**d, **kw)
+    lean = eng.simulate(**d, **kw, peaks=False)
+    assert (full["n_steps"] > 0).all() and (full["status"] == st.CODE["ok"]).sum() >= 10
+    assert np.isnan(lean["peak_jerk"]).all() and np.isnan(lean["peak_friction_torque"]).all()
+    for k in ("status", "n_steps", "lockup_time", "slip_work", "peak_slip_power", "load_work"):
+        np.testing.assert_array_equal(lean[k], full[k], err_msg=k)
+
+
 def test_restart_at_an_event_does_not_fire_at_once():
     """PHYSICS.md hard case. Right after the output unparks its speed and acceleration are zero; the
     park function must not fire at the restart (it did, one ulp later, before the fix, and the output

@@ -184,6 +184,36 @@ def test_fade_below_its_onset_is_left_out_and_the_rest_solved_with_it(compliant,
     )
 
 
+@pytest.mark.parametrize("compliant", [False, True])
+def test_the_bound_without_the_history_clears_only_cool_scenarios(compliant):
+    """Without the slip-power history (the worn engagements) the face is first bounded by
+    2·P_max·√t_L ≥ Duhamel's integral (P ≥ 0, zero after the last lock-up): 1.45-1.7 times the
+    flash peak here. Onset at the median rise: some scenarios are cleared by the bound, some only
+    by the history, the rest fade; every output but the flash peak is that of the run with the
+    history, bit for bit."""
+    from clutchlab.engagement import _simulate
+
+    ex = COMPLIANT if compliant else {}
+    d = {**SEED, "engine_speed": np.linspace(250.0, 700.0, 16)}
+    d["peak_capacity"] = np.linspace(300.0, 120.0, 16)
+    plain = engagement.simulate(**d, **ex, rtol=1e-9, atol=1e-9, power_history=True)
+    bound = 2.0 * plain["peak_slip_power"] * np.sqrt(plain["lockup_time"])
+    assert np.all(bound >= plain["flash_peak"])
+    rise = K_FACE * plain["flash_peak"]
+    onset = float(np.median(rise))
+    by_bound, by_history = K_FACE * bound <= 0.99 * onset, rise <= 0.99 * onset
+    assert 0 < by_bound.sum() < by_history.sum() < rise.size
+    kw = dict(fade_coefficient=0.05, fade_onset=onset, face_temperature_factor=K_FACE)
+    kw |= dict(rtol=1e-9, atol=1e-9, **ex)
+    with_history = engagement.simulate(**d, **kw, power_history=True)
+    without = engagement.simulate(**d, **kw)
+    for name in without:
+        if name not in ("flash_peak", "n_power_samples"):
+            np.testing.assert_array_equal(without[name], with_history[name], err_msg=name)
+    assert np.isnan(without["flash_peak"]).all()
+    assert _simulate.FADE_MARGIN == 0.99  # (the margin the classes above are drawn with)
+
+
 def test_fade_off_is_the_default_and_costs_nothing():
     """β = 0 gives exactly the results of a call without the fade arguments (the face temperature
     trace is NaN then)."""

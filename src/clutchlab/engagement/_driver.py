@@ -747,8 +747,9 @@ def simulate_batch(
     the compliant scenarios whose phases are all linear (constant μ, no rotor drag or engine
     torque table) by a loop of their own (:func:`_batch_exact`): a run that has only those
     compiles that loop alone (49 s of CPU from an empty cache against 142 s for the other).
-    Without ``peaks`` the exact linear phases leave the peak friction torque and output jerk out
-    (NaN in the results; the integrated phases' are dropped too): fewer forms to search."""
+    Without ``peaks`` the exact linear phases and the collocated slipping phases leave the peak
+    friction torque and output jerk out (NaN in the results; DOPRI5's, taken at its steps anyway,
+    are dropped too)."""
     n = Q.shape[0]
     out = np.empty((n, N_RESULTS))
     trace = np.full((n, tt.size, N_TRACES), np.nan)

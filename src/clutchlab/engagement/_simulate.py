@@ -147,7 +147,8 @@ def simulate(
         takes about twice as long with it (53 against 28 µs of CPU a scenario).
     peaks : bool
         Track the peak friction torque and output jerk (``False``: both NaN; the exact linear
-        phases then search fewer forms, the other outputs unchanged to round-off).
+        phases then search fewer forms and the collocated slipping phases refine the slip power's
+        peak only, the other outputs unchanged to round-off).
     friction_table : (slip speeds [rad/s], μ/μ_k [-]) or None
         The slipping friction law μ(abs(Δω))/μ_k as a table (linear, constant beyond the ends;
         the Modelica library's ``mu_pos``; one for all scenarios), replacing the Stribeck law.
@@ -252,18 +253,32 @@ def _batch_with_fade(Q, batch, power_history):
     never fades (μ_k is divided by 1 only): its fade-free results are final, and only the others
     are solved with the face temperature as a state (several times as long a scenario). Not
     with traces (they show the face temperature of the fade model), nor where the onset is the
-    ambient temperature (every slipping scenario fades)."""
+    ambient temperature (every slipping scenario fades). Without ``power_history`` the fade-free
+    run first goes without the history too, and only the scenarios :func:`surely_cool` does not
+    clear are run again with it (the history costs about as much as the rest of a constant-μ
+    engagement)."""
     fade = (Q[:, lay.FADE] > 0.0) & (Q[:, lay.FADE_ON] > 0.0)
     if not fade.any() or batch["tt"].size:
         return simulate_batch(Q, with_hist=power_history, **batch)
     plain = Q[fade].copy()
     plain[:, lay.FADE] = 0.0
-    pre, _ = simulate_batch(plain, with_hist=True, **batch)
-    with np.errstate(invalid="ignore"):
-        cool = plain[:, lay.FACE_K] * pre[:, lay.FLASH_PEAK] <= FADE_MARGIN * plain[:, lay.FADE_ON]
-    if not power_history:  # (as the solver leaves them without the history)
-        pre[:, lay.FLASH_PEAK] = np.nan
-        pre[:, lay.N_POWER_SAMPLES] = 0.0
+    pre, cool = None, np.zeros(plain.shape[0], dtype=bool)
+    if not power_history:
+        pre, _ = simulate_batch(plain, with_hist=False, **batch)
+        cool = surely_cool(plain, pre)
+    if not cool.all():
+        unsure = ~cool
+        with_hist, _ = simulate_batch(plain[unsure], with_hist=True, **batch)
+        with np.errstate(invalid="ignore"):
+            cool[unsure] = (
+                plain[unsure, lay.FACE_K] * with_hist[:, lay.FLASH_PEAK]
+                <= FADE_MARGIN * plain[unsure, lay.FADE_ON]
+            )
+        if not power_history:  # (as the solver leaves them without the history)
+            with_hist[:, lay.FLASH_PEAK] = np.nan
+            with_hist[:, lay.N_POWER_SAMPLES] = 0.0
+        pre = with_hist if pre is None else pre
+        pre[unsure] = with_hist
     rows = np.flatnonzero(fade)
     solve = np.ones(Q.shape[0], dtype=bool)
     solve[rows[cool]] = False
@@ -272,6 +287,18 @@ def _batch_with_fade(Q, batch, power_history):
     out[solve] = res
     out[rows[cool]] = pre[cool]
     return out, np.empty((Q.shape[0], 0, trace.shape[2]))
+
+
+def surely_cool(Q, res):
+    """Rows of the parameter table Q whose fade-free results ``res`` (no slip-power history) prove
+    the face cool: the slip power P ≥ 0 is at most its peak P_max and is zero after the last
+    lock-up t_L (the window's end if it does not end locked), so Duhamel's integral
+    ∫ P(τ)/√(t − τ) dτ is at most 2·P_max·√t_L at any time; below FADE_MARGIN times the onset
+    over K, the face never reaches it (NaN results: not proven)."""
+    t_last = np.where(np.isfinite(res[:, lay.LOCKUP_TIME]), res[:, lay.LOCKUP_TIME], Q[:, lay.TEND])
+    bound = 2.0 * res[:, lay.PEAK_SLIP_POWER] * np.sqrt(t_last)
+    with np.errstate(invalid="ignore"):
+        return Q[:, lay.FACE_K] * bound <= FADE_MARGIN * Q[:, lay.FADE_ON]
 
 
 # metrics an event after the window would change: NaN in a ``truncated`` scenario

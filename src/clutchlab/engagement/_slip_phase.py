@@ -141,7 +141,7 @@ def _accept(ec, h_try, t_b, q, opts, w, hist, sc):
     if v_end >= 1.0 and h_try == t_b - t:
         t_new = t_b
     # its records up to there
-    record_peaks(ec, v_end, q, w.pk)
+    record_peaks(ec, v_end, q, w.pk, opts.peaks)
     if opts.with_hist and not sc.past:
         spacing = slip_spacing(sc.dt_s, sc.t_slip, t_new)
         sc.n_hist = history(ec, v_end, hist, sc.n_hist, spacing, t)

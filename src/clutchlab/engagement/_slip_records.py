@@ -335,27 +335,30 @@ def _jerk_scan(ec, v_end, q, best):
 
 
 @njit(**JIT)
-def record_peaks(ec, v_end, q, pk):
-    """Peaks of the step on [−1, v_end] (slip power, |clutch torque|, |output jerk| in pk): at the
-    nodes and v_end, refined by golden section around the points that are local maxima within 0.9
-    of the running maximum (:func:`_refine`); the jerk by :func:`_jerk_scan`."""
+def record_peaks(ec, v_end, q, pk, peaks):
+    """Peaks of the step on [−1, v_end] (slip power, |clutch torque|, |output jerk| in pk; without
+    ``peaks`` the slip power's only): at the nodes and v_end, refined by golden section around the
+    points that are local maxima within 0.9 of the running maximum (:func:`_refine`); the jerk by
+    :func:`_jerk_scan`."""
     sc = ec.sc[0]
     moving = not sc.parked
     n_in = 0
     for i in range(NN):
         if NODES[i] < v_end:
             n_in = i + 1
-    # the values at the nodes inside (ec.tmp2: |torque|) and at v_end
+    # the values at the nodes inside (ec.tmp2: |torque|) and at v_end, refined between them
+    for i in range(n_in):
+        pk[MAX_POWER] = max(pk[MAX_POWER], ec.p[i])
+    pe = _peak_value(ec, PEAK_POWER, v_end, q)
+    pk[MAX_POWER] = max(pk[MAX_POWER], pe)
+    pk[MAX_POWER] = _refine(ec, PEAK_POWER, ec.p, n_in, v_end, pe, q, pk[MAX_POWER])
+    if not peaks:
+        return
     for i in range(n_in):
         ec.tmp2[i] = abs(ec.d[i])
-        pk[MAX_POWER] = max(pk[MAX_POWER], ec.p[i])
         pk[MAX_TORQUE] = max(pk[MAX_TORQUE], ec.tmp2[i])
-    pe = _peak_value(ec, PEAK_POWER, v_end, q)
     de = _peak_value(ec, PEAK_TORQUE, v_end, q)
-    pk[MAX_POWER] = max(pk[MAX_POWER], pe)
     pk[MAX_TORQUE] = max(pk[MAX_TORQUE], de)
-    # refined between the points
-    pk[MAX_POWER] = _refine(ec, PEAK_POWER, ec.p, n_in, v_end, pe, q, pk[MAX_POWER])
     pk[MAX_TORQUE] = _refine(ec, PEAK_TORQUE, ec.tmp2, n_in, v_end, de, q, pk[MAX_TORQUE])
     if moving:
         pk[MAX_JERK] = max(pk[MAX_JERK], _peak_value(ec, PEAK_JERK_, v_end, q))
