@@ -294,11 +294,13 @@ def surely_cool(Q, res):
     the face cool: the slip power P ≥ 0 is at most its peak P_max and is zero after the last
     lock-up t_L (the window's end if it does not end locked), so Duhamel's integral
     ∫ P(τ)/√(t − τ) dτ is at most 2·P_max·√t_L at any time; below FADE_MARGIN times the onset
-    over K, the face never reaches it (NaN results: not proven)."""
+    over K, the face never reaches it (NaN results, or a run that spent its work budget before
+    the window's end: not proven)."""
     t_last = np.where(np.isfinite(res[:, lay.LOCKUP_TIME]), res[:, lay.LOCKUP_TIME], Q[:, lay.TEND])
     bound = 2.0 * res[:, lay.PEAK_SLIP_POWER] * np.sqrt(t_last)
     with np.errstate(invalid="ignore"):
-        return Q[:, lay.FACE_K] * bound <= FADE_MARGIN * Q[:, lay.FADE_ON]
+        cool = Q[:, lay.FACE_K] * bound <= FADE_MARGIN * Q[:, lay.FADE_ON]
+    return cool & (res[:, lay.HIT_STEP_LIMIT] == 0.0)
 
 
 # metrics an event after the window would change: NaN in a ``truncated`` scenario

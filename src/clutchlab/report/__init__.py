@@ -307,8 +307,8 @@ def _write_pages(pages, outdir, title, dpi, processes=1) -> list[Path]:
     # (fork: the child inherits the pages and their data, nothing is pickled)
     if processes > 1 and "fork" in multiprocessing.get_all_start_methods():
         png_job = multiprocessing.get_context("fork").Process(
-            target=_write_pngs, args=(pages, outdir, dpi)
-        )
+            target=_write_pngs, args=(pages, outdir, dpi), daemon=True
+        )  # (daemon: ended with this process if its PDF fails first)
         png_job.start()
     with (
         store.atomic(outdir / "report.pdf") as tmp_pdf,
