@@ -564,3 +564,54 @@ def test_polynomial_range_bounds_tighten_as_the_interval_shrinks():
         pmin, pmax = lf.prange(c, 13, 0.05, 0.05 + span, np.zeros(lf.NP))
         excess.append((pmax - pmin) - (values.max() - values.min()))
     assert excess[0] > 0.1 and excess[1] < excess[0] / 3.0 and excess[2] < excess[1] / 3.0
+
+
+@pytest.mark.parametrize(
+    "poly, lo, hi, d_lo, where",
+    [
+        # P = τ − τ³: a maximum at 1/√3 inside, Newton converging onto a bracket's end
+        ([0.0, 1.0, 0.0, -1.0], 0.5, 0.7, 1.0 - 3 * 0.25, 1 / np.sqrt(3.0)),
+        # P = −τ² + τ³ from a phase's start at t = 0, P'(0) a round-off above zero (a cubic
+        # clamp profile's slip power): the maximum is the start
+        ([0.0, 0.0, -1.0, 1.0], 0.0, 0.1, 1e-20, 0.0),
+        # P = τ⁴: P'(0) exactly zero and rising (a quintic profile's): the extremum is the start
+        ([0.0, 0.0, 0.0, 0.0, 1.0], 0.0, 0.1, 0.0, 0.0),
+    ],
+)
+def test_extrema_of_the_exact_phases_take_a_few_steps(poly, lo, hi, d_lo, where, monkeypatch):
+    """The exact phases' extremum search (their peaks, and dips below zero of an event function)
+    takes a few evaluations: it once bisected towards a phase's start at t = 0 for 200 iterations,
+    and kept bisecting from the far end after Newton had converged onto the bracket's end (20-25
+    µs an engagement with a cubic or quintic clamp profile)."""
+    from clutchlab.engagement import _linear_forms as lf
+
+    ft, i, fr, calls = _polynomial_form(poly, monkeypatch)
+    x = lf.extremum.py_func(ft, i, lo, hi, d_lo, fr)
+    assert x == pytest.approx(where, abs=1e-15) and len(calls) <= 8
+
+
+def test_a_root_of_the_exact_phases_takes_a_few_steps(monkeypatch):
+    """F = 0.36 − τ² on (0.5, 0.9]: Newton from 0.9 converges onto the bracket's end from the
+    right; the search ends there instead of bisecting on from 0.5 (30 more steps)."""
+    from clutchlab.engagement import _linear_forms as lf
+
+    ft, i, fr, calls = _polynomial_form([0.36, 0.0, -1.0], monkeypatch)
+    r = lf.root.py_func(ft, i, 0.5, 0.9, fr)
+    assert r == pytest.approx(0.6, abs=1e-15) and lf.fval(ft, i, r, 0.0, 0.0) <= 0.0
+    assert len(calls) <= 10
+
+
+def _polynomial_form(poly, monkeypatch):
+    """A form table whose slip-power form is the polynomial ``poly`` (no free response) with its
+    derivatives, and the list of times at which the free response is evaluated from now on."""
+    from clutchlab.engagement import _linear_forms as lf
+
+    calls = []
+    hh = lf.hh
+    monkeypatch.setattr(lf, "hh", lambda fr, tau: calls.append(tau) or hh(fr, tau))
+    ft = np.zeros((9 * lf.N_FORM, lf.NP))
+    i = lf.F_POW
+    ft[3 * i, : len(poly)] = poly
+    lf.fder(ft, i, i + lf.N_FORM, 0.0, 0.0)
+    lf.fder(ft, i + lf.N_FORM, i + 2 * lf.N_FORM, 0.0, 0.0)
+    return ft, i, lf.FreeResponse(0.5, 4.0, 0.0, 0.0, 0.0), calls

@@ -364,6 +364,7 @@ def test_a_stiff_undamped_damper_ends_within_its_work_budget():
         max_steps=20_000,
         trace_times=None,
         power_history=False,
+        peaks=True,
         **{k: np.atleast_1d(float(v)) for k, v in kw.items()},
     )
     assert out["status"][0] == st.CODE["not_converged"] and np.isnan(out["lockup_time"][0])
