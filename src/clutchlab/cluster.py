@@ -25,11 +25,11 @@ from .config import scenario_count
 
 # study -> (fixed seconds, seconds per scenario, fixed MB, MB per scenario), measured (see above)
 CHUNK_COST = {
-    "diaphragm_spring": (1.70, 18.0e-6, 240, 2.98 / 1024),
-    "engagement": (2.07, 128.1e-6, 280, 0.59 / 1024),
-    "centrifugal": (1.45, 24.5e-6, 213, 4.41 / 1024),
-    "sprag": (1.72, 4.2e-6, 226, 0.31 / 1024),
-    "roller": (1.97, 32.5e-6, 280, 0.35 / 1024),
+    "diaphragm_spring": (1.72, 17.9e-6, 238, 2.98 / 1024),
+    "engagement": (2.14, 88.1e-6, 279, 0.58 / 1024),
+    "centrifugal": (1.43, 25.5e-6, 211, 4.41 / 1024),
+    "sprag": (1.76, 3.8e-6, 224, 0.31 / 1024),
+    "roller": (1.98, 32.1e-6, 279, 0.35 / 1024),
 }
 TIME_MARGIN = 5.0
 MEMORY_MARGIN = 1.5
