@@ -625,8 +625,8 @@ def store_trace(trace, tt, t, y, q, wr_col, fc, jk):
 @njit(**INLINE)
 def _finish(q, compliant, opts, out, w, hist, sc):
     """The results: peaks (the friction torque's and the jerk's NaN without ``opts.peaks``), the
-    power history's flash peak, solver counts and flags, and the works
-    and energies over the window."""
+    power history's flash peak, solver counts and flags, and the works and energies over the
+    window."""
     pk = w.pk
     out[PEAK_SLIP_POWER] = pk[MAX_POWER]
     out[PEAK_FRICTION_TORQUE] = pk[MAX_TORQUE] if opts.peaks else np.nan

@@ -132,10 +132,9 @@ def linear_segment(t, t_b, t_load, y, q, mode, follow, peaks, pk, fm, pl, budget
     fire and no peak can grow any more (bounds of the decaying free response); unsettled after
     10⁵ grid intervals. Without ``peaks`` only the slip power's peak is tracked (the friction
     torque's and the output jerk's forms are off). The load is the static load at ``t_load``.
-    After ``budget`` passes the
-    segment ends where it is, with kind OUT_OF_WORK (a free response far faster than the phase,
-    e.g. a damper spring so stiff that its period is below the time's round-off, would take
-    forever)."""
+    After ``budget`` passes the segment ends where it is, with kind OUT_OF_WORK (a free response
+    far faster than the phase, e.g. a damper spring so stiff that its period is below the time's
+    round-off, would take forever)."""
     ph = _phase(t, t_load, y, q, mode, pl)
     _build_forms(ph, q, mode, peaks, pl, fm)
     rh, rd, rate = lf.envelope(ph.fr)
