@@ -277,8 +277,10 @@ def _batch_with_fade(Q, batch, power_history):
         if not power_history:  # (as the solver leaves them without the history)
             with_hist[:, lay.FLASH_PEAK] = np.nan
             with_hist[:, lay.N_POWER_SAMPLES] = 0.0
-        pre = with_hist if pre is None else pre
-        pre[unsure] = with_hist
+        if pre is None:
+            pre = with_hist
+        else:
+            pre[unsure] = with_hist
     rows = np.flatnonzero(fade)
     solve = np.ones(Q.shape[0], dtype=bool)
     solve[rows[cool]] = False

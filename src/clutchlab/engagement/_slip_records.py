@@ -346,7 +346,7 @@ def record_peaks(ec, v_end, q, pk, peaks):
     for i in range(NN):
         if NODES[i] < v_end:
             n_in = i + 1
-    # the values at the nodes inside (ec.tmp2: |torque|) and at v_end, refined between them
+    # the values at the nodes inside and at v_end, refined between them
     for i in range(n_in):
         pk[MAX_POWER] = max(pk[MAX_POWER], ec.p[i])
     pe = _peak_value(ec, PEAK_POWER, v_end, q)
@@ -354,7 +354,7 @@ def record_peaks(ec, v_end, q, pk, peaks):
     pk[MAX_POWER] = _refine(ec, PEAK_POWER, ec.p, n_in, v_end, pe, q, pk[MAX_POWER])
     if not peaks:
         return
-    for i in range(n_in):
+    for i in range(n_in):  # (ec.tmp2: |torque| at the nodes)
         ec.tmp2[i] = abs(ec.d[i])
         pk[MAX_TORQUE] = max(pk[MAX_TORQUE], ec.tmp2[i])
     de = _peak_value(ec, PEAK_TORQUE, v_end, q)
