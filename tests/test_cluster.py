@@ -40,16 +40,15 @@ def test_chunk_requests_follow_the_chunk_size_and_the_measured_cost():
     )
 
 
-def test_merge_and_report_requests_grow_with_the_study():
+def test_merge_and_pages_requests_grow_with_the_study():
     res, tiny = _resolved(), _resolved("small.yaml")
     for s in tiny["studies"]:
-        assert (
-            cluster.merge_resources(tiny[s])["mem_mb"] <= cluster.merge_resources(res[s])["mem_mb"]
-        )
-    assert cluster.report_resources(tiny)["mem_mb"] < cluster.report_resources(res)["mem_mb"]
-    assert (
-        cluster.report_resources(res)["mem_mb"] >= 1.38e3
-    )  # the million run's report job peaked at 1.38 GB
+        for jobs in (cluster.merge_resources, cluster.pages_resources):
+            assert jobs(tiny[s])["mem_mb"] <= jobs(res[s])["mem_mb"]
+    # a 2^20 study's pages job peaked at 0.62 GB (the million run: 1.5 GB asked)
+    assert cluster.pages_resources(res["engagement"])["mem_mb"] >= 1.2e3
+    # the report joins files and draws the run's own pages: a fixed size, one core
+    assert cluster.report_resources(tiny) == cluster.report_resources(res)
 
 
 def test_the_rules_ask_for_what_clutchlab_cluster_computes(tmp_path):
@@ -88,8 +87,12 @@ def test_the_rules_ask_for_what_clutchlab_cluster_computes(tmp_path):
         assert priority == cluster.chunk_priority(res, study, i), block
         seen += 1
     assert seen == sum(res[s]["chunks"] for s in res["studies"])
+    for block in out.split("\nrule pages_")[1:]:
+        study = block.split(":")[0]
+        want = cluster.pages_resources(res[study])
+        assert f"mem_mb={want['mem_mb']}," in block and "cpus_per_task=1" in block, block
     report = out.split("\nrule report:")[1].split("\n\n")[0]
-    assert "cpus_per_task=2" in report and "threads: 2" in report, report
+    assert "cpus_per_task=1" in report and "threads:" not in report, report
 
 
 def test_first_chunks_first_and_the_longest_first():

@@ -526,14 +526,15 @@ def test_every_report_page_keeps_its_text_on_the_page(small_run, tmp_path, monke
     for fig in figures:
         assert not texts_outside(fig), texts_outside(fig)
         assert not texts_too_small(fig), texts_too_small(fig)[:5]
-    summary = " ".join(" ".join(t.get_text() for t in figures[0].texts).split())
+    # the summary: drawn after the studies' parts, the first of the report's own pages
+    (title,) = [f for f in figures if f.texts and f.texts[0].get_text() == "clutchlab report"]
+    summary = " ".join(" ".join(t.get_text() for t in title.texts).split())
     assert summary.count("best compromise: ") == len(names)
     assert "stress_engagement, feasible_region, engagement_trace, answers" in summary
-    from clutchlab.report.common import title_page
+    from clutchlab.report.common import study_summary, title_page
 
-    page = title_page(
-        "t", "v", {"sprag": store.load(res / "sprag/sprag.h5")}, [], None, {"sprag": (3, 12.5)}
-    )
+    sprag = study_summary("sprag", store.load(res / "sprag/sprag.h5"))
+    page = title_page("t", "v", [sprag], [], None, {"sprag": (3, 12.5)})
     assert "3 jobs, 12.5 s of job time" in " ".join(t.get_text() for t in page.texts)
 
 

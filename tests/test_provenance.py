@@ -331,7 +331,7 @@ def test_snakemake_finds_a_foreign_chunk_and_a_hand_edited_result(tmp_path):
     """Through Snakemake: a chunk of another config put in the place of one of this run's used to
     be merged and everything then called up to date; the merge job names it, removes it and
     fails, the next run recomputes it and gives the same result. A result edited by hand: the
-    report job refuses it, naming the file and what to do (delete it and rerun); after that, the
+    pages job refuses it, naming the file and what to do (delete it and rerun); after that, the
     run gives the original result again."""
     wd = snakemake_workdir(tmp_path)
     tiny = {

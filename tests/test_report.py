@@ -59,11 +59,62 @@ def test_report_pages(tmp_path, design):
     )
     rows = list(csv.DictReader(open(tmp_path / "report" / "validation.csv")))
     assert len(rows) == 14 and all(r["passed"] == "yes" for r in rows)
-    if design == "lhs":  # PNGs by a second process, the PDF by this one: the same bytes
-        two = report.build({"diaphragm_spring": spring}, [val], tmp_path / "two", processes=2)
+    if design == "lhs":  # built again (elsewhere): the same bytes, the PDF's too
+        two = report.build({"diaphragm_spring": spring}, [val], tmp_path / "two")
         assert [p.name for p in two] == [p.name for p in written]
         for p in written:
             assert (tmp_path / "two" / p.name).read_bytes() == p.read_bytes(), p.name
+
+
+def test_the_report_joins_each_studys_part_drawn_from_the_result_in_place(tmp_path):
+    """A study's part (its pages as PNGs and a PDF part, its record) and the assembly: the PDF is
+    the summary, the parts in order, the run's pages; a part drawn from another result than the one
+    in place is refused before anything is written."""
+    from pypdf import PdfReader
+
+    from clutchlab.verify import ProvenanceError
+
+    def section(sprags):
+        return {"design": "factorial", "parameters": {"sprags": {"values": sprags}}}
+
+    grid = {"design": "factorial", "parameters": {}}
+    cfg = resolve(
+        {
+            "studies": ["diaphragm_spring", "sprag"],
+            "diaphragm_spring": grid,
+            "sprag": section([14, 16]),
+        }
+    )
+    files = {
+        n: store.write(pipeline.run_study(cfg[n]), tmp_path / f"{n}.h5", with_checksum=True)
+        for n in cfg["studies"]
+    }
+    out, parts = tmp_path / "report", []
+    for name, path in files.items():
+        parts.append(tmp_path / "parts" / f"{name}.pdf")
+        record = report.study_part(name, path, out, parts[-1], explorer=out / f"{name}_x.html")
+        assert [s for s, _ in record["pages"]] == report.study_stems(name)
+        assert record["files"] == [f"{name}_pareto.csv"] and (out / f"{name}_x.html").exists()
+        assert record["summary"]["title"].startswith(f"Study '{name}': ")
+        assert len(PdfReader(parts[-1]).pages) == sum(n for _, n in record["pages"])
+        assert all((out / f"{s}.png").exists() for s, _ in record["pages"])
+    val = store.write(diaphragm_spring.validation(), tmp_path / "val.h5")
+    written = report.assemble(parts, [val], out, title="joined", results=list(files.values()))
+    stems = [p.stem for p in written if p.suffix == ".png"]
+    assert stems == report.figure_stems(list(files))
+    pdf = PdfReader(out / "report.pdf")
+    spring_pages = len(PdfReader(parts[0]).pages)
+    assert len(pdf.pages) == 1 + spring_pages + len(PdfReader(parts[1]).pages) + 1  # + validation
+    assert pdf.metadata["/Title"] == "joined"
+    assert "Study 'diaphragm_spring'" in pdf.pages[0].extract_text()
+    assert "Diaphragm" in pdf.pages[1].extract_text()  # the first part's first page follows
+    # the sprag result recomputed after its part was drawn (another checksum): refused
+    other = pipeline.run_study(resolve({"studies": ["sprag"], "sprag": section([18, 20])})["sprag"])
+    store.write(other, files["sprag"], with_checksum=True)
+    before = (out / "report.pdf").read_bytes()
+    with pytest.raises(ProvenanceError, match=r"sprag\.pdf was drawn from another .*sprag\.h5"):
+        report.assemble(parts, [val], out, title="again", results=list(files.values()))
+    assert (out / "report.pdf").read_bytes() == before
 
 
 def _variants():

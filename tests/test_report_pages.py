@@ -143,7 +143,8 @@ def test_every_page_is_legible_and_shows_the_runs_design(which, tmp_path, monkey
         **extra,
     )
     stems = [p.stem for p in written if p.suffix == ".png"]
-    layout, png = _pdf_layout(stems, figures)
+    run = report.run_stems(names, which == "default", hard_cases=True)
+    layout, png = _pdf_layout(stems, figures, len(run))
     assert layout[stems[-1]][1] == _pdf_pages(out / "report.pdf")  # every figure accounted for
     for fig in figures:
         label = fig.texts[0].get_text()[:60] if fig.texts else fig.axes[0].get_title()[:60]
@@ -223,19 +224,26 @@ def _is_table_part(fig):
     return bool(fig.texts) and "(page " in fig.texts[0].get_text()
 
 
-def _pdf_layout(stems, figures):
+def _pdf_layout(stems, figures, n_run):
     """(stem -> its first and last page of the PDF, stem -> the figure of its PNG) from the figures
-    report.build drew, in order: each page's PNG figure, then a table's A4 pages."""
-    k, page, layout, png = 0, 0, {}, {}
-    for s in stems:
+    report.build drew, in order: the studies' pages (each page's PNG figure, then a table's A4
+    pages), then the summary and the ``n_run`` - 1 other pages of the run; ``stems``: the PDF's
+    order (the summary first)."""
+    cut = len(stems) - n_run + 1
+    drawn = stems[1:cut] + stems[:1] + stems[cut:]
+    k, png, parts_of = 0, {}, {}
+    for s in drawn:
         png[s] = figures[k]
         k += 1
         parts = 0
         while k < len(figures) and _is_table_part(figures[k]):
             parts, k = parts + 1, k + 1
-        layout[s] = (page + 1, page + max(parts, 1))
-        page += max(parts, 1)
+        parts_of[s] = max(parts, 1)
     assert k == len(figures)
+    page, layout = 0, {}
+    for s in stems:
+        layout[s] = (page + 1, page + parts_of[s])
+        page += parts_of[s]
     return layout, png
 
 

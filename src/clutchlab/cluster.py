@@ -8,13 +8,13 @@ fresh process, on the widest ranges clutchlab ships, ``config/million.yaml``, wi
 curves stored as a factorial grid stores them; 2-core x86_64 workstation, 2026-11-27). A cluster
 node may be slower or shared, and a design's hard corner slower than the sample, so the request
 is the measurement times :data:`TIME_MARGIN` (at least :data:`MIN_RUNTIME` minutes) and times
-:data:`MEMORY_MARGIN` (at least :data:`MIN_MEM_MB`). Merge and report jobs read columns of the
-merged results: their memory grows with the scenarios too (the million run of 2026-11-24: a 2^20 merge
-peaked at 0.54 GB, the report of 5 x 2^20 at 1.38 GB).
+:data:`MEMORY_MARGIN` (at least :data:`MIN_MEM_MB`). A study's merge and pages jobs read columns
+of its merged result: their memory grows with the scenarios too (the million run of 2026-11-24: a
+2^20 merge peaked at 0.54 GB). The report job joins the studies' page files and draws the run's
+own pages (summary, tables, solver benchmarks): a fixed size.
 
-Every job but the report runs on one core (``cpus_per_task`` 1): the physics is single-threaded
-per process, and a study runs in parallel as its chunk jobs; the report writes its PNG and PDF
-pages in two processes.
+Every job runs on one core (``cpus_per_task`` 1): the physics is single-threaded per process, a
+study runs in parallel as its chunk jobs, and the report's pages as each study's pages job.
 """
 
 from __future__ import annotations
@@ -35,9 +35,10 @@ TIME_MARGIN = 5.0
 MEMORY_MARGIN = 1.5
 MIN_RUNTIME = 10  # minutes
 MIN_MEM_MB = 1000
-# merge and report: MB fixed and per scenario (the million run's peaks with a margin of ~2)
+# merge and a study's pages: MB fixed and per scenario (the million run's peaks with a margin of ~2)
 MERGE_MB = (500, 1.0 / 1024)
-REPORT_MB = (1000, 0.6 / 1024)
+PAGES_MB = (500, 1.0 / 1024)
+REPORT_MB = 1000
 
 
 def _mem(mb: float) -> int:
@@ -89,11 +90,18 @@ def merge_resources(resolved_study: dict) -> dict:
     }
 
 
-def report_resources(resolved: dict) -> dict:
-    """mem_mb, runtime and cpus_per_task of the report job of a resolved config (all its studies)."""
-    n = sum(scenario_count(resolved[s]) for s in resolved["studies"])
+def pages_resources(resolved_study: dict) -> dict:
+    """mem_mb, runtime and cpus_per_task of the pages job of a resolved study (its report pages and
+    explorer)."""
+    n = scenario_count(resolved_study)
     return {
-        "mem_mb": _mem(REPORT_MB[0] + REPORT_MB[1] * n),
+        "mem_mb": _mem(PAGES_MB[0] + PAGES_MB[1] * n),
         "runtime": MIN_RUNTIME + n // 500_000,
-        "cpus_per_task": 2,  # (its PNG and PDF pages in two processes: the rule's threads)
+        "cpus_per_task": 1,
     }
+
+
+def report_resources(resolved: dict) -> dict:
+    """mem_mb, runtime and cpus_per_task of the report job of a resolved config (the studies' page
+    files joined, the summary and the run's own pages)."""
+    return {"mem_mb": _mem(REPORT_MB), "runtime": MIN_RUNTIME, "cpus_per_task": 1}

@@ -35,6 +35,7 @@ __all__ = [
     "checksums",
     "checksum_attrs",
     "checksum_problem",
+    "stored_checksum",
     "file_checksum_problem",
     "seal",
     "CorruptChunk",
@@ -421,6 +422,27 @@ def seal(path) -> str:
         for key, value in attrs.items():
             f.attrs[key] = value
     return attrs[CHECKSUM]
+
+
+def stored_checksum(path) -> str:
+    """The checksum a stored file carries (its ``clutchlab_checksum`` attribute, :func:`seal`),
+    read without its data (not checked: :func:`file_checksum_problem` does that); "" if none.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The HDF5 file.
+
+    Returns
+    -------
+    str
+        The stored checksum, or "".
+    """
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        value = f.attrs.get(CHECKSUM, "")
+    return value.decode() if isinstance(value, bytes) else str(value)
 
 
 class CorruptChunk(RuntimeError):

@@ -5,7 +5,8 @@ from pathlib import Path
 import clutchlab
 
 from clutchlab.report import answer_files as _answer_files
-from clutchlab.report import figure_stems as _figure_stems
+from clutchlab.report import run_stems as _run_stems
+from clutchlab.report import study_stems as _study_stems
 from clutchlab.bench.numerics import files as _numerics_files
 from clutchlab.report import captions as _captions
 from clutchlab.studies.engagement import friction_laws as _friction_laws
@@ -15,15 +16,22 @@ ROBUST = [s for s in STUDIES if robust_files(s)]  # robust studies: their robust
 BENCHMARK_PAGE = RESOLVED["report"]["benchmark"]  # the engagement work-precision page (runs the benchmark)
 HARD_CASES = RESOLVED["report"]["hard_cases"]  # the hard-case table of the studies run
 NUMERICS = [f"{RESULTS}/numerics/{f}" for f in _numerics_files(STUDIES)] if RESOLVED["report"]["numerics"] else []
-# validation.csv and its page exist only where a study reproduces published numbers
-REPORT_FILES = [f"{REPORT_DIR}/report.pdf"] + ([f"{REPORT_DIR}/validation.csv"] if VALIDATED else []) + [
-    f"{REPORT_DIR}/{stem}.png"
-    for stem in _figure_stems(STUDIES, BENCHMARK_PAGE, [s for s in STUDIES if sensitivity_files(s)], REFINED,
-                              HARD_CASES, bool(NUMERICS), ROBUST)
-] + [f"{REPORT_DIR}/{f}" for f in _answer_files(STUDIES, REFINED, ROBUST)] + (
-    [f"{REPORT_DIR}/hard_cases.csv"] if HARD_CASES else [])
+# each study's pages (PNGs) and tables (CSVs), drawn by its own job (rule pages_<study>)
+STUDY_REPORT_FILES = {
+    s: [f"{REPORT_DIR}/{stem}.png" for stem in _study_stems(s, bool(sensitivity_files(s)), s in REFINED, s in ROBUST)]
+    + [f"{REPORT_DIR}/{f}" for f in _answer_files([s], [s] if s in REFINED else [], ROBUST)]
+    for s in STUDIES
+}
+# the report job's own: the PDF (the summary, every study's part, the run's pages), the summary's and
+# the run's PNGs; validation.csv and its page exist only where a study reproduces published numbers
+RUN_REPORT_FILES = [f"{REPORT_DIR}/report.pdf"] + ([f"{REPORT_DIR}/validation.csv"] if VALIDATED else []) + [
+    f"{REPORT_DIR}/{stem}.png" for stem in _run_stems(STUDIES, BENCHMARK_PAGE, HARD_CASES, bool(NUMERICS))
+] + ([f"{REPORT_DIR}/hard_cases.csv"] if HARD_CASES else [])
+REPORT_FILES = RUN_REPORT_FILES + [f for s in STUDIES for f in STUDY_REPORT_FILES[s]]
 # the interactive explorer of each study (one self-contained HTML page; clutchlab.report.explorer)
 EXPLORERS = {s: f"{REPORT_DIR}/{s}_explorer.html" for s in STUDIES}
+# a study's pages as a PDF part (and its record beside it: clutchlab.report.study_part)
+PARTS = {s: f"{WORK}/{s}/report/pages.pdf" for s in STUDIES}
 # Snakemake's own HTML report (`snakemake --report report.html`): every report file with its caption
 # (clutchlab.report.captions, written to .snakemake/clutchlab_captions when the workflow is parsed)
 _CAPTION_FILES = _captions.write(
@@ -31,66 +39,70 @@ _CAPTION_FILES = _captions.write(
 )
 
 
-for _study, _page in EXPLORERS.items():
+def _captioned(files):
+    return [report(f, caption=_CAPTION_FILES[f], category=_captions.category(Path(f).name, STUDIES)) for f in files]
+
+
+for _study in STUDIES:
 
     rule:
-        # one job per study: its merged result -> <study>_explorer.html (every design, or a sample
-        # with every front design beyond clutchlab.report.explorer.MAX_DESIGNS)
+        # one job per study, as soon as its merge is done (beside other studies' chunks and merges):
+        # its pages (each drawn once, as PNG and as a page of its PDF part), its tables and its
+        # interactive explorer (every design, or a sample with every front design beyond
+        # clutchlab.report.explorer.MAX_DESIGNS), from its verified result
         name:
-            f"explorer_{_study}"
+            f"pages_{_study}"
         input:
-            results(_study),
+            result=results(_study),
+            sensitivity=sensitivity_files(_study),
+            robust=robust_files(_study),
+            traces=traces_files(_study),
+            refined=[refine_source(_study)] if _study in REFINED else [],
+            refined_robust=[first_robust(_study)] if _study in REFINED and robust_files(_study) else [],
         output:
-            report(_page, caption=_CAPTION_FILES[_page], category=_study),
+            explorer=_captioned([EXPLORERS[_study]]),
+            files=_captioned(STUDY_REPORT_FILES[_study]),
+            part=PARTS[_study],
+            record=str(Path(PARTS[_study]).with_suffix(".json")),
         benchmark:
-            f"{WORK}/{_study}/benchmark/explorer.tsv"
+            f"{WORK}/{_study}/benchmark/pages.tsv"
         log:
-            f"{WORK}/{_study}/log/explorer.log",
+            f"{WORK}/{_study}/log/pages.log",
         params:
+            study=_study,
             config=study_config(_study),  # the result is verified against its own config
+            dpi=RESOLVED["report"]["dpi"],
             source=SOURCE,
         resources:
-            runtime=10,
-            mem_mb=2000,
+            **_cluster.pages_resources(RESOLVED[_study]),
         script:
-            "../scripts/explorer.py"
+            "../scripts/pages.py"
 
 
 rule report:
     input:
-        studies=[results(s) for s in STUDIES],
-        sensitivity=[f for s in STUDIES for f in sensitivity_files(s)],
-        robust=[f for s in STUDIES for f in robust_files(s)],
+        studies=[results(s) for s in STUDIES],  # (their stored checksums: each part is of this one)
+        parts=[PARTS[s] for s in STUDIES],
+        records=[str(Path(PARTS[s]).with_suffix(".json")) for s in STUDIES],
         validation=[f"{RESULTS}/{s}/validation.h5" for s in VALIDATED],
-        traces=[f"{RESULTS}/{s}/traces.h5" for s in TRACED],
         benchmark=[f"{RESULTS}/benchmark/engagement_benchmark.csv"] if BENCHMARK_PAGE else [],
-        refined=[refine_source(s) for s in REFINED],
-        refined_robust=[first_robust(s) for s in REFINED if robust_files(s)],
         hard_cases=[f"{RESULTS}/numerics/hard_cases.h5"] if HARD_CASES else [],
         numerics=NUMERICS,
         explorers=list(EXPLORERS.values()),  # the summary page links them
     output:
-        [report(f, caption=_CAPTION_FILES[f], category=_captions.category(Path(f).name, STUDIES))
-         for f in REPORT_FILES],
+        _captioned(RUN_REPORT_FILES),
     benchmark:
         f"{WORK}/report_benchmark.tsv"
     log:
         f"{WORK}/log/report.log",
     params:
         names=STUDIES,
-        sensitivity_names=[s for s in STUDIES if sensitivity_files(s)],
-        robust_names=ROBUST,
-        refined_names=REFINED,
-        refined_robust_names=[s for s in REFINED if robust_files(s)],
-        traced_names=TRACED,
         title=RESOLVED["report"]["title"],
         dpi=RESOLVED["report"]["dpi"],
         source=SOURCE,
-        configs={s: study_config(s) for s in STUDIES},  # each result is verified against its own
         version=clutchlab.__version__,
         work=WORK,
         chunks={s: RESOLVED[s]["chunks"] for s in STUDIES},
-    threads: 2  # PNG and PDF pages written side by side (one core: one after the other)
     resources:
         **_cluster.report_resources(RESOLVED),
     script:

@@ -4,7 +4,7 @@ sampled designs) through Snakemake and measure it (not a unit test).
 ``python -m clutchlab.bench.million [outdir] [--configfile config/million.yaml] [--cores 2]``
 runs ``snakemake --forceall`` on that config as a subprocess in the current project folder and
 writes ``million_benchmark.csv``: per study the scenarios, chunk jobs, every job (design, chunks,
-merge, validation, traces, explorer), the physics' own time (sum over chunks of the time inside
+merge, validation, traces, pages), the physics' own time (sum over chunks of the time inside
 the study's compute function, wall and CPU), the chunk and merge jobs' wall time and the share of
 it outside the physics (``pipeline_share``: reading, writing, merging, imports), every job's wall
 and CPU time and the share of CPU outside the physics (``outside_share_cpu``), the peak RSS of the
@@ -41,7 +41,7 @@ def _tsv(path) -> dict:
 
 
 # the jobs of a study besides its chunks, by their benchmark file (work/<study>/benchmark/)
-STUDY_JOBS = ("design", "merge", "validation", "traces", "explorer")
+STUDY_JOBS = ("design", "merge", "validation", "traces", "pages")
 # the run's jobs of no study (work/benchmark/, and the report's work/report_benchmark.tsv)
 RUN_JOBS = ("hard_cases", "numerics")
 

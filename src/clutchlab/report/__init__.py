@@ -1,7 +1,10 @@
 """Report: figures and a PDF built from stored Datasets only (no solver is ever re-run).
 
 :func:`build` writes one PNG per figure, ``report.pdf`` with every figure as a page, and
-``validation.csv`` with every reproduced published number.
+``validation.csv`` with every reproduced published number. It is :func:`study_part` for each study
+(its pages, drawn once each for the PNG and the PDF, as a PDF part) and :func:`assemble` (the
+summary and the run's pages; the parts joined by pypdf): the workflow runs each study's part as a
+job of its own, beside the other studies' jobs, and only the assembly at the end.
 """
 
 from __future__ import annotations
@@ -23,7 +26,17 @@ from ..validation import to_csv  # noqa: E402
 from . import answers  # noqa: E402
 from .common import hard_case_table, title_page, validation_table  # noqa: E402
 
-__all__ = ["build", "figure_stems", "answer_files", "study_pages", "study_page_stems"]
+__all__ = [
+    "assemble",
+    "build",
+    "figure_stems",
+    "run_stems",
+    "study_stems",
+    "answer_files",
+    "study_part",
+    "study_pages",
+    "study_page_stems",
+]
 
 # study name -> the module of this package that draws its pages (its ``PAGES``: stem -> function of
 # the study's Dataset). The report looks figures up by study name; studies never import the report.
@@ -56,6 +69,37 @@ def study_pages(name: str, ds) -> list:
     return [(stem, draw(ds)) for stem, draw in _pages_of(name).items()]
 
 
+def study_stems(name, sensitivity=False, refined=False, robust=False) -> list[str]:
+    """PNG stems of one study's pages (its part of the report, :func:`study_part`), in order: a
+    robust study's robust page first, its own pages, its answers, a factorial or saltelli study's
+    sensitivity page, a refined study's refinement page."""
+    return [
+        f"{name}_{s}"
+        for s in (
+            *(["robust"] if robust else []),
+            *study_page_stems(name),
+            "answers",
+            *(["sensitivity"] if sensitivity else []),
+            *(["refinement"] if refined else []),
+        )
+    ]
+
+
+def run_stems(study_names, benchmark=False, hard_cases=False, numerics=False) -> list[str]:
+    """PNG stems of the pages :func:`assemble` draws: the summary first, then the run's pages after
+    the studies' (work-precision, validation table, hard cases, numerics)."""
+    from ..bench.numerics import stems as numerics_stems
+
+    validated = any(studies.get(name).validation is not None for name in study_names)
+    return (
+        ["title"]
+        + (["engagement_work_precision"] if benchmark else [])
+        + (["validation_table"] if validated else [])
+        + (["hard_cases"] if hard_cases else [])
+        + (numerics_stems(study_names) if numerics else [])
+    )
+
+
 def figure_stems(
     study_names,
     benchmark=False,
@@ -65,30 +109,19 @@ def figure_stems(
     numerics=False,
     robust=(),
 ) -> list[str]:
-    """PNG stems the report produces for these studies (for Snakemake outputs); a sensitivity page
+    """PNG stems the report produces for these studies, in the PDF's order; a sensitivity page
     for the studies in ``sensitivity`` (factorial grids), a refinement page for those in ``refined``
     (design refine); the validation table only where one of them reproduces published numbers; the
     hard-case table with ``hard_cases``; the work-precision pages of the solvers used with ``numerics``."""
-    from ..bench.numerics import stems as numerics_stems
-
-    stems = ["title"] + [
-        f"{name}_{s}"
-        for name in study_names
-        for s in (
-            *(["robust"] if name in robust else []),
-            *study_page_stems(name),
-            "answers",
-            *(["sensitivity"] if name in sensitivity else []),
-            *(["refinement"] if name in refined else []),
-        )
-    ]
-    validated = any(studies.get(name).validation is not None for name in study_names)
+    run = run_stems(study_names, benchmark, hard_cases, numerics)
     return (
-        stems
-        + (["engagement_work_precision"] if benchmark else [])
-        + (["validation_table"] if validated else [])
-        + (["hard_cases"] if hard_cases else [])
-        + (numerics_stems(study_names) if numerics else [])
+        run[:1]
+        + [
+            stem
+            for name in study_names
+            for stem in study_stems(name, name in sensitivity, name in refined, name in robust)
+        ]
+        + run[1:]
     )
 
 
@@ -151,6 +184,182 @@ def _table_page(stem, table) -> Page:
     return Page(stem, table.figure, table.pages, table.n_pages)
 
 
+def study_part(
+    name,
+    result,
+    outdir,
+    part_pdf,
+    *,
+    dpi=120,
+    sensitivity=None,
+    refine=None,
+    traces=None,
+    robust=None,
+    refine_robust=None,
+    explorer=None,
+) -> dict:
+    """Draw one study's pages: each page once, as its PNG in ``outdir`` and its page(s) of the
+    study's PDF part; its CSV files in ``outdir``; optionally its explorer. The report's other
+    pages and the whole PDF are :func:`assemble`'s (the workflow draws each study's part in a job
+    of its own, beside the other studies').
+
+    Parameters
+    ----------
+    name : str
+        The study.
+    result : path
+        Its merged HDF5 result.
+    outdir : path
+        Folder of the report's PNG and CSV files.
+    part_pdf : path
+        The study's pages as a PDF, in report order; :func:`assemble` joins the parts. Beside it,
+        ``<part_pdf stem>.json``: the part's record (this function's return value).
+    dpi : int
+        Resolution of the PNGs.
+    sensitivity, refine, traces, robust, refine_robust : path or None
+        The study's ``sensitivity.h5``, the first-stage result a ``design: refine`` study refined,
+        its ``traces.h5``, its ``robust.h5`` and the first stage's robust answers (as in
+        :func:`build`).
+    explorer : path or None
+        Where to write the study's explorer (:mod:`clutchlab.report.explorer`), if anywhere.
+
+    Returns
+    -------
+    dict
+        The part's record: ``study``, ``pages`` ([stem, PDF pages] in order), ``files`` (its CSV
+        files), ``summary`` (:func:`clutchlab.report.common.study_summary`) and
+        ``result_checksum`` (the stored checksum of the result it was drawn from).
+    """
+    import json
+
+    from .. import traces as tr
+    from .common import study_summary
+
+    outdir, part_pdf = Path(outdir), Path(part_pdf)
+    outdir.mkdir(parents=True, exist_ok=True)
+    part_pdf.parent.mkdir(parents=True, exist_ok=True)
+    ds = store.load(result)
+    if explorer is not None:
+        from . import explorer as explorer_page
+
+        explorer_page.write_dataset(ds, explorer)
+    if traces is not None:
+        ds = tr.attach(ds, store.load(traces))
+    robust = store.load(robust) if robust is not None else None
+    first_robust = store.load(refine_robust) if refine_robust is not None else None
+    pages = _study_pages(
+        name,
+        ds,
+        {name: sensitivity} if sensitivity is not None else {},
+        {name: refine} if refine is not None else {},
+        outdir,
+        robust,
+        first_robust,
+    )
+    _write_pages(pages, outdir, part_pdf, name, dpi)
+    record = {
+        "study": name,
+        "pages": [[page.stem, page.n_pdf] for page in pages],
+        "files": answer_files([name], [name] * (refine is not None), [name] * (robust is not None)),
+        "summary": study_summary(name, ds, robust),
+        "result_checksum": store.stored_checksum(result),
+    }
+    with store.atomic(part_pdf.with_suffix(".json")) as tmp:
+        Path(tmp).write_text(json.dumps(record, indent=1), encoding="utf-8")
+    return record
+
+
+def assemble(
+    parts: list,
+    validation_files: list,
+    outdir,
+    *,
+    title="clutchlab report",
+    dpi=120,
+    benchmark_csv=None,
+    hard_cases_file=None,
+    numerics_dir=None,
+    job_seconds=None,
+    explorers=None,
+    results=None,
+) -> list[Path]:
+    """The report from the studies' parts (:func:`study_part`): the summary page, the pages of the
+    run (work-precision, validation table, hard cases, numerics) as PNGs, and ``report.pdf``: the
+    summary, every part's pages in the order of ``parts``, then the run's pages. Parameters as
+    :func:`build`; ``parts``: the parts' PDF files (each with its record beside it); ``results``:
+    the studies' results in place, in the order of ``parts`` (each part must have been drawn from
+    it: its stored checksum, else :class:`clutchlab.verify.ProvenanceError` before anything is
+    written). PNG and CSV files in ``outdir`` that neither this nor a part wrote are removed.
+
+    Returns
+    -------
+    list of Path
+        The PNGs of every page, in the PDF's order, and ``report.pdf``.
+    """
+    import io
+    import json
+
+    from pypdf import PdfReader, PdfWriter
+
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    records = [json.loads(Path(p).with_suffix(".json").read_text("utf-8")) for p in parts]
+    _check_parts(parts, records, results)
+    validations = [store.load(p) for p in validation_files]
+    pages = _run_pages(outdir, validations, benchmark_csv, numerics_dir, hard_cases_file)
+    # the summary page opens the report and names each page by its page numbers
+    numbers, k = {}, 2
+    for stem, n_pdf in [tuple(s) for r in records for s in r["pages"]] + [
+        (page.stem, page.n_pdf) for page in pages
+    ]:
+        numbers[stem], k = (k, k + n_pdf - 1), k + n_pdf
+    summaries = [r["summary"] for r in records]
+    pages.insert(
+        0,
+        Page(
+            "title",
+            lambda: title_page(
+                title, __version__, summaries, validations, numbers, job_seconds, explorers
+            ),
+        ),
+    )
+    own = io.BytesIO()
+    _write_pages(pages, outdir, own, title, dpi)
+    own_pdf = PdfReader(own)
+    writer = PdfWriter()
+    writer.add_page(own_pdf.pages[0])
+    for part in parts:
+        writer.append(str(part))
+    for page in own_pdf.pages[1:]:
+        writer.add_page(page)
+    writer.add_metadata({"/Title": title, "/Creator": f"clutchlab {__version__}"})
+    with store.atomic(outdir / "report.pdf") as tmp:
+        writer.write(tmp)
+    stems = ["title"] + [s for r in records for s, _ in r["pages"]] + [p.stem for p in pages[1:]]
+    written = [outdir / f"{stem}.png" for stem in stems]
+    tables = [f for r in records for f in r["files"]] + ["validation.csv"] * bool(validations)
+    _remove_stale(
+        outdir,
+        [p.name for p in written] + tables + ["hard_cases.csv"] * bool(hard_cases_file),
+        explorers,
+    )
+    return written + [outdir / "report.pdf"]
+
+
+def _check_parts(parts, records, results) -> None:
+    """Each part was drawn from the result now in place (the checksum it recorded is the file's)."""
+    from ..verify import ProvenanceError
+
+    bad = [
+        f"{part} was drawn from another {result} than the one in place; delete it and run "
+        "snakemake again to draw it anew"
+        for part, record, result in zip(parts, records, results or (), strict=False)
+        if record["result_checksum"] != store.stored_checksum(result)
+    ]
+    if bad:
+        raise ProvenanceError("\n".join(bad))
+
+
 def build(
     study_files: dict,
     validation_files: list,
@@ -168,9 +377,9 @@ def build(
     robust_files=None,
     refine_robust_files=None,
     explorers=None,
-    processes=1,
 ) -> list[Path]:
-    """Build the report from stored results.
+    """Build the report from stored results in one call: each study's part (:func:`study_part`),
+    then :func:`assemble` (the workflow runs the parts as jobs of their own).
 
     Parameters
     ----------
@@ -210,9 +419,6 @@ def build(
         Study name -> the file name of its explorer (:mod:`clutchlab.report.explorer`) in
         ``outdir``: the summary page links it. Given, explorers of other studies in ``outdir``
         (an earlier run of another config) are removed.
-    processes : int
-        2 or more: the PNGs are written by a second (forked) process while this one writes the
-        PDF (each page is drawn in both; about 40 % less wall time where a second core is free).
     outdir : path
         Folder for ``report.pdf``, ``validation.csv`` and the PNGs. PNG and CSV files in it that
         this report does not write (pages of an earlier run of another config) are removed.
@@ -220,54 +426,42 @@ def build(
     Returns
     -------
     list of Path
-        The PNGs written and ``report.pdf``.
+        The PNGs written, in the PDF's order, and ``report.pdf``.
     """
-    from .. import traces as tr
+    import tempfile
 
-    outdir = Path(outdir)
-    outdir.mkdir(parents=True, exist_ok=True)
-    results = {name: store.load(p) for name, p in study_files.items()}
-    for name, path in (traces_files or {}).items():
-        results[name] = tr.attach(results[name], store.load(path))
-    validations = [store.load(p) for p in validation_files]
-    robust = {name: store.load(p) for name, p in (robust_files or {}).items()}
-    first_robust = {name: store.load(p) for name, p in (refine_robust_files or {}).items()}
-    pages = []
-    for name, ds in results.items():
-        pages += _study_pages(
-            name,
-            ds,
-            sensitivity_files or {},
-            refine_files or {},
+    def given(files, name):
+        return (files or {}).get(name)
+
+    with tempfile.TemporaryDirectory() as folder:
+        parts = []
+        for name, path in study_files.items():
+            parts.append(Path(folder) / f"{name}.pdf")
+            study_part(
+                name,
+                path,
+                outdir,
+                parts[-1],
+                dpi=dpi,
+                sensitivity=given(sensitivity_files, name),
+                refine=given(refine_files, name),
+                traces=given(traces_files, name),
+                robust=given(robust_files, name),
+                refine_robust=given(refine_robust_files, name),
+            )
+        return assemble(
+            parts,
+            validation_files,
             outdir,
-            robust.get(name),
-            first_robust.get(name),
+            results=list(study_files.values()),
+            title=title,
+            dpi=dpi,
+            benchmark_csv=benchmark_csv,
+            hard_cases_file=hard_cases_file,
+            numerics_dir=numerics_dir,
+            job_seconds=job_seconds,
+            explorers=explorers,
         )
-    pages += _run_pages(outdir, validations, benchmark_csv, numerics_dir, hard_cases_file)
-    # the summary page opens the report and names each study's pages by their page numbers
-    numbers, k = {}, 2
-    for page in pages:
-        numbers[page.stem] = (k, k + page.n_pdf - 1)
-        k += page.n_pdf
-    pages.insert(
-        0,
-        Page(
-            "title",
-            lambda: title_page(
-                title, __version__, results, validations, numbers, job_seconds, robust, explorers
-            ),
-        ),
-    )
-    written = _write_pages(pages, outdir, title, dpi, processes)
-    tables = answer_files(results, refine_files or {}, robust) + (
-        ["validation.csv"] if validations else []
-    )
-    _remove_stale(
-        outdir,
-        [p.name for p in written] + tables + ["hard_cases.csv"] * bool(hard_cases_file),
-        explorers,
-    )
-    return written + [outdir / "report.pdf"]
 
 
 def _run_pages(outdir, validations, benchmark_csv, numerics_dir, hard_cases_file) -> list[Page]:
@@ -297,65 +491,31 @@ def _run_pages(outdir, validations, benchmark_csv, numerics_dir, hard_cases_file
     return pages
 
 
-def _write_pages(pages, outdir, title, dpi, processes=1) -> list[Path]:
-    """Draw each page, write its PNG and its PDF page(s), close it: one figure open at a time.
-    With ``processes`` 2 a forked process draws every page for its PNG while this one draws it
-    again for the PDF (each half the writing: about 40 % less wall time for the report)."""
-    import multiprocessing
+def _write_pages(pages, outdir, pdf_file, title, dpi) -> None:
+    """Draw each page once, write its PNG and its PDF page(s) (to ``pdf_file``: a path, written
+    atomically, or a binary file object), close it: one figure open at a time."""
+    import contextlib
 
-    png_job = None
-    # (fork: the child inherits the pages and their data, nothing is pickled)
-    if processes > 1 and "fork" in multiprocessing.get_all_start_methods():
-        png_job = multiprocessing.get_context("fork").Process(
-            target=_write_pngs, args=(pages, outdir, dpi), daemon=True
-        )  # (daemon: ended with this process if its PDF fails first)
-        png_job.start()
-    with (
-        store.atomic(outdir / "report.pdf") as tmp_pdf,
-        PdfPages(
-            tmp_pdf,
-            metadata={
-                "Title": title,
-                "Creator": f"clutchlab {__version__}",
-                "CreationDate": None,
-                "ModDate": None,
-            },
-        ) as pdf,
-    ):
+    with contextlib.ExitStack() as stack:
+        if isinstance(pdf_file, (str, Path)):
+            pdf_file = stack.enter_context(store.atomic(Path(pdf_file)))
+        metadata = {"Title": title, "Creator": f"clutchlab {__version__}"}
+        pdf = stack.enter_context(
+            PdfPages(pdf_file, metadata={**metadata, "CreationDate": None, "ModDate": None})
+        )
         for page in pages:
-            fig = None  # (a table's PNG only: its PDF pages are figures of their own)
-            if png_job is None or page.pdf_pages is None:
-                fig = page.draw()
-                _wrap_suptitle(fig)
-            if png_job is None:
-                _save_png(fig, page.stem, outdir, dpi)
+            # (a table's figure: its one tall PNG; its PDF pages are figures of their own)
+            fig = page.draw()
+            _wrap_suptitle(fig)
+            with store.atomic(outdir / f"{page.stem}.png") as tmp:
+                fig.savefig(tmp, dpi=dpi, metadata={"Software": None}, format="png")
             if page.pdf_pages is None:
                 pdf.savefig(fig)
-            if fig is not None:
-                plt.close(fig)
+            plt.close(fig)
             for part in page.pdf_pages() if page.pdf_pages is not None else ():
                 _wrap_suptitle(part)
                 pdf.savefig(part)
                 plt.close(part)
-        if png_job is not None:
-            png_job.join()
-            if png_job.exitcode != 0:
-                raise RuntimeError(f"the report's PNG pages failed (exit code {png_job.exitcode})")
-    return [outdir / f"{page.stem}.png" for page in pages]
-
-
-def _save_png(fig, stem, outdir, dpi) -> None:
-    with store.atomic(outdir / f"{stem}.png") as tmp:
-        fig.savefig(tmp, dpi=dpi, metadata={"Software": None}, format="png")
-
-
-def _write_pngs(pages, outdir, dpi) -> None:
-    """Every page's PNG (the forked process of :func:`_write_pages`)."""
-    for page in pages:
-        fig = page.draw()
-        _wrap_suptitle(fig)
-        _save_png(fig, page.stem, outdir, dpi)
-        plt.close(fig)
 
 
 def _remove_stale(outdir, keep, explorers=None) -> None:

@@ -130,12 +130,11 @@ def page_ranges(numbers, stems) -> str:
 EXPLORER_LINE = "interactive explorer (open in a browser): "
 
 
-def _study_lines(
-    name, ds, numbers, job_seconds, model=True, robust=None, explorer=None
-) -> list[str]:
-    """The summary's lines of one study (long lines are wrapped by the caller); a robust study's
-    robust front and best robust design first (``robust``: its robust answers); ``explorer``: the
-    file name of its explorer beside the PDF, linked."""
+def study_summary(name, ds, robust=None) -> dict:
+    """What the summary page says of one study, from its result (the slow part: its best design),
+    as plain data (the pages job of a study writes it beside its PDF part): its title line, its
+    scenarios and design, its model, its status counts and its answers' lines (a robust study's
+    robust front and best robust design first: ``robust``, its robust answers)."""
     from . import status_counts
     from .answers import best_text, edge_notes, life_text
 
@@ -143,31 +142,47 @@ def _study_lines(
     if list(ds["status"].dims) == ["run"]:  # a sampled design: its factors
         dims = ", ".join(ds.attrs.get("factors", "").split()) or "run"
     n = int(np.prod([ds.sizes[d] for d in ds["status"].dims])) if ds["status"].dims else 1
+    answers = []
+    if robust is not None:
+        from .robust import summary_lines
+
+        answers += summary_lines(robust)
+    if "pareto_rank" in ds:
+        if robust is None:  # (a robust study's per-scenario fronts are its answers page's)
+            answers.append("best compromise: " + best_text(ds))
+        if life_text(ds):  # its reserve at the end of wear, lining life, engagements per hour
+            answers.append("over its life: " + life_text(ds))
+        if not ds.attrs.get("shown_reason", "the run's best").startswith("the run's best"):
+            answers.append("trace pages: " + shown_name(ds))
+        notes = edge_notes(ds, short=True)
+        if notes:
+            answers.append("at the edge of its range (widen it): " + "; ".join(notes))
+    return {
+        "name": name,
+        "title": f"Study '{name}': {ds.attrs.get('title', '')}",
+        "run": f"{n} scenarios, design {ds.attrs.get('design')} over {dims}",
+        "model": str(ds.attrs.get("model", "")),
+        "status": "status: " + ", ".join(f"{k} {v}" for k, v in status_counts(ds).items()),
+        "answers": answers,
+    }
+
+
+def _study_lines(summary, numbers, job_seconds, model=True, explorer=None) -> list[str]:
+    """The summary page's lines of one study (:func:`study_summary`; long lines are wrapped by the
+    caller): with its jobs' time (``job_seconds``), its pages (``numbers``) and ``explorer``, the
+    file name of its explorer beside the PDF, linked."""
+    name = summary["name"]
     jobs = (
         f"; {job_seconds[name][0]} jobs, {job_seconds[name][1]:.1f} s of job time"
         if job_seconds and name in job_seconds
         else ""
     )
-    status = "status: " + ", ".join(f"{k} {v}" for k, v in status_counts(ds).items())
     lines = [
-        f"Study '{name}': {ds.attrs.get('title', '')}",
-        f"{n} scenarios, design {ds.attrs.get('design')} over {dims}{jobs}",
-        (f"model: {ds.attrs.get('model', '')}; " if model else "") + status,
+        summary["title"],
+        summary["run"] + jobs,
+        (f"model: {summary['model']}; " if model else "") + summary["status"],
+        *summary["answers"],
     ]
-    if robust is not None:
-        from .robust import summary_lines
-
-        lines += summary_lines(robust)
-    if "pareto_rank" in ds:
-        if robust is None:  # (a robust study's per-scenario fronts are its answers page's)
-            lines.append("best compromise: " + best_text(ds))
-        if life_text(ds):  # its reserve at the end of wear, lining life, engagements per hour
-            lines.append("over its life: " + life_text(ds))
-        if not ds.attrs.get("shown_reason", "the run's best").startswith("the run's best"):
-            lines.append("trace pages: " + shown_name(ds))
-        notes = edge_notes(ds, short=True)
-        if notes:
-            lines.append("at the edge of its range (widen it): " + "; ".join(notes))
     stems = [s for s in numbers if s.startswith(f"{name}_")]
     if stems:
         lines.append(
@@ -181,15 +196,15 @@ def _study_lines(
 def title_page(
     title,
     version,
-    results,
+    summaries,
     validations,
     numbers=None,
     job_seconds=None,
-    robust=None,
     explorers=None,
 ):
-    """The summary page: per study what was run (and how long its jobs took: ``job_seconds``,
-    study -> (jobs, seconds)), its status counts, its best compromise design (values in the units
+    """The summary page: per study (``summaries``: its :func:`study_summary`, in report order) what
+    was run (and how long its jobs took: ``job_seconds``, study -> (jobs, seconds)), its status
+    counts, its best compromise design (values in the units
     engineers read), the factors it sits at the edge of, the pages that show it (``numbers``:
     page stem -> (first, last) page of the PDF) and its interactive explorer (``explorers``: study
     -> file name beside the PDF, a link in the PDF); the validation verdict and the pages of its
@@ -215,14 +230,12 @@ def title_page(
     # the studies' lines share the page between the version line and the footnote
     height = A4_LANDSCAPE[1] * 72  # pt
     avail = (top - 0.05) - 0.07
-    lines = {}  # model line or not -> the studies' lines (computed once: a best design is slow)
+    lines = {}  # model line or not -> the studies' lines
     for size, model in ((9.5, True), (9.0, True), (8.5, True), (8.0, True), (8.0, False)):
         if model not in lines:
             lines[model] = [
-                _study_lines(
-                    n, ds, numbers, job_seconds, model, (robust or {}).get(n), explorers.get(n)
-                )
-                for n, ds in results.items()
+                _study_lines(s, numbers, job_seconds, model, explorers.get(s["name"]))
+                for s in summaries
             ]
         blocks = lines[model]
         chars = int(0.9 * A4_LANDSCAPE[0] * 72 / (0.53 * size))

@@ -34,7 +34,17 @@ from .. import display, store
 from .. import status as st
 from ..explore import flat
 
-__all__ = ["MAX_DESIGNS", "PLOTLY_BUNDLE", "Axis", "axes", "sample", "page", "plotly_js", "write"]
+__all__ = [
+    "MAX_DESIGNS",
+    "PLOTLY_BUNDLE",
+    "Axis",
+    "axes",
+    "sample",
+    "page",
+    "plotly_js",
+    "write",
+    "write_dataset",
+]
 
 #: plotly.js as the page inlines it: the official ``gl2d`` partial bundle (traces parcoords,
 #: scattergl, scatter, splom; 1.5 MB instead of the full bundle's 4.8 MB, about 2 s less CPU time
@@ -315,9 +325,13 @@ def write(result_path, out_path, limit=MAX_DESIGNS, seed=0) -> Path:
     Path
         ``out_path``.
     """
+    return write_dataset(store.load(result_path), out_path, limit, seed)
+
+
+def write_dataset(ds, out_path, limit=MAX_DESIGNS, seed=0) -> Path:
+    """:func:`write` of a merged study result already in memory (its Dataset ``ds``)."""
     from .. import __version__
 
-    ds = store.load(result_path)
     text = page(ds, limit, seed, version=__version__)
     out_path = Path(out_path)
     out_path.parent.mkdir(parents=True, exist_ok=True)
