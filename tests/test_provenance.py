@@ -207,6 +207,21 @@ def test_a_hand_edited_result_is_found(result, variable, found, capsys):
         verify.require({result: {}})
 
 
+def test_a_result_loaded_and_checked_in_memory_says_what_the_file_check_says(result):
+    """verify.load_checked (the pages job: one read of the file) returns the file's content where
+    it verifies, and refuses it with file_problems' own words where it does not."""
+    xr.testing.assert_identical(verify.load_checked(result), store.load(result))
+    with h5py.File(result, "r+") as f:
+        f["clamp_load"].attrs["units"] = "kN"
+    (problem,) = verify.file_problems(result)
+    with pytest.raises(verify.ProvenanceError) as err:
+        verify.load_checked(result, action="do this")
+    assert str(err.value) == f"{result} {problem}; do this"
+    result.write_bytes(result.read_bytes()[:1000])  # cut
+    with pytest.raises(verify.ProvenanceError, match="cannot be read"):
+        verify.load_checked(result)
+
+
 def test_a_result_without_checksum_or_provenance_fails(result):
     with h5py.File(result, "r+") as f:
         del f.attrs["clutchlab_checksum"]

@@ -33,6 +33,7 @@ __all__ = [
     "provenance_problems",
     "chunk_problems",
     "file_problems",
+    "load_checked",
     "require",
     "main",
     "cli",
@@ -243,7 +244,53 @@ def file_problems(path, *, config=None, source=None, design=None) -> list[str]:
     if problem:
         return [problem]
     with store.open(path, indexes=False) as ds:
-        attrs, kind = dict(ds.attrs), _kind(ds)
+        return _provenance_of(path, dict(ds.attrs), _kind(ds), config, source, design)
+
+
+def load_checked(path, *, config=None, source=None, design=None, action=None):
+    """Load a stored file and check it as :func:`file_problems` does, on the loaded Dataset (its
+    checksum computed in memory: one read of the file instead of two, for a job that reads all of
+    it anyway).
+
+    Parameters
+    ----------
+    path : str or path
+        The file.
+    config, source, design
+        As :func:`file_problems`.
+    action : str or None
+        What the error tells the user to do (default: delete it and run snakemake again).
+
+    Returns
+    -------
+    xarray.Dataset
+        The file's content, loaded.
+
+    Raises
+    ------
+    ProvenanceError
+        The file cannot be read, does not match its checksum or its provenance (one line: the
+        file, what differs, what to do).
+    """
+    path = Path(path)
+    todo = action or "delete it and run snakemake again to recompute it"
+    try:
+        ds = store.load(path)
+    except Exception as exc:  # h5py/netCDF raise several types for a cut or damaged file
+        raise ProvenanceError(f"{path} {store._unreadable(exc)}; {todo}") from None
+    problem = store.checksum_problem(ds)
+    problems = (
+        [problem]
+        if problem
+        else _provenance_of(path, dict(ds.attrs), _kind(ds), config, source, design)
+    )
+    if problems:
+        raise ProvenanceError(f"{path} {'; '.join(problems)}; {todo}")
+    return ds
+
+
+def _provenance_of(path, attrs, kind, config, source, design) -> list[str]:
+    """:func:`file_problems` of a file whose checksum matched: its provenance."""
     if kind is None:
         return []  # a file without a study of its own (sensitivity indices): its checksum only
     if kind == "design":

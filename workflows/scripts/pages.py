@@ -10,20 +10,22 @@ from clutchlab._joblog import job_log
 sm = snakemake  # noqa: F821
 
 
-def verify_inputs():
+def verified_inputs():
+    """The result, loaded and checked in memory (one read of the file); the other inputs checked."""
     from clutchlab import verify
 
     first_stage = (
         "it is the first-stage result a refinement starts from: delete it and recompute it with "
         "the config that produced it"
     )
-    expected = {sm.input.result: {"config": sm.params.config, "source": sm.params.source}}
-    for p in [*sm.input.sensitivity, *sm.input.robust]:
-        expected[p] = {}
+    expected = {p: {} for p in [*sm.input.sensitivity, *sm.input.robust]}
     for p in [*sm.input.refined, *sm.input.refined_robust]:
         expected.setdefault(p, {"design": False, "action": first_stage})
     try:
         verify.require(expected, action="delete it and run snakemake again to recompute it")
+        return verify.load_checked(
+            sm.input.result, config=sm.params.config, source=sm.params.source
+        )
     except verify.ProvenanceError as exc:
         raise SystemExit(
             f"clutchlab: the report is not built from a file that fails:\n{exc}"
@@ -37,10 +39,9 @@ def first(files):
 with job_log(sm.log[0]):
     from clutchlab import report
 
-    verify_inputs()
     report.study_part(
         sm.params.study,
-        sm.input.result,
+        verified_inputs(),
         Path(sm.output.explorer[0]).parent,
         sm.output.part,
         dpi=sm.params.dpi,

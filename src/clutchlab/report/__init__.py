@@ -207,8 +207,8 @@ def study_part(
     ----------
     name : str
         The study.
-    result : path
-        Its merged HDF5 result.
+    result : path or xarray.Dataset
+        Its merged HDF5 result (or the result loaded, e.g. by :func:`clutchlab.verify.load_checked`).
     outdir : path
         Folder of the report's PNG and CSV files.
     part_pdf : path
@@ -238,7 +238,8 @@ def study_part(
     outdir, part_pdf = Path(outdir), Path(part_pdf)
     outdir.mkdir(parents=True, exist_ok=True)
     part_pdf.parent.mkdir(parents=True, exist_ok=True)
-    ds = store.load(result)
+    ds = result if hasattr(result, "attrs") else store.load(result)
+    checksum = str(ds.attrs.get(store.CHECKSUM, ""))  # (the file's, as loaded)
     if explorer is not None:
         from . import explorer as explorer_page
 
@@ -262,7 +263,7 @@ def study_part(
         "pages": [[page.stem, page.n_pdf] for page in pages],
         "files": answer_files([name], [name] * (refine is not None), [name] * (robust is not None)),
         "summary": study_summary(name, ds, robust),
-        "result_checksum": store.stored_checksum(result),
+        "result_checksum": checksum,
     }
     with store.atomic(part_pdf.with_suffix(".json")) as tmp:
         Path(tmp).write_text(json.dumps(record, indent=1), encoding="utf-8")
