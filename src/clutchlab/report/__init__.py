@@ -351,10 +351,12 @@ def _check_parts(parts, records, results) -> None:
     """Each part was drawn from the result now in place (the checksum it recorded is the file's)."""
     from ..verify import ProvenanceError
 
+    if results is None:
+        return
     bad = [
         f"{part} was drawn from another {result} than the one in place; delete it and run "
         "snakemake again to draw it anew"
-        for part, record, result in zip(parts, records, results or (), strict=False)
+        for part, record, result in zip(parts, records, results, strict=True)
         if record["result_checksum"] != store.stored_checksum(result)
     ]
     if bad:
