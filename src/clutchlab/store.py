@@ -8,7 +8,7 @@
   beside the target are removed by the next write of that target;
 * :func:`checksum` digests a Dataset's values and attributes (every variable's and the global
   ones), block by block, so a file changed or cut after it was written is found: by the merge for
-  a chunk file, by :mod:`clutchlab.verify` and the report job for a result
+  a chunk file, by :mod:`clutchlab.verify` and a study's pages job for a result
   (``clutchlab_checksum`` attribute).
 """
 

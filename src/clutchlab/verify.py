@@ -10,8 +10,9 @@ own checksum of everything it holds (:func:`clutchlab.store.seal`).
 
 ``clutchlab verify PATH...`` (or ``python -m clutchlab.verify PATH...``) checks files against
 their stored checksum and provenance and says per file ``ok`` or what differs; the exit code is
-non-zero when any file fails. The report job checks its inputs the same way
-(:func:`require`) and is not built from a result that fails.
+non-zero when any file fails. Each study's pages job checks its inputs the same way
+(:func:`require`, and :func:`load_checked` for the result it draws from), so the report is not
+built from a result that fails.
 """
 
 from __future__ import annotations
