@@ -36,6 +36,11 @@ def test_small_runs_draw_their_pages(tmp_path):
     ]
     pages = dict(numerics.pages(tmp_path))
     assert set(pages) == {"numerics_sprag", "numerics_roller", "numerics_centrifugal"}
+    # a run of other studies into the same folder draws its own studies' pages only, in its order
+    assert [stem for stem, _ in numerics.pages(tmp_path, ["roller", "engagement", "sprag"])] == [
+        "numerics_roller",
+        "numerics_sprag",
+    ]
     for fig in pages.values():
         text = " ".join(t.get_text() for t in fig.texts)
         assert "x faster" in text  # the ratio at equal error, measured in this run

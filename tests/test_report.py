@@ -117,6 +117,40 @@ def test_the_report_joins_each_studys_part_drawn_from_the_result_in_place(tmp_pa
     assert (out / "report.pdf").read_bytes() == before
 
 
+def test_a_summary_longer_than_a_page_goes_on_over_more_pages():
+    """A summary whose lines do not fit one A4 page at 8 pt (many studies, long answers) goes on
+    over more A4 pages (every line once, inside its page), and its PNG is one tall figure; a short
+    one stays one page at the largest font."""
+    from clutchlab.report.common import summary_layout, texts_outside, title_page
+
+    def summary(k, answers):
+        return {
+            "name": f"s{k}",
+            "title": f"Study 's{k}': a study",
+            "run": "10 scenarios, design factorial over x (10)",
+            "model": "a model",
+            "status": "status: ok 10",
+            "answers": [f"answer {i}: " + "sheet_thickness = 2.4 mm, " * 7 for i in range(answers)],
+        }
+
+    short = [summary(0, 2)]
+    size, _, pages = summary_layout("T", short, [])
+    assert size == 9.5 and len(pages) == 1
+    long = [summary(k, 12) for k in range(4)]
+    links = {"s0": "s0_explorer.html"}
+    size, _, pages = summary_layout("T", long, [], explorers=links)
+    assert size == 8.0 and len(pages) >= 2
+    drawn = [line for page in pages for block in page for line in block]
+    assert sum(line.startswith("answer ") for line in drawn) == 4 * 12
+    assert drawn.count("interactive explorer (open in a browser): s0_explorer.html") == 1
+    for k in range(len(pages)):
+        fig = title_page("T", "v", long, [], explorers=links, page=k)
+        assert tuple(fig.get_size_inches()) == (11.69, 8.27) and not texts_outside(fig), k
+    tall = title_page("T", "v", long, [], explorers=links)
+    assert tall.get_size_inches()[1] > 8.27 and not texts_outside(tall)
+    assert {t.get_text() for t in tall.texts} >= set(drawn)
+
+
 def _variants():
     """Each study of config/config.yaml with no factor, and with each of its first three factors
     alone (the others fixed at their seed values)."""

@@ -315,26 +315,25 @@ def sprag_figure(rows):
     )
 
 
-def pages(numerics_dir) -> list[tuple]:
-    """(stem, figure) of every numerics CSV present in ``numerics_dir``."""
+def pages(numerics_dir, study_names=None) -> list[tuple]:
+    """(stem, figure) of the numerics CSV of each of ``study_names`` present in ``numerics_dir``,
+    in their order (default: every study's; a CSV an earlier run of other studies left in the
+    folder is not this run's)."""
     from . import compliant
 
+    draw = {
+        "engagement": lambda f: compliant.work_precision_figure(compliant.read_rows(f)),
+        "roller": lambda f: roller_figure(_read(f)),
+        "sprag": lambda f: sprag_figure(_read(f)),
+        "centrifugal": lambda f: centrifugal_figure(_read(f)),
+    }
     d = Path(numerics_dir)
-    out = []
-    if (d / FILES["engagement"]).exists():
-        out.append(
-            (
-                "numerics_engagement",
-                compliant.work_precision_figure(compliant.read_rows(d / FILES["engagement"])),
-            )
-        )
-    if (d / FILES["roller"]).exists():
-        out.append(("numerics_roller", roller_figure(_read(d / FILES["roller"]))))
-    if (d / FILES["sprag"]).exists():
-        out.append(("numerics_sprag", sprag_figure(_read(d / FILES["sprag"]))))
-    if (d / FILES["centrifugal"]).exists():
-        out.append(("numerics_centrifugal", centrifugal_figure(_read(d / FILES["centrifugal"]))))
-    return out
+    names = list(FILES) if study_names is None else study_names
+    return [
+        (f"numerics_{s}", draw[s](d / FILES[s]))
+        for s in names
+        if s in FILES and (d / FILES[s]).exists()
+    ]
 
 
 def stems(study_names) -> list[str]:

@@ -24,7 +24,12 @@ from ..explore import refinement_gain  # noqa: E402
 from ..robust import front_view as robust_front_view  # noqa: E402
 from ..validation import to_csv  # noqa: E402
 from . import answers  # noqa: E402
-from .common import hard_case_table, title_page, validation_table  # noqa: E402
+from .common import (  # noqa: E402
+    hard_case_table,
+    summary_layout,
+    title_page,
+    validation_table,
+)
 
 __all__ = [
     "assemble",
@@ -86,8 +91,8 @@ def study_stems(name, sensitivity=False, refined=False, robust=False) -> list[st
 
 
 def run_stems(study_names, benchmark=False, hard_cases=False, numerics=False) -> list[str]:
-    """PNG stems of the pages :func:`assemble` draws: the summary first, then the run's pages after
-    the studies' (work-precision, validation table, hard cases, numerics)."""
+    """PNG stems of the pages :func:`assemble` draws, in the PDF's order: the summary first, then
+    the run's pages after the studies' (work-precision, validation table, numerics, hard cases)."""
     from ..bench.numerics import stems as numerics_stems
 
     validated = any(studies.get(name).validation is not None for name in study_names)
@@ -95,8 +100,8 @@ def run_stems(study_names, benchmark=False, hard_cases=False, numerics=False) ->
         ["title"]
         + (["engagement_work_precision"] if benchmark else [])
         + (["validation_table"] if validated else [])
-        + (["hard_cases"] if hard_cases else [])
         + (numerics_stems(study_names) if numerics else [])
+        + (["hard_cases"] if hard_cases else [])
     )
 
 
@@ -112,7 +117,8 @@ def figure_stems(
     """PNG stems the report produces for these studies, in the PDF's order; a sensitivity page
     for the studies in ``sensitivity`` (factorial grids), a refinement page for those in ``refined``
     (design refine); the validation table only where one of them reproduces published numbers; the
-    hard-case table with ``hard_cases``; the work-precision pages of the solvers used with ``numerics``."""
+    work-precision pages of the solvers used with ``numerics``; the hard-case table with
+    ``hard_cases``."""
     run = run_stems(study_names, benchmark, hard_cases, numerics)
     return (
         run[:1]
@@ -307,31 +313,40 @@ def assemble(
     records = [json.loads(Path(p).with_suffix(".json").read_text("utf-8")) for p in parts]
     _check_parts(parts, records, results)
     validations = [store.load(p) for p in validation_files]
-    pages = _run_pages(outdir, validations, benchmark_csv, numerics_dir, hard_cases_file)
-    # the summary page opens the report and names each page by its page numbers
-    numbers, k = {}, 2
-    for stem, n_pdf in [tuple(s) for r in records for s in r["pages"]] + [
-        (page.stem, page.n_pdf) for page in pages
-    ]:
-        numbers[stem], k = (k, k + n_pdf - 1), k + n_pdf
+    studies = [r["study"] for r in records]
+    pages = _run_pages(outdir, validations, benchmark_csv, numerics_dir, hard_cases_file, studies)
+    # the summary opens the report (on more than one page where its lines need them) and names
+    # each page by its page numbers
+    counts = [tuple(s) for r in records for s in r["pages"]] + [(p.stem, p.n_pdf) for p in pages]
     summaries = [r["summary"] for r in records]
+    n_title = 1
+    for _ in range(3):  # (the page numbers follow the summary's pages, which follow their text)
+        numbers, k = {}, 1 + n_title
+        for stem, n_pdf in counts:
+            numbers[stem], k = (k, k + n_pdf - 1), k + n_pdf
+        args = (title, __version__, summaries, validations, numbers, job_seconds, explorers)
+        n = len(summary_layout(title, *args[2:])[2])
+        if n == n_title:
+            break
+        n_title = n
     pages.insert(
         0,
         Page(
             "title",
-            lambda: title_page(
-                title, __version__, summaries, validations, numbers, job_seconds, explorers
-            ),
+            lambda: title_page(*args),
+            (lambda: [title_page(*args, page=i) for i in range(n_title)]) if n_title > 1 else None,
+            n_title,
         ),
     )
     own = io.BytesIO()
     _write_pages(pages, outdir, own, title, dpi)
     own_pdf = PdfReader(own)
     writer = PdfWriter()
-    writer.add_page(own_pdf.pages[0])
+    for page in own_pdf.pages[:n_title]:
+        writer.add_page(page)
     for part in parts:
         writer.append(str(part))
-    for page in own_pdf.pages[1:]:
+    for page in own_pdf.pages[n_title:]:
         writer.add_page(page)
     writer.add_metadata({"/Title": title, "/Creator": f"clutchlab {__version__}"})
     with store.atomic(outdir / "report.pdf") as tmp:
@@ -467,9 +482,11 @@ def build(
         )
 
 
-def _run_pages(outdir, validations, benchmark_csv, numerics_dir, hard_cases_file) -> list[Page]:
-    """The pages of the run after the studies' (work-precision, validation table, numerics, hard
-    cases), and their CSV files (written now)."""
+def _run_pages(
+    outdir, validations, benchmark_csv, numerics_dir, hard_cases_file, studies
+) -> list[Page]:
+    """The pages of the run after the studies' (work-precision, validation table, the numerics of
+    ``studies``, hard cases), and their CSV files (written now)."""
     pages = []
     if benchmark_csv is not None:
         from ..bench.engagement import read_rows, work_precision_figure
@@ -483,7 +500,9 @@ def _run_pages(outdir, validations, benchmark_csv, numerics_dir, hard_cases_file
     if numerics_dir is not None:
         from ..bench.numerics import pages as numerics_pages
 
-        pages += [Page(stem, (lambda f=fig: f)) for stem, fig in numerics_pages(numerics_dir)]
+        pages += [
+            Page(stem, (lambda f=fig: f)) for stem, fig in numerics_pages(numerics_dir, studies)
+        ]
     if hard_cases_file is not None:
         from ..hardcases import to_csv as hard_cases_csv
 

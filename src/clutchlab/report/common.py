@@ -193,29 +193,21 @@ def _study_lines(summary, numbers, job_seconds, model=True, explorer=None) -> li
     return lines
 
 
-def title_page(
-    title,
-    version,
-    summaries,
-    validations,
-    numbers=None,
-    job_seconds=None,
-    explorers=None,
-):
-    """The summary page: per study (``summaries``: its :func:`study_summary`, in report order) what
-    was run (and how long its jobs took: ``job_seconds``, study -> (jobs, seconds)), its status
-    counts, its best compromise design (values in the units
-    engineers read), the factors it sits at the edge of, the pages that show it (``numbers``:
-    page stem -> (first, last) page of the PDF) and its interactive explorer (``explorers``: study
-    -> file name beside the PDF, a link in the PDF); the validation verdict and the pages of its
-    table. Text 8 pt or more, inside the page."""
+_SUMMARY_FONTS = ((9.5, True), (9.0, True), (8.5, True), (8.0, True), (8.0, False))
+_SUMMARY_TOP, _SUMMARY_BOTTOM = 0.96, 0.065  # the summary's text band [fraction of an A4 page]
+_SUMMARY_FOOT = (
+    "Units: SI inside every result file (units attribute on each variable); pages and CSV "
+    "files in the units engineers read (mm, deg, MPa, kN, N·m, rpm, °C, ms, kJ)."
+)
+
+
+def summary_layout(title, summaries, validations, numbers=None, job_seconds=None, explorers=None):
+    """How the summary's lines fit A4 pages: (font size [pt], the title's lines, the blocks of
+    lines of each page). The largest font (9.5 down to 8 pt, the model lines left out last) whose
+    lines fit the first page; where none does, 8 pt without the model lines over as many pages as
+    the lines need (no study's block split where it fits a page). Arguments as :func:`title_page`."""
     numbers, explorers = numbers or {}, explorers or {}
-    fig = plt.figure(figsize=A4_LANDSCAPE)
-    # the title is the user's text: drawn as written ("$" is not mathtext), wrapped to the page
     head = textwrap.wrap(title, 70)
-    fig.text(0.05, 0.96, "\n".join(head), fontsize=20, weight="bold", va="top", parse_math=False)
-    top = 0.96 - len(head) * 0.045
-    fig.text(0.05, top - 0.005, f"clutchlab {version}", fontsize=11, color="0.3", va="top")
     tail = []
     if validations:
         n = sum(v.sizes["row"] for v in validations)
@@ -227,43 +219,103 @@ def title_page(
                 f"(table on {where}; validation.csv)."
             ]
         ]
-    # the studies' lines share the page between the version line and the footnote
-    height = A4_LANDSCAPE[1] * 72  # pt
-    avail = (top - 0.05) - 0.07
-    lines = {}  # model line or not -> the studies' lines
-    for size, model in ((9.5, True), (9.0, True), (8.5, True), (8.0, True), (8.0, False)):
-        if model not in lines:
-            lines[model] = [
-                _study_lines(s, numbers, job_seconds, model, explorers.get(s["name"]))
-                for s in summaries
-            ]
-        blocks = lines[model]
+    first = _SUMMARY_TOP - len(head) * 0.045 - 0.05 - _SUMMARY_BOTTOM  # below the version line
+    later = _SUMMARY_TOP - _SUMMARY_BOTTOM - 0.04  # below "summary (continued)"
+    for size, model in _SUMMARY_FONTS:
         chars = int(0.9 * A4_LANDSCAPE[0] * 72 / (0.53 * size))
+        blocks = [
+            _study_lines(s, numbers, job_seconds, model, explorers.get(s["name"]))
+            for s in summaries
+        ]
         wrapped = [
             [w for line in b for w in textwrap.wrap(line, chars, subsequent_indent="    ")]
             for b in blocks + tail
         ]
-        step = 1.3 * size / height
-        if (sum(len(b) for b in wrapped) + 0.6 * len(wrapped)) * step <= avail:
-            break
-    y = top - 0.05
+        step = _summary_step(size)
+        if (sum(len(b) for b in wrapped) + 0.6 * len(wrapped)) * step <= first:
+            return size, head, [wrapped]
+    pages, used, room = [[]], 0.0, first
     for block in wrapped:
+        lines = list(block)
+        while lines:
+            fit = int((room - used) / step)
+            if fit >= len(lines) or (fit > 0 and len(lines) * step > later):
+                pages[-1].append(lines[:fit])
+                used += (min(fit, len(lines)) + 0.6) * step
+                lines = lines[fit:]
+            if lines:
+                pages.append([])
+                used, room = 0.0, later
+    return size, head, pages
+
+
+def _summary_step(size) -> float:
+    """A summary line's height at ``size`` pt, as a fraction of an A4 page."""
+    return 1.3 * size / (A4_LANDSCAPE[1] * 72)
+
+
+def title_page(
+    title,
+    version,
+    summaries,
+    validations,
+    numbers=None,
+    job_seconds=None,
+    explorers=None,
+    page=None,
+):
+    """The summary page: per study (``summaries``: its :func:`study_summary`, in report order) what
+    was run (and how long its jobs took: ``job_seconds``, study -> (jobs, seconds)), its status
+    counts, its best compromise design (values in the units engineers read), the factors it sits
+    at the edge of, the pages that show it (``numbers``: page stem -> (first, last) page of the
+    PDF) and its interactive explorer (``explorers``: study -> file name beside the PDF, a link in
+    the PDF); the validation verdict and the pages of its table. Text 8 pt or more, inside the
+    page. Where the lines need more than one A4 page (:func:`summary_layout`): ``page`` None, one
+    figure as tall as they need (the PNG); ``page`` k, its A4 page k (the PDF)."""
+    size, head, pages = summary_layout(
+        title, summaries, validations, numbers, job_seconds, explorers
+    )
+    if page is not None or len(pages) == 1:
+        k = page or 0
+        return _summary_figure(title, version, head, pages[k], size, A4_LANDSCAPE[1], k > 0)
+    blocks = [b for p in pages for b in p]
+    text = (sum(len(b) for b in blocks) + 0.6 * len(blocks)) * _summary_step(size)
+    height = A4_LANDSCAPE[1] * max(1.0, (text + 0.3) / (_SUMMARY_TOP - _SUMMARY_BOTTOM))
+    return _summary_figure(title, version, head, blocks, size, height, False)
+
+
+def _summary_figure(title, version, head, blocks, size, height, continued):
+    """One figure of the summary (``height`` [in]: A4, or taller for the whole of it)."""
+    fig = plt.figure(figsize=(A4_LANDSCAPE[0], height))
+    scale = A4_LANDSCAPE[1] / height  # (positions below are in A4 fractions from the top)
+
+    def at(y):
+        return 1.0 - (1.0 - y) * scale
+
+    if continued:
+        fig.text(0.05, at(_SUMMARY_TOP), f"{title}: summary (continued)", fontsize=11, va="top")
+        y = _SUMMARY_TOP - 0.04
+    else:
+        # the title is the user's text: drawn as written ("$" is not mathtext), wrapped to the page
+        fig.text(
+            0.05, at(_SUMMARY_TOP), "\n".join(head), fontsize=20, weight="bold", va="top",
+            parse_math=False,
+        )  # fmt: skip
+        top = _SUMMARY_TOP - len(head) * 0.045
+        fig.text(0.05, at(top - 0.005), f"clutchlab {version}", fontsize=11, color="0.3", va="top")
+        y = top - 0.05
+    step = _summary_step(size)
+    for block in blocks:
         for k, line in enumerate(block):
             url = line[len(EXPLORER_LINE) :] if line.startswith(EXPLORER_LINE) else None
+            bold = k == 0 and line.startswith(("Study '", "Validation: "))  # (not a block's rest)
             fig.text(
-                0.05, y, line, fontsize=size, weight="bold" if k == 0 else None, va="top",
+                0.05, at(y), line, fontsize=size, weight="bold" if bold else None, va="top",
                 url=url, color="tab:blue" if url else None,
             )  # fmt: skip
             y -= step
         y -= 0.6 * step
-    fig.text(
-        0.05,
-        0.025,
-        "Units: SI inside every result file (units attribute on each variable); pages and CSV "
-        "files in the units engineers read (mm, deg, MPa, kN, N·m, rpm, °C, ms, kJ).",
-        fontsize=8,
-        color="0.4",
-    )
+    fig.text(0.05, 0.025 * scale, _SUMMARY_FOOT, fontsize=8, color="0.4")
     return fig
 
 
