@@ -39,8 +39,11 @@ _CAPTION_FILES = _captions.write(
 )
 
 
-def _captioned(files):
-    return [report(f, caption=_CAPTION_FILES[f], category=_captions.category(Path(f).name, STUDIES)) for f in files]
+# each report file marked for Snakemake's HTML report, with its caption and category
+_CAPTIONED = {
+    f: report(f, caption=_CAPTION_FILES[f], category=_captions.category(Path(f).name, STUDIES))
+    for f in REPORT_FILES + list(EXPLORERS.values())
+}
 
 
 for _study in STUDIES:
@@ -60,8 +63,8 @@ for _study in STUDIES:
             refined=[refine_source(_study)] if _study in REFINED else [],
             refined_robust=[first_robust(_study)] if _study in REFINED and robust_files(_study) else [],
         output:
-            explorer=_captioned([EXPLORERS[_study]]),
-            files=_captioned(STUDY_REPORT_FILES[_study]),
+            explorer=_CAPTIONED[EXPLORERS[_study]],
+            files=[_CAPTIONED[f] for f in STUDY_REPORT_FILES[_study]],
             part=PARTS[_study],
             record=str(Path(PARTS[_study]).with_suffix(".json")),
         benchmark:
@@ -90,7 +93,7 @@ rule report:
         numerics=NUMERICS,
         explorers=list(EXPLORERS.values()),  # the summary page links them
     output:
-        _captioned(RUN_REPORT_FILES),
+        [_CAPTIONED[f] for f in RUN_REPORT_FILES],
     benchmark:
         f"{WORK}/report_benchmark.tsv"
     log:
@@ -101,8 +104,12 @@ rule report:
         dpi=RESOLVED["report"]["dpi"],
         source=SOURCE,
         version=clutchlab.__version__,
-        work=WORK,
-        chunks={s: RESOLVED[s]["chunks"] for s in STUDIES},
+        # each study's chunk and merge jobs' benchmark files (the summary says their time)
+        job_benchmarks={
+            s: [f"{WORK}/{s}/benchmark/{Path(c).stem}.tsv" for c in chunk_files(s)]
+            + [f"{WORK}/{s}/benchmark/merge.tsv"]
+            for s in STUDIES
+        },
     resources:
         **_cluster.report_resources(RESOLVED),
     script:

@@ -42,7 +42,7 @@ with job_log(sm.log[0]):
     report.study_part(
         sm.params.study,
         verified_inputs(),
-        Path(sm.output.explorer[0]).parent,
+        Path(sm.output.explorer).parent,
         sm.output.part,
         dpi=sm.params.dpi,
         sensitivity=first(sm.input.sensitivity),
@@ -50,5 +50,5 @@ with job_log(sm.log[0]):
         traces=first(sm.input.traces),
         robust=first(sm.input.robust),
         refine_robust=first(sm.input.refined_robust),
-        explorer=sm.output.explorer[0],
+        explorer=sm.output.explorer,
     )

@@ -9,16 +9,12 @@ sm = snakemake  # noqa: F821
 
 
 def job_seconds(study):
-    """(jobs, seconds) of a study's chunk and merge jobs from Snakemake's benchmark files, if any."""
+    """(jobs, seconds) of a study's chunk and merge jobs from Snakemake's benchmark files, if any
+    (this run's: an earlier run may have left more chunk files)."""
     import csv
 
-    # this run's chunk files (an earlier run may have left more)
-    folder = Path(sm.params.work) / study / "benchmark"
-    files = [folder / f"chunk_{i:04d}.tsv" for i in range(sm.params.chunks[study])] + [
-        folder / "merge.tsv"
-    ]
     seconds = []
-    for f in (f for f in files if f.exists()):
+    for f in (Path(f) for f in sm.params.job_benchmarks[study] if Path(f).exists()):
         with open(f) as fh:
             seconds += [float(row["s"]) for row in csv.DictReader(fh, delimiter="\t")]
     return (len(seconds), sum(seconds)) if seconds else None
