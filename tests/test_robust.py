@@ -442,3 +442,17 @@ def test_the_robust_page_says_what_its_draw_count_can_resolve():
     ra.attrs["noise_samples"] = 512  # resolves 1 %: no advice
     assert "0.74 %" in pages.resolution_text(ra)
     assert "draws or more" not in pages.resolution_text(ra)
+
+
+def test_the_summary_of_a_robust_study_without_a_robust_design_says_so_once():
+    """No design meets the limit under the scatter: the summary's line says "none" and why, not
+    "no robust design" twice; the noise parameters are listed with commas."""
+    from clutchlab.report import robust as pages
+
+    sec = _engagement(noise_samples=8, limit="1 ms")
+    ra = explore.robust(_run(sec))
+    ra.attrs["noise_parameters"] = "friction_coefficient roller_diameter"
+    head, best = pages.summary_lines(ra)
+    assert "noise samples of friction_coefficient, roller_diameter;" in head
+    assert best.startswith("best robust design: none (no design fails with probability at most")
+    assert best.count("no robust design") == 0

@@ -141,14 +141,19 @@ def summary_lines(ra) -> list[str]:
     rank = _flat(ra, "robust_rank")
     conds = ra.attrs.get("conditions", "").split()
     ncond = int(np.prod([ra.sizes[c] for c in conds], dtype=np.int64)) if conds else 1
-    noise = ra.attrs.get("noise_parameters", "") or "none"
+    noise = ", ".join(ra.attrs.get("noise_parameters", "").split()) or "none"
+    best = (
+        best_text(ra)
+        if explore.best_robust(ra) is not None
+        else f"none ({_none_reason(ra)})"  # (not "no robust design" twice)
+    )
     return [
         f"robust: {int(feas.sum())} of {feas.size} designs fail with probability at most "
         f"{100 * ra.attrs.get('max_failure_probability', 0.01):.2g} % at each of {ncond} "
         f"operating conditions ({', '.join(conds) or 'none'}) over "
         f"{ra.attrs.get('noise_samples', 0)} noise samples of {noise}; "
         f"{int((rank == 0).sum())} on the robust front ({_which(ra)} objectives)",
-        "best robust design: " + best_text(ra),
+        "best robust design: " + best,
     ]
 
 
