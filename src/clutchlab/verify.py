@@ -44,6 +44,8 @@ __all__ = [
 PROVENANCE = ("config", "clutchlab_source", "clutchlab_design_hash")
 _CHUNK_FILE = re.compile(r"chunk_(\d+)\.h5$")
 _SHOWN_KEYS = 3  # config keys named in a message (then "and N more")
+# what a message tells the user to do with a result or chunk that fails
+_RECOMPUTE = "delete it and run snakemake again to recompute it"
 
 
 class ProvenanceError(ValueError):
@@ -274,7 +276,7 @@ def load_checked(path, *, config=None, source=None, design=None, action=None):
         file, what differs, what to do).
     """
     path = Path(path)
-    todo = action or "delete it and run snakemake again to recompute it"
+    todo = action or _RECOMPUTE
     try:
         ds = store.load(path)
     except Exception as exc:  # h5py/netCDF raise several types for a cut or damaged file
@@ -336,7 +338,7 @@ def _the_design(path: Path, attrs: dict, design) -> tuple:
     return store.load(design), []
 
 
-def require(expected: dict, *, action="delete it and run snakemake again to recompute it") -> None:
+def require(expected: dict, *, action=_RECOMPUTE) -> None:
     """Raise :class:`ProvenanceError` unless every file passes :func:`file_problems`; its message
     has one line per failing file: the file, what differs, what to do.
 

@@ -22,7 +22,7 @@ def verified_inputs():
     for p in [*sm.input.refined, *sm.input.refined_robust]:
         expected.setdefault(p, {"design": False, "action": first_stage})
     try:
-        verify.require(expected, action="delete it and run snakemake again to recompute it")
+        verify.require(expected)
         return verify.load_checked(
             sm.input.result, config=sm.params.config, source=sm.params.source
         )

@@ -150,11 +150,12 @@ class Page:
 
 
 def _study_pages(
-    name, ds, sensitivity_files, refine_files, outdir, robust=None, first_robust=None
+    name, ds, sensitivity, refine, outdir, robust=None, first_robust=None
 ) -> list[Page]:
-    """A study's pages (drawn later, one at a time) and its CSV files (written now); a robust
-    study's robust answers (``robust``) lead; a refined robust study's refinement compares its
-    robust front with the first stage's (``first_robust``)."""
+    """A study's pages (drawn later, one at a time) and its CSV files (written now); a sensitivity
+    page from ``sensitivity`` (a path), a refinement page against the first-stage result
+    ``refine`` (a path); a robust study's robust answers (``robust``) lead; a refined robust
+    study's refinement compares its robust front with the first stage's (``first_robust``)."""
     from functools import partial
 
     from . import robust as robust_pages
@@ -166,13 +167,13 @@ def _study_pages(
             robust_pages.write_csv(robust, tmp)
     pages += [Page(f"{name}_{stem}", partial(draw, ds)) for stem, draw in _pages_of(name).items()]
     pages.append(Page(f"{name}_answers", partial(answers.page, name, ds)))
-    if name in sensitivity_files:
-        se = store.load(sensitivity_files[name])
+    if sensitivity is not None:
+        se = store.load(sensitivity)
         pages.append(Page(f"{name}_sensitivity", partial(answers.sensitivity_page, name, se)))
     with store.atomic(outdir / f"{name}_pareto.csv") as tmp:
         answers.write_csv(ds, tmp)
-    if name in refine_files:
-        first, second = store.load(refine_files[name]), ds
+    if refine is not None:
+        first, second = store.load(refine), ds
         if robust is not None and first_robust is not None:
             first = robust_front_view(first_robust, first.attrs)
             second = robust_front_view(robust, ds.attrs)
@@ -254,15 +255,7 @@ def study_part(
         ds = tr.attach(ds, store.load(traces))
     robust = store.load(robust) if robust is not None else None
     first_robust = store.load(refine_robust) if refine_robust is not None else None
-    pages = _study_pages(
-        name,
-        ds,
-        {name: sensitivity} if sensitivity is not None else {},
-        {name: refine} if refine is not None else {},
-        outdir,
-        robust,
-        first_robust,
-    )
+    pages = _study_pages(name, ds, sensitivity, refine, outdir, robust, first_robust)
     _write_pages(pages, outdir, part_pdf, name, dpi)
     record = {
         "study": name,
@@ -291,7 +284,7 @@ def assemble(
     results=None,
 ) -> list[Path]:
     """The report from the studies' parts (:func:`study_part`): the summary page, the pages of the
-    run (work-precision, validation table, hard cases, numerics) as PNGs, and ``report.pdf``: the
+    run (work-precision, validation table, numerics, hard cases) as PNGs, and ``report.pdf``: the
     summary, every part's pages in the order of ``parts``, then the run's pages. Parameters as
     :func:`build`; ``parts``: the parts' PDF files (each with its record beside it); ``results``:
     the studies' results in place, in the order of ``parts`` (each part must have been drawn from
@@ -306,8 +299,6 @@ def assemble(
     import io
     import json
 
-    from pypdf import PdfReader, PdfWriter
-
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     records = [json.loads(Path(p).with_suffix(".json").read_text("utf-8")) for p in parts]
@@ -315,42 +306,15 @@ def assemble(
     validations = [store.load(p) for p in validation_files]
     studies = [r["study"] for r in records]
     pages = _run_pages(outdir, validations, benchmark_csv, numerics_dir, hard_cases_file, studies)
-    # the summary opens the report (on more than one page where its lines need them) and names
-    # each page by its page numbers
+    # the summary opens the report (on more than one page where its lines need them)
     counts = [tuple(s) for r in records for s in r["pages"]] + [(p.stem, p.n_pdf) for p in pages]
-    summaries = [r["summary"] for r in records]
-    n_title = 1
-    for _ in range(3):  # (the page numbers follow the summary's pages, which follow their text)
-        numbers, k = {}, 1 + n_title
-        for stem, n_pdf in counts:
-            numbers[stem], k = (k, k + n_pdf - 1), k + n_pdf
-        args = (title, __version__, summaries, validations, numbers, job_seconds, explorers)
-        n = len(summary_layout(title, *args[2:])[2])
-        if n == n_title:
-            break
-        n_title = n
-    pages.insert(
-        0,
-        Page(
-            "title",
-            lambda: title_page(*args),
-            (lambda: [title_page(*args, page=i) for i in range(n_title)]) if n_title > 1 else None,
-            n_title,
-        ),
+    summary = _summary_page(
+        title, [r["summary"] for r in records], validations, counts, job_seconds, explorers
     )
+    pages.insert(0, summary)
     own = io.BytesIO()
     _write_pages(pages, outdir, own, title, dpi)
-    own_pdf = PdfReader(own)
-    writer = PdfWriter()
-    for page in own_pdf.pages[:n_title]:
-        writer.add_page(page)
-    for part in parts:
-        writer.append(str(part))
-    for page in own_pdf.pages[n_title:]:
-        writer.add_page(page)
-    writer.add_metadata({"/Title": title, "/Creator": f"clutchlab {__version__}"})
-    with store.atomic(outdir / "report.pdf") as tmp:
-        writer.write(tmp)
+    _join(own, summary.n_pdf, parts, title, outdir / "report.pdf")
     stems = ["title"] + [s for r in records for s, _ in r["pages"]] + [p.stem for p in pages[1:]]
     written = [outdir / f"{stem}.png" for stem in stems]
     tables = [f for r in records for f in r["files"]] + ["validation.csv"] * bool(validations)
@@ -360,6 +324,43 @@ def assemble(
         explorers,
     )
     return written + [outdir / "report.pdf"]
+
+
+def _summary_page(title, summaries, validations, counts, job_seconds, explorers) -> Page:
+    """The summary as a page of the report: it names each page by its numbers (``counts``: stem ->
+    PDF pages, in order after it), which follow the summary's own pages, which follow its text."""
+    n_title = 1
+    for _ in range(3):
+        numbers, k = {}, 1 + n_title
+        for stem, n_pdf in counts:
+            numbers[stem], k = (k, k + n_pdf - 1), k + n_pdf
+        n = len(summary_layout(title, summaries, validations, numbers, job_seconds, explorers)[2])
+        if n == n_title:
+            break
+        n_title = n
+    args = (title, __version__, summaries, validations, numbers, job_seconds, explorers)
+    pdf_pages = (
+        (lambda: [title_page(*args, page=i) for i in range(n_title)]) if n_title > 1 else None
+    )
+    return Page("title", lambda: title_page(*args), pdf_pages, n_title)
+
+
+def _join(own, n_title, parts, title, path) -> None:
+    """``report.pdf``: the first ``n_title`` pages of ``own`` (the summary), every part, then the
+    rest of ``own`` (the run's pages)."""
+    from pypdf import PdfReader, PdfWriter
+
+    own_pdf = PdfReader(own)
+    writer = PdfWriter()
+    for page in own_pdf.pages[:n_title]:
+        writer.add_page(page)
+    for part in parts:
+        writer.append(str(part))
+    for page in own_pdf.pages[n_title:]:
+        writer.add_page(page)
+    writer.add_metadata({"/Title": title, "/Creator": f"clutchlab {__version__}"})
+    with store.atomic(path) as tmp:
+        writer.write(tmp)
 
 
 def _check_parts(parts, records, results) -> None:

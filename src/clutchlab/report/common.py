@@ -208,19 +208,8 @@ def summary_layout(title, summaries, validations, numbers=None, job_seconds=None
     the lines need (no study's block split where it fits a page). Arguments as :func:`title_page`."""
     numbers, explorers = numbers or {}, explorers or {}
     head = textwrap.wrap(title, 70)
-    tail = []
-    if validations:
-        n = sum(v.sizes["row"] for v in validations)
-        ok = sum(int(v["passed"].sum()) for v in validations)
-        where = page_ranges(numbers, ["validation_table"]) if "validation_table" in numbers else ""
-        tail = [
-            [
-                f"Validation: {ok} of {n} reproduced numbers of the source papers within tolerance "
-                f"(table on {where}; validation.csv)."
-            ]
-        ]
+    tail = _validation_block(validations, numbers)
     first = _SUMMARY_TOP - len(head) * 0.045 - 0.05 - _SUMMARY_BOTTOM  # below the version line
-    later = _SUMMARY_TOP - _SUMMARY_BOTTOM - 0.04  # below "summary (continued)"
     for size, model in _SUMMARY_FONTS:
         chars = int(0.9 * A4_LANDSCAPE[0] * 72 / (0.53 * size))
         blocks = [
@@ -231,11 +220,33 @@ def summary_layout(title, summaries, validations, numbers=None, job_seconds=None
             [w for line in b for w in textwrap.wrap(line, chars, subsequent_indent="    ")]
             for b in blocks + tail
         ]
-        step = _summary_step(size)
-        if (sum(len(b) for b in wrapped) + 0.6 * len(wrapped)) * step <= first:
+        if _blocks_height(wrapped, size) <= first:
             return size, head, [wrapped]
+    later = _SUMMARY_TOP - _SUMMARY_BOTTOM - 0.04  # below "summary (continued)"
+    return size, head, _paginate(wrapped, _summary_step(size), first, later)
+
+
+def _validation_block(validations, numbers) -> list[list[str]]:
+    """The summary's validation verdict (a block of one line), if any study reproduces numbers."""
+    if not validations:
+        return []
+    n = sum(v.sizes["row"] for v in validations)
+    ok = sum(int(v["passed"].sum()) for v in validations)
+    where = page_ranges(numbers, ["validation_table"]) if "validation_table" in numbers else ""
+    return [
+        [
+            f"Validation: {ok} of {n} reproduced numbers of the source papers within tolerance "
+            f"(table on {where}; validation.csv)."
+        ]
+    ]
+
+
+def _paginate(blocks, step, first, later) -> list:
+    """The blocks of lines over pages of ``first`` (the first) and ``later`` height (fractions of
+    a page; ``step`` a line's): a block moves to the next page where it fits a page, else it is
+    split where the page ends."""
     pages, used, room = [[]], 0.0, first
-    for block in wrapped:
+    for block in blocks:
         lines = list(block)
         while lines:
             fit = int((room - used) / step)
@@ -246,7 +257,13 @@ def summary_layout(title, summaries, validations, numbers=None, job_seconds=None
             if lines:
                 pages.append([])
                 used, room = 0.0, later
-    return size, head, pages
+    return pages
+
+
+def _blocks_height(blocks, size) -> float:
+    """The height of blocks of summary lines at ``size`` pt (a gap of 0.6 line after each), as a
+    fraction of an A4 page."""
+    return (sum(len(b) for b in blocks) + 0.6 * len(blocks)) * _summary_step(size)
 
 
 def _summary_step(size) -> float:
@@ -279,7 +296,7 @@ def title_page(
         k = page or 0
         return _summary_figure(title, version, head, pages[k], size, A4_LANDSCAPE[1], k > 0)
     blocks = [b for p in pages for b in p]
-    text = (sum(len(b) for b in blocks) + 0.6 * len(blocks)) * _summary_step(size)
+    text = _blocks_height(blocks, size)
     height = A4_LANDSCAPE[1] * max(1.0, (text + 0.3) / (_SUMMARY_TOP - _SUMMARY_BOTTOM))
     return _summary_figure(title, version, head, blocks, size, height, False)
 
