@@ -557,6 +557,40 @@ def test_a_large_chunk_runs_in_batches_with_progress(monkeypatch):
     assert "64 scenarios computed" in lines[-1]
 
 
+@pytest.mark.parametrize("name", ["diaphragm_spring", "centrifugal"])
+def test_a_large_chunk_keeps_its_curve_subset_batch_by_batch(monkeypatch, name):
+    """A chunk that runs in batches keeps each batch's share of the stored curves (every N-th
+    scenario of the whole run, batch and chunk edges not on multiples of N): the same Dataset as
+    the chunk in one batch, the curves those of the full computation there."""
+    sec = resolve(
+        {
+            "studies": [name],
+            name: {
+                "design": "sobol",
+                "samples": 64,
+                "seed": 3,
+                "curves": 5,
+                "parameters": {"friction_coefficient": {"min": 0.3, "max": 0.5}},
+            },
+        }
+    )[name]
+    design = doe.build_design(sec)
+    whole = pipeline.run_chunk(design, sec["options"], 2, 1)
+    monkeypatch.setattr(pipeline, "PROGRESS_MIN", 10)
+    batched = pipeline.run_chunk(design, sec["options"], 2, 1)
+    xr.testing.assert_identical(batched.drop_attrs(), whole.drop_attrs())
+    assert batched["curve_run"].values.tolist() == list(range(35, 64, 5))
+    monkeypatch.setattr(pipeline, "PROGRESS_MIN", 10**9)
+    design.attrs["curve_stride"] = 1
+    every = pipeline.run_chunk(design, sec["options"], 2, 1)
+    curves = [n for n, v in batched.data_vars.items() if "curve_run" in v.dims]
+    assert curves
+    for n in curves:
+        np.testing.assert_array_equal(
+            batched[n].values, every[n].sel(run=batched["curve_run"].values).values
+        )
+
+
 # every study over designs that reach each of its models and statuses (sampled from the ranges of
 # config/million.yaml, widened where a status needs it): its result must not depend on the batch a
 # scenario is computed in

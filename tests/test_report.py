@@ -361,6 +361,29 @@ def test_sampled_maps_bin_many_designs():
         plt.close(fig)
 
 
+@pytest.mark.parametrize("statistic", ["mean", "median"])
+def test_binned_statistic_as_scipy(statistic):
+    """The maps' per-bin mean and median equal scipy.stats.binned_statistic_2d's (equal bins over
+    the range and a discrete factor's midpoints; empty bins NaN; a value on the last edge in the
+    last bin; points outside given edges left out)."""
+    from scipy.stats import binned_statistic_2d
+
+    from clutchlab.report.common import _edges, binned_2d
+
+    rng = np.random.default_rng(2)
+    x = rng.uniform(0.0, 3.0, 5000)
+    x[:2] = 0.0, 3.0  # the range's ends
+    y = rng.integers(0, 4, x.size).astype(float)
+    z = rng.normal(size=x.size)
+    for xe, ye in ((_edges(x, 30), _edges(y, 30)), (np.linspace(0.5, 2.5, 7), _edges(y, 30))):
+        want = binned_statistic_2d(x, y, z, statistic, bins=[xe, ye]).statistic
+        got = binned_2d(x, y, z, xe, ye, statistic)
+        np.testing.assert_allclose(got, want, rtol=1e-13, atol=0.0)
+    assert np.isnan(binned_2d(x, y, z, np.linspace(5, 6, 3), _edges(y, 30), statistic)).all()
+    with pytest.raises(ValueError, match="statistic"):
+        binned_2d(x, y, z, xe, ye, "max")
+
+
 def test_studies_never_import_the_report():
     """DESIGN.md: studies compute, the report draws and looks a study's pages up by its name; a
     study job (all of clutchlab.studies loaded) imports neither the report nor matplotlib, and

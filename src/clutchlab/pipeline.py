@@ -115,6 +115,7 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=N
     n = idx.size
 
     physical = _with_noise(design, inputs)
+    stride = int(design.attrs.get("curve_stride", 1))
 
     def compute(sel):
         part = {k: (v[sel] if np.ndim(v) else v) for k, v in physical.items()}
@@ -123,10 +124,14 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=N
             # everywhere), the other chunks hold none (empty arrays)
             part = {k: np.full(0, v) for k, v in part.items()}
         if choices:
-            return _compute_by_choice(
+            out = _compute_by_choice(
                 study, part, options, choices, {o: c[sel] for o, c in codes.items()}
             )
-        return study.compute(part, options)
+        else:
+            out = study.compute(part, options)
+        # the stored subset of the curves, taken batch by batch: the full curves of a large
+        # chunk are never joined (joining them cost seconds of page faults a chunk)
+        return _curve_subset(out, idx[sel], stride)
 
     if n:
         with _kernel_lock(study.name):  # the first call compiles (or loads from numba's cache)
@@ -153,7 +158,6 @@ def run_chunk(design: xr.Dataset, options: dict, chunks: int, i: int, progress=N
             f"{study.name} chunk {i + 1} of {chunks}: {n} scenarios computed in {spent:.1f} s"
             + (f" ({n / spent:,.0f} per second)" if n and spent > 0 else "")
         )
-    ds = _curve_subset(ds, idx, int(design.attrs.get("curve_stride", 1)))
     # (the traces of the design the pages show are computed after the merge: clutchlab.traces)
     seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
     coords = {"run": ("run", idx, {"long_name": "scenario index", "units": "1"})}
@@ -212,17 +216,16 @@ def _provenance(design: xr.Dataset, chunks: int, i: int) -> dict:
 
 
 def _join_batches(parts) -> xr.Dataset:
-    """Batches of one chunk, in order, as one Dataset; an attribute the batches disagree on (the
-    models that ran, "; "-separated) is the union of their parts."""
+    """Batches of one chunk, in order, as one Dataset (each batch's stored curves, on
+    ``curve_run``, after each other); an attribute the batches disagree on (the models that ran,
+    "; "-separated) is the union of their parts."""
+    join = dict(data_vars="minimal", coords="minimal", compat="override", combine_attrs="override")
     ds = xr.concat(
-        parts,
-        dim="run",
-        data_vars="minimal",
-        coords="minimal",
-        compat="override",
-        join="outer",
-        combine_attrs="override",
+        [p.drop_dims("curve_run", errors="ignore") for p in parts], dim="run", join="outer", **join
     )
+    if "curve_run" in parts[0].dims:  # the curves' stored subset, along its own dimension
+        curves = [n for n, v in parts[0].data_vars.items() if "curve_run" in v.dims]
+        ds = ds.assign(xr.concat([p[curves] for p in parts], dim="curve_run", **join))
     ds.attrs = {}
     for k in dict.fromkeys(k for p in parts for k in p.attrs):
         vals = [p.attrs[k] for p in parts if k in p.attrs]

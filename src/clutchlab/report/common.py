@@ -516,12 +516,51 @@ SCATTER_MAX = 4000
 
 def _edges(v, bins):
     """Bin edges for a map axis: midway between the values of a discrete factor (at most ``bins``
-    distinct values, e.g. a count), else ``bins`` equal bins."""
+    distinct values, e.g. a count), else ``bins`` equal bins over the values' range."""
     u = np.unique(v[np.isfinite(v)])
     if 1 < u.size <= bins:
         mid = (u[1:] + u[:-1]) / 2
         return np.r_[u[0] - (mid[0] - u[0]), mid, u[-1] + (u[-1] - mid[-1])]
-    return bins
+    lo, hi = (u[0], u[-1]) if u.size else (0.0, 1.0)
+    if lo == hi:
+        lo, hi = lo - 0.5, hi + 0.5
+    return np.linspace(lo, hi, bins + 1)
+
+
+def binned_2d(x, y, z, x_edges, y_edges, statistic):
+    """Per 2-D bin the ``statistic`` ("mean" or "median") of z over the points (x, y) in it: an
+    array (x bins × y bins), NaN in empty bins. The bins are [e_i, e_{i+1}), the last one closed;
+    points outside the edges are left out — as ``scipy.stats.binned_statistic_2d`` does, written
+    with numpy's sort and bincount because the scipy function and its import took 1.7 s of a
+    report page of 10⁶ designs (this one: about 0.1 s)."""
+    nx, ny = len(x_edges) - 1, len(y_edges) - 1
+    ix, iy = _bin_index(x, x_edges), _bin_index(y, y_edges)
+    inside = (ix >= 0) & (iy >= 0)
+    flat, z = ix[inside] * ny + iy[inside], np.asarray(z, dtype=float)[inside]
+    count = np.bincount(flat, minlength=nx * ny)
+    out = np.full(nx * ny, np.nan)
+    full = count > 0
+    if statistic == "mean":
+        out[full] = np.bincount(flat, weights=z, minlength=nx * ny)[full] / count[full]
+    elif statistic == "median":
+        by_value = np.argsort(z)
+        zs = z[by_value[np.argsort(flat[by_value], kind="stable")]]  # by bin, then by value
+        start = np.cumsum(count) - count
+        lo = start + (count - 1) // 2
+        hi = start + count // 2
+        out[full] = 0.5 * (zs[lo[full]] + zs[hi[full]])
+    else:
+        raise ValueError(f"statistic {statistic!r}: 'mean' or 'median'")
+    return out.reshape(nx, ny)
+
+
+def _bin_index(v, edges):
+    """The bin of each value ([e_i, e_{i+1}), the last closed), −1 outside the edges."""
+    v = np.asarray(v, dtype=float)
+    i = np.searchsorted(edges, v, side="right") - 1
+    i[v == edges[-1]] = len(edges) - 2
+    i[(i < 0) | (i > len(edges) - 2) | ~np.isfinite(v)] = -1
+    return i
 
 
 def sampled_category_map(ax, x, y, category, categories, bins=30):
@@ -546,15 +585,12 @@ def sampled_category_map(ax, x, y, category, categories, bins=30):
         return [
             Line2D([], [], ls="", marker="s", color=c, ms=9, label=lab) for lab, c in categories
         ]
-    from scipy.stats import binned_statistic_2d
-
-    share = binned_statistic_2d(
-        x, y, (category == 0).astype(float), "mean", bins=[_edges(x, bins), _edges(y, bins)]
-    )
+    xe, ye = _edges(x, bins), _edges(y, bins)
+    share = binned_2d(x, y, (category == 0).astype(float), xe, ye, "mean")
     mesh = ax.pcolormesh(
-        share.x_edge,
-        share.y_edge,
-        share.statistic.T,
+        xe,
+        ye,
+        share.T,
         cmap="RdYlGn",
         vmin=0,
         vmax=1,
@@ -660,19 +696,12 @@ def sampled_value_map(ax, x, y, z, label, cmap="viridis", limits=None, bins=30):
             rasterized=True,
         )
     else:
-        from scipy.stats import binned_statistic_2d
-
-        med = binned_statistic_2d(
-            x[finite],
-            y[finite],
-            z[finite],
-            "median",
-            bins=[_edges(x[finite], bins), _edges(y[finite], bins)],
-        )
+        xe, ye = _edges(x[finite], bins), _edges(y[finite], bins)
+        med = binned_2d(x[finite], y[finite], z[finite], xe, ye, "median")
         m = ax.pcolormesh(
-            med.x_edge,
-            med.y_edge,
-            med.statistic.T,
+            xe,
+            ye,
+            med.T,
             cmap=cmap,
             vmin=vmin,
             vmax=vmax,
