@@ -384,6 +384,36 @@ def test_binned_statistic_as_scipy(statistic):
         binned_2d(x, y, z, xe, ye, "max")
 
 
+def test_a_fitted_table_is_as_tall_as_its_rows_and_stays_in_its_axes():
+    """The answers and robust pages' tables: one row is not stretched over the axes (it takes
+    its header and one row of text from the top), fifteen rows (the answers page's most) keep
+    every text, column names wrapped to their column, inside its cell, and forty rows still stay
+    inside the axes (thinner rows)."""
+    import matplotlib.pyplot as plt
+
+    from clutchlab.report.common import A4_LANDSCAPE, fitted_table, texts_outside_cells
+
+    header = ["sheet_thickness [mm]", "friction_coefficient [-]", "quantile_peak_jerk [rad/s^3]"]
+    for n in (1, 15, 40):
+        fig = plt.figure(figsize=A4_LANDSCAPE)
+        ax = fig.add_axes([0.1, 0.05, 0.3, 0.4])
+        ax.set_axis_off()
+        table = fitted_table(ax, header, [["2.6", "0.4", "9.116e+06"]] * n)
+        fig.canvas.draw()
+        cells = table.get_celld()
+        top = max(c.get_window_extent().y1 for c in cells.values())
+        bottom = min(c.get_window_extent().y0 for c in cells.values())
+        box = ax.get_window_extent()
+        assert top <= box.y1 + 1 and bottom >= box.y0 - 1, n
+        row_in = cells[1, 0].get_window_extent().height / fig.dpi
+        assert row_in <= 1.6 * 1.2 * 8 / 72 + 1e-6, n
+        if n == 1:  # the header and one row: well under a third of the axes
+            assert top - bottom < 0.3 * box.height
+        if n <= 15:
+            assert not texts_outside_cells(fig), texts_outside_cells(fig)
+        plt.close(fig)
+
+
 def test_studies_never_import_the_report():
     """DESIGN.md: studies compute, the report draws and looks a study's pages up by its name; a
     study job (all of clutchlab.studies loaded) imports neither the report nor matplotlib, and

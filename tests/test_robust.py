@@ -369,6 +369,16 @@ def test_the_default_runs_best_robust_design_meets_every_limit_through_the_api()
     assert float(binding["binding_driven_inertia"].sel(answer=answer)) == worst[0]
     assert float(binding["binding_load_torque"].sel(answer=answer)) == worst[1]
     assert float(binding["binding_friction_coefficient_noise"].sel(answer=answer)) == worst[2]
+    # its robust page: legible (8 pt and up), every text on the page and in its table cell
+    import matplotlib.pyplot as plt
+
+    from clutchlab.report import robust as pages
+    from clutchlab.report.common import texts_outside, texts_outside_cells, texts_too_small
+
+    fig = pages.page("engagement", answers)
+    assert not texts_too_small(fig), texts_too_small(fig)[:5]
+    assert not texts_outside(fig) and not texts_outside_cells(fig), texts_outside_cells(fig)
+    plt.close(fig)
 
 
 _OTHER_STUDIES = {

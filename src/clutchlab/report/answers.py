@@ -15,7 +15,7 @@ from .. import display, studies
 from .. import status as st
 from ..explore import flat as _flat
 from ..explore import front_order, objective_table, pareto_rank, spread
-from .common import A4_LANDSCAPE, drawn, drawn_note
+from .common import A4_LANDSCAPE, drawn, drawn_note, fitted_table, wrap_name
 
 MAX_ROWS = 15
 
@@ -262,7 +262,7 @@ def _failing_panel(ax, ds):
     """The statuses and constraints that fail most, as bars (designs or scenarios failing each)."""
     names, viol, colours = _failing(ds)
     ax.barh(range(len(names)), viol, height=0.6, color=colours)
-    ax.set_yticks(range(len(names)), [_wrap_name(n, 18) for n in names], fontsize=8)
+    ax.set_yticks(range(len(names)), [wrap_name(n, 18) for n in names], fontsize=8)
     ax.set_ylim(len(names) - 0.5, -0.5)
     ax.set_xlabel(("scenarios" if "noise" in ds.dims else "designs") + " failing it")
     ax.xaxis.set_major_locator(plt.MaxNLocator(4, integer=True))
@@ -331,20 +331,6 @@ def _front_caption(ds, objectives, groups, crossed) -> str:
     )
 
 
-def _wrap_name(name, width) -> str:
-    """A name wrapped at its underscores or spaces (never inside a word): ``sheet_\nthickness``."""
-    import re
-
-    parts = [p for p in re.split(r"(?<=[_ ])", name) if p]
-    lines, line = [], ""
-    for p in parts:
-        if line and len(line) + len(p.rstrip()) > width:
-            lines.append(line.rstrip())
-            line = ""
-        line += p
-    return "\n".join(lines + [line.rstrip()])
-
-
 def _front_table(ax, ds):
     """The front's designs as a table (the first columns of ``<study>_pareto.csv``: factors and
     objectives, display units), or a sentence where the run has no feasible design."""
@@ -358,17 +344,8 @@ def _front_table(ax, ds):
             ha="center", va="center", fontsize=10, transform=ax.transAxes,
         )  # fmt: skip
         return
-    table = ax.table(
-        cellText=[[_text(v, ".4g") for v in r[:k]] for r in rows],
-        colLabels=[_wrap_name(h, 16) for h in header[:k]],
-        cellLoc="center",
-        bbox=(0.0, 0.0, 1.0, 1.0),
-    )  # the table fills its axes, never past the page
-    table.auto_set_font_size(False)
-    table.set_fontsize(8)
-    header_share = 2.0 / (len(rows) + 2)  # the wrapped column names get two rows' height
-    for (i, _j), c in table.get_celld().items():
-        c.set_height(header_share if i == 0 else (1.0 - header_share) / len(rows))
+    cells = [[_text(v, ".4g") for v in r[:k]] for r in rows]
+    fitted_table(ax, header[:k], cells)
 
 
 def _marks(ds, slice_only=False) -> list:
@@ -525,7 +502,7 @@ def sensitivity_page(name, se):
             max(1.0, float(np.nanmax(np.r_[s1, st_, 0.0])) * 1.05),
         )
         ax.grid(alpha=0.3, axis="x")
-        ax.set_yticks(x, [_wrap_name(f, 13) for f in factors_], fontsize=8)
+        ax.set_yticks(x, [wrap_name(f, 13) for f in factors_], fontsize=8)
         ax.set_ylim(len(factors_) - 0.5, -0.5)
         ax.tick_params(axis="x", labelsize=8)
     for ax in axes.ravel()[len(outputs) :]:

@@ -514,6 +514,51 @@ def contour_level(ax, x, y, z, level, **kw):
 SCATTER_MAX = 4000
 
 
+def wrap_name(name, width) -> str:
+    """A name wrapped at its underscores or spaces (never inside a word): ``sheet_\nthickness``."""
+    import re
+
+    parts = [p for p in re.split(r"(?<=[_ ])", name) if p]
+    lines, line = [], ""
+    for p in parts:
+        if line and len(line) + len(p.rstrip()) > width:
+            lines.append(line.rstrip())
+            line = ""
+        line += p
+    return "\n".join(lines + [line.rstrip()])
+
+
+def fitted_table(ax, header, cells, widths=None, fontsize=8.0):
+    """A table across the width of ``ax``, from its top: the column names wrapped to their
+    column (:func:`wrap_name`; ``widths`` relative, default equal), the header row as tall as
+    the most wrapped one, the rows 1.6 lines of text or what is left of the axes for them — a
+    short table is not stretched over its axes, a long one never runs past them. Returns the
+    matplotlib table."""
+    fig = ax.figure
+    pos = ax.get_position()
+    axes_w, axes_h = pos.width * fig.get_figwidth(), pos.height * fig.get_figheight()
+    widths = np.ones(len(header)) if widths is None else np.asarray(widths, dtype=float)
+    widths = widths / widths.sum()
+    chars = [max(6, int(w * axes_w * 72.0 / (0.62 * fontsize))) for w in widths]
+    labels = [wrap_name(h, n) for h, n in zip(header, chars, strict=True)]
+    line_in = 1.2 * fontsize / 72.0
+    head_in = (max(label.count("\n") for label in labels) + 1.6) * line_in
+    row_in = min(1.6 * line_in, (axes_h - head_in) / max(len(cells), 1))
+    height = min(1.0, (head_in + row_in * len(cells)) / axes_h)
+    table = ax.table(
+        cellText=cells,
+        colLabels=labels,
+        colWidths=list(widths),
+        cellLoc="center",
+        bbox=(0.0, 1.0 - height, 1.0, height),
+    )
+    table.auto_set_font_size(False)
+    table.set_fontsize(fontsize)
+    for (r, _c), cell in table.get_celld().items():
+        cell.set_height((head_in if r == 0 else row_in) / axes_h)
+    return table
+
+
 def _edges(v, bins):
     """Bin edges for a map axis: midway between the values of a discrete factor (at most ``bins``
     distinct values, e.g. a count), else ``bins`` equal bins over the values' range."""
@@ -628,6 +673,24 @@ def texts_outside(fig) -> list[str]:
             continue
         if bb.x0 < -1 or bb.y0 < -1 or bb.x1 > width + 1 or bb.y1 > height + 1:
             out.append(t.get_text())
+    return out
+
+
+def texts_outside_cells(fig) -> list[str]:
+    """The table cells of a figure whose text reaches beyond the cell (e.g. a wrapped column name
+    taller than its row)."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    out = []
+    for ax in fig.axes:
+        for table in ax.tables:
+            for cell in table.get_celld().values():
+                text = cell.get_text()
+                if not text.get_text().strip():
+                    continue
+                tb, cb = text.get_window_extent(renderer), cell.get_window_extent(renderer)
+                if tb.x0 < cb.x0 - 1 or tb.x1 > cb.x1 + 1 or tb.y0 < cb.y0 - 1 or tb.y1 > cb.y1 + 1:
+                    out.append(text.get_text())
     return out
 
 

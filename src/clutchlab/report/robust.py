@@ -16,11 +16,12 @@ import numpy as np
 
 from .. import display, explore
 from ..robust import CONFIDENCE, wilson_interval
-from .common import A4_LANDSCAPE
+from .common import A4_LANDSCAPE, fitted_table
 
 __all__ = ["page", "best_text", "summary_lines", "write_csv", "front_rows"]
 
-MAX_ROWS = 12  # robust front designs in the page's table (all of them in the CSV)
+MAX_ROWS = 8  # robust front designs in the page's table, spread along it (all in the CSV)
+TABLE_FONT = 8.0  # [pt]
 
 
 def _design_dims(ra) -> list[str]:
@@ -205,41 +206,40 @@ def page(name, ra):
     ax = fig.add_subplot(grid[1, :])
     ax.set_axis_off()
     header, rows = front_rows(ra)
+    shown = [rows[i] for i in explore.spread(np.arange(len(rows)), MAX_ROWS)]
     if rows:
-        short = [r[:-1] + [textwrap.shorten(r[-1], 70)] for r in rows[:MAX_ROWS]]
-        widths = [0.075] * (len(header) - 1) + [0.3]
-        table = ax.table(
-            cellText=short,
-            colLabels=[
-                textwrap.fill(h, 13 if k < len(header) - 1 else 60) for k, h in enumerate(header)
-            ],
-            colWidths=[w / sum(widths) for w in widths],
-            loc="upper center",
-            cellLoc="center",
-        )
-        table.auto_set_font_size(False)
-        table.set_fontsize(6.5)
-        table.scale(1.0, 1.5)
+        _front_table(ax, header, shown)
     else:
         ax.text(0.5, 0.5, "no robust front: " + _none_reason(ra), ha="center", fontsize=10)
     feas = _flat(ra, "robust_feasible").astype(bool)
     rank = _flat(ra, "robust_rank")
+    spread = " spread along it" if len(shown) < len(rows) else ""
     fig.suptitle(
         textwrap.fill(
             f"Robust answers, study '{name}': {int(feas.sum())} of {feas.size} designs meet every "
             f"limit with probability of failure at most "
             f"{100 * ra.attrs.get('max_failure_probability', 0.01):.2g} % at every operating "
             f"condition; {int((rank == 0).sum())} on the robust front"
-            + (f" (table: {min(len(rows), MAX_ROWS)}; {name}_robust.csv)" if rows else ""),
+            + (f" (table: {len(shown)}{spread}; {name}_robust.csv)" if rows else ""),
             130,
         ),
         fontsize=11,
     )
     fig.text(0.04, 0.915, textwrap.fill("best robust design: " + best_text(ra), 165),
              fontsize=8, va="top")  # fmt: skip
-    fig.text(0.04, 0.835, textwrap.fill(resolution_text(ra), 180), fontsize=7.5, va="top",
+    fig.text(0.04, 0.835, textwrap.fill(resolution_text(ra), 165), fontsize=8, va="top",
              color="0.3")  # fmt: skip
     return fig
+
+
+def _front_table(ax, header, rows) -> None:
+    """The robust front's table (:func:`clutchlab.report.common.fitted_table`): the last column,
+    the binding condition, wider and shortened to it."""
+    widths = [0.075] * (len(header) - 1) + [0.33]
+    chars = int(0.33 / sum(widths) * ax.get_position().width * ax.figure.get_figwidth() * 72.0
+                / (0.55 * TABLE_FONT))  # fmt: skip
+    cells = [r[:-1] + [textwrap.shorten(r[-1], chars)] for r in rows]
+    fitted_table(ax, header, cells, widths, TABLE_FONT)
 
 
 def resolution_text(ra) -> str:
@@ -285,7 +285,7 @@ def _front_panel(ax, ra) -> None:
         u = display.unit_of(ra, f"{which}_{o}")
         setter(f"{which} {o.replace('_', ' ')} [{u.label}] ({s})", fontsize=8)
     ax.tick_params(labelsize=8)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=8)
     ax.set_title(f"{which}-case objectives over conditions and noise", fontsize=9)
 
 
@@ -313,9 +313,9 @@ def _failure_panel(ax, ra) -> None:
     ax.errorbar(range(p.size), p, yerr=err, fmt="none", color="k", capsize=4)
     ax.axhline(100 * ra.attrs.get("max_failure_probability", 0.01), color="tab:red", ls="--",
                label="allowed")  # fmt: skip
-    ax.set_xticks(range(p.size), labels, fontsize=7)
+    ax.set_xticks(range(p.size), labels, fontsize=8)
     ax.set_xlabel(" / ".join(conds) or "no operating condition", fontsize=8)
     ax.set_ylabel("probability of failure [%] (95 % Wilson interval)", fontsize=8)
     ax.set_title("best robust design at each operating condition", fontsize=9)
-    ax.legend(fontsize=7)
-    ax.tick_params(labelsize=7)
+    ax.legend(fontsize=8)
+    ax.tick_params(labelsize=8)
