@@ -174,3 +174,26 @@ def test_units_of_the_right_kind(text, unit, kind, expected):
 def test_units_of_the_wrong_kind_are_refused(bad, unit, kind, fragment):
     with pytest.raises(UnitError, match=fragment):
         to_si(bad, unit, kind)
+
+
+@pytest.mark.parametrize(
+    "bad, unit",
+    [
+        ("1 2²²²²²", "1"),  # pint read 2**2**2**2**2**2 = 2^(2^65536): minutes, then 21 GB
+        ("1 m²²²²²²", "m"),
+        ("1 m^2^3", "m^8"),
+        ("1 m**(2*2)**(3*3)", "m"),
+        ("1 m^", "m"),
+    ],
+)
+def test_an_exponent_is_one_number_and_a_tower_is_refused_at_once(bad, unit):
+    """A unit's exponent is one number: a power of a power is refused before pint evaluates its
+    tower with Python integers (an unbounded computation that a CI worker was killed for)."""
+    import time
+
+    to_si("1 m", "m")  # (pint's registry loaded outside the timing)
+    start = time.perf_counter()
+    with pytest.raises(UnitError, match="an exponent is one number"):
+        to_si(bad, unit)
+    assert time.perf_counter() - start < 1.0
+    assert to_si("2 (m^2)^3", "m^6") == 2.0 and to_si("4 m^(-2)", "1/m^2") == 4.0

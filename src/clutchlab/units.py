@@ -44,6 +44,24 @@ KINDS = ("absolute", "difference", "count")
 # "2 3 mm" as 6 mm and "2,3 mm" as 23 mm, both silent misreads of what an engineer wrote
 _NUMBER = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(.*?)\s*$", re.S)
 
+# an exponent is one number, e.g. m^2, s**-1, m^(-2): pint evaluates an exponent's expression with
+# Python integers, so a tower ("2**2**2", "m^2^3", "m²²" once ² is read as **2) is refused before
+# pint sees it — "2²²²²²" = 2^(2^65536) never ends and fills the memory
+_EXPONENT = re.compile(r"\*\*|\^")
+_ONE_NUMBER = re.compile(
+    r"\s*(?:\(\s*[+-]?[\d.]+(?:[eE][+-]?\d+)?\s*\)|[+-]?[\d.]+(?:[eE][+-]?\d+)?)"
+)
+
+
+def _exponents_are_numbers(unit: str) -> bool:
+    """Whether every exponent of a unit expression is one number, not raised to a power again."""
+    for op in _EXPONENT.finditer(unit):
+        operand = _ONE_NUMBER.match(unit, op.end())
+        if operand is None or _EXPONENT.match(unit[operand.end() :].lstrip()):
+            return False
+    return True
+
+
 # unit names whose meaning depends on the country (pint takes the US one): refused, with a spelling
 # that says which is meant
 _AMBIGUOUS = {
@@ -156,6 +174,11 @@ def _bare(number: float, value, si_unit: str, kind) -> float:
 def _convert(number: float, unit: str, value, si_unit: str, kind) -> float:
     """``number`` in the unit expression ``unit`` converted to ``si_unit`` (kinds checked)."""
     ureg = _registry()
+    if not _exponents_are_numbers(unit):
+        raise UnitError(
+            f"cannot read the unit of {value!r}: an exponent is one number (e.g. m^2, s^-1; "
+            "m^6, not m^2^3)"
+        )
     for word in re.findall(r"[A-Za-z_]+", unit):
         if word in _AMBIGUOUS:
             raise UnitError(f"{value!r}: {_AMBIGUOUS[word]}")
