@@ -528,18 +528,23 @@ def wrap_name(name, width) -> str:
     return "\n".join(lines + [line.rstrip()])
 
 
+def column_chars(ax, share, fontsize, em=0.62) -> int:
+    """Characters of text at ``fontsize`` [pt] (``em``: a character's mean width in ems) that fit
+    a table column taking ``share`` of the width of ``ax``."""
+    axes_w = ax.get_position().width * ax.figure.get_figwidth()
+    return int(share * axes_w * 72.0 / (em * fontsize))
+
+
 def fitted_table(ax, header, cells, widths=None, fontsize=8.0):
     """A table across the width of ``ax``, from its top: the column names wrapped to their
     column (:func:`wrap_name`; ``widths`` relative, default equal), the header row as tall as
     the most wrapped one, the rows 1.6 lines of text or what is left of the axes for them — a
     short table is not stretched over its axes, a long one never runs past them. Returns the
     matplotlib table."""
-    fig = ax.figure
-    pos = ax.get_position()
-    axes_w, axes_h = pos.width * fig.get_figwidth(), pos.height * fig.get_figheight()
+    axes_h = ax.get_position().height * ax.figure.get_figheight()
     widths = np.ones(len(header)) if widths is None else np.asarray(widths, dtype=float)
     widths = widths / widths.sum()
-    chars = [max(6, int(w * axes_w * 72.0 / (0.62 * fontsize))) for w in widths]
+    chars = [max(6, column_chars(ax, w, fontsize)) for w in widths]
     labels = [wrap_name(h, n) for h, n in zip(header, chars, strict=True)]
     line_in = 1.2 * fontsize / 72.0
     head_in = (max(label.count("\n") for label in labels) + 1.6) * line_in

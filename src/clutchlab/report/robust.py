@@ -16,7 +16,7 @@ import numpy as np
 
 from .. import display, explore
 from ..robust import CONFIDENCE, wilson_interval
-from .common import A4_LANDSCAPE, fitted_table
+from .common import A4_LANDSCAPE, column_chars, fitted_table
 
 __all__ = ["page", "best_text", "summary_lines", "write_csv", "front_rows"]
 
@@ -236,8 +236,7 @@ def _front_table(ax, header, rows) -> None:
     """The robust front's table (:func:`clutchlab.report.common.fitted_table`): the last column,
     the binding condition, wider and shortened to it."""
     widths = [0.075] * (len(header) - 1) + [0.33]
-    chars = int(0.33 / sum(widths) * ax.get_position().width * ax.figure.get_figwidth() * 72.0
-                / (0.55 * TABLE_FONT))  # fmt: skip
+    chars = column_chars(ax, widths[-1] / sum(widths), TABLE_FONT, em=0.55)
     cells = [r[:-1] + [textwrap.shorten(r[-1], chars)] for r in rows]
     fitted_table(ax, header, cells, widths, TABLE_FONT)
 
