@@ -105,11 +105,11 @@ def test_breakaway_and_relock_in_the_locked_phase():
 @pytest.mark.parametrize("engine_inertia", [np.inf, 1.0])
 def test_seed_design_exact_and_integrated_agree(engine_inertia):
     """Seed 000 design on the compliant driveline: the closed-form phases against the slipping phases
-    integrated where μ depends on the slip (forced by a finite Stribeck speed: with static ratio 1 μ
-    is constant whatever v_s) at rtol 1e-12 — the exponential collocation of a held engine
-    (clutchlab.engagement._slip_phase: a dozen steps, exact to rounding for a constant law) and DOPRI5 for a
-    free engine (hundreds of steps; its jerk sampled at its steps and refined on its continuous
-    extension)."""
+    integrated where μ depends on the slip (forced by a finite Stribeck speed with μ_s/μ_k 1e-13
+    above 1: μ is constant to rounding) at rtol 1e-12 — the exponential collocation of a held
+    engine below the law's constant part (clutchlab.engagement._slip_phase: a dozen steps, exact to
+    rounding for a constant law) and DOPRI5 for a free engine (hundreds of steps; its jerk sampled
+    at its steps and refined on its continuous extension)."""
     kw = dict(
         engine_speed=570.0,
         engine_inertia=engine_inertia,
@@ -124,10 +124,14 @@ def test_seed_design_exact_and_integrated_agree(engine_inertia):
         t_end=0.6,
     )
     exact = eng.simulate(**kw)
-    integ = eng.simulate(**kw, stribeck_speed=100.0, rtol=1e-12, atol=1e-12)
+    # (μ_s/μ_k = 1 + 1e-13: the law's constant part above 2.9 v_s is solved exactly, below it the
+    # collocation; with μ_s = μ_k every slipping phase would be exact)
+    integ = eng.simulate(
+        **kw, stribeck_speed=100.0, static_ratio=1.0 + 1e-13, rtol=1e-12, atol=1e-12
+    )
     held = not np.isfinite(engine_inertia)
     assert exact["n_steps"] == 0
-    assert (integ["n_steps"] < 60) if held else (integ["n_steps"] > 500)
+    assert (0 < integ["n_steps"] < 60) if held else (integ["n_steps"] > 500)
     for k in ("lockup_time", "slip_work", "peak_slip_power"):
         assert exact[k] == pytest.approx(integ[k], rel=1e-10)
     assert exact["peak_jerk"] == pytest.approx(integ["peak_jerk"], rel=1e-8)
@@ -436,21 +440,50 @@ def _held_design(n, seed):
 
 @pytest.mark.parametrize("profile", ["ramp", "cubic", "quintic"])
 def test_collocation_of_a_constant_law_is_the_closed_form(profile):
-    """A Stribeck law with μ_s = μ_k is constant μ: the collocated slipping phases (forced onto the
-    collocation by the finite Stribeck speed) equal the closed-form linear phases on 12 random
-    designs — lock-up time, slip work, peak slip power and torque to 1e-9, peak jerk to 1e-8 —
-    in at most 60 steps (the oscillation is never stepped through)."""
+    """A Stribeck law with μ_s/μ_k = 1 + 1e-13 is constant μ to rounding: the collocated slipping
+    phases (forced onto the collocation below the law's exactly constant part, 2.9 v_s, by the
+    finite Stribeck speed) equal the closed-form linear phases on 12 random designs — lock-up
+    time, slip work, peak slip power and torque to 1e-9, peak jerk to 1e-8 — in at most 60 steps
+    (the oscillation is never stepped through)."""
     d, _ = _held_design(12, {"ramp": 31, "cubic": 32, "quintic": 33}[profile])
     exact = eng.simulate(**d, profile=profile, compliant=True)
-    coll = eng.simulate(
-        **d, profile=profile, compliant=True, stribeck_speed=30.0, rtol=1e-7, atol=1e-9
-    )
+    law = dict(stribeck_speed=100.0, static_ratio=1.0 + 1e-13)
+    coll = eng.simulate(**d, **law, profile=profile, compliant=True, rtol=1e-7, atol=1e-9)
     assert np.array_equal(exact["status"], coll["status"])
     assert np.all(exact["n_steps"] == 0) and np.all((coll["n_steps"] > 0) & (coll["n_steps"] < 60))
     for k in ("lockup_time", "slip_work", "peak_slip_power", "peak_friction_torque"):
         np.testing.assert_allclose(coll[k], exact[k], rtol=1e-9, err_msg=k)
     np.testing.assert_allclose(coll["peak_jerk"], exact["peak_jerk"], rtol=1e-8)
     assert np.max(np.abs(coll["energy_residual"])) < 1e-9
+
+
+def test_a_stribeck_laws_constant_part_is_solved_exactly():
+    """Where its term is below rounding, 2⁻⁵⁴/e of μ_k, a Stribeck law is μ_k exactly, and that part
+    of a slipping phase is the exact linear phase: with μ_s = μ_k all of it (the closed form's
+    results to the bit, no step), with μ_s/μ_k = 1.3 everything above s·Δω = 6.1 v_s (a linear
+    phase, then the collocation below; the law there checked to be 1 to the bit)."""
+    from clutchlab.engagement._friction import friction_law
+    from clutchlab.engagement._layout import N_PARAM, RS, VS
+    from clutchlab.engagement._slip_phase import constant_slip
+
+    d, rng = _held_design(6, 36)
+    exact = eng.simulate(**d, compliant=True)
+    same = eng.simulate(**d, compliant=True, stribeck_speed=20.0, static_ratio=1.0)
+    for k in ("status", "lockup_time", "slip_work", "peak_jerk", "peak_slip_power"):
+        np.testing.assert_array_equal(same[k], exact[k], err_msg=k)
+    assert np.all(same["n_steps"] == 0)
+    vs = rng.uniform(5.0, 50.0, 6)
+    kw = dict(compliant=True, static_ratio=1.3, rtol=1e-7, atol=1e-9)
+    strib = eng.simulate(**d, stribeck_speed=vs, **kw)
+    assert np.all((strib["n_linear"] >= 2) & (strib["n_steps"] > 0))
+    q = np.zeros(N_PARAM)
+    q[RS], q[VS] = 1.3, 20.0
+    x_c = constant_slip(q)
+    assert x_c == pytest.approx(20.0 * np.sqrt(np.log(0.3) + 54 * np.log(2) + 1))
+    for slip in (x_c, 1.0001 * x_c, 10 * x_c, -x_c):
+        assert friction_law(slip, q)[0] == 1.0
+    assert friction_law(0.99 * x_c, q)[0] == 1.0  # (the margin: 1/e)
+    assert friction_law(0.9 * x_c, q)[0] > 1.0
 
 
 def test_collocated_scenarios_do_not_depend_on_their_batch():

@@ -130,6 +130,40 @@ roller:
 """
 
 
+def _stop_leftovers(root, timeout=30.0):
+    """Kill the processes still working in ``root`` (their working directory below it) and wait
+    until they are gone; return how many there were. The CI cluster tracks a job's processes by
+    parentage (proctrack/linuxproc, no cgroups): a cancelled job's Snakemake, orphaned when its
+    step ends, outlives the cancel and would write into the rerun's working directory."""
+    root = os.path.realpath(root)
+    found = []
+    for pid in filter(str.isdigit, os.listdir("/proc")):
+        try:
+            cwd = os.readlink(f"/proc/{pid}/cwd")
+        except OSError:
+            continue
+        if int(pid) != os.getpid() and (cwd == root or cwd.startswith(root + os.sep)):
+            found.append(int(pid))
+    for pid in found:
+        try:
+            os.kill(pid, 9)
+        except ProcessLookupError:
+            pass
+    deadline = time.time() + timeout
+    while time.time() < deadline and any(_alive(p) for p in found):
+        time.sleep(0.1)
+    return len(found)
+
+
+def _alive(pid):
+    """Whether process pid runs (a zombie waiting for its parent does not)."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
 def test_a_chunk_job_cancelled_by_slurm_is_reported_and_the_rerun_keeps_finished_chunks(
     cluster, tmp_path
 ):
@@ -163,6 +197,7 @@ def test_a_chunk_job_cancelled_by_slurm_is_reported_and_the_rerun_keeps_finished
     assert not (wd / target).exists()
     states = _job_states(cancelled)
     assert set(states.values()) == {"CANCELLED"}, states
+    _stop_leftovers(wd)
 
     finished = {p.name: p.stat().st_mtime_ns for p in work.glob("chunk_*.h5")}
     assert 0 < len(finished) < 4, finished

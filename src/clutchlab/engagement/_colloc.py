@@ -227,10 +227,26 @@ def poly_eval(c, n, v):
 def fit(values, coef):
     """Power coefficients (in v) of the interpolant of node values (ascending nodes)."""
     for n in range(NN):
-        acc = 0.0
+        coef[n] = 0.0
+    for i in range(NN):
+        vi = values[i]
+        for n in range(NN):
+            coef[n] += VINV[n, i] * vi
+
+
+@njit(**JIT)
+def poly_nodes(c, n, val, der):
+    """Values and d/dv at the NN nodes of Σ_{j<n} c_j·vʲ (Horner on every node at once: the nodes'
+    chains are independent, so they run side by side; each node's arithmetic as
+    :func:`poly_eval`'s)."""
+    for i in range(NN):
+        val[i] = 0.0
+        der[i] = 0.0
+    for j in range(n - 1, -1, -1):
+        cj = c[j]
         for i in range(NN):
-            acc += VINV[n, i] * values[i]
-        coef[n] = acc
+            der[i] = der[i] * NODES[i] + val[i]
+            val[i] = val[i] * NODES[i] + cj
 
 
 @njit(**JIT)

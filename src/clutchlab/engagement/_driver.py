@@ -120,7 +120,7 @@ from ._linear_phase import follow_linear, linear_segment, new_forms, new_polys
 from ._peaks import jerk_torque, peaks_inside_step, record_peaks, scan_jerk
 from ._physics import events, forces, is_linear, jerk_varies, load_static, n_active
 from ._power import duhamel_peak, hist_add, hist_linear, hist_step, slip_spacing
-from ._slip_phase import applies, segment
+from ._slip_phase import applies, constant_slip, segment
 
 JIT = dict(cache=True, error_model="numpy", _nrt=False)
 INLINE = dict(JIT, inline="always")
@@ -162,12 +162,20 @@ def _simulate_one(q, compliant, prof, tt, opts, out, trace, ws, fm, pl, hist, sc
                 break
             continue
         nb = _next_breakpoint(sc.t, sc.t_stop, q, t_rate, tt)
+        x_lock = 0.0  # (the slip where a linear slipping phase ends: lock-up)
+        linear = compliant and is_linear(q, sc.locked)
         if compliant and applies(q, sc.locked):
-            if _slip_step(nb, q, compliant, prof, tt, opts, out, trace, w, hist, sc, ec):
-                break
-            continue
-        if compliant and is_linear(q, sc.locked):
-            if _linear_step(nb, q, compliant, prof, tt, opts, out, trace, w, fm, pl, hist, sc):
+            # a Stribeck law's constant part exactly, by the linear phase up to its end x_lock
+            x_lock = constant_slip(q)
+            linear = sc.sign * (w.y[E] - w.y[H]) > x_lock * (1.0 + 1e-9)
+            if not linear:
+                if _slip_step(nb, q, compliant, prof, tt, opts, out, trace, w, hist, sc, ec):
+                    break
+                continue
+        if linear:
+            if _linear_step(
+                nb, q, compliant, prof, tt, opts, out, trace, w, fm, pl, hist, sc, x_lock
+            ):
                 break
             continue
         if _integrator_step(nb, q, compliant, prof, tt, opts, out, trace, w, hist, sc):
@@ -189,7 +197,7 @@ def _simulate_exact(q, prof, tt, opts, out, trace, ws, fm, pl, hist, scs):
                 break
             continue
         nb = _next_breakpoint(sc.t, sc.t_stop, q, -1.0, tt)
-        if _linear_step(nb, q, True, prof, tt, opts, out, trace, w, fm, pl, hist, sc):
+        if _linear_step(nb, q, True, prof, tt, opts, out, trace, w, fm, pl, hist, sc, 0.0):
             break
     _finish(q, True, opts, out, w, hist, sc)
 
@@ -359,15 +367,16 @@ def _window_end(q, compliant, prof, opts, out, w, fm, pl, sc):
 
 
 @njit(**INLINE)
-def _linear_step(nb, q, compliant, prof, tt, opts, out, trace, w, fm, pl, hist, sc):
+def _linear_step(nb, q, compliant, prof, tt, opts, out, trace, w, fm, pl, hist, sc, x_lock):
     """A linear phase of the compliant model advanced exactly to its first event (then the mode
-    switch) or to the breakpoint nb. Returns whether the scenario ends (out of work, or an event
-    after the window)."""
+    switch) or to the breakpoint nb; slipping with x_lock > 0 [rad/s], its end where the slip
+    falls to x_lock is a boundary (the end of a Stribeck law's constant part), not lock-up.
+    Returns whether the scenario ends (out of work, or an event after the window)."""
     mode = _mode(sc, compliant, prof)
     t = sc.t
     out[N_LINEAR] += 1
     t_new, kind, _, used, fr = linear_segment(
-        t, nb, t, w.y, q, mode, False, opts.peaks, w.pk, fm, pl, opts.max_steps - sc.effort
+        t, nb, t, w.y, q, mode, False, opts.peaks, w.pk, fm, pl, opts.max_steps - sc.effort, x_lock
     )
     sc.effort += used
     decay_modes(w.y, q, t_new - t)  # (a linear phase with fade is a locked one)
@@ -383,7 +392,10 @@ def _linear_step(nb, q, compliant, prof, tt, opts, out, trace, w, fm, pl, hist, 
     if kind == OUT_OF_WORK:
         sc.out_of_work = True
         return True
-    if kind >= 0:
+    if kind == LOCK and x_lock > 0.0:  # the Stribeck law's constant part ends: same mode
+        sc.effort += 1
+        _at_breakpoint(t_new, q, mode, tt, trace, w, sc)
+    elif kind >= 0:
         sc.effort += 1  # a mode switch (a restart at an event)
         if sc.past:
             out[TRUNCATED] = 1.0

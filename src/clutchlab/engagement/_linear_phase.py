@@ -123,9 +123,11 @@ def new_polys():
 
 
 @njit(**JIT)
-def linear_segment(t, t_b, t_load, y, q, mode, follow, peaks, pk, fm, pl, budget):
+def linear_segment(t, t_b, t_load, y, q, mode, follow, peaks, pk, fm, pl, budget, x_lock=0.0):
     """Advance a linear phase of the compliant model exactly from t to the first event in (t, t_b]
-    or to t_b (``t_b`` may be inf with ``follow``). Returns (time, event kind or NO_EVENT,
+    or to t_b (``t_b`` may be inf with ``follow``). Slipping, the LOCK event fires where the slip
+    s·Δω falls to ``x_lock`` [rad/s] (0: lock-up; above 0, the end of a Stribeck law's constant
+    part, :func:`clutchlab.engagement._slip_phase.constant_slip`). Returns (time, event kind or NO_EVENT,
     settled, work, free response): y holds the state there (works updated unless ``follow``), pk
     the peaks inside the segment, work the passes of the root search it took (grid intervals and
     skips). With ``follow`` (after the window) the segment ends, settled, once no armed event can
@@ -136,7 +138,7 @@ def linear_segment(t, t_b, t_load, y, q, mode, follow, peaks, pk, fm, pl, budget
     far faster than the phase, e.g. a damper spring so stiff that its period is below the time's
     round-off, would take forever)."""
     ph = _phase(t, t_load, y, q, mode, pl)
-    _build_forms(ph, q, mode, peaks, pl, fm)
+    _build_forms(ph, q, mode, peaks, pl, fm, x_lock)
     rh, rd, rate = lf.envelope(ph.fr)
     # grid: half of π/ω₀ (ω₀ ≥ ω_d: extrema of the free response are ≥ π/ω₀ apart)
     T = t_b - t
@@ -280,17 +282,17 @@ def _speeds(y, q, mode, tm, te, ia, ra, rr, osc_on, pl):
 
 
 @njit(**INLINE)
-def _build_forms(ph, q, mode, peaks, pl, fm):
+def _build_forms(ph, q, mode, peaks, pl, fm, x_lock):
     """The forms (P + U·h + W·h') of the events and peaks that can happen in this phase (without
-    ``peaks`` no friction torque or output jerk), their derivatives and the degrees of their
-    rows."""
+    ``peaks`` no friction torque or output jerk; the slip's LOCK form zero at s·Δω = x_lock),
+    their derivatives and the degrees of their rows."""
     ft, role = fm.table, fm.role
     for i in range(N_FORM):
         role[i] = OFF
     k, c = q[K], q[CD]
     lf.axpy(k, pl.XP, c, pl.XPD, pl.T2)  # T2 = T_s's polynomial part k·x_p + c·x_p'
     if not mode.locked:
-        _slip_forms(ph, mode.sign, pl, fm)
+        _slip_forms(ph, mode.sign, pl, fm, x_lock)
     else:
         _locked_forms(ph, q, peaks, pl, fm)
     if mode.parked:  # the load's margin over the spring torque
@@ -314,12 +316,14 @@ def _build_forms(ph, q, mode, peaks, pl, fm):
 
 
 @njit(**INLINE)
-def _slip_forms(ph, s, pl, fm):
-    """Slipping: the slip s·(ω_e − ω_A) (LOCK) and the slip power C·s·(ω_e − ω_A) (a peak)."""
+def _slip_forms(ph, s, pl, fm, x_lock):
+    """Slipping: the slip s·(ω_e − ω_A) less x_lock (LOCK) and the slip power C·s·(ω_e − ω_A) (a
+    peak)."""
     ft, T1, C = fm.table, pl.T1, pl.C
     for n in range(NP):
         T1[n] = s * (pl.WE[n] - ph.PA[n] - ph.uA * pl.XPD[n])
     lf.fset(ft, lf.F_LOCK, T1, -s * ph.uA, -s * ph.uA, pl.ZERO, pl.ONE)
+    ft[3 * lf.F_LOCK, 0] -= x_lock
     fm.role[lf.F_LOCK] = EVENT
     lf.mul(C, T1, T1)  # slip power C·s·(ω_e − ω_A)
     for n in range(NP):

@@ -2,7 +2,8 @@
 
 A slipping phase of the compliant model with a held engine, no rotor drag and a nonlinear friction
 law (a Stribeck law, a friction table) or friction fade (:func:`applies`) is advanced here instead
-of by DOPRI5: steps of :mod:`clutchlab.engagement._slip_step` (the method is described in
+of by DOPRI5 (a Stribeck law's part above :func:`constant_slip`, where it is μ_k exactly, by the
+exact linear phase): steps of :mod:`clutchlab.engagement._slip_step` (the method is described in
 :mod:`clutchlab.engagement._colloc`), each accepted step's events, peaks, works and slip power
 samples by :mod:`clutchlab.engagement._slip_records`, the friction face's temperature modes
 exactly over it (:mod:`clutchlab.engagement._heat_modes`). The driver
@@ -14,6 +15,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from ._colloc import JIT, NDEG, NN, fit
@@ -30,6 +32,7 @@ from ._layout import (
     NZ,
     OUT_OF_WORK,
     PARK,
+    RS,
     TH,
     UNPARK,
     VS,
@@ -59,6 +62,22 @@ def applies(q, locked):
         and q[K] > 0.0
         and (math.isfinite(q[VS]) or q[FTAB] > 0.0 or q[FADE] > 0.0)
     )
+
+
+@njit(**JIT)
+def constant_slip(q):
+    """The slip s·Δω [rad/s] above which a Stribeck law is μ_k exactly in double precision, its
+    term |μ_s/μ_k − 1|·e^(−(Δω/v_s)²) below 2⁻⁵⁴/e (1 + it rounds to 1): there a slipping phase
+    of the compliant model is linear and is solved exactly by the driver
+    (:func:`clutchlab.engagement._linear_phase.linear_segment`, its lock-up form moved to this
+    slip), here only below it. 0 for μ_s = μ_k (constant everywhere); inf without a Stribeck law,
+    with a friction table or fade (never linear)."""
+    if not math.isfinite(q[VS]) or q[FTAB] > 0.0 or q[FADE] > 0.0:
+        return np.inf
+    r = abs(q[RS] - 1.0)
+    if r == 0.0:
+        return 0.0
+    return abs(q[VS]) * math.sqrt(max(math.log(r) + 54.0 * math.log(2.0) + 1.0, 0.0))
 
 
 @njit(**JIT)

@@ -21,6 +21,7 @@ from ._colloc import (
     mean_series,
     osc_particular,
     poly_eval,
+    poly_nodes,
     tail_error,
 )
 from ._fade import SOE_LAMBDA, SOE_WEIGHT, face_rise, fade_factor
@@ -84,11 +85,11 @@ def solve_linear(ec, th0, thd0, wm0, k, hw):
     h1 = thd0 - sv * dx0
     sc.h0, sc.h1 = h0, h1
     w0sq = w2 + a * a
+    poly_nodes(ec.xp, nxp, ec.th, ec.thd)
     for i in range(NN):
-        x, dx = poly_eval(ec.xp, nxp, NODES[i])
         cf, sf = ec.cf[i], ec.sf[i]
-        ec.th[i] = x + h0 * cf + (h1 + a * h0) * sf
-        ec.thd[i] = sv * dx + h1 * cf - (a * h1 + w0sq * h0) * sf
+        ec.th[i] = ec.th[i] + h0 * cf + (h1 + a * h0) * sf
+        ec.thd[i] = sv * ec.thd[i] + h1 * cf - (a * h1 + w0sq * h0) * sf
     if sc.parked:
         for i in range(NN):
             ec.wm[i] = 0.0
@@ -100,9 +101,9 @@ def solve_linear(ec, th0, thd0, wm0, k, hw):
     w_lo, _ = poly_eval(ec.wser, nws, -1.0)
     amp = (wm0 - w_lo) * (math.exp(beta) if beta != 0.0 else 1.0)
     sc.amp = amp
+    poly_nodes(ec.wser, nws, ec.wm, ec.tmp)
     for i in range(NN):
-        w, _ = poly_eval(ec.wser, nws, NODES[i])
-        ec.wm[i] = amp * ec.eb[i] + w
+        ec.wm[i] = amp * ec.eb[i] + ec.wm[i]
 
 
 @njit(**JIT)
