@@ -48,6 +48,7 @@ from ._slip_step import dense, step
 ERR_FACTOR = 1.0  # a step is accepted when its forcing's interpolation error is ≤ ERR_FACTOR·rtol
 HMAX_PERIODS = 3.5  # longest step, in periods of the twist's oscillation (its nodes resolve it)
 BETA_MAX = 2.0  # largest |κ·h/2| of the mean mode (its power series)
+FIRST_STEP_PERIODS = 1.0  # a scenario's first step, in periods of the twist's oscillation
 
 
 @njit(**JIT)
@@ -185,7 +186,7 @@ def segment(ec, t_b, q, prof, opts, w, hist, sc, budget):
     st = ec.sc[0]
     period = _period(q, sc.parked)
     tol = ERR_FACTOR * opts.rtol
-    h = st.h_next if st.h_next > 0.0 else 0.1 * period
+    h = st.h_next if st.h_next > 0.0 else FIRST_STEP_PERIODS * period
     used = n_acc = n_rej = 0
     kind = -1
     while sc.t < t_b:
