@@ -37,6 +37,7 @@ from ._layout import (
     UNPARK,
     VS,
     Z0,
+    E,
     H,
     K,
     R,
@@ -49,6 +50,7 @@ ERR_FACTOR = 1.0  # a step is accepted when its forcing's interpolation error is
 HMAX_PERIODS = 3.5  # longest step, in periods of the twist's oscillation (its nodes resolve it)
 BETA_MAX = 2.0  # largest |κ·h/2| of the mean mode (its power series)
 FIRST_STEP_PERIODS = 1.0  # a scenario's first step, in periods of the twist's oscillation
+SLIP_SCALES = 1.0  # Stribeck: a step's slip change at most this many v_s (see _slip_limit)
 
 
 @njit(**JIT)
@@ -113,6 +115,17 @@ def _next_step(ec, h_try, err, tol):
     changing fast)."""
     grow = 2.0 if ec.sc[0].iters <= 5 else 1.3
     return h_try * min(grow, max(0.3, 0.9 * (tol / max(err, 1e-300)) ** (1.0 / (NDEG - 1))))
+
+
+@njit(**JIT)
+def _slip_limit(q, rate):
+    """The longest step [s] over which a Stribeck law's slip changes by SLIP_SCALES·v_s at the mean
+    slip rate ``rate`` [rad/s²] of the last accepted step (inf without a rate or a Stribeck law):
+    the law varies on the scale v_s, so a longer step near lock-up is rejected (its error grew
+    10⁸-fold with one doubling), and each rejection costs an attempt."""
+    if not (rate > 0.0 and math.isfinite(q[VS]) and q[FTAB] == 0.0):
+        return np.inf
+    return SLIP_SCALES * abs(q[VS]) / rate
 
 
 @njit(**JIT)
@@ -188,6 +201,7 @@ def segment(ec, t_b, q, prof, opts, w, hist, sc, budget):
     tol = ERR_FACTOR * opts.rtol
     h = st.h_next if st.h_next > 0.0 else FIRST_STEP_PERIODS * period
     used = n_acc = n_rej = 0
+    rate = 0.0  # the mean slip rate of the last accepted step [rad/s²] (0: none yet)
     kind = -1
     while sc.t < t_b:
         if used >= budget:
@@ -195,7 +209,7 @@ def segment(ec, t_b, q, prof, opts, w, hist, sc, budget):
             break
         # the step: at most HMAX_PERIODS periods, cut at the breakpoint; with fade on the step
         # grid, whose face temperature maps the batch keeps (:func:`_slip_step.heat_setup`)
-        h_try = min(h, HMAX_PERIODS * period)
+        h_try = min(h, HMAX_PERIODS * period, _slip_limit(q, rate))
         clipped = h_try >= t_b - sc.t
         if clipped:
             h_try = t_b - sc.t
@@ -216,7 +230,10 @@ def segment(ec, t_b, q, prof, opts, w, hist, sc, budget):
         # accepted (a step cut short by the breakpoint says little about the next one: the
         # proposal is kept)
         h_next = _next_step(ec, h_try, err, tol)
+        t_acc, slip0 = sc.t, w.y[E] - w.y[H]
         kind = _accept(ec, h_try, t_b, q, opts, w, hist, sc)
+        if sc.t > t_acc:
+            rate = abs(w.y[E] - w.y[H] - slip0) / (sc.t - t_acc)
         n_acc += 1
         h = max(h_next, h) if clipped else h_next
         if 0 <= kind < KNOT:
