@@ -144,7 +144,8 @@ def test_every_page_is_legible_and_shows_the_runs_design(which, tmp_path, monkey
     )
     stems = [p.stem for p in written if p.suffix == ".png"]
     run = report.run_stems(names, which == "default", hard_cases=True)
-    layout, png = _pdf_layout(stems, figures, len(run))
+    assert stems[0] == "title" and stems[len(stems) - len(run) + 1 :] == run[1:]
+    layout, png = _pdf_layout(stems, figures)
     assert layout[stems[-1]][1] == _pdf_pages(out / "report.pdf")  # every figure accounted for
     for fig in figures:
         label = fig.texts[0].get_text()[:60] if fig.texts else fig.axes[0].get_title()[:60]
@@ -224,13 +225,11 @@ def _is_table_part(fig):
     return bool(fig.texts) and "(page " in fig.texts[0].get_text()
 
 
-def _pdf_layout(stems, figures, n_run):
+def _pdf_layout(stems, figures):
     """(stem -> its first and last page of the PDF, stem -> the figure of its PNG) from the figures
     report.build drew, in order: the studies' pages (each page's PNG figure, then a table's A4
-    pages), then the summary and the ``n_run`` - 1 other pages of the run; ``stems``: the PDF's
-    order (the summary first)."""
-    cut = len(stems) - n_run + 1
-    drawn = stems[1:cut] + stems[:1] + stems[cut:]
+    pages), the run's pages, then the summary; ``stems``: the PDF's order (the summary first)."""
+    drawn = stems[1:] + stems[:1]
     k, png, parts_of = 0, {}, {}
     for s in drawn:
         png[s] = figures[k]

@@ -102,6 +102,6 @@ def pages_resources(resolved_study: dict) -> dict:
 
 
 def report_resources(resolved: dict) -> dict:
-    """mem_mb, runtime and cpus_per_task of the report job of a resolved config (the studies' page
-    files joined, the summary and the run's own pages)."""
+    """mem_mb, runtime and cpus_per_task of the report job of a resolved config (the summary, the
+    page files joined) and of its run-pages job (the run's own pages)."""
     return {"mem_mb": _mem(REPORT_MB), "runtime": MIN_RUNTIME, "cpus_per_task": 1}

@@ -300,13 +300,8 @@ def _provenance_of(path, attrs, kind, config, source, design) -> list[str]:
         return provenance_problems(
             attrs, config=config, source=source, required=("config", "clutchlab_source")
         )
-    design, problems = _the_design(path, attrs, design)
-    problems += provenance_problems(
-        attrs,
-        config=config,
-        source=source,
-        design_hash=store.checksum(design) if design is not None else None,
-    )
+    design, problems, design_hash = _the_design(path, attrs, design)
+    problems += provenance_problems(attrs, config=config, source=source, design_hash=design_hash)
     if kind == "chunk":
         problems += _chunk_place_problems(path, attrs, design)
     return problems
@@ -323,19 +318,29 @@ def _kind(ds) -> str | None:
 
 
 def _the_design(path: Path, attrs: dict, design) -> tuple:
-    """(the design Dataset to compare with or None, [problem]): ``design`` as given (a Dataset
-    or a file), None: the workflow layout's design file if present, False: none. A design file
-    is read against its own checksum."""
+    """(the design Dataset to compare with or None, [problem], its hash or None): ``design`` as
+    given (a Dataset or a file), None: the workflow layout's design file if present, False: none.
+    A design file is read once and checked against its own checksum in memory; its hash is then
+    the checksum it carries (the same value :func:`clutchlab.store.checksum` computes)."""
     if design is False:
-        return None, []
+        return None, [], None
     if design is None:
         design = _design_beside(path, attrs)
-    if design is None or hasattr(design, "attrs"):
-        return design, []
-    problem = store.file_checksum_problem(design)
-    if problem and problem != "has no checksum":  # a design written by an older clutchlab
-        return None, [f"cannot be compared with its design {design}, which {problem}"]
-    return store.load(design), []
+    if design is None:
+        return None, [], None
+    if hasattr(design, "attrs"):
+        return design, [], store.checksum(design)
+    try:
+        loaded = store.load(design)
+    except Exception as exc:  # h5py/netCDF raise several types for a cut or damaged file
+        problem = store._unreadable(exc)
+        return None, [f"cannot be compared with its design {design}, which {problem}"], None
+    problem = store.checksum_problem(loaded)
+    if problem == "has no checksum":  # a design written by an older clutchlab
+        return loaded, [], store.checksum(loaded)
+    if problem:
+        return None, [f"cannot be compared with its design {design}, which {problem}"], None
+    return loaded, [], str(loaded.attrs[store.CHECKSUM])
 
 
 def require(expected: dict, *, action=_RECOMPUTE) -> None:

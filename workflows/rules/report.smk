@@ -22,12 +22,16 @@ STUDY_REPORT_FILES = {
     + [f"{REPORT_DIR}/{f}" for f in _answer_files([s], [s] if s in REFINED else [], ROBUST)]
     for s in STUDIES
 }
-# the report job's own: the PDF (the summary, every study's part, the run's pages), the summary's and
-# the run's PNGs; validation.csv and its page exist only where a study reproduces published numbers
-RUN_REPORT_FILES = [f"{REPORT_DIR}/report.pdf"] + ([f"{REPORT_DIR}/validation.csv"] if VALIDATED else []) + [
-    f"{REPORT_DIR}/{stem}.png" for stem in _run_stems(STUDIES, BENCHMARK_PAGE, HARD_CASES, bool(NUMERICS))
+# the report job's own: the PDF (the summary, every study's part, the run's part) and the summary's PNG
+SUMMARY_FILES = [f"{REPORT_DIR}/report.pdf", f"{REPORT_DIR}/title.png"]
+# the run's pages after the studies' (rule run_pages: work-precision, validation table, numerics, hard
+# cases) and their tables; validation.csv and its page exist only where a study reproduces published
+# numbers
+RUN_PAGE_FILES = ([f"{REPORT_DIR}/validation.csv"] if VALIDATED else []) + [
+    f"{REPORT_DIR}/{stem}.png" for stem in _run_stems(STUDIES, BENCHMARK_PAGE, HARD_CASES, bool(NUMERICS))[1:]
 ] + ([f"{REPORT_DIR}/hard_cases.csv"] if HARD_CASES else [])
-REPORT_FILES = RUN_REPORT_FILES + [f for s in STUDIES for f in STUDY_REPORT_FILES[s]]
+RUN_PART = [f"{WORK}/report/run_pages.pdf"] if RUN_PAGE_FILES else []  # (none: no run pages)
+REPORT_FILES = SUMMARY_FILES + RUN_PAGE_FILES + [f for s in STUDIES for f in STUDY_REPORT_FILES[s]]
 # the interactive explorer of each study (one self-contained HTML page; clutchlab.report.explorer)
 EXPLORERS = {s: f"{REPORT_DIR}/{s}_explorer.html" for s in STUDIES}
 # a study's pages as a PDF part (and its record beside it: clutchlab.report.study_part)
@@ -82,18 +86,46 @@ for _study in STUDIES:
             "../scripts/pages.py"
 
 
+if RUN_PART:
+
+    rule run_pages:
+        # the run's pages after the studies' (work-precision, validation table, numerics, hard cases)
+        # as PNGs and a PDF part, as soon as their inputs exist (beside the studies' jobs): the
+        # report job at the end of the run only draws the summary and joins the parts
+        input:
+            validation=[f"{RESULTS}/{s}/validation.h5" for s in VALIDATED],
+            benchmark=[f"{RESULTS}/benchmark/engagement_benchmark.csv"] if BENCHMARK_PAGE else [],
+            hard_cases=[f"{RESULTS}/numerics/hard_cases.h5"] if HARD_CASES else [],
+            numerics=NUMERICS,
+        output:
+            files=[_CAPTIONED[f] for f in RUN_PAGE_FILES],
+            part=RUN_PART[0],
+            record=str(Path(RUN_PART[0]).with_suffix(".json")),
+        benchmark:
+            f"{WORK}/benchmark/run_pages.tsv"
+        log:
+            f"{WORK}/log/run_pages.log",
+        params:
+            studies=STUDIES,
+            dpi=RESOLVED["report"]["dpi"],
+            source=SOURCE,
+        resources:
+            **_cluster.report_resources(RESOLVED),
+        script:
+            "../scripts/run_pages.py"
+
+
 rule report:
     input:
         studies=[results(s) for s in STUDIES],  # (their stored checksums: each part is of this one)
         parts=[PARTS[s] for s in STUDIES],
         records=[str(Path(PARTS[s]).with_suffix(".json")) for s in STUDIES],
-        validation=[f"{RESULTS}/{s}/validation.h5" for s in VALIDATED],
-        benchmark=[f"{RESULTS}/benchmark/engagement_benchmark.csv"] if BENCHMARK_PAGE else [],
-        hard_cases=[f"{RESULTS}/numerics/hard_cases.h5"] if HARD_CASES else [],
-        numerics=NUMERICS,
+        run_part=RUN_PART,
+        run_record=[str(Path(p).with_suffix(".json")) for p in RUN_PART],
+        validation=[f"{RESULTS}/{s}/validation.h5" for s in VALIDATED],  # (the summary's lines)
         explorers=list(EXPLORERS.values()),  # the summary page links them
     output:
-        [_CAPTIONED[f] for f in RUN_REPORT_FILES],
+        [_CAPTIONED[f] for f in SUMMARY_FILES],
     benchmark:
         f"{WORK}/report_benchmark.tsv"
     log:

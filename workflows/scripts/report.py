@@ -1,5 +1,5 @@
 """Snakemake script: the report from the studies' parts (each drawn by its study's pages job from
-its verified result), the summary page and the run's pages."""
+its verified result), the run's part (the run_pages job) and the summary page."""
 
 from pathlib import Path
 
@@ -30,9 +30,7 @@ with job_log(sm.log[0]):
             Path(sm.output[0]).parent,
             title=sm.params.title,
             dpi=sm.params.dpi,
-            benchmark_csv=sm.input.benchmark[0] if sm.input.benchmark else None,
-            hard_cases_file=sm.input.hard_cases[0] if sm.input.hard_cases else None,
-            numerics_dir=Path(sm.input.numerics[0]).parent if sm.input.numerics else None,
+            run_part_pdf=sm.input.run_part[0] if sm.input.run_part else None,
             job_seconds={s: t for s in sm.params.names if (t := job_seconds(s))},
             explorers={
                 s: Path(f).name for s, f in zip(sm.params.names, sm.input.explorers, strict=True)

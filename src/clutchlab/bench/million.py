@@ -10,8 +10,8 @@ pages take (chunks, merge, pages) and the share of it outside the physics (``pip
 reading, writing, merging, drawing, imports), every job's wall and CPU time and the share of CPU
 outside the physics (``outside_share_cpu``; Snakemake's per-job CPU samples under-report), the
 peak RSS of the study's largest job (Snakemake's per-job benchmark files); for the whole run the
-same summed (``pipeline_share`` with the report job, the other columns also with the hard-case and
-numerics jobs), the wall time, the CPU time of Snakemake and every job
+same summed (``pipeline_share`` with the report and run-pages jobs, the other columns also with
+the hard-case and numerics jobs), the wall time, the CPU time of Snakemake and every job
 (and of Snakemake itself: that less the jobs'), the report job and the load average before and
 after. Run it alone on the machine (the timings are the point) and not while another run uses the
 same results folder; on a shared machine compare the CPU columns.
@@ -46,6 +46,8 @@ def _tsv(path) -> dict:
 STUDY_JOBS = ("design", "merge", "validation", "traces", "pages")
 # the run's jobs of no study (work/benchmark/, and the report's work/report_benchmark.tsv)
 RUN_JOBS = ("hard_cases", "numerics")
+# the report's jobs of no study (work/benchmark/): counted with the pages jobs and the report job
+REPORT_JOBS = ("run_pages",)
 
 
 def _physics(paths) -> tuple[float, float]:
@@ -99,11 +101,16 @@ def _study_row(cfg, work, name) -> dict:
 
 def _run_row(cfg, work, rows, wall, total_cpu, load) -> dict:
     report = _tsv(work / "report_benchmark.tsv")
+    drawing = [report] + [
+        _tsv(f) for job in REPORT_JOBS if (f := work / "benchmark" / f"{job}.tsv").exists()
+    ]
     extra = [_tsv(f) for job in RUN_JOBS if (f := work / "benchmark" / f"{job}.tsv").exists()]
-    extra.append(report)
+    extra += drawing
     physics = sum(r["physics_seconds"] for r in rows)
     physics_cpu = sum(r["physics_cpu_seconds"] for r in rows)
-    chunk_merge = sum(r["chunk_merge_pages_seconds"] for r in rows) + report["seconds"]
+    chunk_merge = sum(r["chunk_merge_pages_seconds"] for r in rows) + sum(
+        j["seconds"] for j in drawing
+    )
     job_s = sum(r["job_seconds"] for r in rows) + sum(j["seconds"] for j in extra)
     job_cpu = sum(r["job_cpu_seconds"] for r in rows) + sum(j["cpu"] for j in extra)
     return dict(

@@ -91,8 +91,9 @@ def study_stems(name, sensitivity=False, refined=False, robust=False) -> list[st
 
 
 def run_stems(study_names, benchmark=False, hard_cases=False, numerics=False) -> list[str]:
-    """PNG stems of the pages :func:`assemble` draws, in the PDF's order: the summary first, then
-    the run's pages after the studies' (work-precision, validation table, numerics, hard cases)."""
+    """PNG stems of the report's pages that are not a study's, in the PDF's order: the summary
+    first (:func:`assemble`), then the run's pages after the studies' (:func:`run_part`:
+    work-precision, validation table, numerics, hard cases)."""
     from ..bench.numerics import stems as numerics_stems
 
     validated = any(studies.get(name).validation is not None for name in study_names)
@@ -282,14 +283,18 @@ def assemble(
     job_seconds=None,
     explorers=None,
     results=None,
+    run_part_pdf=None,
 ) -> list[Path]:
-    """The report from the studies' parts (:func:`study_part`): the summary page, the pages of the
-    run (work-precision, validation table, numerics, hard cases) as PNGs, and ``report.pdf``: the
-    summary, every part's pages in the order of ``parts``, then the run's pages. Parameters as
-    :func:`build`; ``parts``: the parts' PDF files (each with its record beside it); ``results``:
-    the studies' results in place, in the order of ``parts`` (each part must have been drawn from
-    it: its stored checksum, else :class:`clutchlab.verify.ProvenanceError` before anything is
-    written). PNG and CSV files in ``outdir`` that neither this nor a part wrote are removed.
+    """The report from the studies' parts (:func:`study_part`) and the run's part
+    (:func:`run_part`): the summary page as its PNG, and ``report.pdf``: the summary, every
+    study's part in the order of ``parts``, then the run's pages. Parameters as :func:`build`;
+    ``parts``: the parts' PDF files (each with its record beside it); ``results``: the studies'
+    results in place, in the order of ``parts`` (each part must have been drawn from it: its
+    stored checksum, else :class:`clutchlab.verify.ProvenanceError` before anything is written);
+    ``run_part_pdf``: the run's part, drawn by :func:`run_part` beforehand (the workflow's job
+    ``run_pages``), else drawn here from ``benchmark_csv``, ``hard_cases_file`` and
+    ``numerics_dir``. PNG and CSV files in ``outdir`` that neither this nor a part wrote are
+    removed.
 
     Returns
     -------
@@ -298,6 +303,7 @@ def assemble(
     """
     import io
     import json
+    import tempfile
 
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
@@ -305,25 +311,93 @@ def assemble(
     _check_parts(parts, records, results)
     validations = [store.load(p) for p in validation_files]
     studies = [r["study"] for r in records]
-    pages = _run_pages(outdir, validations, benchmark_csv, numerics_dir, hard_cases_file, studies)
-    # the summary opens the report (on more than one page where its lines need them)
-    counts = [tuple(s) for r in records for s in r["pages"]] + [(p.stem, p.n_pdf) for p in pages]
-    summary = _summary_page(
-        title, [r["summary"] for r in records], validations, counts, job_seconds, explorers
-    )
-    pages.insert(0, summary)
-    own = io.BytesIO()
-    _write_pages(pages, outdir, own, title, dpi)
-    _join(own, summary.n_pdf, parts, title, outdir / "report.pdf")
-    stems = ["title"] + [s for r in records for s, _ in r["pages"]] + [p.stem for p in pages[1:]]
+    with tempfile.TemporaryDirectory() as folder:
+        if run_part_pdf is None:
+            run_part_pdf = Path(folder) / "run_pages.pdf"
+            run_part(
+                outdir,
+                run_part_pdf,
+                validation_files,
+                studies=studies,
+                dpi=dpi,
+                benchmark_csv=benchmark_csv,
+                numerics_dir=numerics_dir,
+                hard_cases_file=hard_cases_file,
+            )
+        run = json.loads(Path(run_part_pdf).with_suffix(".json").read_text("utf-8"))
+        # the summary opens the report (on more than one page where its lines need them)
+        counts = [tuple(s) for r in [*records, run] for s in r["pages"]]
+        summary = _summary_page(
+            title, [r["summary"] for r in records], validations, counts, job_seconds, explorers
+        )
+        own = io.BytesIO()
+        _write_pages([summary], outdir, own, title, dpi)
+        joined = list(parts) + ([run_part_pdf] if run["pages"] else [])
+        _join(own, joined, title, outdir / "report.pdf")
+    stems = ["title"] + [s for r in [*records, run] for s, _ in r["pages"]]
     written = [outdir / f"{stem}.png" for stem in stems]
-    tables = [f for r in records for f in r["files"]] + ["validation.csv"] * bool(validations)
-    _remove_stale(
-        outdir,
-        [p.name for p in written] + tables + ["hard_cases.csv"] * bool(hard_cases_file),
-        explorers,
-    )
+    tables = [f for r in [*records, run] for f in r["files"]]
+    _remove_stale(outdir, [p.name for p in written] + tables, explorers)
     return written + [outdir / "report.pdf"]
+
+
+def run_part(
+    outdir,
+    part_pdf,
+    validation_files=(),
+    *,
+    studies=(),
+    dpi=120,
+    benchmark_csv=None,
+    numerics_dir=None,
+    hard_cases_file=None,
+) -> dict:
+    """Draw the run's pages after the studies' (work-precision, validation table, the numerics of
+    ``studies``, hard cases): each page once, as its PNG in ``outdir`` and its page(s) of the
+    run's PDF part, with their CSV files (``validation.csv``, ``hard_cases.csv``). The workflow
+    draws it in a job of its own as soon as its inputs exist, so that the report job at the end
+    of a run only draws the summary and joins the parts (:func:`assemble`).
+
+    Parameters
+    ----------
+    outdir : path
+        Folder of the report's PNG and CSV files.
+    part_pdf : path
+        The run's pages as a PDF (not written where there are none); beside it,
+        ``<part_pdf stem>.json``: the part's record (this function's return value).
+    validation_files : list of path
+        The validation Datasets (one per seed): the validation table.
+    studies : list of str
+        The studies of the run (the numerics pages of those).
+    dpi : int
+        Resolution of the PNGs.
+    benchmark_csv, numerics_dir, hard_cases_file : path or None
+        As :func:`build`.
+
+    Returns
+    -------
+    dict
+        The part's record: ``pages`` ([stem, PDF pages] in order) and ``files`` (its CSV files).
+    """
+    import json
+
+    outdir, part_pdf = Path(outdir), Path(part_pdf)
+    outdir.mkdir(parents=True, exist_ok=True)
+    part_pdf.parent.mkdir(parents=True, exist_ok=True)
+    validations = [store.load(p) for p in validation_files]
+    pages = _run_pages(
+        outdir, validations, benchmark_csv, numerics_dir, hard_cases_file, list(studies)
+    )
+    if pages:
+        _write_pages(pages, outdir, part_pdf, "clutchlab: the run's pages", dpi)
+    record = {
+        "pages": [[page.stem, page.n_pdf] for page in pages],
+        "files": ["validation.csv"] * bool(validations)
+        + ["hard_cases.csv"] * (hard_cases_file is not None),
+    }
+    with store.atomic(part_pdf.with_suffix(".json")) as tmp:
+        Path(tmp).write_text(json.dumps(record, indent=1), encoding="utf-8")
+    return record
 
 
 def _summary_page(title, summaries, validations, counts, job_seconds, explorers) -> Page:
@@ -345,19 +419,15 @@ def _summary_page(title, summaries, validations, counts, job_seconds, explorers)
     return Page("title", lambda: title_page(*args), pdf_pages, n_title)
 
 
-def _join(own, n_title, parts, title, path) -> None:
-    """``report.pdf``: the first ``n_title`` pages of ``own`` (the summary), every part, then the
-    rest of ``own`` (the run's pages)."""
+def _join(own, parts, title, path) -> None:
+    """``report.pdf``: the pages of ``own`` (the summary), then every part in order."""
     from pypdf import PdfReader, PdfWriter
 
-    own_pdf = PdfReader(own)
     writer = PdfWriter()
-    for page in own_pdf.pages[:n_title]:
+    for page in PdfReader(own).pages:
         writer.add_page(page)
     for part in parts:
         writer.append(str(part))
-    for page in own_pdf.pages[n_title:]:
-        writer.add_page(page)
     writer.add_metadata({"/Title": title, "/Creator": f"clutchlab {__version__}"})
     with store.atomic(path) as tmp:
         writer.write(tmp)
