@@ -20,6 +20,9 @@ from ._layout import POWER_SAMPLES_DENSER, POWER_SAMPLES_MAX, POWER_SAMPLES_PER_
 from ._physics import forces
 
 JIT = dict(cache=True, error_model="numpy", _nrt=False)
+# the slip power samples of a linear segment: the free response exact at every EXACT_EVERY-th one,
+# carried by its transition between them (the carried values drift by about an ulp a sample)
+EXACT_EVERY = 32
 
 
 @njit(**JIT)
@@ -46,16 +49,38 @@ def slip_spacing(dt, t_slip, t1):
 @njit(**JIT)
 def hist_linear(hist, n, t0, t1, dt, ft, fr):
     """Sample the slip power form of a linear slipping segment (form table ft, free response fr)
-    on the grid k·dt in (t0, t1) and at t1."""
+    on the grid k·dt in (t0, t1) and at t1. The free response is carried from one grid time to
+    the next by its transition over dt (:func:`_transition`; exact again every
+    :data:`EXACT_EVERY`-th sample) and the form's polynomials to their degrees: the same samples
+    to a few ulp, in about half the time of evaluating both anew at every sample."""
+    r = 3 * lf.F_POW
+    dp, du, dw = lf.degree(ft[r]), lf.degree(ft[r + 1]), lf.degree(ft[r + 2])
     k = math.floor(t0 / dt) + 1.0
+    p11, p12, p21, p22 = _transition(fr, dt)
+    hv = hd = 0.0
+    j = 0
     while k * dt < t1:
         tau = k * dt - fr.t0
-        hv, hd = lf.hh(fr, tau)
-        n = hist_add(hist, n, k * dt, lf.fval(ft, lf.F_POW, tau, hv, hd))
+        if j % EXACT_EVERY == 0:
+            hv, hd = lf.hh(fr, tau)
+        else:
+            hv, hd = p11 * hv + p12 * hd, p21 * hv + p22 * hd
+        power = lf.pvd(ft[r], dp, tau) + lf.pvd(ft[r + 1], du, tau) * hv
+        n = hist_add(hist, n, k * dt, power + lf.pvd(ft[r + 2], dw, tau) * hd)
         k += 1.0
+        j += 1
     tau = t1 - fr.t0
     hv, hd = lf.hh(fr, tau)
     return hist_add(hist, n, t1, lf.fval(ft, lf.F_POW, tau, hv, hd))
+
+
+@njit(**JIT)
+def _transition(fr, dt):
+    """The free response's transition over dt: (h, h')(τ + dt) = [[p11, p12], [p21, p22]]·(h, h')(τ)
+    (the responses to a unit start value and a unit start rate at dt)."""
+    p11, p21 = lf.hh(lf.FreeResponse(fr.a, fr.w2, 1.0, 0.0, 0.0), dt)
+    p12, p22 = lf.hh(lf.FreeResponse(fr.a, fr.w2, 0.0, 1.0, 0.0), dt)
+    return p11, p12, p21, p22
 
 
 @njit(**JIT)
