@@ -11,7 +11,7 @@ from clutchlab.engagement._power import EXACT_EVERY, hist_linear
 FREE_RESPONSES = {  # (a [1/s], ω² [1/s²]): the twist's damped oscillation, over- and critically
     # damped
     "underdamped": (17.9, 358.0**2),
-    "overdamped": (300.0, -200.0**2),
+    "overdamped": (300.0, -(200.0**2)),
     "critical": (250.0, 0.0),
 }
 T0, T1, DT = 0.0113, 0.0113 + 0.3, 1e-3  # 300 grid samples and the end: the exact start 10 times
