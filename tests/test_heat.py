@@ -229,14 +229,14 @@ def test_duhamel_peak_of_the_kernel_coarse_to_fine_equals_every_sample():
             else np.sin(2 * np.pi * t / t[-1]) ** 2 * (1 + 0.3 * (t > t[-1] / 2))
         )
         p = 5e4 * burst * rng.uniform(0.9, 1.1)
-        hist = np.stack([t, p, np.zeros(n), np.zeros(n)])  # (rows 2, 3: scratch)
+        hist = np.stack([t, p, np.zeros(n)])  # (row 2: scratch)
         full = k.duhamel_peak(hist, n, 1)
         fast = k.duhamel_peak(hist, n, max(1, int(math.sqrt(n / 2))))
         assert fast == pytest.approx(full, rel=1e-12), case
-        # the peak search's evaluation (slopes and roots in rows 2 and 3, summed in any order)
-        # equals the plain one to round-off
-        sloped = [k._duhamel_sloped(hist, j) for j in range(1, n)]
-        np.testing.assert_allclose(sloped, [k.duhamel_at(hist, j) for j in range(1, n)], rtol=1e-13)
+        # the peak search's evaluation (over the kinks of P, their coefficients in row 2, summed in
+        # any order) equals the segment by segment one to round-off
+        kinks = [k._duhamel_kinks(hist, j) for j in range(1, n)]
+        np.testing.assert_allclose(kinks, [k.duhamel_at(hist, j) for j in range(1, n)], rtol=1e-13)
         ref = heat.duhamel_surface_temperature(t, p, 1.0) * math.sqrt(math.pi)
         np.testing.assert_allclose([k.duhamel_at(hist, j) for j in range(n)], ref, rtol=1e-10)
         # the peak between samples (vertex of the parabola through the best sample and its neighbours)

@@ -336,7 +336,7 @@ def _flash_peak(pieces, t_last):
     keep = np.concatenate([[True], np.diff(t) > 0])
     t, pw = t[keep], pw[keep]
     after = np.linspace(t_last, t_last + 0.5 * (t_last - t[0]) + 1e-3, 400)[1:]
-    hist = np.zeros((4, t.size + after.size))  # (rows 2, 3: the peak search's scratch)
+    hist = np.zeros((3, t.size + after.size))  # (row 2: the peak search's scratch)
     hist[0] = np.concatenate([t, after])
     hist[1, : t.size] = pw
     n = hist.shape[1]

@@ -774,7 +774,7 @@ def simulate_batch(
         bool(with_hist),
         bool(peaks),
     )
-    hist = np.empty((4, POWER_SAMPLES_MAX))  # the slip power history of one scenario (_power)
+    hist = np.empty((3, POWER_SAMPLES_MAX))  # the slip power history of one scenario (_power)
     scratch = (new_work(), new_forms(), new_polys(), hist, np.zeros(1, SCENARIO))
     exact = linear_rows(Q) if compliant else np.zeros(n, dtype=bool)
     if exact.any():  # (every row of the default study: no integrator compiled or called)

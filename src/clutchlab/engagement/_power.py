@@ -2,7 +2,7 @@
 
 While a scenario slips its slip power P is sampled (:func:`hist_add`; the spacing rules are in
 :mod:`clutchlab.engagement._layout`, POWER_SAMPLES_*) into ``hist`` (row 0 times [s], row 1 powers
-[W], rows 2 and 3 scratch of the peak's search); ``flash_peak`` is the maximum over t of
+[W], row 2 the peak search's scratch); ``flash_peak`` is the maximum over t of
 Duhamel's integral ∫ P(τ)/√(t − τ) dτ [W s^0.5] (:func:`duhamel_peak`), from which
 :func:`clutchlab.heat.face_temperature_rise` gives the friction face's flash temperature.
 """
@@ -99,7 +99,7 @@ def hist_step(hist, n, t0, h, t1, dt, y, d, y1, d1, q, mode, ym, dm):
 @njit(**JIT)
 def duhamel_at(hist, k):
     """∫₀^{t_k} P(τ)/√(t_k − τ) dτ at sample time t_k, P linear between the samples, each segment
-    exactly (:func:`_duhamel_sloped` with the slopes computed on the way)."""
+    exactly (an independent check of :func:`_duhamel_kinks`)."""
     tk = hist[0, k]
     acc = 0.0
     u0 = tk - hist[0, 0]
@@ -116,41 +116,40 @@ def duhamel_at(hist, k):
 
 
 @njit(**JIT, fastmath={"reassoc"})
-def _duhamel_sloped(hist, k):
-    """:func:`duhamel_at` with the slopes between the samples in row 2 of ``hist``, the square roots
-    first (row 3, a vector loop) and the segments summed in any order (to round-off; 2.4x as fast
-    as one loop with its division): with u = t_k − τ, σ = √u and slope b on [t_j, t_{j+1}],
-    2(P_j + b·u_j)(σ_j − σ_{j+1}) − (2/3)·b·(u_j σ_j − u_{j+1} σ_{j+1}) (the differences lose at
-    most (u/h)^{3/2}·ε: 3e-11 at 4 096 samples)."""
+def _duhamel_kinks(hist, k):
+    """:func:`duhamel_at` summed over the kinks of the piecewise linear P: with c_m =
+    (4/3)·(b_m − b_{m−1}) in row 2 of ``hist`` (b_m the slope on [t_m, t_{m+1}], b_{−1} = 0),
+    ∫₀^{t_k} P/√(t_k − τ) dτ = 2·P₀·√(t_k − t₀) + Σ_{m<k} c_m·(t_k − t_m)^{3/2} (each segment's
+    exact integral, summed by parts: 2(P_j + b_j u_j)(σ_j − σ_{j+1}) − (2/3)b_j(u_jσ_j −
+    u_{j+1}σ_{j+1}) = σ_j(2P_j + (4/3)b_j u_j) − σ_{j+1}(2P_{j+1} + (4/3)b_j u_{j+1}), u = t_k − t,
+    σ = √u). One square root and two products a sample, summed in any order (numba's
+    ``fastmath`` reassociation: to round-off)."""
     tk = hist[0, k]
-    for j in range(k + 1):
-        hist[3, j] = math.sqrt(tk - hist[0, j])
     acc = 0.0
-    for j in range(k):
-        u0, u1 = tk - hist[0, j], tk - hist[0, j + 1]
-        s0, s1 = hist[3, j], hist[3, j + 1]
-        slope = hist[2, j]
-        acc += 2.0 * (hist[1, j] + slope * u0) * (s0 - s1) - (2.0 / 3.0) * slope * (
-            u0 * s0 - u1 * s1
-        )
-    return acc
+    for m in range(k):
+        u = tk - hist[0, m]
+        acc += hist[2, m] * u * math.sqrt(u)
+    return acc + 2.0 * hist[1, 0] * math.sqrt(tk - hist[0, 0])
 
 
 @njit(**JIT)
 def duhamel_peak(hist, n, stride):
     """max over the sample times of :func:`duhamel_at`: at every ``stride``-th sample (and the last),
     then at every sample within ``stride`` of the best of those (stride 1: every sample; a larger
-    stride costs O(n²/stride + n·stride) instead of O(n²)); 0 for fewer than two samples. Rows 2
-    and 3 of ``hist`` (four rows) are its scratch."""
+    stride costs O(n²/stride + n·stride) instead of O(n²)); 0 for fewer than two samples. Row 2
+    of ``hist`` (three rows) is its scratch: :func:`_duhamel_kinks`' coefficients."""
     if n < 2:
         return 0.0
+    slope_before = 0.0
     for j in range(n - 1):
-        hist[2, j] = (hist[1, j + 1] - hist[1, j]) / (hist[0, j + 1] - hist[0, j])
+        slope = (hist[1, j + 1] - hist[1, j]) / (hist[0, j + 1] - hist[0, j])
+        hist[2, j] = (4.0 / 3.0) * (slope - slope_before)
+        slope_before = slope
     best, kb = 0.0, 0
     k = stride
     while True:
         k = min(k, n - 1)
-        v = _duhamel_sloped(hist, k)
+        v = _duhamel_kinks(hist, k)
         if v > best:
             best, kb = v, k
         if k == n - 1:
@@ -159,7 +158,7 @@ def duhamel_peak(hist, n, stride):
     if stride > 1:
         k0 = kb
         for k in range(max(1, k0 - stride + 1), min(n, k0 + stride)):
-            v = _duhamel_sloped(hist, k)
+            v = _duhamel_kinks(hist, k)
             if v > best:
                 best, kb = v, k
     if 1 <= kb < n - 1:
@@ -172,7 +171,7 @@ def _between_samples(hist, kb, best):
     """The peak between samples: the vertex of the parabola through the best sample kb (value
     ``best``) and its neighbours, where it lies between them."""
     ta, tb, tc = hist[0, kb - 1], hist[0, kb], hist[0, kb + 1]
-    va, vc = _duhamel_sloped(hist, kb - 1), _duhamel_sloped(hist, kb + 1)
+    va, vc = _duhamel_kinks(hist, kb - 1), _duhamel_kinks(hist, kb + 1)
     d1, d2 = (best - va) / (tb - ta), (vc - best) / (tc - tb)
     curv = (d2 - d1) / (tc - ta)  # half the second derivative
     if curv < 0.0:
@@ -189,7 +188,7 @@ def flash_peaks(times, power):
     repeated time is skipped), e.g. of the closed form's exact slip power."""
     n_s, n = times.shape
     out = np.empty(n_s)
-    hist = np.empty((4, n))
+    hist = np.empty((3, n))
     for i in range(n_s):
         m = 0
         for j in range(n):
