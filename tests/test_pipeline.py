@@ -512,8 +512,11 @@ def test_every_report_page_keeps_its_text_on_the_page(small_run, tmp_path, monke
 
     res = small_run / "results"
     names = ["diaphragm_spring", "centrifugal", "sprag", "roller"]
+    import matplotlib
+
     figures = []
     monkeypatch.setattr(report.plt, "close", figures.append)
+    monkeypatch.setitem(matplotlib.rcParams, "figure.max_open_warning", 0)  # (kept to check them)
     report.build(
         {n: res / studies.get(n).output for n in names},
         sorted(glob.glob(str(res / "*/validation.h5"))),
@@ -526,7 +529,7 @@ def test_every_report_page_keeps_its_text_on_the_page(small_run, tmp_path, monke
     for fig in figures:
         assert not texts_outside(fig), texts_outside(fig)
         assert not texts_too_small(fig), texts_too_small(fig)[:5]
-    # the summary: drawn after the studies' parts, the first of the report's own pages
+    # the summary: drawn after the studies' and the run's parts, the report's first page
     (title,) = [f for f in figures if f.texts and f.texts[0].get_text() == "clutchlab report"]
     summary = " ".join(" ".join(t.get_text() for t in title.texts).split())
     assert summary.count("best compromise: ") == len(names)
