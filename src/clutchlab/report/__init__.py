@@ -238,8 +238,6 @@ def study_part(
         files), ``summary`` (:func:`clutchlab.report.common.study_summary`) and
         ``result_checksum`` (the stored checksum of the result it was drawn from).
     """
-    import json
-
     from .. import traces as tr
     from .common import study_summary
 
@@ -265,8 +263,7 @@ def study_part(
         "summary": study_summary(name, ds, robust),
         "result_checksum": checksum,
     }
-    with store.atomic(part_pdf.with_suffix(".json")) as tmp:
-        Path(tmp).write_text(json.dumps(record, indent=1), encoding="utf-8")
+    _write_record(part_pdf, record)
     return record
 
 
@@ -302,12 +299,11 @@ def assemble(
         The PNGs of every page, in the PDF's order, and ``report.pdf``.
     """
     import io
-    import json
     import tempfile
 
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
-    records = [json.loads(Path(p).with_suffix(".json").read_text("utf-8")) for p in parts]
+    records = [_record_of(p) for p in parts]
     _check_parts(parts, records, results)
     validations = [store.load(p) for p in validation_files]
     studies = [r["study"] for r in records]
@@ -324,7 +320,7 @@ def assemble(
                 numerics_dir=numerics_dir,
                 hard_cases_file=hard_cases_file,
             )
-        run = json.loads(Path(run_part_pdf).with_suffix(".json").read_text("utf-8"))
+        run = _record_of(run_part_pdf)
         # the summary opens the report (on more than one page where its lines need them)
         counts = [tuple(s) for r in [*records, run] for s in r["pages"]]
         summary = _summary_page(
@@ -379,8 +375,6 @@ def run_part(
     dict
         The part's record: ``pages`` ([stem, PDF pages] in order) and ``files`` (its CSV files).
     """
-    import json
-
     outdir, part_pdf = Path(outdir), Path(part_pdf)
     outdir.mkdir(parents=True, exist_ok=True)
     part_pdf.parent.mkdir(parents=True, exist_ok=True)
@@ -395,9 +389,23 @@ def run_part(
         "files": ["validation.csv"] * bool(validations)
         + ["hard_cases.csv"] * (hard_cases_file is not None),
     }
-    with store.atomic(part_pdf.with_suffix(".json")) as tmp:
-        Path(tmp).write_text(json.dumps(record, indent=1), encoding="utf-8")
+    _write_record(part_pdf, record)
     return record
+
+
+def _write_record(part_pdf, record: dict) -> None:
+    """A report part's record, ``<part_pdf stem>.json`` beside it (written atomically)."""
+    import json
+
+    with store.atomic(Path(part_pdf).with_suffix(".json")) as tmp:
+        Path(tmp).write_text(json.dumps(record, indent=1), encoding="utf-8")
+
+
+def _record_of(part_pdf) -> dict:
+    """The record beside a report part (:func:`_write_record`)."""
+    import json
+
+    return json.loads(Path(part_pdf).with_suffix(".json").read_text("utf-8"))
 
 
 def _summary_page(title, summaries, validations, counts, job_seconds, explorers) -> Page:
