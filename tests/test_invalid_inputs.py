@@ -862,3 +862,62 @@ def test_studies_pass_relations_and_refusals_through(study, param, bad, want):
     for out in s.outputs:
         assert np.isnan(ds[out].values[1]), out
         assert np.array_equal(ds[out].values[:1], alone[out].values, equal_nan=True), out
+
+
+# every study input a study's own screening let through (found by probing each study's compute
+# with NaN, ±inf, negative, denormal and absurd values of each parameter in turn)
+UNSCREENED_BEFORE = [
+    ("engagement", "ambient_temperature", (-1.0, 1e-310, 1e30)),  # a negative absolute temperature
+    ("engagement", "wear_allowance", (1e30, 1e-310)),  # was worn_not_locked
+    ("engagement", "cushion_travel", (-1.0, 1e30)),
+    ("engagement", "lever_ratio", (-1.0, NAN, 1e30)),
+    ("engagement", "max_engine_torque", (-1.0, NAN)),
+    ("centrifugal", "startup_time", (NAN, -1.0, 1e30)),
+    ("roller", "contact_allowable", (NAN, INF, 1e30, -1.0)),
+    ("roller", "drive_direction", (NAN, 1e30, 1e-310)),  # was overrunning, or taken as +1
+]
+
+
+@pytest.mark.parametrize("study, param, bads", UNSCREENED_BEFORE)
+def test_every_study_input_is_screened_by_its_parameter(study, param, bads):
+    """A scenario with an input its parameter refuses is invalid_input, with no number; the good
+    scenario beside it is bit-identical to a batch of its own."""
+    from clutchlab.studies import get
+
+    s = get(study)
+    good = s.defaults[param]
+    alone = s.compute({**s.defaults, param: np.array([good])}, s.full_options())
+    for bad in bads:
+        ds = s.compute({**s.defaults, param: np.array([good, bad])}, s.full_options())
+        assert int(ds["status"].values[1]) == st.CODE["invalid_input"], (param, bad)
+        assert int(ds["status"].values[0]) == int(alone["status"].values[0])
+        for out in s.outputs:
+            assert np.isnan(ds[out].values[1]), (param, bad, out)
+            assert np.array_equal(ds[out].values[:1], alone[out].values, equal_nan=True), out
+
+
+@given(
+    value=hs.one_of(
+        hs.floats(allow_nan=True, allow_infinity=True),
+        hs.sampled_from(
+            [0.0, -0.0, 1e-310, -1e-310, 1.0, -1.0, 0.5, 2.0, 1e30, -1e30, 313.15, 1e-3]
+        ),
+    )
+)
+@settings(max_examples=300, deadline=None)
+def test_parameter_admissible_is_check_per_value(value):
+    """The vectorised rule the studies apply per scenario refuses exactly what the config refuses."""
+    from clutchlab.studies import REGISTRY, get
+
+    get("engagement")  # (loads every study)
+    for s in REGISTRY.values():
+        for p in s.parameters:
+            want = p.check(value) is None
+            assert bool(p.admissible(np.array([value]))[0]) == want, (s.name, p.name, value)
+
+
+def test_lists_are_read_as_arrays_when_every_scenario_is_good():
+    """A helper given Python lists answers as for arrays, whether or not a scenario is bad."""
+    args = ([0.1, 0.1], [0.03, 0.03], [0.095, 0.095], [0.07, 0.07])
+    want = diaphragm.radius_ratio_k(*map(np.array, args))
+    assert np.array_equal(diaphragm.radius_ratio_k(*args), want)

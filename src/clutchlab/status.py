@@ -446,7 +446,7 @@ def screened(compute, inputs: dict, domain: dict, *, extra=None, geometry=None) 
         code = np.where(ok & ~fits, CODE["invalid_geometry"], code)
         ok = ok & fits
     if ok.all():
-        return compute(**inputs, **extra)
+        return compute(**_sequences_as_arrays(inputs), **extra)
     good = ok.ravel()
     out = compute(**{k: a.reshape(-1)[good] for k, a in arrays.items()}, **extra)
     return _scatter(out, good, shape, code.ravel())
@@ -476,13 +476,19 @@ def nan_screened(compute, inputs: dict, domain: dict, *, extra=None):
     extra = extra or {}
     arrays, ok = admissible(inputs, domain)
     if ok.all():
-        return compute(**inputs, **extra)
+        return compute(**_sequences_as_arrays(inputs), **extra)
     good = ok.ravel()
     res = compute(**{k: a.reshape(-1)[good] for k, a in arrays.items()}, **extra)
     parts = res if isinstance(res, tuple) else (res,)
     full = _scatter({str(i): v for i, v in enumerate(parts)}, good, ok.shape, None)
     back = tuple(full[str(i)][()] if ok.ndim == 0 else full[str(i)] for i in range(len(parts)))
     return back if isinstance(res, tuple) else back[0]
+
+
+def _sequences_as_arrays(inputs: dict) -> dict:
+    """The inputs with each list or tuple as an array (as the bad scenarios' path passes them);
+    arrays and scalars unchanged."""
+    return {k: np.asarray(v) if isinstance(v, (list, tuple)) else v for k, v in inputs.items()}
 
 
 def _scatter(out, good, shape, code):

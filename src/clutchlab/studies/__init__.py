@@ -12,7 +12,10 @@ spaces, or ``all``), from the study's table :attr:`Study.valid_statuses`; elsewh
 integer output: −1). A float output not in the table is valid under ``ok`` only; an integer one
 (counts, flags, solver statistics) under every status. :func:`register` applies the table to
 every study's ``compute`` (:func:`apply_valid_statuses`), so every path to a result — the
-pipeline, a notebook, a test — gets it.
+pipeline, a notebook, a test — gets it. Before it, every scenario with an input that its
+:class:`Parameter` refuses (the rules the config is read with, per scenario: bounds, choices, a
+whole count, a finite and plausible magnitude) gets the status ``invalid_input``
+(:func:`refuse_inadmissible`), whether or not the study's own screening caught it.
 """
 
 from __future__ import annotations
@@ -36,6 +39,8 @@ __all__ = [
     "flat_inputs",
     "seed_design",
     "apply_valid_statuses",
+    "inadmissible",
+    "refuse_inadmissible",
     "ALL_STATUSES",
     "units_metadata",
     "Relation",
@@ -143,6 +148,34 @@ class Parameter:
             f"got {got}, outside the plausible range{what} ({lo:g} to {hi:g}{u} in magnitude): "
             "a typing or unit slip?"
         )
+
+    def admissible(self, values) -> np.ndarray:
+        """Which of ``values`` [SI] :meth:`check` accepts, per value (the same rules, vectorised).
+
+        Parameters
+        ----------
+        values : array_like
+            Values of this parameter [SI], one per scenario.
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            True where the value is physical and plausible (NaN never is).
+        """
+        v = np.asarray(values, dtype=float)
+        if self.choices is not None:
+            return np.isin(v, self.choices)
+        ok = ~np.isnan(v) & (np.isfinite(v) | self.allow_infinite)
+        if self.integer:
+            with np.errstate(invalid="ignore"):
+                ok &= np.isfinite(v) & (v == np.round(v))
+        if self.minimum is not None:
+            ok &= (v >= self.minimum) if self.minimum_inclusive else (v > self.minimum)
+        if self.maximum is not None:
+            ok &= (v <= self.maximum) if self.maximum_inclusive else (v < self.maximum)
+        lo, hi = (1.0, float(plausible.COUNT_MAX)) if self.integer else self.plausible_range
+        a = np.abs(v)
+        return ok & ((a == 0) | np.isinf(a) | ((a >= lo) & (a <= hi)))
 
     @property
     def plausible_range(self) -> tuple[float, float]:
@@ -460,10 +493,65 @@ def apply_valid_statuses(ds, table: dict):
     return ds
 
 
-def _with_valid_statuses(compute: Callable, table: dict) -> Callable:
+def inadmissible(parameters, inputs) -> np.ndarray:
+    """The scenarios with an input its parameter refuses (:meth:`Parameter.admissible`).
+
+    Parameters
+    ----------
+    parameters : sequence of Parameter
+        A study's parameters; inputs of other names are not judged.
+    inputs : dict
+        Parameter name -> scalar or flat array [SI] (a chunk's inputs).
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        One entry per scenario (the inputs' length; 1 if every input is a scalar).
+    """
+    flat = flat_inputs(inputs)
+    n = next(iter(flat.values())).size if flat else 1
+    bad = np.zeros(n, dtype=bool)
+    for p in parameters:
+        if p.name in inputs:
+            a = np.asarray(inputs[p.name], dtype=float)
+            ok = p.admissible(a.reshape(-1) if a.ndim else a)
+            bad |= ~ok
+    return bad
+
+
+def refuse_inadmissible(ds, parameters, inputs):
+    """Status ``invalid_input`` for every scenario with an input its parameter refuses (one a
+    study's own screening let through: a negative absolute temperature, an implausible magnitude,
+    a value outside a parameter's choices); a scenario the study refused already keeps its status.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A study's compute result (``status`` on dimension ``run``); changed in place.
+    parameters : sequence of Parameter
+        The study's parameters.
+    inputs : dict
+        The inputs ``ds`` was computed from.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``ds``.
+    """
+    bad = inadmissible(parameters, inputs)
+    if bad.any():
+        code = np.array(ds["status"].values)
+        refused = np.isin(code, [st.CODE["invalid_input"], st.CODE["invalid_geometry"]])
+        code[np.broadcast_to(bad, code.shape) & ~refused] = st.CODE["invalid_input"]
+        ds["status"].values = code
+    return ds
+
+
+def _with_valid_statuses(compute: Callable, table: dict, parameters=()) -> Callable:
     @functools.wraps(compute)
     def valid_compute(inputs, options=None):
-        return apply_valid_statuses(compute(inputs, options), table)
+        ds = refuse_inadmissible(compute(inputs, options), parameters, inputs)
+        return apply_valid_statuses(ds, table)
 
     return valid_compute
 
@@ -471,8 +559,9 @@ def _with_valid_statuses(compute: Callable, table: dict) -> Callable:
 def register(study: Study) -> Study:
     """Register ``study``, its ``compute`` wrapped so that each result follows the status rule.
 
-    The wrapper applies :func:`apply_valid_statuses` with the study's
-    :attr:`Study.valid_statuses`.
+    The wrapper gives status ``invalid_input`` to every scenario with an input its parameter
+    refuses (:func:`refuse_inadmissible`), then applies :func:`apply_valid_statuses` with the
+    study's :attr:`Study.valid_statuses`.
 
     Parameters
     ----------
@@ -485,7 +574,7 @@ def register(study: Study) -> Study:
         The registered study (with the wrapped ``compute``).
     """
     study = dataclasses.replace(
-        study, compute=_with_valid_statuses(study.compute, study.valid_statuses)
+        study, compute=_with_valid_statuses(study.compute, study.valid_statuses, study.parameters)
     )
     REGISTRY[study.name] = study
     return study
