@@ -923,3 +923,28 @@ def test_stored_temperatures_say_their_kind():
     for name, var in {**ds.coords, **ds.data_vars}.items():
         if var.attrs.get("units") == "K":
             assert var.attrs.get("units_metadata", "").startswith("temperature: "), name
+
+
+@pytest.mark.parametrize(
+    "sd, want",
+    [("5 K", 5.0), ("5 degC", 5.0), ("5 delta_degC", 5.0), ("9 degF", 5.0), (5.0, 5.0)],
+)
+def test_the_sd_of_an_absolute_temperature_is_a_difference(raw, sd, want):
+    """A spread is a difference whatever the parameter: 5 degC of sd is 5 K (not 278.15 K)."""
+    raw["engagement"]["noise"] = {
+        "ambient_temperature": {"min": "20 degC", "max": "60 degC", "dist": "normal", "sd": sd}
+    }
+    noise = config.resolve(raw)["engagement"]["robust"]["noise"]["ambient_temperature"]
+    assert noise["sd"] == pytest.approx(want)
+    assert noise["min"] == pytest.approx(293.15)
+
+
+def test_the_sd_of_a_ratio_is_not_held_to_the_ratios_bounds(raw):
+    """A static ratio is ≥ 1; its spread of 0.1 is not."""
+    raw["engagement"]["noise"] = {
+        "static_ratio": {"min": 1.0, "max": 1.5, "dist": "normal", "sd": 0.1}
+    }
+    noise = config.resolve(raw)["engagement"]["robust"]["noise"]["static_ratio"]
+    assert noise["sd"] == pytest.approx(0.1)
+    raw["engagement"]["noise"]["static_ratio"]["sd"] = 1e-30  # a slip, still refused
+    _expect(raw, "engagement.noise.static_ratio.sd", "plausible")

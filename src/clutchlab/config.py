@@ -10,13 +10,14 @@ from __future__ import annotations
 
 import copy
 import functools
+import math
 import re
 from importlib.resources import files
 
 import numpy as np
 import yaml
 
-from . import studies
+from . import plausible, studies
 from .units import UnitError, to_si
 
 __all__ = [
@@ -360,16 +361,16 @@ def scenario_count(resolved_study: dict) -> int:
     factor and option choice (saltelli), else its samples."""
     design = resolved_study["design"]
     if design == "factorial":
-        return int(
-            np.prod([len(f["values"]) for f in resolved_study["factors"].values()], dtype=np.int64)
-        ) * noise_count(resolved_study.get("robust"))
+        return math.prod(len(f["values"]) for f in resolved_study["factors"].values()) * (
+            noise_count(resolved_study.get("robust"))
+        )
     if design == "saltelli":
         d = len(resolved_study["factors"]) + len(resolved_study.get("option_factors", {}))
         return resolved_study["samples"] * (d + 2)
     robust = resolved_study.get("robust")
     if robust:  # sampled design points x the conditions' grid x the noise draws
         grid = [len(resolved_study["factors"][c]["values"]) for c in robust["conditions"]]
-        return resolved_study["samples"] * int(np.prod(grid, dtype=np.int64)) * noise_count(robust)
+        return resolved_study["samples"] * math.prod(grid) * noise_count(robust)
     return resolved_study["samples"]
 
 
@@ -621,6 +622,7 @@ def _noise(study, p: str, spec: dict, out: dict, key: str) -> dict:
         lo = _quantity(spec["min"], param, f"{key}.min", finite=True)
         hi = _quantity(spec["max"], param, f"{key}.max", finite=True)
         conv = lambda v, k: _quantity(v, param, k, finite=True)  # noqa: E731
+        spread = lambda v, k: _spread(v, param, k)  # noqa: E731
         relative = False
     else:
         if kinds[0] == "scatter":
@@ -637,7 +639,7 @@ def _noise(study, p: str, spec: dict, out: dict, key: str) -> dict:
             raise ConfigError(
                 key, f"a relative deviation below -100 % (got {lo:.4g}) changes the sign"
             )
-        conv = lambda v, k: _relative(v, k)  # noqa: E731
+        conv = spread = lambda v, k: _relative(v, k)  # noqa: E731
         relative = True
         _check_relative(param, out, lo, hi, key)
     if not lo < hi:
@@ -647,11 +649,30 @@ def _noise(study, p: str, spec: dict, out: dict, key: str) -> dict:
         "min": lo,
         "max": hi,
         "dist": dist,
-        **_shape(spec, dist, lo, hi, conv, key),
+        **_shape(spec, dist, lo, hi, conv, spread, key),
     }
 
 
-def _shape(spec, dist, lo, hi, conv, key) -> dict:
+def _spread(value, param, key) -> float:
+    """A spread of a parameter's values (a noise's sd) in SI: of the parameter's unit, a
+    temperature as a difference ("5 degC" is 5 K), finite and of plausible magnitude, but not
+    held to the parameter's own bounds (an sd of 0.1 for a ratio ≥ 1)."""
+    kind = "difference" if param.units == "K" else param.unit_kind
+    try:
+        v = to_si(value, param.units, kind)
+    except UnitError as exc:
+        raise ConfigError(key, str(exc)) from None
+    lo, hi = plausible.bounds("delta_K" if param.units == "K" else param.units)
+    if not lo <= abs(v) <= hi:
+        raise ConfigError(
+            key,
+            f"got {value!r}, outside the plausible range ({lo:g} to {hi:g} {param.units} in "
+            "magnitude): a typing or unit slip?",
+        )
+    return v
+
+
+def _shape(spec, dist, lo, hi, conv, spread, key) -> dict:
     """The centre (mode of a triangular, mean of a truncated normal) and sd of a noise."""
     if "sd" in spec and dist != "normal":
         raise ConfigError(f"{key}.sd", f"read by dist normal only (this noise is {dist})")
@@ -666,7 +687,7 @@ def _shape(spec, dist, lo, hi, conv, key) -> dict:
     if dist == "normal":
         if "sd" not in spec:
             raise ConfigError(f"{key}.sd", "required for dist normal (truncated at the bounds)")
-        sd = conv(spec["sd"], f"{key}.sd")
+        sd = spread(spec["sd"], f"{key}.sd")
         if not sd > 0:
             raise ConfigError(f"{key}.sd", f"must be > 0, got {sd:g}")
         out["sd"] = sd

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import math
 import os
 import tempfile
 import time
@@ -46,7 +47,7 @@ def _gridded(design: xr.Dataset) -> bool:
 def n_scenarios(design: xr.Dataset) -> int:
     """Number of scenarios in a design."""
     if _gridded(design):
-        return int(np.prod([design.sizes[f] for f in _factors(design)], dtype=np.int64))
+        return math.prod(int(design.sizes[f]) for f in _factors(design))
     return int(design.sizes["run"])
 
 

@@ -667,7 +667,7 @@ def check_config(section):
     """Refuse a combination of values the study cannot read physically.
 
     An odd face count (the heat model stacks n/2 driven plates lined on both sides); a friction
-    table with a friction coefficient factor or a finite Stribeck speed (a friction table replaces
+    table with a friction coefficient factor or noise or a finite Stribeck speed (a friction table replaces
     the Stribeck law and is read relative to a fixed friction coefficient). The relations between
     parameters are :data:`RELATIONS`.
 
@@ -703,6 +703,13 @@ def check_config(section):
                 "engagement.parameters.friction_coefficient",
                 "must be fixed with a friction_table (the table's mu is read relative to it: mu_k of the "
                 "capacity and of static_ratio)",
+            )
+        if "friction_coefficient" in (section.get("robust") or {}).get("noise", {}):
+            return (
+                "engagement.noise.friction_coefficient",
+                "cannot scatter with a friction_table (the table's mu is read relative to one fixed "
+                "friction_coefficient): scale the table instead, or give the study a noise of its "
+                "other parameters",
             )
         if bounds("stribeck_speed")[0] < np.inf:
             return (
@@ -791,7 +798,14 @@ def _model_used(inputs, options) -> str:
     the fixed inputs only (the same text in every chunk, whichever scenarios it holds; the
     per-scenario choice is the variable ``model``)."""
     if options["driveline"] != "rigid":
-        return MODEL_TEXT["compliant_events"]
+        laws = _slip_laws(inputs, options)
+        if not laws:  # (the text of a run with constant mu says so, not the laws it has not)
+            return MODEL_TEXT["compliant_events"].split(", slip with")[0] + (
+                ", constant μ, other nonlinear phases by DOPRI5, exact events"
+            )
+        return MODEL_TEXT["compliant_events"].replace(
+            "Stribeck, tabulated or fading", " and ".join(laws)
+        )
     given = {k: v for k, v in inputs.items() if k in _MODEL_INPUTS}
     if all(np.ndim(v) == 0 for v in given.values()):
         p = {k: np.atleast_1d(given.get(k, PARAMETER_DEFAULTS[k])) for k in _MODEL_INPUTS}
@@ -800,6 +814,22 @@ def _model_used(inputs, options) -> str:
     return "per scenario (variable model): " + "; ".join(
         MODEL_TEXT[m] for m in ("closed_form", "rigid_events")
     )
+
+
+def _slip_laws(inputs, options) -> list[str]:
+    """The nonlinear friction laws the inputs can slip with: by a fixed input's value, a varying
+    one's law always (the same in every chunk, whichever values it holds)."""
+
+    def may(name, uses):
+        v = inputs.get(name, PARAMETER_DEFAULTS[name])
+        return np.ndim(v) > 0 or bool(uses(float(v)))
+
+    laws = ["tabulated"] if "friction_table" in options else []
+    if may("stribeck_speed", np.isfinite):
+        laws.append("Stribeck")
+    if may("fade_coefficient", lambda b: b != 0):
+        laws.append("fading")
+    return laws
 
 
 def compute(inputs, options=None) -> xr.Dataset:
