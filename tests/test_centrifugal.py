@@ -161,13 +161,6 @@ def test_release_at_once_when_needed_torque_beats_reverse_capacity():
     assert r["released_at_once"] and r["release_time"] == 0.0 and r["release_speed"] == 5500 * RPM
 
 
-def test_release_integral_against_quadrature():
-    for a, c in ((20.0, 1e-4), (0.0, 2e-4), (5.0, 1e-9)):
-        exact = cf._inverse_quadratic_integral(a, c, 300.0, 575.0)
-        ref = quad(lambda w: 1 / (a + c * w * w), 300.0, 575.0, epsabs=0, epsrel=1e-13)[0]  # noqa: B023 (called in this iteration)
-        assert exact == pytest.approx(ref, rel=1e-12)
-
-
 def test_failure_trace_matches_closed_form():
     p = {**SEED, **DYN, "rated_speed": 5500 * RPM}
     tr = cf.engine_failure_trace(p, t_end=3.0)
@@ -220,3 +213,47 @@ def test_near_jam_is_flagged_and_keeps_its_exact_numbers():
     assert ds.reserve_factor.values[3] > 20 * ds.reserve_factor.values[0] and np.isnan(
         ds.reserve_factor.values[4]
     )
+
+
+@pytest.mark.parametrize(
+    "a, c, lo, hi",
+    [
+        (20.0, 1e-4, 300.0, 575.0),
+        (0.0, 2e-4, 300.0, 575.0),
+        (5.0, 1e-9, 300.0, 575.0),
+        (1.0, 2.0, 0.5, 3.0),
+        (1e-310, 2.0, 0.5, 3.0),  # a denormal static passive torque (it overflowed to 2.6e161 s)
+        (1e-320, 2e-3, 100.0, 600.0),
+        (5.0, 0.0, 100.0, 600.0),  # no drag growing with speed (it gave NaN)
+        (5.0, 1e-30, 100.0, 600.0),
+        (3.0, 1e-4, 100.0, 600.0),
+        (3.0, 1e-4, 100.0, 100.0 * (1 + 1e-12)),
+    ],
+)
+def test_release_integral_against_quadrature(a, c, lo, hi):
+    """∫ dω/(a + c·ω²) of the coast-down, in every regime of a and c, against scipy's quad."""
+    want = quad(lambda w: 1.0 / (a + c * w * w), lo, hi, epsabs=0, epsrel=1e-13)[0]
+    assert float(cf._inverse_quadratic_integral(a, c, lo, hi)) == pytest.approx(want, rel=1e-12)
+
+
+def test_release_time_is_continuous_in_the_static_fraction():
+    """A static fraction of 1e-310 releases as one of 0; one of 1 without rotor drag is finite."""
+    p = dict(
+        rated_speed=576.0,
+        shoes=3.0,
+        spring_force=400.0,
+        engine_inertia=0.05,
+        rotor_inertia=5.0,
+        rotor_load_torque=50.0,
+        rated_passive_torque=65.5,
+        friction_coefficient=0.4,
+        pressure_angle=0.68,
+        shoe_mass=0.3,
+        shoe_radius=0.07,
+        drum_radius=0.09,
+    )
+    zero = cf.release_after_failure(**p, static_fraction=0.0)["release_time"]
+    tiny = cf.release_after_failure(**p, static_fraction=1e-310)["release_time"]
+    assert float(tiny) == pytest.approx(float(zero), rel=1e-12) and float(zero) > 1.0
+    flat = cf.release_after_failure(**{**p, "rotor_load_torque": 0.0}, static_fraction=1.0)
+    assert np.isfinite(flat["release_time"]) and int(flat["status"]) == 0

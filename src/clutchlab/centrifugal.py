@@ -506,16 +506,21 @@ def _release_after_failure(
 
 
 def _inverse_quadratic_integral(a, c, lo, hi):
-    """∫_lo^hi dω/(a + c·ω²) for a ≥ 0, c > 0 (a = 0 allowed), exact."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.sqrt(a * c)
+    """∫_lo^hi dω/(a + c·ω²) for a ≥ 0, c ≥ 0, exact; a term below rounding of the other over
+    [lo, hi] is left out (a denormal a, or c = 0: no drag growing with speed)."""
+    a, c, lo, hi = (np.asarray(v, dtype=float) for v in (a, c, lo, hi))
+    eps = np.finfo(float).eps
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        quadratic = a <= eps * c * lo * lo  # ∫ dω/(c·ω²)
+        constant = ~quadratic & (c * hi * hi <= eps * a)  # ∫ dω/a
+        both = ~quadratic & ~constant
+        ra = np.sqrt(np.where(both, a, 1.0))
+        rc = np.sqrt(np.where(both, c, 1.0))
         # atan difference as one atan (no cancellation when lo ≈ hi)
-        at = np.arctan2(
-            np.sqrt(c / np.where(a > 0, a, 1.0)) * (hi - lo),
-            1.0 + c / np.where(a > 0, a, 1.0) * lo * hi,
-        ) / np.where(a > 0, s, 1.0)
+        at = np.arctan2(rc / ra * (hi - lo), 1.0 + c / np.where(both, a, 1.0) * lo * hi) / (ra * rc)
         pure = (hi - lo) / (c * lo * hi)
-    return np.where(a > 0, at, pure)
+        flat = (hi - lo) / a
+    return np.where(quadratic, pure, np.where(constant, flat, at))
 
 
 def design_status(
