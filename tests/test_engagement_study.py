@@ -157,3 +157,21 @@ def test_an_empty_chunk_runs():
     assert pipeline.chunk_slice(2, 5, 0) == slice(0, 0)
     empty = pipeline.run_chunk(design, sec["options"], 5, 0)
     assert empty.sizes["run"] == 0 and "model" in empty
+
+
+@pytest.mark.parametrize(
+    "inputs, options, says, not_says",
+    [
+        ({}, {}, "constant μ", "Stribeck"),
+        ({"stribeck_speed": 20.0}, {}, "slip with Stribeck friction", "tabulated"),
+        ({"fade_coefficient": np.array([0.0, 0.01])}, {}, "slip with fading friction", "Stribeck"),
+        ({}, {"friction_table": {}}, "slip with tabulated friction", "fading"),
+    ],
+)
+def test_model_used_names_the_friction_law_the_run_has(inputs, options, says, not_says):
+    """The report's caption of the compliant model says the slip law the inputs give, not every
+    law the solver has (a varying input's law wherever it is a factor: the same text a chunk)."""
+    from clutchlab.studies.engagement import _model_used
+
+    text = _model_used(inputs, {"driveline": "compliant", **options})
+    assert says in text and not_says not in text

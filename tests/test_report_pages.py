@@ -280,3 +280,27 @@ def _check_units(out, names):
         rows = list(csv.DictReader(fh))
     assert rows and not {r["units"] for r in rows} & {"Pa", "K", "m", "rad"}
     assert np.isfinite([float(r["computed"]) for r in rows]).all()
+
+
+def test_validation_table_shows_the_tolerance_it_judged_by():
+    """A tolerance of 0.15 reads 0.15 (it read 1e-01 beside errors of 0.11 that pass)."""
+    import xarray as xr
+
+    from clutchlab.report.common import validation_table
+
+    v = xr.Dataset(
+        {
+            "seed": ("row", ["001"]),
+            "quantity": ("row", ["q"]),
+            "source": ("row", ["Table 1"]),
+            "published": ("row", [1.0]),
+            "computed": ("row", [1.11]),
+            "units": ("row", ["1"]),
+            "rel_error": ("row", [0.11]),
+            "tolerance": ("row", [0.15]),
+            "passed": ("row", [1]),
+            "note": ("row", [""]),
+        }
+    )
+    (row,) = validation_table([v]).rows
+    assert row[7] == "0.15" and row[6] == "1.10e-01" and row[8] == "yes"

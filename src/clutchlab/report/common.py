@@ -436,7 +436,7 @@ def validation_table(validations) -> Table:
                     f"{float(com):.5g}",
                     unit,
                     f"{float(v['rel_error'].values[i]):.2e}",
-                    f"{float(v['tolerance'].values[i]):.0e}",
+                    f"{float(v['tolerance'].values[i]):.2g}",
                     "yes" if int(v["passed"].values[i]) else "NO",
                     str(v["note"].values[i]),
                 ]
@@ -476,7 +476,7 @@ def hard_case_table(ds) -> Table:
                 "status"
                 if np.isnan(err)
                 else f"{err:.1e}" + (" rel." if ds["error_kind"].values[i] == "relative" else ""),
-                "" if np.isnan(err) else f"{float(ds['tolerance'].values[i]):.0e}",
+                "" if np.isnan(err) else f"{float(ds['tolerance'].values[i]):.2g}",
                 "yes" if int(ds["passed"].values[i]) else "NO",
                 str(ds["off_the_shelf"].values[i]),
             ]

@@ -35,6 +35,21 @@ def _flat(ds, name):
     return ds[name].values.ravel()
 
 
+def _status_counts(status, drawn_ok: int) -> str:
+    """'N ok scenarios drawn; M lock new but not when worn, K never lock, L other statuses' (the
+    parts that are not zero)."""
+    worn = int((status == st.CODE["worn_not_locked"]).sum())
+    never = int((status == st.CODE["never_locked"]).sum())
+    other = status.size - int((status == st.CODE["ok"]).sum()) - worn - never
+    parts = [f"{drawn_ok} ok scenarios drawn"]
+    for n, what in ((worn, "lock new but not when worn"), (never, "never lock")):
+        if n:
+            parts.append(f"{n} {what}")
+    if other:
+        parts.append(f"{other} of other statuses")
+    return "; ".join(parts[:1]) + ("; " + ", ".join(parts[1:]) if parts[1:] else "")
+
+
 def tradeoff(ds):
     ok = (_flat(ds, "status") == st.CODE["ok"]) & np.isfinite(_flat(ds, "peak_jerk"))
     w, j, t = _flat(ds, "slip_work")[ok], _flat(ds, "peak_jerk")[ok], _flat(ds, "lockup_time")[ok]
@@ -82,9 +97,9 @@ def tradeoff(ds):
     ax.set_yscale("log")
     ax.set_xlabel("slip work [kJ]  (efficiency: lower is better)")
     ax.set_ylabel("peak output jerk [rad/s³]  (smoothness: lower is better)")
-    title = (
-        "Efficiency-smoothness trade-off of the engagement (%d locked scenarios, %d not locked)%s"
-        % (ok.sum(), (~ok).sum(), drawn_note(int(ok.sum())))
+    title = "Efficiency-smoothness trade-off of the engagement (%s)%s" % (
+        _status_counts(_flat(ds, "status"), int(ok.sum())),
+        drawn_note(int(ok.sum())),
     )
     model = "model: " + ds.attrs.get("model_used", ds.attrs.get("model", ""))
     ax.set_title("\n".join(textwrap.wrap(title, 110) + textwrap.wrap(model, 110)), fontsize=10)

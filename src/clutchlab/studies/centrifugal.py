@@ -467,13 +467,14 @@ def _release_rows():
     }
     rel = cf.release_after_failure(rated_speed=w_r, **dyn, **cap)
     rel53 = cf.release_after_failure(rated_speed=w_r, **dyn, **cap53)
+    at_once = "releases at once" if rel53["released_at_once"] else "does not release at once"
     return [
         Row.against(
             pub["reserve_factor_53deg"],
             f53 / pub["engine_torque"].value,
             0.05,
             f"not reproduced: at 53 deg the model gives M = {float(f53):.1f} N m and "
-            f"M' = {float(r53):.1f} N m (releases at once: {bool(rel53['released_at_once'])}); "
+            f"M' = {float(r53):.1f} N m ({at_once}); "
             "a lower f lowers M' as well, so 'f too small' does not explain the late release the "
             "paper measured before the change",
         ),
