@@ -704,3 +704,54 @@ def test_solver_options_that_cannot_be_meant_are_refused(option, value):
     name = option.split("_table")[0] if option.endswith("_table") else option
     with pytest.raises(ValueError, match=name):
         eng.simulate(**kw, **{option: value})
+
+
+# a free engine whose torque (50 N m) cannot carry the load: it stalls
+STALLING = dict(
+    engine_speed=600.0,
+    engine_inertia=0.5,
+    engine_torque=50.0,
+    driven_inertia=2.0,
+    static_ratio=1.2,
+)
+
+
+@pytest.mark.parametrize("t_end", [30.0, 60.0])
+def test_a_locked_rigid_pair_that_cannot_carry_its_load_stops_at_rest(t_end):
+    """Locked at 0.658 s and 107.6 rad/s, the pair decelerates at (T_e − T_m)/(J_e + J_v) to rest
+    at 6.04 s and stays there (the load is passive): it spun backwards to −1 079 rad/s by 60 s."""
+    r = eng.simulate(**STALLING, load_torque=100.0, peak_capacity=500.0, ramp_time=0.2, t_end=t_end)
+    w_lock = float(r["lockup_speed"])
+    stop = w_lock * (0.5 + 2.0) / (100.0 - 50.0)  # after lock-up
+    before = eng.simulate(
+        **STALLING, load_torque=100.0, peak_capacity=500.0, ramp_time=0.2, t_end=0.6581818181
+    )
+    assert int(r["status"]) == st.CODE["ok"]
+    assert float(r["kinetic_energy_change"]) == pytest.approx(-0.5 * 0.5 * 600.0**2, rel=1e-9)
+    locked_load_work = 100.0 * 0.5 * w_lock * stop  # T_m ∫ω over the linear run-down
+    assert float(r["load_work"]) == pytest.approx(
+        float(before["load_work"]) + locked_load_work, rel=1e-6
+    )
+
+
+@pytest.mark.parametrize("profile", ["ramp", "cubic", "quintic"])
+@pytest.mark.parametrize("ramp_time, want", [(0.0, 2.0), (0.2, 6.4 / 3.0), (5.0, 16.0 / 3.0)])
+def test_a_free_engine_slowed_to_rest_against_a_parked_load_locks_at_zero(profile, ramp_time, want):
+    """C_max = 200 N m < T_m = 1 000 N m: the driven side never moves; the engine (T_e = 50 N m)
+    slows to rest, a lock-up at zero speed, in both solvers (the closed form ran the engine
+    backwards: never_locked with a slip work of −122 533 J). Lock-up times by hand for the ramp:
+    ω_e = 600 − 300 t (step), 640 − 300 t (0.2 s), 800 − 150 t (5 s); the profile only changes the
+    way there when the root is on it."""
+    kw = dict(
+        **STALLING, load_torque=1e3, peak_capacity=200.0, ramp_time=ramp_time, profile=profile
+    )
+    cf, sm = eng.closed_form(**kw, t_end=8.0), eng.simulate(**kw, t_end=8.0)
+    for r in (cf, sm):
+        assert int(r["status"]) == st.CODE["ok"]
+        assert float(r["lockup_speed"]) == 0.0 and float(r["load_work"]) == 0.0
+        assert float(r["kinetic_energy_change"]) == pytest.approx(-90_000.0, rel=1e-12)
+        assert float(r["slip_work"]) > 0 and float(r["accel_jump"]) == 0.0
+    if profile == "ramp" or ramp_time in (0.0, 5.0):
+        assert float(cf["lockup_time"]) == pytest.approx(want, rel=1e-12)
+    for k in ("lockup_time", "slip_work", "input_work"):
+        assert float(sm[k]) == pytest.approx(float(cf[k]), rel=1e-8), k

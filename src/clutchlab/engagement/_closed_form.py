@@ -163,10 +163,13 @@ def _closed_form_flat(flat, profile, power_history=False):
         np.maximum(np.abs(w_in), np.abs(w_slip)), 1e-300
     )
     peak = peak_power(d, pieces, a_coef, b_coef)
-    # the driven side's acceleration before and after lock-up
-    acc_before = (c_lock - d.tm) * d.inv_jv
+    # the driven side's acceleration before and after lock-up (a stall: at rest before and after)
+    stalled = locked & d.stalls
+    acc_before = np.where(stalled, 0.0, (c_lock - d.tm) * d.inv_jv)
     with np.errstate(divide="ignore", invalid="ignore"):
-        acc_after = np.where(d.held, 0.0, (d.te - d.tm) * d.inv_je / (1.0 + d.jv * d.inv_je))
+        acc_after = np.where(
+            d.held | stalled, 0.0, (d.te - d.tm) * d.inv_je / (1.0 + d.jv * d.inv_je)
+        )
     code = np.where(locked, st.CODE["ok"], st.CODE["never_locked"]).astype(st.DTYPE)
     nan = np.where(locked, 1.0, np.nan)
     out = {
@@ -181,7 +184,7 @@ def _closed_form_flat(flat, profile, power_history=False):
         "peak_friction_torque": c_lock,
         "capacity_at_lockup": c_lock * nan,
         "accel_jump": (acc_after - acc_before) * nan,
-        "slip_jerk": slip_jerk(d, t_stop) * d.inv_jv,
+        "slip_jerk": np.where(stalled, 0.0, slip_jerk(d, t_stop) * d.inv_jv),
         "status": code,
     }
     if power_history:

@@ -571,7 +571,7 @@ def apply_event(kind, t, y, q, mode, d, dm, g, pk, out):
     Records lock-up and break-away; fills d and g at the new mode; returns the new Mode."""
     locked, parked, s, compliant, prof = mode
     held = q[HELD] > 0.0
-    if kind == UNPARK and not compliant and y[E] == y[H]:
+    if kind == UNPARK and not compliant and not locked and y[E] == y[H]:
         # no slip to start from (e.g. a held engine at 0 rad/s and a parked driven side): the
         # clutch that now carries the load holds the driven side at the engine's speed — a lock-up,
         # not a start of slip into the wrong direction (negative slip work)
@@ -594,11 +594,19 @@ def apply_event(kind, t, y, q, mode, d, dm, g, pk, out):
     elif kind == PARK:
         parked = True
         y[R if compliant else H] = 0.0
+        if locked and not compliant:  # a stall: the locked engine stops with the driven side
+            y[E] = 0.0
     acc_before = dm[
         H
     ]  # the hub's (rigid: the driven side's); the output's is continuous (compliant)
     new = Mode(locked, parked, s, compliant, prof)
     fc = forces(t, y, q, new, d)
+    if kind == LOCK and not compliant and not held and y[H] <= 0.0 and d[H] < 0.0:
+        # locked at rest (a free engine slowed to the parked side's standstill) and the engine
+        # cannot turn the load: stalled, not spinning backwards
+        new = Mode(locked, True, s, compliant, prof)
+        y[E] = y[H] = 0.0
+        fc = forces(t, y, q, new, d)
     if kind == LOCK:
         out[LOCKUP_TIME] = t
         out[LOCKUP_SPEED] = y[H]

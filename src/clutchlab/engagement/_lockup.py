@@ -70,7 +70,8 @@ def _parking(d):
     parked from t = 0 if it starts at rest; if it starts turning it decelerates and parks at t_p
     when its speed reaches zero before C reaches T_m (at t0). It moves again from t0 on. Sets
     ``t_p``, ``t0``, ``moves``, ``parked_phase``, ``parks_later``, ``ic0`` and
-    ``all_parked_from_start`` on ``d``."""
+    ``all_parked_from_start`` on ``d``, and a free engine's stall in the parked phase
+    (:func:`_stall`)."""
     tm = d.tm
     with np.errstate(divide="ignore", invalid="ignore"):
         q = tm / d.cmax
@@ -101,6 +102,7 @@ def _parking(d):
     _, d.ic0 = d.capacity(d.t0)
     # the usual case: the driven side starts at rest
     d.all_parked_from_start = bool(starts_parked.all())
+    _stall(d)
 
 
 def lockup_time(d):
@@ -122,7 +124,37 @@ def lockup_time(d):
     stuck0 = (d.we0 - d.wc0 == 0.0) & (
         np.abs(need0) <= d.rs * d.cmax * np.where(d.step, 1.0, _polyval(d.pc, 0.0))
     )
+    # a free engine slowed to rest while the driven side is still parked: a lock-up at zero speed
+    t_lock = np.where(d.stalls, d.t_stall, t_lock)
     return np.where(stuck0, 0.0, t_lock), ramp_end, a_coef, b_coef
+
+
+def _stall(d):
+    """A free engine that the clutch slows to rest (C(t) > T_e) while the driven side is parked:
+    sets ``t_stall`` [s], the time its speed reaches the parked side's zero (ω_e is concave while
+    C rises, linear after: one root), and ``stalls`` where that comes before the driven side
+    moves (``t0``)."""
+    d.t_stall = np.full_like(d.we0, np.inf)
+    d.stalls = np.zeros(d.we0.shape, dtype=bool)
+    cand = ~d.held & d.parked_phase & (d.te < d.cmax)
+    if not cand.any():
+        return
+
+    def engine(t):  # ω_e and its rate
+        c, ic = d.capacity(t)
+        return d.we0 + d.inv_je * (d.te * t - ic), (d.te - c) * d.inv_je
+
+    lo = np.where(cand, d.t_p, 0.0)
+    full = np.maximum(np.where(d.step, 0.0, d.tr), lo)  # the clamp fully applied from here
+    w_lo, w_full = engine(lo)[0], engine(full)[0]
+    on_profile = cand & (w_lo > 0.0) & (w_full <= 0.0)
+    t = np.where(on_profile, newton_bracketed(engine, lo, full, full.copy(), on_profile), np.inf)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        after = full + w_full / ((d.cmax - d.te) * d.inv_je)  # linear once C = C_max
+    t = np.where(cand & (w_lo > 0.0) & (w_full > 0.0), after, t)
+    parked_until = np.where(d.moves, d.t0, np.inf)
+    d.stalls = cand & (t < parked_until)
+    d.t_stall = np.where(d.stalls, t, np.inf)
 
 
 def _root_on_profile(d, a_coef, b_coef, ramp_end, root_on_ramp):

@@ -149,6 +149,11 @@ def forces(t, y, q, mode, dy):
         ah_slip = 0.0
     a_lock = 0.0 if held else (te - hub_side) * q[INV_JE] / (1.0 + jh * q[INV_JE])
     t_need = hub_side + jh * a_lock
+    if locked and parked and not compliant:
+        # stalled: the locked sides at rest, the engine's torque (none if it brakes) held by the
+        # parked driven side's static load
+        a_lock = 0.0
+        t_need = max(te, 0.0)
     if locked:
         ah, tc, ae = a_lock, t_need, a_lock
     else:
@@ -214,14 +219,17 @@ def jerk(t, y, q, mode, dy, fc):
 def events(t, y, q, mode, dy, fc, g):
     """The switching functions at the state into g (inf where an event cannot happen): LOCK the
     slip, BREAK the static capacity's margin, UNPARK the load's margin over the driving torque,
-    PARK the output speed, PEAK the slip power's rate."""
+    PARK the output speed (of a rigid locked pair too: a free engine's stall), PEAK the slip
+    power's rate."""
     locked, parked, s, compliant, prof = mode
     C, tc, ts, t_need, slip = fc.capacity, fc.torque, fc.spring, fc.needed, fc.slip
     inf = np.inf
     g[LOCK] = inf if locked else s * slip
     g[BREAK] = q[RS] * C - abs(t_need) if locked else inf
     g[UNPARK] = load_static(t, q) - (ts if compliant else tc) if parked else inf
-    g[PARK] = (y[R] if compliant else y[H]) if (not parked and (not locked or compliant)) else inf
+    # (a rigid locked pair parks too: a free engine that cannot carry the load stalls)
+    can_park = not parked and (not locked or compliant or q[HELD] == 0.0)
+    g[PARK] = (y[R] if compliant else y[H]) if can_park else inf
     g[PEAK] = (
         inf if locked else (slip_torque_rate(t, q, mode, dy, fc) * slip + tc * (dy[E] - dy[H]))
     )
