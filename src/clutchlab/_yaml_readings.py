@@ -33,6 +33,9 @@ _CORE = (
 )
 
 
+_INF_WORD = re.compile(r"[-+]?\.(?:inf|Inf|INF)")
+
+
 def yaml12(text: str):
     """The YAML 1.2 core-schema reading of the plain scalar ``text``."""
     for pattern, read in _CORE:
@@ -140,6 +143,13 @@ def _misread(constructor, node, is_key) -> str | None:
     v11 = constructor.construct_object(node)
     v12 = yaml12(node.value)
     if _same(v11, v12):
+        if isinstance(v12, float) and math.isinf(v12) and not _INF_WORD.fullmatch(node.value):
+            # a number beyond a double's range (1.0e+400), not the word .inf: both readers
+            # overflow to an infinity (a held engine, for an engine inertia)
+            return (
+                f"the value {node.value} is beyond the largest number a double holds (1.8e308) and "
+                "would be read as infinite: write .inf if that is meant"
+            )
         return None
     what = "the key" if is_key else "the value"
     ways = dict.fromkeys((spell(v11), spell(v12)))

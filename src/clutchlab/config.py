@@ -639,6 +639,18 @@ def _noise(study, p: str, spec: dict, out: dict, key: str) -> dict:
             raise ConfigError(
                 key, f"a relative deviation below -100 % (got {lo:.4g}) changes the sign"
             )
+        if hi > 1.0:
+            raise ConfigError(
+                key,
+                f"a relative deviation above +100 % (got {hi:.4g}, i.e. {100 * hi:.4g} %): write "
+                "fractions (0.2) or percent ('20 %'); give min and max for a wider range",
+            )
+        if param.kind == "absolute":
+            raise ConfigError(
+                key,
+                "a relative scatter of an absolute temperature depends on its scale (±20 % of "
+                "313 K is ±63 K, of 40 degC ±8 K): give min and max (e.g. 20 degC and 60 degC)",
+            )
         conv = spread = lambda v, k: _relative(v, k)  # noqa: E731
         relative = True
         _check_relative(param, out, lo, hi, key)

@@ -15,6 +15,8 @@ friction coefficient of "20 deg" as 0.349, a speed of "91.67 Hz" as 91.67 rad/s 
 * an angle unit (deg, rad, rev) on a quantity without an angle is refused, and so is a unit
   without an angle on an angle (an angle given as a bare number is SI, radians) or on another
   quantity with an angle in it (N m/rad, rad/s²);
+* a coefficient of the angular speed squared (SI N m s², per (rad/s)²) refuses Hz and minutes
+  (they would be per revolutions: 1 N m/Hz² is 0.0253 N m s², not 1);
 * a torque (SI N m and its compounds) must be written as a force times a length (N*m, kN*m,
   lbf*ft): an energy unit (J, kJ, kWh) is refused; an energy or work accepts J, kJ and N*m alike;
 * temperatures have a kind: an absolute temperature needs a unit (degC and degF are read with
@@ -188,6 +190,7 @@ def _convert(number: float, unit: str, value, si_unit: str, kind) -> float:
         raise UnitError(f"cannot parse the unit of {value!r}: {exc}") from None
     names = dict(given._units)
     target = ureg.parse_units("dimensionless" if si_unit == "1" else si_unit)
+    _check_speed_coefficient(ureg, names, target, value, si_unit)
     factor = _angle_factor(ureg, given, target, value, si_unit)
     if "newton" in dict(target._units) and "meter" in dict(target._units):
         _check_torque(ureg, names, value)
@@ -230,6 +233,23 @@ def _angle_factor(ureg, given, target, value, si_unit: str) -> float:
     raise UnitError(
         f"{value!r} has no angle in its unit; write it with the angle, e.g. in {si_unit}"
     )
+
+
+def _check_speed_coefficient(ureg, names: dict, target, value, si_unit: str) -> None:
+    """A coefficient of the angular speed squared (SI N m s², per (rad/s)²) refuses a frequency
+    or a time in minutes or hours: per Hz² or min² it would be per (rev/s)² or (rev/min)², and
+    read literally it would be (2π)² = 39.5 times too large (1 N m/Hz² is 0.0253 N m s²)."""
+    if _radians(ureg, target) != 0 or dict(target._units).get("second", 0) <= 0:
+        return
+    if not {"newton", "meter"} <= set(dict(target._units)):
+        return
+    cycles = [n for n in names if n.endswith("hertz") or n in ("minute", "hour", "day")]
+    if cycles:
+        raise UnitError(
+            f"{value!r}: a coefficient of the speed squared is per (rad/s)^2; per {cycles[0]} "
+            f"it would be per revolutions: write it in {si_unit} (a value per (rev/s)^2 divided "
+            "by (2 pi)^2 = 39.48)"
+        )
 
 
 def _check_torque(ureg, names: dict, value) -> None:
