@@ -464,5 +464,5 @@ def test_the_summary_of_a_robust_study_without_a_robust_design_says_so_once():
     ra.attrs["noise_parameters"] = "friction_coefficient roller_diameter"
     head, best = pages.summary_lines(ra)
     assert "noise samples of friction_coefficient, roller_diameter;" in head
-    assert best.startswith("best robust design: none (no design fails with probability at most")
+    assert best.startswith("best robust design: none (no design fails in at most 1 % of its")
     assert best.count("no robust design") == 0

@@ -130,7 +130,7 @@ def _none_reason(ra) -> str:
     feas = _flat(ra, "robust_feasible").astype(bool)
     limit = ra.attrs.get("max_failure_probability", 0.01)
     return (
-        f"no design fails with probability at most {100 * limit:.2g} % at every condition"
+        f"no design fails in at most {100 * limit:.2g} % of its noise draws at every condition"
         if not feas.any()
         else "the robust-feasible designs have no finite robust objectives"
     )
@@ -149,10 +149,15 @@ def summary_lines(ra) -> list[str]:
         else f"none ({_none_reason(ra)})"  # (not "no robust design" twice)
     )
     return [
-        f"robust: {int(feas.sum())} of {feas.size} designs fail with probability at most "
-        f"{100 * ra.attrs.get('max_failure_probability', 0.01):.2g} % at each of {ncond} "
-        f"operating conditions ({', '.join(conds) or 'none'}) over "
-        f"{ra.attrs.get('noise_samples', 0)} noise samples of {noise}; "
+        f"robust: {int(feas.sum())} of {feas.size} designs fail in at most "
+        f"{100 * ra.attrs.get('max_failure_probability', 0.01):.2g} % of the noise draws (an "
+        "estimate of the probability of failure; its 95 % bounds on the robust page) "
+        + (
+            f"at each of {ncond} operating conditions ({', '.join(conds)})"
+            if conds
+            else "at the one operating condition"
+        )
+        + f" over {ra.attrs.get('noise_samples', 0)} noise samples of {noise}; "
         f"{int((rank == 0).sum())} on the robust front ({_which(ra)} objectives)",
         "best robust design: " + best,
     ]
@@ -217,8 +222,9 @@ def page(name, ra):
     fig.suptitle(
         textwrap.fill(
             f"Robust answers, study '{name}': {int(feas.sum())} of {feas.size} designs meet every "
-            f"limit with probability of failure at most "
-            f"{100 * ra.attrs.get('max_failure_probability', 0.01):.2g} % at every operating "
+            f"limit in all but at most "
+            f"{100 * ra.attrs.get('max_failure_probability', 0.01):.2g} % of the noise draws (the "
+            "estimated probability of failure) at every operating "
             f"condition; {int((rank == 0).sum())} on the robust front"
             + (f" (table: {len(shown)}{spread}; {name}_robust.csv)" if rows else ""),
             130,
