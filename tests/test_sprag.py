@@ -274,3 +274,20 @@ def test_study_records_its_fixed_point_statistics():
     assert study.GRIP_TOL == inspect.signature(sp.gripping_angle).parameters["tol"].default
     assert ds.attrs["fixed_point_tolerance"] == study.GRIP_TOL
     assert ds["n_iterations"].dtype == np.int32 and (ds["n_iterations"].values[1:] > 0).all()
+
+
+def test_a_misspelt_argument_is_refused_not_dropped():
+    """The helpers that take a whole geometry dict ignore its other keys, not a misspelt one (a
+    youngs_modulu of 70 GPa returned the steel's stress unchanged)."""
+    g = sp.SEED_GEOMETRY
+    r = sp.rest_geometry(**g)
+    calls = [
+        lambda **k: sp.rest_geometry(**g, **k),
+        lambda **k: sp.race_deflections(1e5, 1e5, **g, **k),
+        lambda **k: sp.contact_stress(750.0, V=r["V"], W=r["W"], **g, **k),
+        lambda **k: sp.shaft_stress(750.0, V=r["V"], W=r["W"], **g, **k),
+    ]
+    for call in calls:
+        call(youngs_modulus=206e9)  # a key of the geometry dict: fine
+        with pytest.raises(TypeError, match="youngs_modulu"):
+            call(youngs_modulu=70e9)

@@ -378,11 +378,16 @@ def _domain(names):
     return {k: _DOMAIN[k] for k in names}
 
 
-def _full_geometry(geometry):
-    """The source paper (002)'s geometry and steel, updated by ``geometry`` (unknown: TypeError)."""
-    unknown = set(geometry) - set(SEED_GEOMETRY) - set(STEEL)
+def _only_geometry(rest) -> None:
+    """Refuse a keyword that is not a key of a geometry dict (a misspelt argument)."""
+    unknown = set(rest) - set(SEED_GEOMETRY) - set(STEEL)
     if unknown:
         raise TypeError(f"unknown geometry argument(s): {', '.join(sorted(unknown))}")
+
+
+def _full_geometry(geometry):
+    """The source paper (002)'s geometry and steel, updated by ``geometry`` (unknown: TypeError)."""
+    _only_geometry(geometry)
     return {**SEED_GEOMETRY, **STEEL, **geometry}
 
 
@@ -407,7 +412,7 @@ def rest_geometry(
     sprag_inner_radius,
     sprag_outer_radius,
     centre_distance,
-    **_,
+    **rest,
 ):
     """Unloaded angles ψ₀, V₀, W₀ and the radial overlap d₀ = OA − OB of a sprag in its races.
 
@@ -426,8 +431,9 @@ def rest_geometry(
         Radius r_o of the sprag's outer arc.
     centre_distance : float or array_like [m]
         Distance Z = ``|AB|`` of the arcs' centres.
-    **_ : dict
-        Further keyword arguments (e.g. the rest of a geometry dict) are ignored.
+    **rest : dict
+        Further keys of a geometry dict (:data:`SEED_GEOMETRY`, the steel's), ignored here;
+        another name is a TypeError (a misspelt argument is not dropped).
 
     Returns
     -------
@@ -440,6 +446,7 @@ def rest_geometry(
     Source paper (002), Fig. 2 and Table 1 ([1] in the module docstring); the geometry of eq. (6)
     (module docstring).
     """
+    _only_geometry(rest)
     inputs = dict(
         inner_race_radius=inner_race_radius,
         outer_race_radius=outer_race_radius,
@@ -522,7 +529,7 @@ def race_deflections(
     outer_rim_radius,
     youngs_modulus=206e9,
     poisson_ratio=0.3,
-    **_,
+    **rest,
 ):
     """Radial displacement of the race surfaces under the smeared sprag pressure.
 
@@ -552,8 +559,9 @@ def race_deflections(
         Young's modulus E of the races.
     poisson_ratio : float or array_like [-]
         Poisson's ratio ν ∈ (−1, 0.5).
-    **_ : dict
-        Further keyword arguments (e.g. the rest of a geometry dict) are ignored.
+    **rest : dict
+        Further keys of a geometry dict (:data:`SEED_GEOMETRY`, the steel's), ignored here;
+        another name is a TypeError (a misspelt argument is not dropped).
 
     Returns
     -------
@@ -568,6 +576,7 @@ def race_deflections(
     Source paper (002), eq. (6) (the deflection it needs; module docstring); Lamé's thick
     cylinder.
     """
+    _only_geometry(rest)
     inputs = dict(
         load_inner=load_inner,
         load_outer=load_outer,
@@ -842,7 +851,7 @@ def contact_stress(
     sprag_outer_radius,
     youngs_modulus=206e9,
     poisson_ratio=0.3,
-    **_,
+    **rest,
 ):
     """Hertz line-contact stress at the inner and outer contact (equation (7) of [1]).
 
@@ -875,8 +884,9 @@ def contact_stress(
         Young's modulus E.
     poisson_ratio : float or array_like [-]
         Poisson's ratio ν.
-    **_ : dict
-        Further keyword arguments (e.g. the rest of a geometry dict) are ignored.
+    **rest : dict
+        Further keys of a geometry dict (:data:`SEED_GEOMETRY`, the steel's), ignored here;
+        another name is a TypeError (a misspelt argument is not dropped).
 
     Returns
     -------
@@ -894,6 +904,7 @@ def contact_stress(
     ----------
     Source paper (002), eq. (7) and Table 2 ([1] in the module docstring).
     """
+    _only_geometry(rest)
     inputs = dict(
         torque=torque,
         V=V,
@@ -962,7 +973,7 @@ def shaft_stress(
     inner_race_radius,
     outer_race_radius,
     outer_rim_radius,
-    **_,
+    **rest,
 ):
     """Von Mises stress of the inner shaft and the outer race (equation (8) of [1]).
 
@@ -990,8 +1001,9 @@ def shaft_stress(
         Outer race radius R_o.
     outer_rim_radius : float or array_like [m]
         Outer radius R_od of the outer race; 0 ≤ R_id < R_i < R_o < R_od.
-    **_ : dict
-        Further keyword arguments (e.g. the rest of a geometry dict) are ignored.
+    **rest : dict
+        Further keys of a geometry dict (:data:`SEED_GEOMETRY`, the steel's), ignored here;
+        another name is a TypeError (a misspelt argument is not dropped).
 
     Returns
     -------
@@ -1009,6 +1021,7 @@ def shaft_stress(
     ----------
     Source paper (002), eq. (8), Fig. 3 and Table 2 ([1] in the module docstring).
     """
+    _only_geometry(rest)
     inputs = dict(
         torque=torque,
         V=V,
