@@ -60,6 +60,7 @@ TABLE: dict[str, Unit] = {
     "kg m^2": Unit("kg*m^2", "kg·m²"),
     "kg/m^3": Unit("kg/m^3", "kg/m³"),
     "N": Unit("kN", "kN", 1e-3),
+    "N/m": Unit("N/mm", "N/mm", 1e-3),
     "N m": Unit("N*m", "N·m"),
     "N m s^2": Unit("N*m*s^2", "N·m·s²"),
     "N m/rad": Unit("N*m/rad", "N·m/rad"),
@@ -184,6 +185,8 @@ def reported(values, units: str, typeset: bool = True) -> tuple[list, str]:
     key = _key(_si_spelling(units))
     if key in TABLE and key not in ("1",):
         u = TABLE[key]
+        if key == "N" and np.nanmax(np.abs(np.asarray(values, dtype=float))) < 100.0:
+            u = Unit("N", "N")  # a spring's few newtons, not 0.0037 kN
         return [u(v) for v in values], (u.label if typeset else u.text)
     return list(values), str(units)
 

@@ -264,7 +264,7 @@ def work_precision_figure(rows):
                 r["seconds_per_scenario"],
                 color="g",
                 ls="--",
-                label=f"closed form (constant mu), {r['seconds_per_scenario'] * 1e6:.2f} us/scenario, exact",
+                label=f"closed form (constant μ), {r['seconds_per_scenario'] * 1e6:.2f} µs/scenario, exact",
             )
     ref = [r for r in rows if r["method"].startswith("DOP853 reference")]
     ax.set_xlabel("time per scenario [s]")
@@ -283,7 +283,8 @@ def work_precision_figure(rows):
         )
     )
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=9)
+    # below the scipy points (high on the right) and right of clutchlab's (falling on the left)
+    ax.legend(fontsize=9, loc="lower right")
     return fig
 
 

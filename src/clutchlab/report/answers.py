@@ -493,10 +493,21 @@ def sensitivity_page(name, se):
             capsize=2,
         )
         failed = int(se["failed"].sel(output=out))
-        ax.set_title(
-            textwrap.fill(out + (f" ({failed} failed scenarios left out)" if failed else ""), 45),
-            fontsize=9,
-        )
+        left_out = f" ({failed} failed scenarios left out: not an exact decomposition)"
+        ax.set_title(textwrap.fill(out + (left_out if failed else ""), 45), fontsize=9)
+        if np.isnan(s1).all() and np.isnan(st_).all():
+            ax.text(
+                0.5,
+                0.5,
+                "no variance to explain: every scenario fails, or none does"
+                if out == "failure"
+                else "no variance to explain: every scenario equal, or none ok",
+                transform=ax.transAxes,
+                ha="center",
+                va="center",
+                fontsize=9,
+                color="0.3",
+            )
         ax.set_xlim(
             min(0.0, float(np.nanmin(np.r_[s1, st_, 0.0])) * 1.1),
             max(1.0, float(np.nanmax(np.r_[s1, st_, 0.0])) * 1.05),
@@ -517,7 +528,9 @@ def sensitivity_page(name, se):
         0.01,
         textwrap.fill(
             "Method: " + se.attrs.get("method", "") + ". Failed scenarios are left "
-            "out of an output's indices (counted in its title).",
+            "out of an output's indices (counted in its title): the rest of the grid is then "
+            "unbalanced and its indices are no exact variance decomposition (a first-order index "
+            "may exceed its total).",
             170,
         ),
         fontsize=8,

@@ -167,8 +167,8 @@ def traces(ds):
     """Traces of the design the run shows (paper 000 Figs. 7-11): clamp force, speeds, torque and
     slip work, jerk."""
     fig, axes = plt.subplots(
-        2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.35, "wspace": 0.3, "top": 0.83}
-    )
+        2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.35, "wspace": 0.45, "top": 0.83}
+    )  # (wide enough between the columns for panel c's right axis and panel d's label)
     if "trace_time" not in ds.dims:
         axes[0, 0].text(
             0.5,
@@ -193,8 +193,9 @@ def traces(ds):
     ax.plot(t, ds["trace_friction_torque"].values, "b-", label="clutch torque [N·m]")
     ax2 = ax.twinx()
     ax2.plot(t, ds["trace_slip_work"].values / 1e3, "r-", label="slip work [kJ]")
-    ax.set_ylabel("clutch torque [N·m]")
-    ax2.set_ylabel("slip work [kJ]")
+    ax.set_ylabel("clutch torque [N·m]", color="b")
+    ax2.set_ylabel("slip work [kJ]", color="r")
+    ax.legend(handles=ax.get_lines()[:1] + ax2.get_lines()[:1], fontsize=8, loc="lower right")
     ax.set_title("(c) clutch torque and slip work (cf. Figs. 9-10)", fontsize=10)
     ax = axes[1, 1]
     ax.plot(t, ds["trace_jerk"].values, "k-")
