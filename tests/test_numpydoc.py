@@ -76,7 +76,7 @@ NON_PHYSICAL = {
     "spring",  # a mapping of spring parameters (each documented with its unit)
     "scenario",  # a mapping of one scenario's inputs
     "p",  # a mapping of one scenario's inputs
-    "_",  # further keyword arguments, ignored
+    "rest",  # the other keys of a geometry dict, ignored (another name is refused)
     "trace_index",
     "trace_points",
     "power_history",  # a switch
