@@ -304,3 +304,18 @@ def test_validation_table_shows_the_tolerance_it_judged_by():
     )
     (row,) = validation_table([v]).rows
     assert row[7] == "0.15" and row[6] == "1.10e-01" and row[8] == "yes"
+
+
+def test_a_noise_draw_is_named_by_its_deviations():
+    """'noise = 1' says which draw: 'friction_coefficient +20 %'."""
+    import xarray as xr
+
+    from clutchlab.report.common import fixed_text
+
+    sub = xr.Dataset(
+        {"friction_coefficient_noise": ((), 0.2, {"relative": 1, "units": "1"})},
+        coords={"noise": 1, "shoes": 3.0},
+    )
+    assert (
+        fixed_text(sub, ["shoes", "noise"]) == "shoes = 3, noise = 1 (friction_coefficient +20 %)"
+    )

@@ -179,6 +179,26 @@ def _sampled_release_map(fig, axes, ds):
     return fig
 
 
+def _limit(ds, output) -> float | None:
+    """The limit of the study's constraint on ``output`` (its ``constraint`` coordinate's
+    ``limits``: "reserve_factor:min:1.2 ..."), or None without one."""
+    if "constraint" not in ds.coords:
+        return None
+    for item in str(ds["constraint"].attrs.get("limits", "")).split():
+        name, _, limit = item.rpartition(":")
+        if name.split(":")[0] == output:
+            return float(limit)
+    return None
+
+
+def _friction_deviation(sub) -> float:
+    """The relative friction deviation of the noise draw a selection shows (0 without one)."""
+    v = sub.get("friction_coefficient_noise")
+    if v is None or v.ndim or not v.attrs.get("relative"):
+        return 0.0
+    return float(v)
+
+
 def _release_panel(fig, ax, ds, sub, name, cmap, label):
     """One output over the (α, f) grid ``sub``: its colour map and contour, the jam region, the
     near-jam line and the marked designs."""
@@ -188,17 +208,25 @@ def _release_panel(fig, ax, ds, sub, name, cmap, label):
     if name == "release_margin":  # (inf where M' = 0: not scaling the colours)
         lim = np.nanmax(np.abs(z[np.isfinite(z)])) if np.isfinite(z).any() else 1.0
         m = ax.pcolormesh(a, f, z, shading="nearest", cmap=cmap, vmin=-lim, vmax=lim)
-        contour_level(ax, a, f, z, 0.0, colors="k", linewidths=1.5)
+        if contour_level(ax, a, f, z, 0.0, colors="k", linewidths=1.5) is not None:
+            ax.plot([], [], "k-", lw=1.5, label="release margin 0")
     else:
         m = ax.pcolormesh(
             a, f, z, shading="nearest", cmap=cmap, vmin=0.0, vmax=min(np.nanmax(z), 4.0)
         )
-        if contour_level(ax, a, f, z, 1.5, colors="w", linewidths=1.2, linestyles="--") is not None:
-            ax.plot([], [], "w--", label="reserve 1.5")
+        level = _limit(ds, "reserve_factor")
+        if (
+            level is not None
+            and contour_level(ax, a, f, z, level, colors="w", linewidths=1.2, linestyles="--")
+            is not None
+        ):
+            ax.plot([], [], "w--", label=f"reserve {level:g} (the constraint)")
     fig.colorbar(m, ax=ax, label=label)
-    # jam region: f tan(alpha) >= 1, drawn exactly as the curve f = 1/tan(alpha)
+    # jam region: (1 + r)·f·tan(alpha) >= 1 at the noise draw shown (r its friction deviation; f
+    # the design's nominal value on this axis), drawn exactly as f = 1/((1 + r)·tan(alpha))
+    r = _friction_deviation(sub)
     aa = np.linspace(a.min(), a.max(), 200)
-    fj = 1.0 / np.tan(np.deg2rad(aa))
+    fj = 1.0 / ((1.0 + r) * np.tan(np.deg2rad(aa)))
     ax.fill_between(
         aa,
         fj,
@@ -208,16 +236,17 @@ def _release_panel(fig, ax, ds, sub, name, cmap, label):
         facecolor="none",
         edgecolor="k",
         lw=0.5,
-        label="jammed: f tan(alpha) >= 1",
+        label="jammed: f tan(alpha) >= 1" + (f" (f {100 * r:+.3g} %: this draw)" if r else ""),
     )
-    if "friction_scatter" in sub and sub["friction_scatter"].ndim == 0:
-        scatter = float(sub["friction_scatter"])
+    fs = sub.get("friction_scatter")
+    scatter = float(fs) if fs is not None and fs.ndim == 0 else 0.0
+    if scatter > 0:
         ax.plot(
             aa,
             fj / (1.0 + scatter),
             "k--",
             lw=1.0,
-            label=f"near_jam above: {1 + scatter:g} f tan(alpha) >= 1",
+            label=f"near_jam above: (1 + {scatter:g})·f·tan(alpha) >= 1",
         )
     for i, mark, colour in _marks(ds, slice_only=True):
         ax.plot(
@@ -229,7 +258,9 @@ def _release_panel(fig, ax, ds, sub, name, cmap, label):
             mec="k",
             label=mark,
         )
-    ax.set_ylim(f.min(), f.max())
+    # the grid's cells whole, the first and last row too
+    half = 0.5 * np.diff(f)[[0, -1]] if f.size > 1 else np.array([0.05, 0.05])
+    ax.set_ylim(f.min() - half[0], f.max() + half[1])
     ax.set_xlabel("linkage pressure angle alpha [deg]")
     ax.set_ylabel("friction coefficient f")
     ax.legend(loc="lower left", fontsize=8)

@@ -63,7 +63,25 @@ def fixed_text(sub, dims):
     for d in dims:
         if d in sub.coords and sub[d].ndim == 0:
             out.append(f"{d} = {display.text(float(sub[d]), display.unit_of(sub, d))}")
+            if d == "noise":  # which draw: its deviations (friction_coefficient +20 %)
+                draw = noise_text(sub)
+                out[-1] += f" ({draw})" if draw else ""
     return ", ".join(out)
+
+
+def noise_text(sub) -> str:
+    """The noise draw of a selection as its deviations: "friction_coefficient +20 %" (relative)
+    or "ambient_temperature 55 °C" (absolute); empty where it has none."""
+    parts = []
+    for name in sub.data_vars:
+        if not name.endswith("_noise") or sub[name].ndim:
+            continue
+        v, param = float(sub[name]), name[: -len("_noise")]
+        if sub[name].attrs.get("relative"):
+            parts.append(f"{param} {100 * v:+.3g} %")
+        else:
+            parts.append(f"{param} {display.text(v, display.unit_of(sub, name))}")
+    return ", ".join(parts)
 
 
 def shown(ds) -> dict | None:
