@@ -283,8 +283,9 @@ def work_precision_figure(rows):
         )
     )
     ax.grid(True, which="both", alpha=0.3)
-    # below the scipy points (high on the right) and right of clutchlab's (falling on the left)
-    ax.legend(fontsize=9, loc="lower right")
+    # below the axes: the curves span the whole plot
+    ax.legend(fontsize=9, loc="upper center", bbox_to_anchor=(0.5, -0.09), ncol=2)
+    fig.subplots_adjust(bottom=0.22)
     return fig
 
 

@@ -499,14 +499,18 @@ def sensitivity_page(name, se):
             ax.text(
                 0.5,
                 0.5,
-                "no variance to explain: every scenario fails, or none does"
-                if out == "failure"
-                else "no variance to explain: every scenario equal, or none ok",
+                textwrap.fill(
+                    "no variance to explain: every scenario fails, or none does"
+                    if out == "failure"
+                    else "no variance to explain: every scenario equal, or none ok",
+                    24,
+                ),
                 transform=ax.transAxes,
                 ha="center",
                 va="center",
-                fontsize=9,
+                fontsize=8,
                 color="0.3",
+                bbox=dict(facecolor="w", edgecolor="0.7"),
             )
         ax.set_xlim(
             min(0.0, float(np.nanmin(np.r_[s1, st_, 0.0])) * 1.1),
