@@ -257,3 +257,24 @@ def test_release_time_is_continuous_in_the_static_fraction():
     assert float(tiny) == pytest.approx(float(zero), rel=1e-12) and float(zero) > 1.0
     flat = cf.release_after_failure(**{**p, "rotor_load_torque": 0.0}, static_fraction=1.0)
     assert np.isfinite(flat["release_time"]) and int(flat["status"]) == 0
+
+
+def test_failure_trace_of_a_release_at_once_starts_at_rated_speed():
+    """Released at once (rated speed below engagement): the trace's first point is the rated speed
+    of both sides, not NaN."""
+    p = {**SEED, **DYN, "rated_speed": 10.0}
+    tr = cf.engine_failure_trace(p, t_end=5.0, n=6)
+    assert tr["release_time"] == 0.0
+    assert tr["engine_speed"][0] == tr["rotor_speed"][0] == 10.0
+    assert np.isfinite(tr["clutch_torque"]).all() and np.isfinite(tr["rotor_speed"]).all()
+
+
+def test_without_any_drag_the_clutch_never_lets_go():
+    """No rotor drag and no passive torque: release time inf and no release speed (it gave the
+    speed it would release at), as the trace says."""
+    p = {**SEED, **DYN, "rated_speed": 5500 * RPM, "rotor_load_torque": 0.0}
+    p["rated_passive_torque"] = 0.0
+    r = cf.release_after_failure(**p)
+    assert np.isinf(r["release_time"]) and np.isnan(r["release_speed"])
+    tr = cf.engine_failure_trace(p, t_end=1.0, n=5)
+    assert np.isinf(tr["release_time"]) and np.isnan(tr["release_speed"])

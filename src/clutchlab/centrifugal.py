@@ -429,7 +429,8 @@ def release_after_failure(
     -------
     dict of numpy.ndarray
         ``release_speed`` [rad/s] (engine = rotor speed when the clutch lets go), ``release_time``
-        [s] after the failure (0: at once), ``released_at_once`` (bool), ``status`` (ok, or
+        [s] after the failure (0: at once; inf with a release speed of NaN where nothing drags
+        the rotor down: it never lets go), ``released_at_once`` (bool), ``status`` (ok, or
         ``invalid_input`` with NaN where an input is not finite or not physical: a negative
         passive torque or drag, a static fraction outside [0, 1], a count that is not whole, ...,
         or of an implausible magnitude (:mod:`clutchlab.plausible`); ``invalid_geometry`` where
@@ -497,8 +498,9 @@ def _release_after_failure(
     )
     w_rel = np.minimum(w_rel, rated_speed)
     t_rel = j * _inverse_quadratic_integral(p0, p2 + k, w_rel, rated_speed)
+    never = ~at_once & ~np.isfinite(t_rel)  # no drag at all: the rotor never slows to release
     return {
-        "release_speed": w_rel,
+        "release_speed": np.where(never, np.nan, w_rel),
         "release_time": np.where(at_once, 0.0, t_rel),
         "released_at_once": at_once,
         "status": np.full(np.shape(w_rel), st.CODE["ok"], dtype=st.DTYPE),
@@ -831,6 +833,9 @@ def _engine_failure_trace(p, times, rtol, atol):
         tc[held] = -_needed_reverse_torque(
             speed=yy, engine_inertia=je, rotor_inertia=jr, rotor_drag=k, p0=p0, p2=p2
         )
+    elif t_rel == 0.0:  # released at once: both at rated speed at t = 0, slipping from there
+        we[0] = wr[0] = w_r
+        tc[0] = -caps(w_r)[1]
     if np.isfinite(t_rel):
 
         def free(t, y):

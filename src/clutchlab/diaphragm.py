@@ -44,10 +44,11 @@ _RULES = {
 
 
 def _in_order(a):
-    """0 < r ≤ r₁ < R₁ ≤ R: the load points on the spring, inside out."""
+    """0 < r ≤ r₁ < R₁ ≤ R: the load points on the spring, inside out (r₁ and R₁ a plausible
+    length apart: the lever R₁ − r₁ divides the load)."""
     return (
         (a["inner_radius"] <= a["load_radius_inner"])
-        & (a["load_radius_inner"] < a["load_radius_outer"])
+        & st.apart(a["load_radius_outer"], a["load_radius_inner"])
         & (a["load_radius_outer"] <= a["outer_radius"])
     )
 

@@ -103,7 +103,8 @@ _RULES = {
     "time_constant": st.positive_in("s"),
     "duhamel_integral": st.nonnegative_in("W s^0.5"),
 }
-_ANNULUS = {None: lambda a: a["outer_radius"] > a["inner_radius"]}
+# (a plausible width: the friction area divides the specific loading)
+_ANNULUS = {None: lambda a: st.apart(a["outer_radius"], a["inner_radius"])}
 
 
 def _domain(inputs, relations=None):

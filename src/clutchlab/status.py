@@ -227,6 +227,26 @@ def all_of(*rules):
     return check
 
 
+def apart(larger, smaller, unit="m"):
+    """Whether ``larger`` exceeds ``smaller`` by at least the smallest plausible magnitude of
+    ``unit`` (:func:`clutchlab.plausible.bounds`): two radii a model divides by their difference
+    are a plausible length apart (radii equal to 1e-15 gave a spring load of 1e18 N).
+
+    Parameters
+    ----------
+    larger, smaller : array_like
+        Values in SI ``unit``.
+    unit : str
+        Their SI unit, as :data:`clutchlab.plausible.RANGES` spells it.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        True where they are far enough apart.
+    """
+    return np.asarray(larger) - np.asarray(smaller) >= _plausible.bounds(unit)[0]
+
+
 def plausible(unit, *, lo=None, hi=None):
     """Rule: finite, and zero or of a magnitude within the plausible range of SI ``unit``.
 
