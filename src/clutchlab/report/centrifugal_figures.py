@@ -15,6 +15,7 @@ from ..studies.centrifugal import PARAMETERS, RPM
 from .answers import _marks
 from .common import (
     A4_LANDSCAPE,
+    constraint_limit,
     contour_level,
     fixed_text,
     robust_limits,
@@ -179,18 +180,6 @@ def _sampled_release_map(fig, axes, ds):
     return fig
 
 
-def _limit(ds, output) -> float | None:
-    """The limit of the study's constraint on ``output`` (its ``constraint`` coordinate's
-    ``limits``: "reserve_factor:min:1.2 ..."), or None without one."""
-    if "constraint" not in ds.coords:
-        return None
-    for item in str(ds["constraint"].attrs.get("limits", "")).split():
-        name, _, limit = item.rpartition(":")
-        if name.split(":")[0] == output:
-            return float(limit)
-    return None
-
-
 def _friction_deviation(sub) -> float:
     """The relative friction deviation of the noise draw a selection shows (0 without one)."""
     v = sub.get("friction_coefficient_noise")
@@ -214,7 +203,7 @@ def _release_panel(fig, ax, ds, sub, name, cmap, label):
         m = ax.pcolormesh(
             a, f, z, shading="nearest", cmap=cmap, vmin=0.0, vmax=min(np.nanmax(z), 4.0)
         )
-        level = _limit(ds, "reserve_factor")
+        level = constraint_limit(ds, "reserve_factor")
         if (
             level is not None
             and contour_level(ax, a, f, z, level, colors="w", linewidths=1.2, linestyles="--")

@@ -69,6 +69,18 @@ def fixed_text(sub, dims):
     return ", ".join(out)
 
 
+def constraint_limit(ds, output) -> float | None:
+    """The limit of the study's constraint on ``output`` (its ``constraint`` coordinate's
+    ``limits``: "reserve_factor:min:1.2 ..."), or None without one."""
+    if "constraint" not in ds.coords:
+        return None
+    for item in str(ds["constraint"].attrs.get("limits", "")).split():
+        name, _, limit = item.rpartition(":")
+        if name.split(":")[0] == output:
+            return float(limit)
+    return None
+
+
 def noise_text(sub) -> str:
     """The noise draw of a selection as its deviations: "friction_coefficient +20 %" (relative)
     or "ambient_temperature 55 °C" (absolute); empty where it has none."""

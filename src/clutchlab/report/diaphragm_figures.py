@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import textwrap
+
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import TwoSlopeNorm
@@ -12,6 +14,7 @@ from ..explore import flat
 from .common import (
     A4_LANDSCAPE,
     SCATTER_MAX,
+    constraint_limit,
     contour_level,
     fixed_text,
     sampled_value_map,
@@ -164,7 +167,8 @@ def reserve_map(ds):
         )
         return fig
     keep = ("cone_height_ratio", "sheet_thickness", "radius_ratio")
-    sub = seed_view(ds, _seed(), keep=keep)
+    at = shown(ds) or {}  # the other factors at the design the run shows (else the seed's)
+    sub = seed_view(ds, _seed(**{d: at[d] for d in ds.dims if d in at and d not in keep}), keep)
     others = [d for d in _others(ds, keep) if d != "operating_point_factor"]
     panels = sub["radius_ratio"].values if "radius_ratio" in sub.dims else [None]
     fig, axes = plt.subplots(1, len(panels), figsize=A4_LANDSCAPE, sharey=True, squeeze=False)
@@ -172,6 +176,7 @@ def reserve_map(ds):
     vmax = float(np.nanmax(rf_all)) if np.isfinite(rf_all).any() else 2.0
     norm = TwoSlopeNorm(vmin=0.0, vcenter=1.0, vmax=max(vmax, 1.5))
     op_factor = float(sub["operating_point_factor"])
+    limit = constraint_limit(ds, "reserve_factor")
     fixed = {
         d: [float(sub[d])] for d in ("cone_height_ratio", "sheet_thickness") if d not in sub.dims
     }
@@ -188,6 +193,10 @@ def reserve_map(ds):
         cs = contour_level(ax, x, y, rf, 1.0, colors="k", linewidths=1.2)
         if cs is not None:
             ax.clabel(cs, fmt="1.0", fontsize=8)
+        if limit is not None and limit != 1.0:
+            cs = contour_level(ax, x, y, rf, limit, colors="k", linewidths=1.0, linestyles="--")
+            if cs is not None:
+                ax.clabel(cs, fmt=f"{limit:g}", fontsize=8)
         code = p["status"].values
         xx, yy = np.meshgrid(x, y)
         for c, mk in (
@@ -202,15 +211,22 @@ def reserve_map(ds):
         ax.set_title(f"R/r = {rr:.3g}" if rr is not None else "")
     fig.supxlabel("sheet thickness h [mm]")
     axes[0][0].set_ylabel("cone height ratio H/h  (dashed: sqrt 2)")
-    if axes[0][0].get_legend_handles_labels()[0]:
-        axes[0][0].legend(fontsize=8, loc="upper left")
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    if handles:  # below the panels: a panel is too narrow for the status names
+        fig.legend(handles, labels, fontsize=8, loc="lower left", ncol=len(handles))
     fig.colorbar(
-        mesh, ax=axes[0].tolist(), label="reserve factor = capacity / T_emax [-]  (black line: 1.0)"
+        mesh,
+        ax=axes[0].tolist(),
+        label="reserve factor = capacity / T_emax [-]  (black line: 1.0"
+        + (f"; dashed: {limit:g}, the constraint)" if limit not in (None, 1.0) else ")"),
     )
     fig.suptitle(
-        "Torque reserve factor at lambda_B = %.2g lambda_C; markers: status (no hump = no wear "
-        "compensation, snap-through, invalid)"
-        % op_factor
+        textwrap.fill(
+            "Torque reserve factor at lambda_B = %.2g lambda_C%s; markers: status (no hump = no "
+            "wear compensation, snap-through, invalid)"
+            % (op_factor, " (the design shown)" if at else ""),
+            110,
+        )
         + (f"\n{fixed_text(sub, others)}" if others else "")
     )
     return fig
