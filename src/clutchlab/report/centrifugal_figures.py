@@ -81,7 +81,7 @@ def capacity_curves(ds):
     top = np.nanmax(sub["capacity_forward_curve"].values[rpm <= 1.1 * rated])
     ax.set_ylim(0, 1.15 * top if np.isfinite(top) and top > 0 else 1.0)
     ax.set_xlabel("engine speed [rpm]")
-    ax.set_ylabel("torque [N m]")
+    ax.set_ylabel("torque [N·m]")
     ax.grid(alpha=0.3)
     ax.legend(loc="upper left", fontsize=9)
     ax.set_title(

@@ -99,7 +99,7 @@ def stress_vs_torque(ds):
         lw=1,
         label="allowable V (pop-out beyond)",
     )
-    ax.set_xlabel("torque [N m]")
+    ax.set_xlabel("torque [N·m]")
     ax.set_ylabel("gripping angle [deg]")
     ax.legend(fontsize=8)
     for a in axes:
@@ -173,7 +173,7 @@ def _sampled_stress_vs_torque(fig, axes, ds):
     ax.set_ylabel("gripping angle V [deg]")
     ax.legend(fontsize=8)
     for a in axes:
-        a.set_xlabel("torque [N m]")
+        a.set_xlabel("torque [N·m]")
         a.grid(alpha=0.3)
     others = [f for f in ds.attrs.get("factors", "").split() if f != "torque"]
     fig.suptitle(
@@ -327,19 +327,19 @@ def impact_torque(ds):
     ax.plot(ds["impact_time"].values, ds["impact_torque"].values, "k-")
     ax.axhline(float(ds["impact_steady_torque"]), color="b", ls="--", lw=1, label="sqrt(P0 C)")
     ax.set_xlabel("time [s]")
-    ax.set_ylabel("torque T [N m]")
+    ax.set_ylabel("torque T [N·m]")
     ax.set_title("(a) T(t) from the peak T0 at t0", fontsize=10)
     ax.legend(fontsize=8)
     panels = (
         ("impact_power", 1e-3, "input power P0 [kW]", "(b)"),
-        ("output_inertia", 1.0, "output inertia J [kg m2]", "(c)"),
-        ("impact_damping", 1.0, "damping C [N m s2]", "(d)"),
+        ("output_inertia", 1.0, "output inertia J [kg·m²]", "(c)"),
+        ("impact_damping", 1.0, "damping C [N·m·s²]", "(d)"),
         ("initial_speed", 30 / np.pi, "initial speed w0 [rpm]", "(e)"),
     )
     for ax, (name, scale, label, tag) in zip(axes.ravel()[1:], panels, strict=False):
         ax.plot(ds[f"sweep_{name}"].values * scale, ds[f"peak_torque_vs_{name}"].values, "r-")
         ax.set_xlabel(label)
-        ax.set_ylabel("peak torque T0 [N m]")
+        ax.set_ylabel("peak torque T0 [N·m]")
         ax.set_title(f"{tag} T0 against {label.split('[')[0].strip()}", fontsize=10)
     axes[1, 2].axis("off")
     nominal = {n: value_at_shown(ds, n, SEED[n]) for n in SEED}
