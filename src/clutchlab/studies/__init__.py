@@ -542,7 +542,8 @@ def refuse_inadmissible(ds, parameters, inputs):
     if bad.any():
         code = np.array(ds["status"].values)
         refused = np.isin(code, [st.CODE["invalid_input"], st.CODE["invalid_geometry"]])
-        code[np.broadcast_to(bad, code.shape) & ~refused] = st.CODE["invalid_input"]
+        mask = bad.reshape(code.shape) if bad.size == code.size else np.full(code.shape, True)
+        code[mask & ~refused] = st.CODE["invalid_input"]
         ds["status"].values = code
     return ds
 
