@@ -926,16 +926,8 @@ def test_lists_are_read_as_arrays_when_every_scenario_is_good():
 def test_radii_a_model_divides_by_are_a_plausible_length_apart():
     """Load radii 1e-16 m apart gave a spring load of 9.5e17 N, lining radii as close a friction
     area of 1.5e-16 m² (status ok): now invalid_geometry, with no number."""
-    kw = dict(
-        youngs_modulus=206e9,
-        poisson_ratio=0.3,
-        sheet_thickness=2.334e-3,
-        cone_height=3.5e-3,
-        outer_radius=0.11,
-        inner_radius=0.085,
-        load_radius_outer=0.108,
-        load_radius_inner=np.array([0.086, 0.108 * (1 - 1e-15)]),
-    )
+    kw = {k: v[:2] for k, v in GOOD_DIAPHRAGM.items()}
+    kw["load_radius_inner"] = np.array([0.035, 0.095 * (1 - 1e-15)])
     r = diaphragm.characteristic_points(**kw)
     assert list(r["status"]) == [st.CODE["ok"], st.CODE["invalid_geometry"]]
     assert np.isfinite(r["load_B"][0]) and np.isnan(r["load_B"][1])

@@ -15,7 +15,7 @@ from .. import display, studies
 from .. import status as st
 from ..explore import flat as _flat
 from ..explore import front_order, objective_table, pareto_rank, spread
-from .common import A4_LANDSCAPE, drawn, drawn_note, fitted_table, wrap_name
+from .common import A4_LANDSCAPE, constraints, drawn, drawn_note, fitted_table, wrap_name
 
 MAX_ROWS = 15
 
@@ -183,11 +183,10 @@ def limits_text(ds) -> str:
     if "constraint" not in ds.coords:
         return "none"
     parts = []
-    for item in ds["constraint"].attrs.get("limits", "").split():
-        output, op, value = item.split(":")
+    for output, op, value in constraints(ds):
         kind = display.temperature_kind(ds[output].attrs) if output in ds else None
         si = ds[output].attrs.get("units", "1") if output in ds else "1"
-        parts.append(display.limit_text(output, op, float(value), si, kind))
+        parts.append(display.limit_text(output, op, value, si, kind))
     return "; ".join(parts)
 
 

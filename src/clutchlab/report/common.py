@@ -69,16 +69,18 @@ def fixed_text(sub, dims):
     return ", ".join(out)
 
 
-def constraint_limit(ds, output) -> float | None:
-    """The limit of the study's constraint on ``output`` (its ``constraint`` coordinate's
-    ``limits``: "reserve_factor:min:1.2 ..."), or None without one."""
+def constraints(ds) -> list[tuple[str, str, float]]:
+    """(output, "min" or "max", limit [SI]) of each constraint of a study result (its
+    ``constraint`` coordinate's ``limits``: "reserve_factor:min:1.2 ..."); none without one."""
     if "constraint" not in ds.coords:
-        return None
-    for item in str(ds["constraint"].attrs.get("limits", "")).split():
-        name, _, limit = item.rpartition(":")
-        if name.split(":")[0] == output:
-            return float(limit)
-    return None
+        return []
+    items = str(ds["constraint"].attrs.get("limits", "")).split()
+    return [(output, op, float(value)) for output, op, value in (i.split(":") for i in items)]
+
+
+def constraint_limit(ds, output) -> float | None:
+    """The limit of the study's constraint on ``output`` [SI], or None without one."""
+    return next((limit for name, _, limit in constraints(ds) if name == output), None)
 
 
 def noise_text(sub) -> str:
