@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["RANGES", "COUNT_MAX", "bounds", "within"]
+__all__ = ["RANGES", "PARAMETERS", "COUNT_MAX", "bounds", "within"]
 
 #: SI unit -> (smallest non-zero magnitude, largest magnitude), with the reason
 RANGES: dict[str, tuple[float, float]] = {
@@ -71,6 +71,69 @@ RANGES: dict[str, tuple[float, float]] = {
     # dimensionless parameters: ratios and coefficients; narrower per parameter (a friction
     # coefficient <= 2, a count <= COUNT_MAX)
     "1": (1e-12, 1e6),
+}
+
+_MM, _DEG = 1e-3, np.pi / 180
+_UNIT = 0.0  # (as a lower bound: the unit's own)
+
+#: study parameter -> (smallest non-zero, largest) magnitude [SI] narrower than its unit's range:
+#: the widest a helicopter or UAV clutch takes, so that a value written without its unit where the
+#: unit mattered is refused, not read in SI (``cushion_travel: 0.6`` meant in mm is 0.6 m,
+#: ``youngs_modulus: 206000`` meant in MPa is 206 kPa, ``ramp_time: 150`` meant in ms is 150 s,
+#: ``shoe_mass: 178`` meant in g is 178 kg). Not every slip is caught: ``rated_speed: 2000`` meant
+#: in rpm is 19 100 rpm, a speed some clutches run at.
+PARAMETERS: dict[str, tuple[float, float]] = {
+    # lengths: a spring sheet of at most 20 mm, gaps and travels of at most 20 mm, a clutch of at
+    # most 2 m across, sprags and rollers of at most 100-200 mm, an ADAMS penetration of 50 mm
+    "sheet_thickness": (_UNIT, 20 * _MM),
+    "outer_radius": (_UNIT, 1.0),
+    "load_radius_outer_offset": (_UNIT, 50 * _MM),
+    "load_radius_inner_offset": (_UNIT, 50 * _MM),
+    "lining_outer_radius": (_UNIT, 1.0),
+    "lining_inner_radius": (_UNIT, 1.0),
+    "air_gap": (_UNIT, 20 * _MM),
+    "cushion_travel": (_UNIT, 20 * _MM),
+    "shoe_radius": (_UNIT, 1.0),
+    "drum_radius": (_UNIT, 1.0),
+    "sprag_length": (_UNIT, 200 * _MM),
+    "centre_distance": (_UNIT, 50 * _MM),
+    "sprag_inner_radius": (_UNIT, 100 * _MM),
+    "sprag_outer_radius": (_UNIT, 100 * _MM),
+    "inner_bore_radius": (_UNIT, 1.0),
+    "inner_race_radius": (_UNIT, 1.0),
+    "outer_race_radius": (_UNIT, 1.0),
+    "outer_rim_radius": (_UNIT, 1.0),
+    "roller_diameter": (_UNIT, 100 * _MM),
+    "roller_length": (_UNIT, 200 * _MM),
+    "contact_radius": (_UNIT, 1.0),
+    "penetration_depth": (_UNIT, 50 * _MM),
+    "claw_clearance": (_UNIT, 50 * _MM),
+    # moduli of engineering solids (polymers from 1 GPa) and allowable stresses from 10 MPa
+    "youngs_modulus": (1e9, 1.2e12),
+    "contact_allowable": (1e7, 1.2e12),
+    "shaft_allowable": (1e7, 1.2e12),
+    # a roller's wedge angle and a sprag's allowable gripping angle: a few degrees (a bare 1 is
+    # 57 deg)
+    "wedge_angle": (0.1 * _DEG, 45 * _DEG),
+    "gripping_angle_allowable": (0.1 * _DEG, 30 * _DEG),
+    # shaft speeds at the clutch: at most 4 000 rad/s (38 200 rpm)
+    "engine_speed": (_UNIT, 4000.0),
+    "rated_speed": (_UNIT, 4000.0),
+    "idle_speed": (_UNIT, 4000.0),
+    "initial_speed": (_UNIT, 4000.0),
+    # times: an engagement ramp of at most 30 s, its window 2 min, an engine start-up 10 min
+    "ramp_time": (_UNIT, 30.0),
+    "end_time": (_UNIT, 120.0),
+    "rise_time": (_UNIT, 60.0),
+    "control_stop_time": (_UNIT, 10.0),
+    "startup_time": (_UNIT, 600.0),
+    # masses: a shoe of at most 20 kg, a clutch's plates and flywheel of at most 1 t
+    "shoe_mass": (_UNIT, 20.0),
+    "stack_mass": (_UNIT, 1000.0),
+    "flywheel_mass": (_UNIT, 1000.0),
+    "pressure_plate_mass": (_UNIT, 1000.0),
+    "driven_plate_mass": (_UNIT, 1000.0),
+    "intermediate_plate_mass": (_UNIT, 1000.0),
 }
 
 #: the most elements a count may have (sprags, rollers, shoes, friction faces)

@@ -49,6 +49,15 @@ __all__ = [
 ]
 
 ALL_STATUSES = "all"  # an output valid under every status (valid_statuses)
+# the unit a bare number refused for a parameter of this SI unit was likely meant in (the hint)
+BARE_HINT = {
+    "m": ("mm", 1e-3),
+    "Pa": ("MPa", 1e6),
+    "rad": ("deg", np.pi / 180),
+    "rad/s": ("rpm", np.pi / 30),
+    "s": ("ms", 1e-3),
+    "kg": ("g", 1e-3),
+}
 
 
 @dataclass(frozen=True)
@@ -118,9 +127,15 @@ class Parameter:
         if self.integer and not (np.isfinite(value) and value == round(value)):
             return f"must be a whole number (a count), got {got}"
         why = self._bounds(value, got, u) or self._plausible(value, got, u)
-        if why and self.units == "rad" and not isinstance(given, str):
-            why += " (a bare number is in rad: write e.g. '38 deg')"
-        return why
+        return why + self._bare_hint(value, given) if why else None
+
+    def _bare_hint(self, value, given) -> str:
+        """Which unit a refused bare number was likely meant in, where that reading is admissible."""
+        meant, factor = BARE_HINT.get(self.units, (None, None))
+        if meant is None or isinstance(given, str | bool) or not self.admissible(value * factor):
+            return ""
+        example = _text(given) if given is not None else f"{value:g}"
+        return f" (a bare number is in {self.units}: write the unit, e.g. '{example} {meant}')"
 
     def _bounds(self, value, got, u) -> str | None:
         if self.minimum is not None:
@@ -179,10 +194,11 @@ class Parameter:
 
     @property
     def plausible_range(self) -> tuple[float, float]:
-        """(smallest non-zero, largest) plausible magnitude [SI] of this parameter's unit."""
-        if self.kind == "difference":
-            return plausible.bounds("delta_K")
-        return plausible.bounds(self.units)
+        """(smallest non-zero, largest) plausible magnitude [SI] of this parameter: its unit's,
+        narrowed by its own where :data:`clutchlab.plausible.PARAMETERS` names it."""
+        lo, hi = plausible.bounds("delta_K" if self.kind == "difference" else self.units)
+        own_lo, own_hi = plausible.PARAMETERS.get(self.name, (lo, hi))
+        return max(lo, own_lo), min(hi, own_hi)
 
 
 @dataclass(frozen=True)
