@@ -250,11 +250,12 @@ def test_a_quantity_is_one_number_and_a_unit():
 
 
 def test_the_ceiling_can_be_raised_on_purpose(raw):
-    # (num 200: the spring grid is then larger than every other study of the default config)
+    # (num 1200: the spring grid, 198 000 scenarios, is then larger than every other study of the
+    # default config: the robust sprag study has 194 400)
     raw["diaphragm_spring"]["parameters"]["sheet_thickness"] = {
         "min": "2 mm",
         "max": "3 mm",
-        "num": 200,
+        "num": 1200,
     }
     n = int(
         np.prod(
@@ -421,11 +422,26 @@ def test_constraints_follow_their_outputs_kind(output, given, expected):
         ("peak_friction_torque", "1 kJ", "torque"),
         ("accel_jump", "100 1/s^2", "angle"),
         ("bulk_temperature_rise", "6000 degF", "plausible"),
+        ("lockup_time", "-1 s", "sign slip (no scenario can meet it)"),
+        ("slip_work", "-5 kJ", "never negative"),
+        ("bulk_temperature_rise", "-5 delta_degC", "never negative"),
     ],
 )
 def test_constraints_of_the_wrong_kind_are_refused(output, given, fragment):
     cfg = _study("engagement", constraints={output: {"max": given}})
     _expect(cfg, f"engagement.constraints.{output}.max", fragment)
+
+
+def test_a_negative_limit_is_refused_only_on_an_output_that_is_never_negative():
+    """A margin's or a valley load's limit may be negative; a minimum lock-up time may not."""
+    _expect(
+        _study("engagement", constraints={"lockup_time": {"min": "-0.1 s"}}),
+        "engagement.constraints.lockup_time.min",
+        "every scenario meets it",
+    )
+    for name, output in (("sprag", "margin_contact_inner"), ("diaphragm_spring", "load_valley")):
+        sec = config.resolve(_study(name, constraints={output: {"min": -0.5}}))[name]
+        assert sec["constraints"][output] == ["min", -0.5]
 
 
 @pytest.mark.parametrize(

@@ -139,6 +139,11 @@ def test_a_temperature_needs_its_kind():
         ("5800 W*s", "J", None, 5800.0),
         (12, "1", "count", 12.0),
         ("12", "1", "count", 12.0),
+        # a coefficient of the speed squared per (rad/s)^2, per rpm^2 or per (rev/s)^2
+        ("2e-5 N*m*s^2", "N m s^2", None, 2e-5),
+        ("2e-5 N*m/(rad/s)^2", "N m s^2", None, 2e-5),
+        ("1 N*m/rpm^2", "N m s^2", None, (30 / math.pi) ** 2),
+        ("2 N*m/(rev/s)^2", "N m s^2", None, 2 / TWO_PI**2),
     ],
 )
 def test_units_of_the_right_kind(text, unit, kind, expected):
@@ -163,6 +168,8 @@ def test_units_of_the_right_kind(text, unit, kind, expected):
         ("173 kg*m^2/s^2", "N m", None, "not written as a torque"),
         ("127.6 foot_pound", "N m", None, "not written as a torque"),
         ("0.7 kg*m^2", "N m s^2", None, "not written as a torque"),
+        ("1 N*m/Hz^2", "N m s^2", None, "per revolutions"),  # per (rev/s)^2: 39.5x
+        ("1 N*m/rad^2", "N m s^2", None, "units of"),
         ("12 %", "1", "count", "count"),
         ("12 dimensionless", "1", "count", "count"),
         ("1.5 ton*m^2", "kg m^2", None, "short ton"),  # pint: the US short ton

@@ -949,6 +949,12 @@ def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -
     return out
 
 
+# the units of outputs that are never negative (times, works, powers, stresses, lengths, rates; a
+# temperature and its rise too): a negative constraint limit on one is a sign slip. Not forces
+# (a snapping spring's valley load is negative), torques, angles or ratios (margins are signed).
+NEVER_NEGATIVE_UNITS = ("s", "J", "J/m^2", "W", "W/m^2", "Pa", "m", "1/s")
+
+
 def _answers(study, section):
     """The study's objectives and constraints: the config's, else the study's defaults."""
     name = study.name
@@ -980,6 +986,9 @@ def _answers(study, section):
             raise ConfigError(f"{key}.{op}", str(exc)) from None
         # a limit of implausible magnitude for its unit (zero and negative margins are fine)
         why = studies.Parameter(output, units, output, 0.0, minimum=None, kind=kind).check(v, value)
+        if why is None and v < 0 and (units in NEVER_NEGATIVE_UNITS or kind is not None):
+            meets = "every scenario meets it" if op == "min" else "no scenario can meet it"
+            why = f"{output} is never negative: a limit of {value} is a sign slip ({meets})"
         if why:
             raise ConfigError(f"{key}.{op}", why)
         constraints[output] = [op, v]

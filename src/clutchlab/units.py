@@ -191,6 +191,8 @@ def _convert(number: float, unit: str, value, si_unit: str, kind) -> float:
     names = dict(given._units)
     target = ureg.parse_units("dimensionless" if si_unit == "1" else si_unit)
     _check_speed_coefficient(ureg, names, target, value, si_unit)
+    if _is_speed_coefficient(target) and _radians(ureg, given) == -2:
+        target = target / ureg.radian**2  # per (rad/s)^2 or per rpm^2: SI N m s^2 is per (rad/s)^2
     factor = _angle_factor(ureg, given, target, value, si_unit)
     if "newton" in dict(target._units) and "meter" in dict(target._units):
         _check_torque(ureg, names, value)
@@ -235,13 +237,18 @@ def _angle_factor(ureg, given, target, value, si_unit: str) -> float:
     )
 
 
+def _is_speed_coefficient(target) -> bool:
+    """Whether the SI unit ``target`` is a torque per angular speed squared (N m s^2)."""
+    units = dict(target._units)
+    return units.get("second", 0) > 0 and {"newton", "meter"} <= set(units)
+
+
 def _check_speed_coefficient(ureg, names: dict, target, value, si_unit: str) -> None:
     """A coefficient of the angular speed squared (SI N m s², per (rad/s)²) refuses a frequency
     or a time in minutes or hours: per Hz² or min² it would be per (rev/s)² or (rev/min)², and
-    read literally it would be (2π)² = 39.5 times too large (1 N m/Hz² is 0.0253 N m s²)."""
-    if _radians(ureg, target) != 0 or dict(target._units).get("second", 0) <= 0:
-        return
-    if not {"newton", "meter"} <= set(dict(target._units)):
+    read literally it would be (2π)² = 39.5 times too large (1 N m/Hz² is 0.0253 N m s²). Per
+    (rad/s)² or per rpm² it is read as written."""
+    if _radians(ureg, target) != 0 or not _is_speed_coefficient(target):
         return
     cycles = [n for n in names if n.endswith("hertz") or n in ("minute", "hour", "day")]
     if cycles:

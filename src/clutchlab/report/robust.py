@@ -62,7 +62,7 @@ def design_text(ra, j) -> str:
 
 def _failure(ra, j) -> tuple[float, float, float, dict]:
     """Design ``j``'s highest probability of failure over the conditions, its Wilson bounds and
-    the condition where it occurs ({condition: value})."""
+    the condition where it occurs ({condition: value}; None where every condition has it)."""
     conds = ra.attrs.get("conditions", "").split()
     nd = int(np.prod([ra.sizes[d] for d in _design_dims(ra)], dtype=np.int64))
     p, lo, hi = (
@@ -70,6 +70,8 @@ def _failure(ra, j) -> tuple[float, float, float, dict]:
         for v in ("failure_probability", "failure_probability_low", "failure_probability_high")
     )
     k = int(np.argmax(p))
+    if p.size > 1 and np.all(p == p[k]) and np.all(hi == hi[k]):
+        return float(p[k]), float(lo[k]), float(hi[k]), None
     at = np.unravel_index(k, tuple(ra.sizes[c] for c in conds)) if conds else ()
     where = {c: float(ra[c].values[i]) for c, i in zip(conds, at, strict=True)}
     return float(p[k]), float(lo[k]), float(hi[k]), where
@@ -118,7 +120,11 @@ def best_text(ra) -> str:
         for name, _ in _objectives(ra)
     )
     p, lo, hi, where = _failure(ra, j)
-    at = ", ".join(f"{c} = {_v(ra, c, v)}" for c, v in where.items())
+    at = (
+        "every operating condition"
+        if where is None
+        else ", ".join(f"{c} = {_v(ra, c, v)}" for c, v in where.items())
+    )
     return (
         f"{design_text(ra, j)}: {objs}; highest probability of failure {100 * p:.2g} % "
         f"(95 % interval {100 * lo:.2g}-{100 * hi:.2g} %{', at ' + at if at else ''}); "
@@ -318,7 +324,10 @@ def _failure_panel(ax, ra) -> None:
     ax.errorbar(range(p.size), p, yerr=err, fmt="none", color="k", capsize=4)
     ax.axhline(100 * ra.attrs.get("max_failure_probability", 0.01), color="tab:red", ls="--",
                label="allowed")  # fmt: skip
-    ax.set_xticks(range(p.size), labels, fontsize=8)
+    if sum(len(max(t.split("\n"), key=len)) for t in labels) > 60:  # overprinted side by side
+        ax.set_xticks(range(p.size), labels, fontsize=7, rotation=45, ha="right")
+    else:
+        ax.set_xticks(range(p.size), labels, fontsize=8)
     ax.set_xlabel(" / ".join(conds) or "no operating condition", fontsize=8)
     ax.set_ylabel("probability of failure [%] (95 % Wilson interval)", fontsize=8)
     ax.set_title("best robust design at each operating condition", fontsize=9)
