@@ -481,6 +481,19 @@ def test_the_unit_a_bare_number_was_meant_in_is_named_only_where_it_reads_plausi
         assert "bare number" not in str(exc.value)
 
 
+def test_a_section_of_a_study_not_run_is_checked_all_the_same():
+    """`--config studies=[sprag]` with a config whose engagement section has a slip: refused now,
+    not on the day the engagement study is listed; a valid section not run is fine."""
+    raw = {
+        "studies": ["sprag"],
+        "sprag": {"design": "factorial"},
+        "engagement": {"design": "factorial", "parameters": {"cushion_travel": 0.6}},
+    }
+    _expect(raw, "engagement.parameters.cushion_travel", "'0.6 mm'")
+    raw["engagement"]["parameters"]["cushion_travel"] = "0.6 mm"
+    assert sorted(config.resolve(raw)) == ["max_scenarios", "report", "results", "sprag", "studies"]
+
+
 def test_zero_is_judged_by_the_parameters_own_minimum():
     sec = config.resolve(_study("engagement", {"air_gap": "0 mm", "stack_mass": 0}))["engagement"]
     assert sec["fixed"]["air_gap"] == sec["fixed"]["stack_mass"] == 0.0

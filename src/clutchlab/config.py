@@ -1099,6 +1099,12 @@ def resolve(raw: dict) -> dict:
         if name not in cfg:
             raise ConfigError(name, "section missing for a study listed in 'studies'")
         resolved[name] = _resolve_study(name, cfg[name], default_chunks, max_scenarios, results_dir)
+    for name in studies.REGISTRY:
+        if name in cfg and name not in resolved and cfg[name].get("design") != "refine":
+            # a section of a study not run is checked all the same (no ceiling: it is not run):
+            # a mistake in it is refused now, not on the day the study is listed (a refinement
+            # is left out: it reads the result it refines, which need not exist yet)
+            _resolve_study(name, cfg[name], default_chunks, math.inf, results_dir)
     return resolved
 
 
