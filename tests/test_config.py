@@ -423,6 +423,8 @@ def test_constraints_follow_their_outputs_kind(output, given, expected):
         ("accel_jump", "100 1/s^2", "angle"),
         ("bulk_temperature_rise", "6000 degF", "plausible"),
         ("lockup_time", "-1 s", "sign slip (no scenario can meet it)"),
+        ("peak_jerk", "-10 rad/s^3", "never negative"),
+        ("peak_friction_torque", "-1 N*m", "never negative"),
         ("slip_work", "-5 kJ", "never negative"),
         ("bulk_temperature_rise", "-5 delta_degC", "never negative"),
     ],
@@ -432,6 +434,25 @@ def test_constraints_of_the_wrong_kind_are_refused(output, given, fragment):
     _expect(cfg, f"engagement.constraints.{output}.max", fragment)
 
 
+def test_outputs_of_the_never_negative_units_are_not_negative():
+    """The rule above holds for every study's outputs of those units: every scenario of the small
+    config (and the engagement's source design) gives none below 0."""
+    from clutchlab import doe, pipeline
+
+    cfg = config.load(ROOT / "config" / "small.yaml")
+    for name in studies.REGISTRY:
+        s = studies.get(name)
+        if name in cfg:
+            ds = pipeline.run_chunk(doe.build_design(cfg[name]), cfg[name]["options"], 1, 0)
+        else:
+            ds = s.compute(dict(s.defaults), s.full_options())
+        for out in s.outputs:
+            units, kind = s.output_units(out)
+            if units in config.NEVER_NEGATIVE_UNITS or kind is not None:
+                v = ds[out].values
+                assert not np.any(v[np.isfinite(v)] < 0), (name, out)
+
+
 def test_a_negative_limit_is_refused_only_on_an_output_that_is_never_negative():
     """A margin's or a valley load's limit may be negative; a minimum lock-up time may not."""
     _expect(
@@ -439,7 +460,11 @@ def test_a_negative_limit_is_refused_only_on_an_output_that_is_never_negative():
         "engagement.constraints.lockup_time.min",
         "every scenario meets it",
     )
-    for name, output in (("sprag", "margin_contact_inner"), ("diaphragm_spring", "load_valley")):
+    for name, output in (
+        ("sprag", "margin_contact_inner"),
+        ("diaphragm_spring", "load_valley"),
+        ("engagement", "accel_jump"),
+    ):
         sec = config.resolve(_study(name, constraints={output: {"min": -0.5}}))[name]
         assert sec["constraints"][output] == ["min", -0.5]
 
@@ -455,11 +480,12 @@ def test_a_negative_limit_is_refused_only_on_an_output_that_is_never_negative():
         ("engagement", "engine_speed", "16 kHz", ["16 kHz = 100531 rad/s"]),
         ("roller", "friction_coefficient", 12, ["<= 2"]),
         ("engagement", "damper_stiffness", "1e15 N*m/rad", ["1e+15 N m/rad"]),
-        ("engagement", "ramp_time", "2 d", ["172800 s", "30 s"]),
+        ("engagement", "ramp_time", "2 d", ["172800 s", "300 s"]),
         # a length, a modulus, a time, a mass, an angle written without the unit they were meant in
         ("engagement", "cushion_travel", 0.6, ["0.6 m", "write the unit, e.g. '0.6 mm'"]),
         ("sprag", "youngs_modulus", 206000, ["206000 Pa", "'206000 MPa'"]),
-        ("engagement", "ramp_time", 150, ["150 s", "'150 ms'"]),
+        ("engagement", "ramp_time", 500, ["500 s", "'500 ms'"]),
+        ("engagement", "youngs_modulus", 206, ["206 Pa", "'206 GPa'"]),
         ("centrifugal", "shoe_mass", 178, ["178 kg", "'178 g'"]),
         ("roller", "wedge_angle", 1, ["1 rad", "'1 deg'"]),
         ("roller", "wedge_angle", 11, ["a bare number is in rad"]),
@@ -982,6 +1008,32 @@ def test_the_sd_of_an_absolute_temperature_is_a_difference(raw, sd, want):
     noise = config.resolve(raw)["engagement"]["robust"]["noise"]["ambient_temperature"]
     assert noise["sd"] == pytest.approx(want)
     assert noise["min"] == pytest.approx(293.15)
+
+
+@pytest.mark.parametrize(
+    "sd, fragment",
+    [
+        (0.05, "plausible range"),  # 0.05 m: past any cushion travel
+        ("50 mm", "plausible range"),
+        (0.01, "wider than the noise's bounds"),  # 10 mm (meant in mm) on a 0.2 mm window
+        ("0.3 mm", "wider than the noise's bounds"),
+    ],
+)
+def test_an_sd_wider_than_its_bounds_is_refused(raw, sd, fragment):
+    """sd 0.01 meant in mm is 10 mm on a 0.2 mm window: the normal would be a uniform."""
+    raw["engagement"]["noise"] = {
+        "cushion_travel": {"min": "0.5 mm", "max": "0.7 mm", "dist": "normal", "sd": sd}
+    }
+    _expect(raw, "engagement.noise.cushion_travel.sd", fragment)
+
+
+def test_a_scattered_value_out_of_range_gets_no_bare_number_hint(raw):
+    """The user wrote units; the value the scatter reaches is not a bare number of theirs."""
+    raw["engagement"]["parameters"]["sheet_thickness"] = {"values": ["2.1 mm", "18 mm"]}
+    raw["engagement"]["noise"] = {"sheet_thickness": {"scatter": "±20 %"}}
+    with pytest.raises(ConfigError) as exc:
+        config.resolve(raw)
+    assert "plausible range" in str(exc.value) and "bare number" not in str(exc.value)
 
 
 def test_the_sd_of_a_ratio_is_not_held_to_the_ratios_bounds(raw):

@@ -877,7 +877,7 @@ UNSCREENED_BEFORE = [
     ("roller", "drive_direction", (NAN, 1e30, 1e-310)),  # was overrunning, or taken as +1
     # a number meant in another unit than SI (mm, MPa, ms, g, deg): physical, but no clutch's
     ("engagement", "cushion_travel", (0.6,)),
-    ("engagement", "ramp_time", (150.0,)),
+    ("engagement", "ramp_time", (500.0,)),
     ("sprag", "youngs_modulus", (206000.0,)),
     ("centrifugal", "shoe_mass", (178.0,)),
     ("roller", "wedge_angle", (1.0,)),

@@ -144,6 +144,9 @@ def test_a_temperature_needs_its_kind():
         ("2e-5 N*m/(rad/s)^2", "N m s^2", None, 2e-5),
         ("1 N*m/rpm^2", "N m s^2", None, (30 / math.pi) ** 2),
         ("2 N*m/(rev/s)^2", "N m s^2", None, 2 / TWO_PI**2),
+        ("1 N*m/(rev/min)^2", "N m s^2", None, (30 / math.pi) ** 2),
+        ("1 N*m*min^2/rev^2", "N m s^2", None, (30 / math.pi) ** 2),
+        ("35 N*min/mm", "N s/m", None, 35 * 60 / 1e-3),  # a damping, not a speed coefficient
     ],
 )
 def test_units_of_the_right_kind(text, unit, kind, expected):

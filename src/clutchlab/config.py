@@ -674,7 +674,7 @@ def _spread(value, param, key) -> float:
         v = to_si(value, param.units, kind)
     except UnitError as exc:
         raise ConfigError(key, str(exc)) from None
-    lo, hi = plausible.bounds("delta_K" if param.units == "K" else param.units)
+    lo, hi = plausible.bounds("delta_K") if param.units == "K" else param.plausible_range
     if not lo <= abs(v) <= hi:
         raise ConfigError(
             key,
@@ -702,6 +702,12 @@ def _shape(spec, dist, lo, hi, conv, spread, key) -> dict:
         sd = spread(spec["sd"], f"{key}.sd")
         if not sd > 0:
             raise ConfigError(f"{key}.sd", f"must be > 0, got {sd:g}")
+        if sd > hi - lo:  # (a number meant in another unit: the normal would be a uniform)
+            raise ConfigError(
+                f"{key}.sd",
+                f"got {spec['sd']!r} = {sd:g}, wider than the noise's bounds ({hi - lo:g} from "
+                "min to max): a unit slip? (a bare number is SI; write its unit)",
+            )
         out["sd"] = sd
     return out
 
@@ -949,10 +955,15 @@ def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -
     return out
 
 
-# the units of outputs that are never negative (times, works, powers, stresses, lengths, rates; a
-# temperature and its rise too): a negative constraint limit on one is a sign slip. Not forces
-# (a snapping spring's valley load is negative), torques, angles or ratios (margins are signed).
-NEVER_NEGATIVE_UNITS = ("s", "J", "J/m^2", "W", "W/m^2", "Pa", "m", "1/s")
+# the units of outputs that are never negative (times, works, powers, stresses, lengths, rates,
+# capacities and torque peaks, speeds, angles, jerk peaks; a temperature and its rise too): a
+# negative constraint limit on one is a sign slip. Not forces (a snapping spring's valley load is
+# negative), accelerations (a jump is signed) or ratios (margins are signed). An output of these
+# units that can be negative must not be added without changing this (tests/test_config.py checks
+# the default studies' results).
+NEVER_NEGATIVE_UNITS = (
+    "s", "J", "J/m^2", "W", "W/m^2", "Pa", "m", "1/s", "N m", "rad/s", "rad/s^3", "rad",
+)  # fmt: skip
 
 
 def _answers(study, section):

@@ -79,9 +79,10 @@ _UNIT = 0.0  # (as a lower bound: the unit's own)
 #: study parameter -> (smallest non-zero, largest) magnitude [SI] narrower than its unit's range:
 #: the widest a helicopter or UAV clutch takes, so that a value written without its unit where the
 #: unit mattered is refused, not read in SI (``cushion_travel: 0.6`` meant in mm is 0.6 m,
-#: ``youngs_modulus: 206000`` meant in MPa is 206 kPa, ``ramp_time: 150`` meant in ms is 150 s,
+#: ``youngs_modulus: 206000`` meant in MPa is 206 kPa, ``ramp_time: 500`` meant in ms is 500 s,
 #: ``shoe_mass: 178`` meant in g is 178 kg). Not every slip is caught: ``rated_speed: 2000`` meant
-#: in rpm is 19 100 rpm, a speed some clutches run at.
+#: in rpm is 19 100 rpm, a speed some clutches run at, and ``ramp_time: 150`` meant in ms is a
+#: slow but possible ramp of 150 s.
 PARAMETERS: dict[str, tuple[float, float]] = {
     # lengths: a spring sheet of at most 20 mm, gaps and travels of at most 20 mm, a clutch of at
     # most 2 m across, sprags and rollers of at most 100-200 mm, an ADAMS penetration of 50 mm
@@ -108,22 +109,25 @@ PARAMETERS: dict[str, tuple[float, float]] = {
     "contact_radius": (_UNIT, 1.0),
     "penetration_depth": (_UNIT, 50 * _MM),
     "claw_clearance": (_UNIT, 50 * _MM),
-    # moduli of engineering solids (polymers from 1 GPa) and allowable stresses from 10 MPa
-    "youngs_modulus": (1e9, 1.2e12),
+    # moduli of engineering solids (polymers such as PTFE from 0.1 GPa) and allowable stresses
+    # from 10 MPa
+    "youngs_modulus": (1e8, 1.2e12),
     "contact_allowable": (1e7, 1.2e12),
     "shaft_allowable": (1e7, 1.2e12),
     # a roller's wedge angle and a sprag's allowable gripping angle: a few degrees (a bare 1 is
     # 57 deg)
     "wedge_angle": (0.1 * _DEG, 45 * _DEG),
     "gripping_angle_allowable": (0.1 * _DEG, 30 * _DEG),
-    # shaft speeds at the clutch: at most 4 000 rad/s (38 200 rpm)
-    "engine_speed": (_UNIT, 4000.0),
-    "rated_speed": (_UNIT, 4000.0),
-    "idle_speed": (_UNIT, 4000.0),
-    "initial_speed": (_UNIT, 4000.0),
-    # times: an engagement ramp of at most 30 s, its window 2 min, an engine start-up 10 min
-    "ramp_time": (_UNIT, 30.0),
-    "end_time": (_UNIT, 120.0),
+    # shaft speeds at the clutch: at most 6 000 rad/s (57 300 rpm: a small UAV engine's 40 000 rpm
+    # and more)
+    "engine_speed": (_UNIT, 6000.0),
+    "rated_speed": (_UNIT, 6000.0),
+    "idle_speed": (_UNIT, 6000.0),
+    "initial_speed": (_UNIT, 6000.0),
+    # times: an engagement ramp of at most 5 min (a belt-tensioning helicopter clutch takes tens
+    # of seconds), its window 10 min, an engine start-up 10 min
+    "ramp_time": (_UNIT, 300.0),
+    "end_time": (_UNIT, 600.0),
     "rise_time": (_UNIT, 60.0),
     "control_stop_time": (_UNIT, 10.0),
     "startup_time": (_UNIT, 600.0),

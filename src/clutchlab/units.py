@@ -190,7 +190,7 @@ def _convert(number: float, unit: str, value, si_unit: str, kind) -> float:
         raise UnitError(f"cannot parse the unit of {value!r}: {exc}") from None
     names = dict(given._units)
     target = ureg.parse_units("dimensionless" if si_unit == "1" else si_unit)
-    _check_speed_coefficient(ureg, names, target, value, si_unit)
+    _check_speed_coefficient(ureg, given, target, value, si_unit)
     if _is_speed_coefficient(target) and _radians(ureg, given) == -2:
         target = target / ureg.radian**2  # per (rad/s)^2 or per rpm^2: SI N m s^2 is per (rad/s)^2
     factor = _angle_factor(ureg, given, target, value, si_unit)
@@ -239,23 +239,24 @@ def _angle_factor(ureg, given, target, value, si_unit: str) -> float:
 
 def _is_speed_coefficient(target) -> bool:
     """Whether the SI unit ``target`` is a torque per angular speed squared (N m s^2)."""
-    units = dict(target._units)
-    return units.get("second", 0) > 0 and {"newton", "meter"} <= set(units)
+    return dict(target._units) == {"newton": 1, "meter": 1, "second": 2}
 
 
-def _check_speed_coefficient(ureg, names: dict, target, value, si_unit: str) -> None:
+def _check_speed_coefficient(ureg, given, target, value, si_unit: str) -> None:
     """A coefficient of the angular speed squared (SI N m s², per (rad/s)²) refuses a frequency
     or a time in minutes or hours: per Hz² or min² it would be per (rev/s)² or (rev/min)², and
     read literally it would be (2π)² = 39.5 times too large (1 N m/Hz² is 0.0253 N m s²). Per
     (rad/s)² or per rpm² it is read as written."""
-    if _radians(ureg, target) != 0 or not _is_speed_coefficient(target):
-        return
-    cycles = [n for n in names if n.endswith("hertz") or n in ("minute", "hour", "day")]
+    if not _is_speed_coefficient(target) or _radians(ureg, given) != 0:
+        return  # (an angle in the unit says what turns: per (rev/min)^2, per (rad/s)^2)
+    cycles = [
+        n for n in dict(given._units) if n.endswith("hertz") or n in ("minute", "hour", "day")
+    ]
     if cycles:
         raise UnitError(
             f"{value!r}: a coefficient of the speed squared is per (rad/s)^2; per {cycles[0]} "
-            f"it would be per revolutions: write it in {si_unit} (a value per (rev/s)^2 divided "
-            "by (2 pi)^2 = 39.48)"
+            f"it would be per revolutions: write the angle, e.g. N*m/(rev/s)^2 or N*m/rpm^2, "
+            f"or {si_unit}"
         )
 
 

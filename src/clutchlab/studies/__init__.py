@@ -51,12 +51,12 @@ __all__ = [
 ALL_STATUSES = "all"  # an output valid under every status (valid_statuses)
 # the unit a bare number refused for a parameter of this SI unit was likely meant in (the hint)
 BARE_HINT = {
-    "m": ("mm", 1e-3),
-    "Pa": ("MPa", 1e6),
-    "rad": ("deg", np.pi / 180),
-    "rad/s": ("rpm", np.pi / 30),
-    "s": ("ms", 1e-3),
-    "kg": ("g", 1e-3),
+    "m": (("mm", 1e-3),),
+    "Pa": (("MPa", 1e6), ("GPa", 1e9)),
+    "rad": (("deg", np.pi / 180),),
+    "rad/s": (("rpm", np.pi / 30),),
+    "s": (("ms", 1e-3),),
+    "kg": (("g", 1e-3),),
 }
 
 
@@ -130,12 +130,18 @@ class Parameter:
         return why + self._bare_hint(value, given) if why else None
 
     def _bare_hint(self, value, given) -> str:
-        """Which unit a refused bare number was likely meant in, where that reading is admissible."""
-        meant, factor = BARE_HINT.get(self.units, (None, None))
-        if meant is None or isinstance(given, str | bool) or not self.admissible(value * factor):
+        """Which units a refused bare number was likely meant in: those whose reading is
+        admissible (none: no hint)."""
+        if given is None or isinstance(given, str | bool):
             return ""
-        example = _text(given) if given is not None else f"{value:g}"
-        return f" (a bare number is in {self.units}: write the unit, e.g. '{example} {meant}')"
+        meant = [
+            f"'{_text(given)} {unit}'"
+            for unit, factor in BARE_HINT.get(self.units, ())
+            if self.admissible(value * factor)
+        ]
+        if not meant:
+            return ""
+        return f" (a bare number is in {self.units}: write the unit, e.g. {' or '.join(meant)})"
 
     def _bounds(self, value, got, u) -> str | None:
         if self.minimum is not None:
