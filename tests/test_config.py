@@ -453,6 +453,40 @@ def test_outputs_of_the_never_negative_units_are_not_negative():
                 assert not np.any(v[np.isfinite(v)] < 0), (name, out)
 
 
+@pytest.mark.parametrize(
+    "name, output, given, fragment",
+    [
+        ("roller", "engagement_time", 0.5, "meant in ms"),  # 0.5 s past a 3 ms window
+        ("engagement", "lockup_time", 500, "meant in ms"),
+        ("engagement", "lockup_time", "0.7 s", "lengthen end_time"),  # past the 0.5 s window
+    ],
+)
+def test_a_time_limit_past_the_simulated_window_is_refused(name, output, given, fragment):
+    """The time is found only within [0, end_time]: a maximum past its end never binds (one at
+    its end says "within the window", as the study's default of 0.5 s does)."""
+    cfg = _study(name, constraints={output: {"max": given}})
+    _expect(cfg, f"{name}.constraints.{output}.max", "never binds", fragment)
+
+
+@pytest.mark.parametrize(
+    "name, output, given, hint",
+    [
+        ("engagement", "wear_per_engagement", 0.5, "'0.5 mm'"),
+        ("roller", "backlash_angle", 3, "'3 deg'"),
+    ],
+)
+def test_a_bare_limit_meant_in_another_unit_is_refused(name, output, given, hint):
+    cfg = _study(name, constraints={output: {"max": given}})
+    _expect(cfg, f"{name}.constraints.{output}.max", "plausible range", hint)
+
+
+def test_a_time_limit_within_the_window_is_read():
+    sec = config.resolve(_study("roller", constraints={"engagement_time": {"max": "0.5 ms"}}))
+    assert sec["roller"]["constraints"]["engagement_time"] == ["max", pytest.approx(5e-4)]
+    sec = config.resolve(_study("engagement", constraints={"lockup_time": {"max": "0.5 s"}}))
+    assert sec["engagement"]["constraints"]["lockup_time"] == ["max", 0.5]  # end_time's default
+
+
 def test_a_negative_limit_is_refused_only_on_an_output_that_is_never_negative():
     """A margin's or a valley load's limit may be negative; a minimum lock-up time may not."""
     _expect(

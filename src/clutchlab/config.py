@@ -466,6 +466,7 @@ def _resolve_study(
     out["chunks"] = chunk_count(n, _chunking(section, f"{name}.") or default_chunks)
     out["curve_stride"] = _curve_stride(name, section, design, n)
     out["objectives"], out["constraints"] = _answers(study, section)
+    _check_window_limits(out, section)
     problem = studies.failed_relation(_noise_widened(out), study.relations) or (
         study.check_config(out) if study.check_config is not None else None
     )
@@ -964,6 +965,37 @@ def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -
 NEVER_NEGATIVE_UNITS = (
     "s", "J", "J/m^2", "W", "W/m^2", "Pa", "m", "1/s", "N m", "rad/s", "rad/s^3", "rad",
 )  # fmt: skip
+
+
+# the times a study finds only inside its simulated window [0, end_time] (a scenario that does not
+# get there has a status that fails it): a maximum past the window's end adds nothing to that (a
+# time written in ms without its unit is read in s); one at the end says "within the window"
+WINDOWED_OUTPUTS = {
+    "engagement": ("lockup_time", "lockup_time_worn"),
+    "roller": ("engagement_time", "release_time"),
+}
+
+
+def _check_window_limits(out: dict, section: dict) -> None:
+    """Refuse a constraint maximum the config gives on a windowed time past the longest window
+    end (a study's default limit is left to its relation with end_time)."""
+    for output in WINDOWED_OUTPUTS.get(out["name"], ()):
+        given = (section.get("constraints") or {}).get(output, {}).get("max")
+        if given is None:
+            continue
+        end = studies.value_range(out, "end_time")[1]
+        if out["constraints"][output][1] > end:
+            hint = (
+                "a number meant in ms? write its unit"
+                if not isinstance(given, str)
+                else "lower the limit or lengthen end_time"
+            )
+            raise ConfigError(
+                f"{out['name']}.constraints.{output}.max",
+                f"a maximum of {given!r} never binds: {output} is found only within the simulated "
+                f"window (end_time, at most {end:g} s here; a scenario past it fails by its "
+                f"status); {hint}",
+            )
 
 
 def _answers(study, section):

@@ -76,7 +76,8 @@ RANGES: dict[str, tuple[float, float]] = {
 _MM, _DEG = 1e-3, np.pi / 180
 _UNIT = 0.0  # (as a lower bound: the unit's own)
 
-#: study parameter -> (smallest non-zero, largest) magnitude [SI] narrower than its unit's range:
+#: study parameter (or output, for a constraint's limit) -> (smallest non-zero, largest) magnitude
+#: [SI] narrower than its unit's range:
 #: the widest a helicopter or UAV clutch takes, so that a value written without its unit where the
 #: unit mattered is refused, not read in SI (``cushion_travel: 0.6`` meant in mm is 0.6 m,
 #: ``youngs_modulus: 206000`` meant in MPa is 206 kPa, ``ramp_time: 500`` meant in ms is 500 s,
@@ -138,6 +139,13 @@ PARAMETERS: dict[str, tuple[float, float]] = {
     "pressure_plate_mass": (_UNIT, 1000.0),
     "driven_plate_mass": (_UNIT, 1000.0),
     "intermediate_plate_mass": (_UNIT, 1000.0),
+    # outputs a constraint may limit: a lining's wear per engagement of at most 1 mm, a spring's
+    # deflection at its operating point of at most 50 mm, gripping and backlash angles of at most
+    # 45 deg
+    "wear_per_engagement": (_UNIT, 1 * _MM),
+    "deflection_operating": (_UNIT, 50 * _MM),
+    "gripping_angle": (_UNIT, 45 * _DEG),
+    "backlash_angle": (_UNIT, 45 * _DEG),
 }
 
 #: the most elements a count may have (sprags, rollers, shoes, friction faces)
