@@ -961,7 +961,7 @@ def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -
 # negative constraint limit on one is a sign slip. Not forces (a snapping spring's valley load is
 # negative), accelerations (a jump is signed) or ratios (margins are signed). An output of these
 # units that can be negative must not be added without changing this (tests/test_config.py checks
-# the default studies' results).
+# every scenario of the small config).
 NEVER_NEGATIVE_UNITS = (
     "s", "J", "J/m^2", "W", "W/m^2", "Pa", "m", "1/s", "N m", "rad/s", "rad/s^3", "rad",
 )  # fmt: skip
