@@ -517,6 +517,10 @@ def test_a_negative_limit_is_refused_only_on_an_output_that_is_never_negative():
         ("engagement", "ramp_time", "2 d", ["172800 s", "300 s"]),
         # a length, a modulus, a time, a mass, an angle written without the unit they were meant in
         ("engagement", "cushion_travel", 0.6, ["0.6 m", "write the unit, e.g. '0.6 mm'"]),
+        # a number as text (Snakemake's --config gives one so) is a bare number too
+        ("engagement", "cushion_travel", "0.6", ["0.6 m", "write the unit, e.g. '0.6 mm'"]),
+        # written with its unit: the key that admits it on purpose is named
+        ("engagement", "cushion_travel", "0.6 m", ["0.6 m", "set the study's key plausible"]),
         ("sprag", "youngs_modulus", 206000, ["206000 Pa", "'206000 MPa'"]),
         ("engagement", "ramp_time", 500, ["500 s", "'500 ms'"]),
         ("engagement", "youngs_modulus", 206, ["206 Pa", "'206 GPa'"]),
@@ -552,6 +556,27 @@ def test_a_section_of_a_study_not_run_is_checked_all_the_same():
     _expect(raw, "engagement.parameters.cushion_travel", "'0.6 mm'")
     raw["engagement"]["parameters"]["cushion_travel"] = "0.6 mm"
     assert sorted(config.resolve(raw)) == ["max_scenarios", "report", "results", "sprag", "studies"]
+
+
+@pytest.mark.parametrize(
+    "section, key",
+    [
+        ({"parameters": {"ramp_time": "0.1 s"}}, "engagement.parameters"),
+        ({"samples": 1.5}, "engagement.samples"),
+        ({}, "engagement.samples"),
+        ({"samples": 8, "chunks": 2, "chunk_size": 4}, "engagement.chunk_size"),
+    ],
+)
+def test_a_refinement_not_run_has_its_own_keys_checked(section, key):
+    """A refinement's section of a study not listed: its keys are checked now (the result it
+    refines is not read: it need not exist yet)."""
+    refine = {"design": "refine", "refine": {"from": "no/such/file.h5"}}
+    raw = {"studies": ["sprag"], "sprag": {"design": "factorial"}, "engagement": refine}
+    raw["engagement"].update(section)
+    _expect(raw, key)
+    if key == "engagement.samples" and not section:
+        raw["engagement"]["samples"] = 8
+        assert "engagement" not in config.resolve(raw)
 
 
 def test_zero_is_judged_by_the_parameters_own_minimum():
@@ -1079,3 +1104,46 @@ def test_the_sd_of_a_ratio_is_not_held_to_the_ratios_bounds(raw):
     assert noise["sd"] == pytest.approx(0.1)
     raw["engagement"]["noise"]["static_ratio"]["sd"] = 1e-30  # a slip, still refused
     _expect(raw, "engagement.noise.static_ratio.sd", "plausible")
+
+
+def test_a_plausible_range_set_on_purpose_admits_an_unusual_design():
+    """A shaft at 80 000 rpm (a small turbine's) is past the built-in 6 000 rad/s: refused,
+    naming the key that admits it; with the study's `plausible` range it is read, and the chunk's
+    per-scenario screening judges by the same range (no scenario invalid_input)."""
+    from clutchlab import doe, pipeline
+    from clutchlab import status as st
+
+    section = {"rated_speed": "80000 rpm"}
+    with pytest.raises(ConfigError) as exc:
+        config.resolve(_study("centrifugal", section))
+    assert "set the study's key plausible" in str(exc.value)
+    raw = _study("centrifugal", section, plausible={"rated_speed": {"max": "100000 rpm"}})
+    sec = config.resolve(raw)["centrifugal"]
+    assert sec["fixed"]["rated_speed"] == pytest.approx(80000 * np.pi / 30)
+    assert sec["options"]["plausible"]["rated_speed"][1] == pytest.approx(100000 * np.pi / 30)
+    ds = pipeline.run_chunk(doe.build_design(sec), sec["options"], 1, 0)
+    assert int(ds.status.values.reshape(-1)[0]) != st.CODE["invalid_input"]
+    # the same inputs without the config's range: refused per scenario
+    plain = {k: v for k, v in sec["options"].items() if k != "plausible"}
+    ds = pipeline.run_chunk(doe.build_design(sec), plain, 1, 0)
+    assert int(ds.status.values.reshape(-1)[0]) == st.CODE["invalid_input"]
+
+
+@pytest.mark.parametrize(
+    "spec, key, fragment",
+    [
+        ({"rated_speed": {"max": 10000}}, "rated_speed.max", "write the unit"),
+        ({"rated_speed": {"max": "1e7 rpm"}}, "rated_speed.max", "any rad/s value's range"),
+        ({"rated_speed": {"max": "-5 rpm"}}, "rated_speed.max", "must be within"),
+        ({"rated_speed": {"max": "100 mm"}}, "rated_speed.max", "length"),
+        ({"shoes": {"max": 5}}, "shoes", "a count"),
+        ({"no_such": {"max": "1 m"}}, "no_such", "not a parameter of the centrifugal study"),
+        ({"rated_speed": {"min": "5000 rad/s", "max": "4000 rad/s"}}, "rated_speed", "below"),
+        # a narrower range refuses the value it no longer holds, saying whose range it is
+        ({"rated_speed": {"min": "6000 rpm"}}, None, "the config's plausible range"),
+    ],
+)
+def test_a_plausible_range_is_read_as_meant_or_refused(spec, key, fragment):
+    raw = _study("centrifugal", {"rated_speed": "5000 rpm"}, plausible=spec)
+    where = f"centrifugal.plausible.{key}" if key else "centrifugal.parameters.rated_speed"
+    _expect(raw, where, fragment)

@@ -218,3 +218,25 @@ def test_refinement_moves_the_engagement_front_with_fewer_scenarios(tmp_path):
     assert ds["ramp_time"].attrs["refine_halfwidth"] == pytest.approx(
         0.5 * second["ramp_time"].attrs["refine_halfwidth"]
     )
+
+
+def test_refine_refuses_a_first_stage_value_todays_checks_refuse(tmp_path):
+    """A result made before a check was added (here: a cushion travel of 0.6 m, a bare 0.6 meant
+    in mm) is refused when the refinement is configured, naming it, not run into scenarios of
+    status invalid_input; a first stage's own plausible range is the one its values are held to."""
+    import h5py
+
+    path = _first_stage(tmp_path)
+    with h5py.File(path, "r+") as fh:
+        section = yaml.safe_load(fh.attrs["config"])
+        section["fixed"]["cushion_travel"] = 0.6
+        fh.attrs["config"] = yaml.safe_dump(section)
+    with pytest.raises(ConfigError) as exc:
+        config.resolve(_refine(path))
+    assert exc.value.key == "engagement.refine.from"
+    assert "first stage's cushion_travel" in str(exc.value) and "0.6 m" in str(exc.value)
+    with h5py.File(path, "r+") as fh:
+        section["options"]["plausible"] = {"cushion_travel": [1e-7, 1.0]}
+        fh.attrs["config"] = yaml.safe_dump(section)
+    sec = config.resolve(_refine(path))["engagement"]
+    assert sec["options"]["plausible"] == {"cushion_travel": [1e-7, 1.0]}

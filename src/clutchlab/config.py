@@ -9,6 +9,7 @@ its ``fixed`` values and its ``factors``, and defaults are filled in. Any proble
 from __future__ import annotations
 
 import copy
+import dataclasses
 import functools
 import math
 import re
@@ -433,6 +434,7 @@ def _resolve_study(
         raise ConfigError(
             f"{name}.refine", f"only read by design 'refine' (this study's design is '{design}')"
         )
+    study, ranges = _with_plausible(study, section, name)
     out = {
         "name": name,
         "design": design,
@@ -442,6 +444,8 @@ def _resolve_study(
         "factors": {},
     }
     _resolve_options(study, section, out)
+    if ranges:  # (the chunks' screening judges each scenario by them too)
+        out["options"]["plausible"] = ranges
     if design != "factorial":
         if "samples" not in section:
             raise ConfigError(f"{name}.samples", f"required for design '{design}'")
@@ -473,6 +477,58 @@ def _resolve_study(
     if problem:
         raise ConfigError(*problem)
     return out
+
+
+def _with_plausible(study, section: dict, name: str):
+    """The study with the plausible ranges its section sets (``plausible: {parameter: {min, max}}``,
+    magnitudes with their units, in place of :data:`clutchlab.plausible.PARAMETERS`' for that
+    parameter, within its unit's range), and those ranges in SI ({} where none is set)."""
+    given = section.get("plausible") or {}
+    ranges = {}
+    for pname, spec in given.items():
+        key = f"{name}.plausible.{pname}"
+        try:
+            param = study.parameter(pname)
+        except KeyError:
+            raise ConfigError(key, f"not a parameter of the {name} study") from None
+        if param.integer or param.choices is not None:
+            raise ConfigError(key, "a count or a choice has no magnitude range to set")
+        lo, hi = param.plausible_range
+        for end in ("min", "max"):
+            if end in spec:
+                v = _range_end(param, spec[end], f"{key}.{end}")
+                lo, hi = (v, hi) if end == "min" else (lo, v)
+        if not lo < hi:
+            raise ConfigError(key, f"min must be below max, got {lo:g} to {hi:g} {param.units}")
+        ranges[pname] = [lo, hi]
+    return dataclasses.replace(
+        study, parameters=studies.with_plausible(study.parameters, ranges)
+    ), ranges
+
+
+def _range_end(param, value, key) -> float:
+    """One end of a plausible range a config sets, in SI: written with its unit (the range
+    overrides the check that catches a number written without one), a magnitude > 0 within the
+    unit's range."""
+    if param.units != "1" and not isinstance(value, str):
+        raise ConfigError(
+            key,
+            f"write the unit ('{value} {param.units}' or another {param.units} unit): a plausible "
+            "range overrides the check that catches a number written without its unit",
+        )
+    try:
+        v = to_si(value, param.units, param.unit_kind)
+    except UnitError as exc:
+        raise ConfigError(key, str(exc)) from None
+    ulo, uhi = param.unit_range
+    u = "" if param.units == "1" else f" {param.units}"
+    if not ulo <= v <= uhi:
+        raise ConfigError(
+            key,
+            f"must be within {ulo:g} to {uhi:g}{u} (any{u or ' dimensionless'} value's range: "
+            f"beyond it no model of a clutch holds), got {value!r}",
+        )
+    return v
 
 
 def _resolve_parameters(study, section: dict, out: dict, max_scenarios: int) -> None:
@@ -905,12 +961,8 @@ def stored_study(path, name=None, key="refine.from") -> dict:
     return section
 
 
-def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -> dict:
-    """A second stage: new samples near the Pareto fronts of a stored result, with everything
-    else (factors and their ranges, fixed values, options, objectives, constraints) taken from it,
-    so that the two stages' fronts are comparable."""
-    import os
-
+def _check_refine_keys(name, section) -> None:
+    """A 'design: refine' section has only the keys a refinement reads, and those it needs."""
     for key in section:
         if key not in REFINE_KEYS:
             raise ConfigError(
@@ -922,6 +974,19 @@ def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -
     for key in ("refine", "samples"):
         if key not in section:
             raise ConfigError(f"{name}.{key}", "required for design 'refine'")
+    for key in ("samples", "seed"):
+        if key in section:
+            _count(section, key, f"{name}.{key}")
+    _chunking(section, f"{name}.")
+
+
+def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -> dict:
+    """A second stage: new samples near the Pareto fronts of a stored result, with everything
+    else (factors and their ranges, fixed values, options, objectives, constraints) taken from it,
+    so that the two stages' fronts are comparable."""
+    import os
+
+    _check_refine_keys(name, section)
     path = section["refine"]["from"]
     key = f"{name}.refine.from"
     own = os.path.join(results_dir, studies.get(name).output)
@@ -932,6 +997,7 @@ def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -
             "with the top-level key 'results: <folder>'",
         )
     first = stored_study(path, name, key)
+    _check_first_stage(first, name, key)
     out = dict(first)
     out.update(
         {
@@ -954,6 +1020,28 @@ def _resolve_refine(name, section, default_chunks, max_scenarios, results_dir) -
     out["chunks"] = chunk_count(n, _chunking(section, f"{name}.") or default_chunks)
     out["curve_stride"] = _curve_stride(name, section, "refine", n)
     return out
+
+
+def _check_first_stage(first: dict, name: str, key: str) -> None:
+    """The fixed values and factor bounds a refinement takes from its first stage pass today's
+    parameter checks (with the first stage's own plausible ranges): a result made before a check
+    was added is refused here, not turned into scenarios of status invalid_input."""
+    own = studies.with_plausible(
+        studies.get(name).parameters, first.get("options", {}).get("plausible")
+    )
+    by_name = {p.name: p for p in own}
+    values = {p: [v] for p, v in first.get("fixed", {}).items()}
+    for p, spec in first.get("factors", {}).items():
+        values[p] = list(spec.get("values", [])) + [spec[e] for e in ("min", "max") if e in spec]
+    for p, vals in values.items():
+        param = by_name.get(p)
+        why = next((w for v in vals if param and (w := param.check(float(v)))), None)
+        if why:
+            raise ConfigError(
+                key,
+                f"the first stage's {p} {why}; recompute the first stage with a config read "
+                "by this version",
+            )
 
 
 # the units of outputs that are never negative (times, works, powers, stresses, lengths, rates,
@@ -1143,11 +1231,14 @@ def resolve(raw: dict) -> dict:
             raise ConfigError(name, "section missing for a study listed in 'studies'")
         resolved[name] = _resolve_study(name, cfg[name], default_chunks, max_scenarios, results_dir)
     for name in studies.REGISTRY:
-        if name in cfg and name not in resolved and cfg[name].get("design") != "refine":
+        if name in cfg and name not in resolved:
             # a section of a study not run is checked all the same (no ceiling: it is not run):
-            # a mistake in it is refused now, not on the day the study is listed (a refinement
-            # is left out: it reads the result it refines, which need not exist yet)
-            _resolve_study(name, cfg[name], default_chunks, math.inf, results_dir)
+            # a mistake in it is refused now, not on the day the study is listed (of a refinement
+            # its own keys: the result it refines need not exist yet)
+            if cfg[name].get("design") == "refine":
+                _check_refine_keys(name, cfg[name])
+            else:
+                _resolve_study(name, cfg[name], default_chunks, math.inf, results_dir)
     return resolved
 
 

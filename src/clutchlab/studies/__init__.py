@@ -40,6 +40,7 @@ __all__ = [
     "seed_design",
     "apply_valid_statuses",
     "inadmissible",
+    "with_plausible",
     "refuse_inadmissible",
     "ALL_STATUSES",
     "units_metadata",
@@ -85,6 +86,9 @@ class Parameter:
     integer: bool = False  # a count (sprags, rollers, shoes, friction faces)
     choices: tuple[float, ...] | None = None  # the only values allowed (e.g. drive direction +1/-1)
     kind: str | None = None  # temperatures: "absolute" or "difference" (see clutchlab.units)
+    # (smallest non-zero, largest) magnitude [SI] a config's ``plausible`` key sets in place of
+    # clutchlab.plausible.PARAMETERS' (within the unit's range): :func:`with_plausible`
+    config_range: tuple[float, float] | None = None
 
     def __post_init__(self):
         if (self.units == "K") != (self.kind in ("absolute", "difference")):
@@ -126,13 +130,27 @@ class Parameter:
             return f"must be finite, got {got}"
         if self.integer and not (np.isfinite(value) and value == round(value)):
             return f"must be a whole number (a count), got {got}"
-        why = self._bounds(value, got, u) or self._plausible(value, got, u)
-        return why + self._bare_hint(value, given) if why else None
+        why = self._bounds(value, got, u)
+        if why:
+            return why + self._bare_hint(value, given)
+        why = self._plausible(value, got, u)
+        if not why:
+            return None
+        hint = self._bare_hint(value, given)
+        ulo, uhi = self.unit_range
+        if not hint and self.config_range is None and not self.integer and ulo <= abs(value) <= uhi:
+            hint = " (if meant, set the study's key plausible)"
+        return why + hint
 
     def _bare_hint(self, value, given) -> str:
         """Which units a refused bare number was likely meant in: those whose reading is
         admissible (none: no hint)."""
-        if given is None or isinstance(given, str | bool):
+        if isinstance(given, str):  # a number as text (Snakemake's --config reads "0.6" so)
+            try:
+                given = float(given.strip())
+            except ValueError:
+                return ""
+        if given is None or isinstance(given, bool) or not np.isfinite(given):
             return ""
         meant = [
             f"'{_text(given)} {unit}'"
@@ -165,9 +183,10 @@ class Parameter:
         if lo <= abs(value) <= hi:
             return None
         what = " of a count" if self.integer else ""
+        whose = ", the config's plausible range" if self.config_range is not None else ""
         return (
-            f"got {got}, outside the plausible range{what} ({lo:g} to {hi:g}{u} in magnitude): "
-            "a typing or unit slip?"
+            f"got {got}, outside the plausible range{what} ({lo:g} to {hi:g}{u} in magnitude"
+            f"{whose}): a typing or unit slip?"
         )
 
     def admissible(self, values) -> np.ndarray:
@@ -201,10 +220,42 @@ class Parameter:
     @property
     def plausible_range(self) -> tuple[float, float]:
         """(smallest non-zero, largest) plausible magnitude [SI] of this parameter: its unit's,
-        narrowed by its own where :data:`clutchlab.plausible.PARAMETERS` names it."""
-        lo, hi = plausible.bounds("delta_K" if self.kind == "difference" else self.units)
-        own_lo, own_hi = plausible.PARAMETERS.get(self.name, (lo, hi))
+        narrowed by its own where :data:`clutchlab.plausible.PARAMETERS` names it, or by the
+        range a config set (:attr:`config_range`)."""
+        lo, hi = self.unit_range
+        own_lo, own_hi = self.config_range or plausible.PARAMETERS.get(self.name, (lo, hi))
         return max(lo, own_lo), min(hi, own_hi)
+
+    @property
+    def unit_range(self) -> tuple[float, float]:
+        """(smallest non-zero, largest) magnitude [SI] of any value of this parameter's unit
+        (:func:`clutchlab.plausible.bounds`): no config widens it."""
+        return plausible.bounds("delta_K" if self.kind == "difference" else self.units)
+
+
+def with_plausible(parameters, ranges) -> tuple:
+    """``parameters`` with the plausible ranges a config set (its study section's ``plausible``
+    key, resolved into the study's ``options["plausible"]``).
+
+    Parameters
+    ----------
+    parameters : sequence of Parameter
+        A study's parameters.
+    ranges : dict or None
+        Parameter name -> (smallest non-zero, largest) magnitude [SI]; None or empty: none set.
+
+    Returns
+    -------
+    tuple of Parameter
+        The parameters, those named in ``ranges`` with that range as their plausible one.
+    """
+    ranges = ranges or {}
+    return tuple(
+        dataclasses.replace(p, config_range=tuple(map(float, ranges[p.name])))
+        if p.name in ranges
+        else p
+        for p in parameters
+    )
 
 
 @dataclass(frozen=True)
@@ -573,7 +624,10 @@ def refuse_inadmissible(ds, parameters, inputs):
 def _with_valid_statuses(compute: Callable, table: dict, parameters=()) -> Callable:
     @functools.wraps(compute)
     def valid_compute(inputs, options=None):
-        ds = refuse_inadmissible(compute(inputs, options), parameters, inputs)
+        # the plausible ranges the study's config set (key plausible): the config read its values
+        # with them, so its scenarios are judged by them too
+        own = with_plausible(parameters, (options or {}).get("plausible"))
+        ds = refuse_inadmissible(compute(inputs, options), own, inputs)
         return apply_valid_statuses(ds, table)
 
     return valid_compute
