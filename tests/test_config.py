@@ -108,7 +108,20 @@ def test_negative_value_inside_factor(raw):
 
 def test_wrong_dimension(raw):
     raw["diaphragm_spring"]["parameters"]["outer_radius"] = "110 kg"
-    _expect(raw, "diaphragm_spring.parameters.outer_radius", "expected something convertible")
+    _expect(raw, "diaphragm_spring.parameters.outer_radius", "is a mass; this value is a length")
+
+
+@pytest.mark.parametrize(
+    "key, given, fragment",
+    [
+        ("engine_speed", "5 m", "is a length; this value is a rotational speed (in rad/s"),
+        ("damper_stiffness", "5 N*m*s/rad", "this value is a torsional stiffness"),
+        ("ramp_time", "5 s s", "of dimensions [time] ** 2; this value is a time"),
+        ("ramp_time", "5 foo", "'foo' is not a unit"),
+    ],
+)
+def test_a_unit_of_the_wrong_kind_is_named_in_words(key, given, fragment):
+    _expect(_study("engagement", {key: given}), f"engagement.parameters.{key}", fragment)
 
 
 def test_poisson_above_half(raw):

@@ -475,6 +475,28 @@ def test_bearing_force_from_the_spring_curve():
     assert fb[0, -1] == pytest.approx(float(full[0]), rel=1e-12)
 
 
+def test_bearing_force_is_the_screened_curve_at_every_point():
+    """The curve is evaluated unscreened past the operating point (the spring was screened with
+    it): equal to the screened load point by point, NaN on every row whose spring is refused."""
+    from clutchlab import diaphragm
+    from clutchlab.studies import engagement as study
+
+    n = 8
+    p = {q.name: np.full(n, float(q.default)) for q in study.PARAMETERS}
+    p["sheet_thickness"][:5] = [np.nan, np.inf, -1e-3, 1e3, 0.0]
+    p["load_radius_outer_offset"][5] = 1.0  # a load point off the spring
+    p["air_gap"][6] = np.nan
+    _, _, _, pts = study.capacity(p, {"capacity_formula": "corrected"}, with_points=True)
+    fb = study.bearing_force(p, pts)
+    lift = (p["air_gap"] + p["cushion_travel"])[:, None] * np.linspace(0.0, 1.0, 41)[None, :]
+    geom = {k: np.asarray(v)[:, None] for k, v in study.spring_geometry(p).items()}
+    spring = diaphragm.almen_laszlo_load(pts["deflection_B"][:, None] + lift, **geom)
+    cushion = pts["load_B"][:, None] * np.maximum(0.0, 1.0 - lift / p["cushion_travel"][:, None])
+    want = (spring - cushion) / p["lever_ratio"][:, None]
+    np.testing.assert_array_equal(fb, want)
+    assert np.isnan(fb[:7]).all() and np.isfinite(fb[7]).all()
+
+
 def test_event_solver_peaks_include_the_lockup_instant():
     """Regression (found in session 7): with a held engine and lock-up before the end of the clamp
     ramp, the clutch torque is largest at the lock-up instant; the event solver took that instant as

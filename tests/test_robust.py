@@ -332,6 +332,39 @@ def _check_robust_refinement(tmp_path, answers, d2, second):
 
 
 @pytest.mark.slow
+def test_the_binding_answer_is_the_constraint_of_the_least_worst_margin():
+    """Of two constraints the one a design misses most binds it, whichever is listed first: the
+    pages and the traces locate that one's worst case and name it."""
+    from clutchlab.report import robust as pages
+
+    raw = {
+        "studies": ["engagement"],
+        "engagement": {
+            "design": "factorial",
+            "options": {"driveline": "rigid"},
+            "parameters": {
+                "ramp_time": {"values": ["0.15 s"]},
+                "sheet_thickness": {"values": ["2.2 mm", "2.4 mm"]},
+                "friction_coefficient": NOMINAL_MU,
+            },
+            "noise": {"friction_coefficient": {"scatter": "±20 %"}},
+            "noise_samples": 8,
+            "objectives": ["slip_work:min", "lockup_time:min"],
+            "constraints": {"lockup_time": {"max": "0.5 s"}, "slip_work": {"max": "1 J"}},
+        },
+    }
+    sec = resolve(raw)["engagement"]
+    got = explore.robust(_run(sec))
+    assert str(got["constraint"].values[0]) == "lockup_time"
+    margins = got["worst_margin"].transpose("constraint", *got["robust_rank"].dims).values
+    for j in range(got["robust_rank"].size):
+        m = margins.reshape(2, -1)[:, j]
+        assert m[1] < m[0]  # 1 J of slip work: missed by far more than the lock-up limit
+        assert explore.binding_answer(got, j) == "slip_work"
+        assert explore.robust_scenario(_run(sec), got, j)[1] == "slip_work"
+        assert pages.binding_text(got, j).startswith("slip_work worst at ")
+
+
 def test_the_default_runs_best_robust_design_meets_every_limit_through_the_api():
     """Acceptance: the default study's engagement (config/config.yaml, a crossed robust study),
     its best robust design called through the API at every operating condition and at both ends

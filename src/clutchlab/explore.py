@@ -41,6 +41,7 @@ __all__ = [
     "sensitivity",
     "robust",
     "best_robust",
+    "binding_answer",
     "robust_scenario",
 ]
 
@@ -969,6 +970,33 @@ def best_robust(answers) -> int | None:
     return int(np.argmin(d))
 
 
+def binding_answer(answers, j) -> str:
+    """The answer that binds design ``j``: its constraint of the least worst-case margin.
+
+    Parameters
+    ----------
+    answers : xarray.Dataset
+        Robust answers (:func:`robust`).
+    j : int
+        A design, flat over the design factors of ``answers``.
+
+    Returns
+    -------
+    str
+        The constrained output whose worst margin over the conditions and the noise is the least
+        (the first constraint where every margin is NaN); the first objective where the study has
+        no constraint.
+    """
+    names = [str(a) for a in answers["answer"].values]
+    if "constraint" not in answers.coords or "worst_margin" not in answers:
+        return names[0]
+    constrained = [str(c) for c in answers["constraint"].values]
+    design = list(answers["robust_rank"].dims)
+    m = answers["worst_margin"].transpose("constraint", *design).values
+    m = m.reshape(len(constrained), -1)[:, j]
+    return constrained[int(np.nanargmin(m))] if np.isfinite(m).any() else constrained[0]
+
+
 def robust_scenario(ds, answers, j, answer=None) -> tuple[int, str]:
     """Flat scenario index of a crossed result where a design meets its binding condition and noise.
 
@@ -981,8 +1009,8 @@ def robust_scenario(ds, answers, j, answer=None) -> tuple[int, str]:
     j : int
         A design, flat over the design factors of ``answers``.
     answer : str or None
-        The answer whose worst case is wanted (default: the first constrained output, else the
-        first objective).
+        The answer whose worst case is wanted (default: the one that binds the design,
+        :func:`binding_answer`).
 
     Returns
     -------
@@ -991,10 +1019,8 @@ def robust_scenario(ds, answers, j, answer=None) -> tuple[int, str]:
     answer : str
         That answer's name.
     """
-    names = list(answers["answer"].values)
     if answer is None:
-        constrained = list(answers["constraint"].values) if "constraint" in answers.coords else []
-        answer = constrained[0] if constrained else names[0]
+        answer = binding_answer(answers, j)
     design = list(answers["robust_rank"].dims)
     at = np.unravel_index(j, answers["robust_rank"].shape)
     index = []

@@ -187,6 +187,13 @@ def _convert(number: float, unit: str, value, si_unit: str, kind) -> float:
     try:
         given = ureg.parse_units(unit)
     except Exception as exc:  # pint raises several unrelated exception types
+        unknown = getattr(exc, "unit_names", None)  # (pint's UndefinedUnitError)
+        if unknown:
+            names = ", ".join(repr(u) for u in ([unknown] if isinstance(unknown, str) else unknown))
+            raise UnitError(
+                f"cannot read the unit of {value!r}: {names} is not a unit (the config page lists "
+                "the spellings, e.g. mm, rpm, deg, MPa, N*m, degC)"
+            ) from None
         raise UnitError(f"cannot parse the unit of {value!r}: {exc}") from None
     names = dict(given._units)
     target = ureg.parse_units("dimensionless" if si_unit == "1" else si_unit)
@@ -202,10 +209,54 @@ def _convert(number: float, unit: str, value, si_unit: str, kind) -> float:
         out = float(ureg.Quantity(number, given).to(target).magnitude)
     except Exception:
         raise UnitError(
-            f"{value!r} has units of {ureg.Quantity(1, given).dimensionality}, expected "
-            f"something convertible to {si_unit!r}"
+            f"{value!r} is {_kind_name(ureg, given)}; this value is "
+            f"{_SI_NAMES.get(si_unit) or _kind_name(ureg, target)} (in {si_unit}, or another unit "
+            "of it)"
         ) from None
     return out * factor
+
+
+# what a unit's dimensions are called (pint's own notation for the others)
+_KIND_NAMES = {
+    "[length]": "a length",
+    "[mass]": "a mass",
+    "[time]": "a time",
+    "[temperature]": "a temperature",
+    "1 / [time]": "a speed or a rate (per time)",
+    "[length] / [time]": "a linear speed",
+    "[length] / [time] ** 2": "an acceleration",
+    "[length] ** 2": "an area",
+    "[length] ** 3": "a volume",
+    "[mass] * [length] / [time] ** 2": "a force",
+    "[mass] * [length] ** 2 / [time] ** 2": "a torque or an energy",
+    "[mass] / [length] / [time] ** 2": "a pressure or a stress",
+    "[mass] * [length] ** 2": "a moment of inertia",
+    "[mass] * [length] ** 2 / [time] ** 3": "a power",
+    "[mass] / [time] ** 2": "a stiffness (force per length)",
+    "[mass] / [time]": "a damping (force per speed)",
+    "dimensionless": "a ratio, a count or an angle",
+    "[current] * [time]": "an electric charge (C is the coulomb: degC is the Celsius degree)",
+}
+
+
+# what the SI units of clutchlab's values are (those pint's dimensions do not tell apart: an angle
+# is dimensionless to it, so a torsional stiffness is a torque)
+_SI_NAMES = {
+    "rad/s": "a rotational speed",
+    "N m": "a torque",
+    "J": "an energy",
+    "N m/rad": "a torsional stiffness",
+    "rad": "an angle",
+    "1": "a ratio or a count",
+    "1/s": "a rate (per time)",
+    "N m s^2": "a torque per speed squared",
+}
+
+
+def _kind_name(ureg, unit) -> str:
+    """What ``unit``'s dimensions are called ("a length"), or pint's notation for them."""
+    dims = str(ureg.Quantity(1, unit).dimensionality)
+    return _KIND_NAMES.get(dims, f"of dimensions {dims}")
 
 
 def _radians(ureg, unit) -> int:

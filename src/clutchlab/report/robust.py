@@ -77,17 +77,11 @@ def _failure(ra, j) -> tuple[float, float, float, dict]:
     return float(p[k]), float(lo[k]), float(hi[k]), where
 
 
-def _binding_answer(ra) -> str:
-    """The answer whose worst case the pages locate: the first constraint, else objective."""
-    names = [str(a) for a in ra["answer"].values]
-    constrained = [str(c) for c in ra["constraint"].values] if "constraint" in ra.coords else []
-    return constrained[0] if constrained else names[0]
-
-
 def binding_text(ra, j, answer=None, lead=True) -> str:
-    """Where design ``j``'s worst case of ``answer`` occurs (default: its first constraint, else
-    its first objective): the condition values and the noise draw."""
-    answer = answer or _binding_answer(ra)
+    """Where design ``j``'s worst case of ``answer`` occurs (default: the constraint that binds
+    it, :func:`clutchlab.explore.binding_answer`): the condition values and the noise draw,
+    after the answer's name."""
+    answer = answer or explore.binding_answer(ra, j)
     parts = []
     for c in ra.attrs.get("conditions", "").split():
         v = _v(ra, f"binding_{c}", _flat_answer(ra, ra[f"binding_{c}"].sel(answer=answer))[j])
@@ -100,7 +94,7 @@ def binding_text(ra, j, answer=None, lead=True) -> str:
                 parts.append(f"{name} {100 * d:+.1f} %")
             else:
                 parts.append(f"{name} = {_v(ra, var, d)}")
-    return (f"{answer} worst at " if lead else "") + ", ".join(parts)
+    return f"{answer} worst at " + ", ".join(parts) if lead else f"{answer}: " + ", ".join(parts)
 
 
 def _flat_answer(ra, da) -> np.ndarray:
@@ -182,7 +176,8 @@ def front_rows(ra) -> tuple[list[str], list[list[str]]]:
     cols = [f"{w}_{n}" for n, _ in _objectives(ra) for w in ("worst", "quantile")]
     header += [display.column(c, display.unit_of(ra, c)) for c in cols]
     conds = " / ".join([*ra.attrs.get("conditions", "").split(), "noise"])
-    header += ["P(failure) max [%]", "95 % interval [%]", f"{_binding_answer(ra)} worst at {conds}"]
+    binds = "binding constraint" if "constraint" in ra.coords else first
+    header += ["P(failure) max [%]", "95 % interval [%]", f"{binds}: worst at {conds}"]
     rows = []
     for j in front:
         p, lo, hi, _ = _failure(ra, j)

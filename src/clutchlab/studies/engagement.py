@@ -403,7 +403,14 @@ def bearing_force(p, pts, points=41):
     """
     lift = (p["air_gap"] + p["cushion_travel"])[:, None] * np.linspace(0.0, 1.0, points)[None, :]
     geom = {k: np.asarray(v)[:, None] for k, v in spring_geometry(p).items()}
-    f_spring = diaphragm.almen_laszlo_load(pts["deflection_B"][:, None] + lift, **geom)
+    # the spring was screened with its operating point (pts: NaN where its inputs are not
+    # admissible); the lift adds a non-negative travel to that deflection, so the curve is
+    # evaluated unscreened (screening each of the points cost 5 µs a scenario)
+    with np.errstate(invalid="ignore", over="ignore"):
+        f_spring = diaphragm._almen_laszlo_load(
+            deflection=pts["deflection_B"][:, None] + lift, **geom
+        )
+    f_spring = np.where(np.isfinite(pts["load_B"])[:, None], f_spring, np.nan)
     f_cushion = pts["load_B"][:, None] * np.maximum(0.0, 1.0 - lift / p["cushion_travel"][:, None])
     return (f_spring - f_cushion) / p["lever_ratio"][:, None]
 
