@@ -833,6 +833,30 @@ def test_a_json_config_indented_with_tabs_is_read_as_json(tmp_path):
         config.read_file(f)
 
 
+@pytest.mark.parametrize(
+    "name, text",
+    [
+        (
+            "c.yaml",
+            "studies: [engagement]\nengagement:\n  design: factorial\n  parameters:\n"
+            "    ramp_time: {min: 0.1 s, max: 0.2 s, max: 0.3 s, num: 2}\n",
+        ),
+        (
+            "c.json",
+            '{"studies": ["engagement"], "engagement": {"design": "factorial", "parameters": '
+            '{"ramp_time": {"min": "0.1 s", "max": "0.2 s", "max": "0.3 s", "num": 2}}}}',
+        ),
+    ],
+)
+def test_a_nested_key_given_twice_is_named_by_its_whole_path(tmp_path, name, text):
+    f = tmp_path / name
+    f.write_text(text)
+    with pytest.raises(ConfigError) as exc:
+        config.read_file(f)
+    assert exc.value.key == "engagement.parameters.ramp_time.max", str(exc.value)
+    assert "given twice" in str(exc.value)
+
+
 @pytest.mark.parametrize("depth", [17, 500, 100_000])
 @pytest.mark.parametrize("form", ["yaml", "json"])
 def test_deep_nesting_is_one_line_naming_the_file_or_key(tmp_path, depth, form):

@@ -117,6 +117,48 @@ def path_text(path) -> str:
     return out or "<top level>"
 
 
+def duplicates(root):
+    """(key path, message) of each key given twice in one mapping of the composed document
+    ``root`` (PyYAML would keep the last), in document order; aliases are visited once."""
+    constructor = yaml.constructor.SafeConstructor()
+    seen, stack = set(), [(root, [])]
+    while stack:
+        node, path = stack.pop()
+        if id(node) in seen or not isinstance(node, yaml.MappingNode | yaml.SequenceNode):
+            continue
+        seen.add(id(node))
+        if isinstance(node, yaml.MappingNode):
+            found = _duplicate_key(constructor, node)
+            if found is not None:
+                key, first, second = found
+                yield (
+                    path_text(path + [key]),
+                    (
+                        f"given twice in one mapping (lines {first} and {second}); YAML would "
+                        "silently keep the last"
+                    ),
+                )
+        children = [(child, p) for child, p, is_key in _children(node, path) if not is_key]
+        stack.extend(reversed(children))
+
+
+def _duplicate_key(constructor, node):
+    """(key text, first line, second line) of the first key given twice in the mapping ``node``,
+    or None (keys compared as read: ``1`` and ``1.0`` are one key)."""
+    lines = {}
+    for k, _ in node.value:
+        if not isinstance(k, yaml.ScalarNode) or k.tag == "tag:yaml.org,2002:merge":
+            continue
+        try:
+            key = constructor.construct_object(k)
+            if key in lines:
+                return _key_text(k), lines[key], k.start_mark.line + 1
+            lines[key] = k.start_mark.line + 1
+        except (TypeError, ValueError, yaml.YAMLError):
+            continue  # (an unhashable or unreadable key: refused when the document is read)
+    return None
+
+
 def misreadings(root):
     """(key, message) of each plain scalar of the composed document ``root`` that YAML 1.1 and
     YAML 1.2 read differently; aliases are visited once."""

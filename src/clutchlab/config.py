@@ -160,31 +160,61 @@ def _read_json(text):
     """The data of a JSON text (a key twice refused), or _NOT_JSON where the text is not JSON."""
     import json
 
+    from ._yaml_readings import path_text
+
     def pairs(items):
         seen = set()
         for key, _ in items:
             if key in seen:
-                raise ConfigError(
-                    str(key), "given twice in one JSON object; JSON readers keep the last"
-                )
+                return _Twice(items, key)
             seen.add(key)
         return dict(items)
 
     try:
-        return json.loads(text, object_pairs_hook=pairs)
+        data = json.loads(text, object_pairs_hook=pairs)
     except json.JSONDecodeError:
         return _NOT_JSON
+    path = _twice_path(data, [])
+    if path is not None:
+        raise ConfigError(
+            path_text(path), "given twice in one JSON object; JSON readers keep the last"
+        )
+    return data
+
+
+class _Twice(dict):
+    """A JSON object with a key given twice (``key``)."""
+
+    def __init__(self, items, key):
+        super().__init__(items)
+        self.key = key
+
+
+def _twice_path(obj, path):
+    """The key path of the first key given twice in a JSON document's objects, or None."""
+    if isinstance(obj, _Twice):
+        return path + [str(obj.key)]
+    children = (
+        obj.items() if isinstance(obj, dict) else enumerate(obj) if isinstance(obj, list) else ()
+    )
+    for k, v in children:
+        found = _twice_path(v, path + [k])
+        if found is not None:
+            return found
+    return None
 
 
 def _read_yaml(text, where):
     """The data of a YAML text; refuses invalid YAML and any scalar YAML 1.1 reads otherwise than
     YAML 1.2 (:mod:`clutchlab._yaml_readings`)."""
-    from ._yaml_readings import misreadings
+    from ._yaml_readings import duplicates, misreadings
 
     loader = None
     try:
         loader = _StrictLoader(text)
         node = loader.get_single_node()
+        for key, problem in duplicates(node) if node is not None else ():
+            raise ConfigError(key, problem)  # (named by its whole path)
         raw = loader.construct_document(node) if node is not None else None
     except ConfigError:
         raise
