@@ -363,6 +363,9 @@ def test_the_binding_answer_is_the_constraint_of_the_least_worst_margin():
         assert explore.binding_answer(got, j) == "slip_work"
         assert explore.robust_scenario(_run(sec), got, j)[1] == "slip_work"
         assert pages.binding_text(got, j).startswith("slip_work worst at ")
+    header, rows = pages.front_rows(got)
+    assert header[-2] == "binding constraint" and header[-1].startswith("worst at ")
+    assert rows and all(r[-2] == "slip_work" for r in rows)
 
 
 def test_the_default_runs_best_robust_design_meets_every_limit_through_the_api():

@@ -567,12 +567,35 @@ def column_chars(ax, share, fontsize, em=0.62) -> int:
     return int(share * axes_w * 72.0 / (em * fontsize))
 
 
+def shortened_to(ax, text, share, fontsize) -> str:
+    """``text`` shortened at word ends (``textwrap.shorten``) to what fits, measured, in a table
+    column taking ``share`` of the width of ``ax`` at ``fontsize`` [pt] within the cell's
+    padding; each line on its own."""
+    from matplotlib.font_manager import FontProperties
+
+    renderer = ax.figure.canvas.get_renderer()
+    room = 0.8 * share * ax.get_position().width * ax.figure.get_figwidth() * ax.figure.dpi
+    font = FontProperties(size=fontsize)
+
+    def width(line):
+        return renderer.get_text_width_height_descent(line, font, ismath=False)[0]
+
+    out = []
+    for line in text.split("\n"):
+        n = len(line)
+        while n > 10 and width(line) > room:
+            n -= 2
+            line = textwrap.shorten(line, n)
+        out.append(line)
+    return "\n".join(out)
+
+
 def fitted_table(ax, header, cells, widths=None, fontsize=8.0):
     """A table across the width of ``ax``, from its top: the column names wrapped to their
     column (:func:`wrap_name`; ``widths`` relative, default equal), the header row as tall as
-    the most wrapped one, the rows 1.6 lines of text or what is left of the axes for them — a
-    short table is not stretched over its axes, a long one never runs past them. Returns the
-    matplotlib table."""
+    the most wrapped one, each row its cells' lines of text and 0.6 more, or its share of what
+    is left of the axes — a short table is not stretched over its axes, a long one never runs
+    past them. Returns the matplotlib table."""
     axes_h = ax.get_position().height * ax.figure.get_figheight()
     widths = np.ones(len(header)) if widths is None else np.asarray(widths, dtype=float)
     widths = widths / widths.sum()
@@ -580,8 +603,11 @@ def fitted_table(ax, header, cells, widths=None, fontsize=8.0):
     labels = [wrap_name(h, n) for h, n in zip(header, chars, strict=True)]
     line_in = 1.2 * fontsize / 72.0
     head_in = (max(label.count("\n") for label in labels) + 1.6) * line_in
-    row_in = min(1.6 * line_in, (axes_h - head_in) / max(len(cells), 1))
-    height = min(1.0, (head_in + row_in * len(cells)) / axes_h)
+    # each row as tall as its most wrapped cell, all shrunk alike where they would run past the axes
+    rows_in = np.array([(max(str(c).count("\n") for c in row) + 1.6) * line_in for row in cells])
+    if rows_in.sum() > axes_h - head_in:
+        rows_in *= max(axes_h - head_in, 0.0) / rows_in.sum()
+    height = min(1.0, (head_in + rows_in.sum()) / axes_h)
     table = ax.table(
         cellText=cells,
         colLabels=labels,
@@ -592,7 +618,7 @@ def fitted_table(ax, header, cells, widths=None, fontsize=8.0):
     table.auto_set_font_size(False)
     table.set_fontsize(fontsize)
     for (r, _c), cell in table.get_celld().items():
-        cell.set_height((head_in if r == 0 else row_in) / axes_h)
+        cell.set_height((head_in if r == 0 else rows_in[r - 1]) / axes_h)
     return table
 
 

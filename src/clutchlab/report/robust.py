@@ -16,7 +16,7 @@ import numpy as np
 
 from .. import display, explore
 from ..robust import CONFIDENCE, wilson_interval
-from .common import A4_LANDSCAPE, column_chars, fitted_table
+from .common import A4_LANDSCAPE, fitted_table, shortened_to
 
 __all__ = ["page", "best_text", "summary_lines", "write_csv", "front_rows"]
 
@@ -79,8 +79,8 @@ def _failure(ra, j) -> tuple[float, float, float, dict]:
 
 def binding_text(ra, j, answer=None, lead=True) -> str:
     """Where design ``j``'s worst case of ``answer`` occurs (default: the constraint that binds
-    it, :func:`clutchlab.explore.binding_answer`): the condition values and the noise draw,
-    after the answer's name."""
+    it, :func:`clutchlab.explore.binding_answer`): the condition values and the noise draw
+    (``lead``: after the answer's name)."""
     answer = answer or explore.binding_answer(ra, j)
     parts = []
     for c in ra.attrs.get("conditions", "").split():
@@ -94,7 +94,7 @@ def binding_text(ra, j, answer=None, lead=True) -> str:
                 parts.append(f"{name} {100 * d:+.1f} %")
             else:
                 parts.append(f"{name} = {_v(ra, var, d)}")
-    return f"{answer} worst at " + ", ".join(parts) if lead else f"{answer}: " + ", ".join(parts)
+    return (f"{answer} worst at " if lead else "") + ", ".join(parts)
 
 
 def _flat_answer(ra, da) -> np.ndarray:
@@ -176,14 +176,16 @@ def front_rows(ra) -> tuple[list[str], list[list[str]]]:
     cols = [f"{w}_{n}" for n, _ in _objectives(ra) for w in ("worst", "quantile")]
     header += [display.column(c, display.unit_of(ra, c)) for c in cols]
     conds = " / ".join([*ra.attrs.get("conditions", "").split(), "noise"])
-    binds = "binding constraint" if "constraint" in ra.coords else first
-    header += ["P(failure) max [%]", "95 % interval [%]", f"{binds}: worst at {conds}"]
+    binds = "binding constraint" if "constraint" in ra.coords else "objective"
+    header += ["P(failure) max [%]", "95 % interval [%]", binds, f"worst at {conds}"]
     rows = []
     for j in front:
         p, lo, hi, _ = _failure(ra, j)
         row = [format(display.unit_of(ra, f)(_flat(ra, f)[j]), ".4g") for f in factors]
         row += [format(display.unit_of(ra, c)(_flat(ra, c)[j]), ".4g") for c in cols]
-        row += [f"{100 * p:.2g}", f"{100 * lo:.2g}-{100 * hi:.2g}", binding_text(ra, j, lead=False)]
+        answer = explore.binding_answer(ra, j)
+        row += [f"{100 * p:.2g}", f"{100 * lo:.2g}-{100 * hi:.2g}", answer]
+        row.append(binding_text(ra, j, answer, lead=False))
         rows.append(row)
     return header, rows
 
@@ -240,12 +242,16 @@ def page(name, ra):
 
 
 def _front_table(ax, header, rows) -> None:
-    """The robust front's table (:func:`clutchlab.report.common.fitted_table`): the last column,
-    the binding condition, wider and shortened to it."""
-    widths = [0.075] * (len(header) - 1) + [0.33]
-    chars = column_chars(ax, widths[-1] / sum(widths), TABLE_FONT, em=0.55)
-    cells = [r[:-1] + [textwrap.shorten(r[-1], chars)] for r in rows]
-    fitted_table(ax, header, cells, widths, TABLE_FONT)
+    """The robust front's table (:func:`clutchlab.report.common.fitted_table`): the binding
+    constraint and where it binds in one last column, wider: on two lines where the rows fit
+    the axes so, else on one, each shortened to the column."""
+    widths = [0.075] * (len(header) - 2) + [0.33]
+    share = widths[-1] / sum(widths)
+    line_in = 1.2 * TABLE_FONT / 72.0
+    room_in = ax.get_position().height * ax.figure.get_figheight() - 4.6 * line_in
+    sep = ":\n" if len(rows) * 2.6 * line_in <= room_in else ": "
+    cells = [r[:-2] + [shortened_to(ax, f"{r[-2]}{sep}{r[-1]}", share, TABLE_FONT)] for r in rows]
+    fitted_table(ax, header[:-2] + [f"{header[-2]}: {header[-1]}"], cells, widths, TABLE_FONT)
 
 
 def resolution_text(ra) -> str:

@@ -242,11 +242,15 @@ def pass_map(ds):
             xv, yv, cat, cmap=cmap, norm=norm, shading="nearest", edgecolors="w", linewidth=0.5
         )
         margin = np.minimum.reduce([sub[f"margin_{k}"].values for k in CHECKS])
+        starred = _mark(ax, ds, x, y, scale)
+        # a starred cell's number below its star (the star would hide it)
+        dy = 0.3 * (np.ptp(yv) / (yv.size - 1) if yv.size > 1 else 1.0)
         for j, yy in enumerate(yv):
             for i, xx in enumerate(xv):
                 if np.isfinite(margin[j, i]):
-                    ax.text(xx, yy, f"{margin[j, i]:+.2f}", ha="center", va="center", fontsize=8)
-        _mark(ax, ds, x, y, scale)
+                    star = any(np.isclose(xx, sx) and np.isclose(yy, sy) for sx, sy in starred)
+                    ax.text(xx, yy - dy if star else yy, f"{margin[j, i]:+.2f}", ha="center",
+                            va="center", fontsize=8)  # fmt: skip
         ax.set_xlabel(f"{x.replace('_', ' ')} [{scale[x][1] or '-'}]")
         ax.set_ylabel(f"{y.replace('_', ' ')} [{scale[y][1] or '-'}]")
         ax.set_title(
@@ -254,7 +258,11 @@ def pass_map(ds):
         )
     for label, colour in CATEGORIES:
         axes[0, 0].plot([], [], "s", color=colour, ms=10, label=label)
-    fig.legend(loc="lower center", ncol=4, fontsize=8)
+    labelled = {}  # (each label once: every map marks the same designs)
+    for ax in axes.flat:
+        for handle, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            labelled.setdefault(label, handle)
+    fig.legend(labelled.values(), labelled.keys(), loc="lower center", ncol=4, fontsize=8)
     fig.subplots_adjust(bottom=0.2)
     fig.suptitle(
         "Which sprag geometries pass every allowable (numbers: smallest margin of safety, "
@@ -263,19 +271,15 @@ def pass_map(ds):
     return fig
 
 
-def _mark(ax, ds, x, y, scale):
+def _mark(ax, ds, x, y, scale) -> list[tuple[float, float]]:
     """The design the run shows (and, on a map of every design, the source paper's where it is a
-    scenario of the run)."""
+    scenario of the run); returns where the stars are (in the map's units)."""
+    at = []
     for i, label, colour in _marks(ds, slice_only="run" not in ds.dims):
-        ax.plot(
-            flat(ds, x)[i] * scale[x][0],
-            flat(ds, y)[i] * scale[y][0],
-            "*",
-            ms=18,
-            mfc=colour,
-            mec="k",
-            label=label,
-        )
+        xy = (flat(ds, x)[i] * scale[x][0], flat(ds, y)[i] * scale[y][0])
+        ax.plot(*xy, "*", ms=18, mfc=colour, mec="k", label=label)
+        at.append(xy)
+    return at
 
 
 def _sampled_pass_map(ds):
