@@ -1177,10 +1177,55 @@ def test_a_plausible_range_set_on_purpose_admits_an_unusual_design():
         ({"no_such": {"max": "1 m"}}, "no_such", "not a parameter of the centrifugal study"),
         ({"rated_speed": {"min": "5000 rad/s", "max": "4000 rad/s"}}, "rated_speed", "below"),
         # a narrower range refuses the value it no longer holds, saying whose range it is
-        ({"rated_speed": {"min": "6000 rpm"}}, None, "the config's plausible range"),
+        ({"rated_speed": {"min": "6000 rpm"}}, None, "with the config's plausible key"),
+        # a number as text is a number without its unit; a non-finite end is no magnitude
+        ({"rated_speed": {"max": "100000"}}, "rated_speed.max", "write the unit"),
+        ({"rated_speed": {"max": float("nan")}}, "rated_speed.max", "finite"),
+        # past the unit's range, the value read is shown; a parameter's own bound is the physics'
+        ({"rated_speed": {"max": "100000 Hz"}}, "rated_speed.max", "= 628319 rad/s"),
+        ({"friction_coefficient": {"max": 5}}, "friction_coefficient.max", "own bound"),
+        # a range that leaves out a parameter's default (not given) is refused, not run
+        ({"spring_force": {"max": "1 N"}}, "spring_force", "leaves out the parameter's default"),
     ],
 )
 def test_a_plausible_range_is_read_as_meant_or_refused(spec, key, fragment):
     raw = _study("centrifugal", {"rated_speed": "5000 rpm"}, plausible=spec)
     where = f"centrifugal.plausible.{key}" if key else "centrifugal.parameters.rated_speed"
     _expect(raw, where, fragment)
+
+
+def test_a_plausible_minimum_does_not_hold_a_noise_sd():
+    """A spread is not a value of the parameter: an sd of 100 rpm under a 1000 rpm minimum."""
+    raw = _study(
+        "centrifugal",
+        {"rated_speed": "5500 rpm"},
+        plausible={"rated_speed": {"min": "1000 rpm"}},
+        noise={
+            "rated_speed": {"min": "5000 rpm", "max": "6000 rpm", "dist": "normal", "sd": "100 rpm"}
+        },
+    )
+    sd = config.resolve(raw)["centrifugal"]["robust"]["noise"]["rated_speed"]["sd"]
+    assert sd == pytest.approx(100 * np.pi / 30)
+
+
+def test_a_bare_number_past_its_range_is_told_to_take_its_unit_not_the_plausible_key():
+    """A wider range would let the slip through (80000 meant in rpm read as 80000 rad/s)."""
+    _expect(
+        _study("centrifugal", {"rated_speed": 80000}),
+        "centrifugal.parameters.rated_speed",
+        "a bare number is in rad/s: write its unit",
+    )
+
+
+@pytest.mark.parametrize(
+    "name, key, value",
+    [("diaphragm_spring", "operating_point_factor", 5e-4), ("sprag", "compliance_factor", 1e-8)],
+)
+def test_the_configs_lower_end_is_the_physics(name, key, value):
+    """A value the physics refuses per scenario is refused by the config, before any job."""
+    _expect(_study(name, {key: value}), f"{name}.parameters.{key}", ">=")
+
+
+def test_one_plausible_end_set_past_the_built_in_other_says_so():
+    raw = _study("sprag", plausible={"youngs_modulus": {"max": "60 MPa"}})
+    _expect(raw, "sprag.plausible.youngs_modulus", "the built-in one; give both")

@@ -207,3 +207,29 @@ def test_an_exponent_is_one_number_and_a_tower_is_refused_at_once(bad, unit):
         to_si(bad, unit)
     assert time.perf_counter() - start < 1.0
     assert to_si("2 (m^2)^3", "m^6") == 2.0 and to_si("4 m^(-2)", "1/m^2") == 4.0
+
+
+@pytest.mark.parametrize(
+    "given, si_unit, fragment",
+    [
+        # the kind is told before a missing angle or a torque written as an energy
+        ("4498 N/m", "N m/rad", "is a stiffness (force per length); this value is a torsional"),
+        ("4498 N*m/s", "N m/rad", "is a power"),
+        ("150 oz*in", "N m", "a mass times a length"),
+        ("173 Nm", "N m", "write N*m"),
+        ("173 N-m", "N m", "units combine with * and /"),
+        ("40 F", "K", "farad"),
+        ("40 W/m^2", "W/(m^2*K)", "a heat flux"),
+        ("570 rad/s^2", "rad/s", "an angular acceleration"),
+    ],
+)
+def test_a_unit_of_another_kind_is_told_in_words(given, si_unit, fragment):
+    kind = "absolute" if si_unit == "K" else None
+    with pytest.raises(UnitError) as exc:
+        to_si(given, si_unit, kind)
+    assert fragment in str(exc.value)
+
+
+def test_a_damping_in_kg_per_s_is_read():
+    """N s/m is kg/s: no torque in it (it used to be refused as a torque written as an energy)."""
+    assert to_si("2.1e3 kg/s", "N s/m") == pytest.approx(2100.0)

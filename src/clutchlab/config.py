@@ -333,6 +333,12 @@ def _quantity(value, param, key, finite=False) -> float:
     except UnitError as exc:
         raise ConfigError(key, str(exc)) from None
     why = param.check(v, value)
+    if why and "bare number" not in why and param.widenable(v):
+        try:  # a number without its unit: its unit first (a plausible range would pass a slip)
+            float(value)
+            why += f" (a bare number is in {param.units}: write its unit)"
+        except (TypeError, ValueError):
+            why += " (if meant, set the study's key plausible)"
     if why:
         raise ConfigError(key, why)
     return v
@@ -529,7 +535,10 @@ def _with_plausible(study, section: dict, name: str):
                 v = _range_end(param, spec[end], f"{key}.{end}")
                 lo, hi = (v, hi) if end == "min" else (lo, v)
         if not lo < hi:
-            raise ConfigError(key, f"min must be below max, got {lo:g} to {hi:g} {param.units}")
+            built_in = " (the built-in one; give both)" if len(spec) == 1 else ""
+            raise ConfigError(
+                key, f"min must be below max, got {lo:g} to {hi:g} {param.units}{built_in}"
+            )
         ranges[pname] = [lo, hi]
     return dataclasses.replace(
         study, parameters=studies.with_plausible(study.parameters, ranges)
@@ -540,7 +549,13 @@ def _range_end(param, value, key) -> float:
     """One end of a plausible range a config sets, in SI: written with its unit (the range
     overrides the check that catches a number written without one), a magnitude > 0 within the
     unit's range."""
-    if param.units != "1" and not isinstance(value, str):
+    try:
+        bare = float(value) if not isinstance(value, bool) else None  # (a number, or one as text)
+    except (TypeError, ValueError):
+        bare = None
+    if bare is not None and not math.isfinite(bare):
+        raise ConfigError(key, f"must be a finite magnitude, got {value!r}")
+    if bare is not None and param.units != "1":
         raise ConfigError(
             key,
             f"write the unit ('{value} {param.units}' or another {param.units} unit): a plausible "
@@ -556,8 +571,12 @@ def _range_end(param, value, key) -> float:
         raise ConfigError(
             key,
             f"must be within {ulo:g} to {uhi:g}{u} (any{u or ' dimensionless'} value's range: "
-            f"beyond it no model of a clutch holds), got {value!r}",
+            f"beyond it no model of a clutch holds), got {value!r} = {v:g}{u}",
         )
+    got = repr(value) if str(value) == f"{v:g}" else f"{value!r} = {v:g}{u}"
+    own = param._bounds(v, got, u)
+    if own:  # (a parameter's own bound is the physics': no plausible range passes it)
+        raise ConfigError(key, f"the parameter's own bound: it {own}")
     return v
 
 
@@ -571,6 +590,12 @@ def _resolve_parameters(study, section: dict, out: dict, max_scenarios: int) -> 
         key = f"{name}.parameters.{param.name}"
         if param.name not in given:  # the seed design's value (SI, checked by the tests)
             out["fixed"][param.name] = float(param.default)
+            if param.config_range is not None and param.check(param.default):
+                raise ConfigError(
+                    f"{name}.plausible.{param.name}",
+                    f"leaves out the parameter's default ({param.default:g} {param.units}): "
+                    "give the parameter's value too",
+                )
             continue
         spec = given[param.name]
         if isinstance(spec, dict):
@@ -761,7 +786,9 @@ def _spread(value, param, key) -> float:
         v = to_si(value, param.units, kind)
     except UnitError as exc:
         raise ConfigError(key, str(exc)) from None
+    # (from the unit's smallest magnitude: a spread is not a value held to the parameter's)
     lo, hi = plausible.bounds("delta_K") if param.units == "K" else param.plausible_range
+    lo = lo if param.units == "K" else param.unit_range[0]
     if not lo <= abs(v) <= hi:
         raise ConfigError(
             key,

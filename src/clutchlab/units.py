@@ -73,6 +73,8 @@ _AMBIGUOUS = {
     "ton_force": "a short ton-force or a tonne-force? write kN (or tf: tonne-force)",
     "hp": "a mechanical (745.7 W) or a metric (735.5 W) horsepower? write W or kW",
     "horsepower": "a mechanical (745.7 W) or a metric (735.5 W) horsepower? write W or kW",
+    "Nm": "Nm is not read as a newton metre: write N*m",
+    "kNm": "kNm is not read as a kilonewton metre: write kN*m",
 }
 
 # temperature units with an offset, and the difference each means inside a difference
@@ -184,35 +186,25 @@ def _convert(number: float, unit: str, value, si_unit: str, kind) -> float:
     for word in re.findall(r"[A-Za-z_]+", unit):
         if word in _AMBIGUOUS:
             raise UnitError(f"{value!r}: {_AMBIGUOUS[word]}")
-    try:
-        given = ureg.parse_units(unit)
-    except Exception as exc:  # pint raises several unrelated exception types
-        unknown = getattr(exc, "unit_names", None)  # (pint's UndefinedUnitError)
-        if unknown:
-            names = ", ".join(repr(u) for u in ([unknown] if isinstance(unknown, str) else unknown))
-            raise UnitError(
-                f"cannot read the unit of {value!r}: {names} is not a unit (the config page lists "
-                "the spellings, e.g. mm, rpm, deg, MPa, N*m, degC)"
-            ) from None
-        raise UnitError(f"cannot parse the unit of {value!r}: {exc}") from None
+    given = _parse(ureg, unit, value)
     names = dict(given._units)
     target = ureg.parse_units("dimensionless" if si_unit == "1" else si_unit)
-    _check_speed_coefficient(ureg, given, target, value, si_unit)
-    if _is_speed_coefficient(target) and _radians(ureg, given) == -2:
-        target = target / ureg.radian**2  # per (rad/s)^2 or per rpm^2: SI N m s^2 is per (rad/s)^2
-    factor = _angle_factor(ureg, given, target, value, si_unit)
-    if "newton" in dict(target._units) and "meter" in dict(target._units):
-        _check_torque(ureg, names, value)
-    if si_unit == "K":
-        given = _temperature_unit(ureg, names, value, kind)
-    try:
-        out = float(ureg.Quantity(number, given).to(target).magnitude)
-    except Exception:
+    if _dims(ureg, given) != _dims(ureg, target):  # (an angle is a ratio to pint: not told here)
         raise UnitError(
             f"{value!r} is {_kind_name(ureg, given)}; this value is "
             f"{_SI_NAMES.get(si_unit) or _kind_name(ureg, target)} (in {si_unit}, or another unit "
             "of it)"
-        ) from None
+        )
+    _check_speed_coefficient(ureg, given, target, value, si_unit)
+    if _is_speed_coefficient(target) and _radians(ureg, given) == -2:
+        target = target / ureg.radian**2  # per (rad/s)^2 or per rpm^2: SI N m s^2 is per (rad/s)^2
+    factor = _angle_factor(ureg, given, target, value, si_unit)
+    t = dict(target._units)
+    if t.get("newton") == 1 and t.get("meter") == 1:  # a torque (N m, per angle, per speed²)
+        _check_torque(ureg, names, value)
+    if si_unit == "K":
+        given = _temperature_unit(ureg, names, value, kind)
+    out = float(ureg.Quantity(number, given).to(target).magnitude)
     return out * factor
 
 
@@ -236,6 +228,14 @@ _KIND_NAMES = {
     "[mass] / [time]": "a damping (force per speed)",
     "dimensionless": "a ratio, a count or an angle",
     "[current] * [time]": "an electric charge (C is the coulomb: degC is the Celsius degree)",
+    "[current] ** 2 * [time] ** 4 / [mass] / [length] ** 2": (
+        "a capacitance (F is the farad: degF is the Fahrenheit degree)"
+    ),
+    "[mass] / [time] ** 3": "a heat flux (power per area)",
+    "[mass] / [time] ** 3 / [temperature]": "a heat transfer coefficient",
+    "1 / [temperature]": "a coefficient per temperature",
+    "1 / [time] ** 2": "an angular acceleration",
+    "[mass] * [length]": "a mass times a length (a torque is a force times a length: N*m)",
 }
 
 
@@ -257,6 +257,28 @@ def _kind_name(ureg, unit) -> str:
     """What ``unit``'s dimensions are called ("a length"), or pint's notation for them."""
     dims = str(ureg.Quantity(1, unit).dimensionality)
     return _KIND_NAMES.get(dims, f"of dimensions {dims}")
+
+
+def _parse(ureg, unit: str, value):
+    """The pint unit of the unit text ``unit`` (of the config value ``value``)."""
+    try:
+        return ureg.parse_units(unit)
+    except Exception as exc:  # pint raises several unrelated exception types
+        unknown = getattr(exc, "unit_names", None)  # (pint's UndefinedUnitError)
+        if unknown:
+            names = ", ".join(repr(u) for u in ([unknown] if isinstance(unknown, str) else unknown))
+            raise UnitError(
+                f"cannot read the unit of {value!r}: {names} is not a unit (the config page lists "
+                "the spellings, e.g. mm, rpm, deg, MPa, N*m, degC)"
+            ) from None
+        raise UnitError(
+            f"cannot read the unit of {value!r}: units combine with * and / (e.g. N*m, N*m/rad, "
+            "kg*m^2), not with - or other signs"
+        ) from None
+
+
+def _dims(ureg, unit):
+    return ureg.Quantity(1, unit).dimensionality
 
 
 def _radians(ureg, unit) -> int:

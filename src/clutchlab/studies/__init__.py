@@ -130,17 +130,8 @@ class Parameter:
             return f"must be finite, got {got}"
         if self.integer and not (np.isfinite(value) and value == round(value)):
             return f"must be a whole number (a count), got {got}"
-        why = self._bounds(value, got, u)
-        if why:
-            return why + self._bare_hint(value, given)
-        why = self._plausible(value, got, u)
-        if not why:
-            return None
-        hint = self._bare_hint(value, given)
-        ulo, uhi = self.unit_range
-        if not hint and self.config_range is None and not self.integer and ulo <= abs(value) <= uhi:
-            hint = " (if meant, set the study's key plausible)"
-        return why + hint
+        why = self._bounds(value, got, u) or self._plausible(value, got, u)
+        return why + self._bare_hint(value, given) if why else None
 
     def _bare_hint(self, value, given) -> str:
         """Which units a refused bare number was likely meant in: those whose reading is
@@ -183,7 +174,7 @@ class Parameter:
         if lo <= abs(value) <= hi:
             return None
         what = " of a count" if self.integer else ""
-        whose = ", the config's plausible range" if self.config_range is not None else ""
+        whose = ", with the config's plausible key" if self.config_range is not None else ""
         return (
             f"got {got}, outside the plausible range{what} ({lo:g} to {hi:g}{u} in magnitude"
             f"{whose}): a typing or unit slip?"
@@ -225,6 +216,13 @@ class Parameter:
         lo, hi = self.unit_range
         own_lo, own_hi = self.config_range or plausible.PARAMETERS.get(self.name, (lo, hi))
         return max(lo, own_lo), min(hi, own_hi)
+
+    def widenable(self, value: float) -> bool:
+        """Whether a config's ``plausible`` key could admit ``value`` [SI], refused as implausible:
+        a magnitude within the unit's range and the parameter's own bounds, none set already."""
+        ulo, uhi = self.unit_range
+        inside = self._bounds(value, "", "") is None and ulo <= abs(value) <= uhi
+        return inside and self.config_range is None and not self.integer and value != 0
 
     @property
     def unit_range(self) -> tuple[float, float]:

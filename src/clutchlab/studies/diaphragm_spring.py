@@ -77,6 +77,8 @@ PARAMETERS = (
         "1",
         "operating point B over flat point C, lambda_B/lambda_C",
         0.9,
+        minimum=1e-3,  # (clutchlab.diaphragm's own lower end: below it no operating point)
+        minimum_inclusive=True,
         maximum=2.0,
     ),
     Parameter(

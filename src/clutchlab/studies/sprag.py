@@ -84,6 +84,8 @@ PARAMETERS = (
         "1",
         "deflection multiplier (1 physical; fitted to Table 2: 1.72)",
         1.0,
+        minimum=1e-6,  # (clutchlab.sprag's own lower end: a millionth of the races' deflection)
+        minimum_inclusive=True,
         maximum=100.0,  # a hundredfold deflection: no longer the races' steel
     ),
     Parameter(
