@@ -519,7 +519,7 @@ def test_a_negative_limit_is_refused_only_on_an_output_that_is_never_negative():
 @pytest.mark.parametrize(
     "name, key, given, fragments",
     [
-        ("diaphragm_spring", "sheet_thickness", "2.3 Mm", ["2.3 Mm", "1e-07 to 0.02 m"]),
+        ("diaphragm_spring", "sheet_thickness", "2.3 Mm", ["2.3 Mm", "0.0001 to 0.02 m"]),
         ("sprag", "sprags", 1_000_000, ["1e+06", "count"]),
         ("centrifugal", "shoes", 1e20, ["1e+20", "count"]),
         ("sprag", "youngs_modulus", 1e308, ["1e+308 Pa", "1.2e+12 Pa"]),

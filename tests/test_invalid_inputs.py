@@ -940,3 +940,40 @@ def test_radii_a_model_divides_by_are_a_plausible_length_apart():
     h = heat.specific_loading(5e4, 1e5, 0.11, np.array([0.075, 0.11 * (1 - 1e-15)]))
     assert list(h["status"]) == [st.CODE["ok"], st.CODE["invalid_geometry"]]
     assert np.isnan(h["friction_area"][1])
+
+
+def _config_ends(p):
+    """The extreme values the config accepts for parameter ``p`` (its plausible range's and its
+    own bounds' ends, either sign)."""
+    lo, hi = p.plausible_range
+    ends = [lo, hi, -lo, -hi]
+    for bound in (p.minimum, p.maximum):
+        if bound is not None:
+            ends += [bound, float(np.nextafter(bound, np.inf)), float(np.nextafter(bound, -np.inf))]
+    return [float(v) for v in ends if p.check(float(v)) is None]
+
+
+@pytest.mark.parametrize(
+    "name", ["diaphragm_spring", "engagement", "centrifugal", "sprag", "roller"]
+)
+def test_what_the_config_accepts_at_its_ends_the_physics_takes(name):
+    """Each parameter at the ends of what the config accepts (the others at the source paper's):
+    never a scenario of status invalid_input. The config's ranges are the physics' (a value the
+    physics refuses per scenario is refused before any job)."""
+    from clutchlab import config, doe, pipeline, studies
+
+    refused = []
+    for p in studies.get(name).parameters:
+        if p.integer or p.choices is not None:
+            continue
+        for v in _config_ends(p):
+            given = repr(v) if p.units == "1" else f"{v!r} {p.units.replace(' ', '*')}"
+            section = {"design": "factorial", "parameters": {p.name: given}}
+            try:
+                sec = config.resolve({"studies": [name], name: section})[name]
+            except config.ConfigError:
+                continue  # (refused with the other parameters: a relation)
+            ds = pipeline.run_chunk(doe.build_design(sec), sec["options"], 1, 0)
+            if int(np.ravel(ds["status"].values)[0]) == st.CODE["invalid_input"]:
+                refused.append((p.name, v))
+    assert not refused, refused

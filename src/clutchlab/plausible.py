@@ -87,7 +87,6 @@ _UNIT = 0.0  # (as a lower bound: the unit's own)
 PARAMETERS: dict[str, tuple[float, float]] = {
     # lengths: a spring sheet of at most 20 mm, gaps and travels of at most 20 mm, a clutch of at
     # most 2 m across, sprags and rollers of at most 100-200 mm, an ADAMS penetration of 50 mm
-    "sheet_thickness": (_UNIT, 20 * _MM),
     "outer_radius": (_UNIT, 1.0),
     "load_radius_outer_offset": (_UNIT, 50 * _MM),
     "load_radius_inner_offset": (_UNIT, 50 * _MM),
@@ -106,7 +105,6 @@ PARAMETERS: dict[str, tuple[float, float]] = {
     "outer_race_radius": (_UNIT, 1.0),
     "outer_rim_radius": (_UNIT, 1.0),
     "roller_diameter": (_UNIT, 100 * _MM),
-    "roller_length": (_UNIT, 200 * _MM),
     "contact_radius": (_UNIT, 1.0),
     "penetration_depth": (_UNIT, 50 * _MM),
     "claw_clearance": (_UNIT, 50 * _MM),
@@ -139,6 +137,20 @@ PARAMETERS: dict[str, tuple[float, float]] = {
     "pressure_plate_mass": (_UNIT, 1000.0),
     "driven_plate_mass": (_UNIT, 1000.0),
     "intermediate_plate_mass": (_UNIT, 1000.0),
+    # the smallest (largest) values whose scenario the physics still takes with the others at
+    # the source papers' (below them a derived load, stiffness or capacity leaves its own unit's
+    # range): a spring sheet or a roller of 0.1 mm, a wear allowance of 1 µm, a friction
+    # coefficient of 0.001 (a lubricated contact), ratios and factors of 0.01 or 0.1, an engine of
+    # 1e-5 kg m^2, a hub of 0.1 % to 99.9 % of the plate's inertia, a rated torque of 1e6 N m
+    "sheet_thickness": (0.1 * _MM, 20 * _MM),
+    "wear_allowance": (1e-6, 20 * _MM),
+    "roller_length": (0.1 * _MM, 200 * _MM),
+    "friction_coefficient": (1e-3, 2.0),
+    "cone_height_ratio": (0.01, 10.0),
+    "service_factor": (0.1, 20.0),
+    "engine_inertia": (1e-5, 1e5),
+    "hub_fraction": (1e-3, 0.999),
+    "max_torque": (_UNIT, 1e6),
     # outputs a constraint may limit: a lining's wear per engagement of at most 1 mm, a spring's
     # deflection at its operating point of at most 50 mm, gripping and backlash angles of at most
     # 45 deg
