@@ -523,12 +523,7 @@ def _with_plausible(study, section: dict, name: str):
     ranges = {}
     for pname, spec in given.items():
         key = f"{name}.plausible.{pname}"
-        try:
-            param = study.parameter(pname)
-        except KeyError:
-            raise ConfigError(key, f"not a parameter of the {name} study") from None
-        if param.integer or param.choices is not None:
-            raise ConfigError(key, "a count or a choice has no magnitude range to set")
+        param = _continuous_parameter(study, pname, key, "has no magnitude range to set")
         lo, hi = param.plausible_range
         for end in ("min", "max"):
             if end in spec:
@@ -711,15 +706,22 @@ def _relative(value, key) -> float:
     return float(value)
 
 
-def _noise(study, p: str, spec: dict, out: dict, key: str) -> dict:
-    """One noise parameter in SI: {"relative": bool, "min", "max", "dist", "centre", "sd"}
-    (relative: fractions of the design's value; absolute: the parameter's SI value)."""
+def _continuous_parameter(study, name: str, key: str, what: str):
+    """The study's parameter ``name``, refused at ``key`` where the study has none of that name
+    or it is a count or a choice (which ``what``)."""
     try:
-        param = study.parameter(p)
+        param = study.parameter(name)
     except KeyError:
         raise ConfigError(key, f"not a parameter of the {study.name} study") from None
     if param.integer or param.choices is not None:
-        raise ConfigError(key, "a count or a choice cannot scatter continuously")
+        raise ConfigError(key, f"a count or a choice {what}")
+    return param
+
+
+def _noise(study, p: str, spec: dict, out: dict, key: str) -> dict:
+    """One noise parameter in SI: {"relative": bool, "min", "max", "dist", "centre", "sd"}
+    (relative: fractions of the design's value; absolute: the parameter's SI value)."""
+    param = _continuous_parameter(study, p, key, "cannot scatter continuously")
     kinds = [k for k in ("scatter", "relative", "min") if k in spec]
     if len(kinds) != 1 or ("min" in spec) != ("max" in spec):
         raise ConfigError(key, "give one of scatter: '±N %', relative: [lo, hi], or min and max")
