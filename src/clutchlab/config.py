@@ -789,8 +789,10 @@ def _spread(value, param, key) -> float:
     except UnitError as exc:
         raise ConfigError(key, str(exc)) from None
     # (from the unit's smallest magnitude: a spread is not a value held to the parameter's)
-    lo, hi = plausible.bounds("delta_K") if param.units == "K" else param.plausible_range
-    lo = lo if param.units == "K" else param.unit_range[0]
+    if param.units == "K":
+        lo, hi = plausible.bounds("delta_K")
+    else:
+        lo, hi = param.unit_range[0], param.plausible_range[1]
     if not lo <= abs(v) <= hi:
         raise ConfigError(
             key,
