@@ -508,7 +508,7 @@ def test_every_report_page_keeps_its_text_on_the_page(small_run, tmp_path, monke
     import glob
 
     from clutchlab import report, store, studies
-    from clutchlab.report.common import texts_outside, texts_too_small
+    from clutchlab.report.common import texts_outside, texts_overprinted, texts_too_small
 
     res = small_run / "results"
     names = ["diaphragm_spring", "centrifugal", "sprag", "roller"]
@@ -529,6 +529,7 @@ def test_every_report_page_keeps_its_text_on_the_page(small_run, tmp_path, monke
     for fig in figures:
         assert not texts_outside(fig), texts_outside(fig)
         assert not texts_too_small(fig), texts_too_small(fig)[:5]
+        assert not texts_overprinted(fig), texts_overprinted(fig)
     # the summary: drawn after the studies' and the run's parts, the report's first page
     (title,) = [f for f in figures if f.texts and f.texts[0].get_text() == "clutchlab report"]
     summary = " ".join(" ".join(t.get_text() for t in title.texts).split())

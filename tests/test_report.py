@@ -554,3 +554,58 @@ def test_a_grid_of_no_factor_runs_in_chunks_to_its_report(tmp_path, name):
         {name: out}, [], tmp_path / f"report_{name}", traces_files={name: traced}
     )
     assert (tmp_path / f"report_{name}" / "report.pdf").stat().st_size > 0 and written
+
+
+def test_point_labels_never_overprint_each_other():
+    """The work-precision pages label each tolerance beside its point; where points crowd (two
+    tolerances at one error and nearly one time), a label moves to a free side or is left out
+    rather than printed over another one, and one on a free point stays up and right of it."""
+    import matplotlib.pyplot as plt
+
+    from clutchlab.report.common import A4_LANDSCAPE, label_points, texts_overprinted
+
+    fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
+    x = [2.2e-3, 2.9e-3, 3.9e-3, 4.0e-3, 4.05e-3, 1e-5]
+    y = [6e-3, 4.6e-3, 4.6e-3, 4.6e-3, 4.6e-3, 1e-8]
+    ax.loglog(x, y, "o")
+    label_points(
+        ax, [(a, b, f"rtol 1e-{2 * i + 4:02d}") for i, (a, b) in enumerate(zip(x, y, strict=True))]
+    )
+    fig.canvas.draw()
+    assert not texts_overprinted(fig), texts_overprinted(fig)
+    texts = {t.get_text(): t for t in ax.texts}
+    assert 4 <= len(texts) < 6 and "rtol 1e-14" in texts  # the free point's label kept
+    assert texts["rtol 1e-14"].get_position() == (4, 4)
+    plt.close(fig)
+
+
+def test_many_fronts_share_one_colour_after_the_eight_named():
+    """A front per operating condition: the first eight are named in the legend, each in a colour
+    of its own (not the feasible designs' blue); the others are drawn in one colour of their
+    own, named once ("... N more"), never in a colour that names another front."""
+    import matplotlib.colors as mcolors
+    import matplotlib.pyplot as plt
+
+    from clutchlab.report import answers
+
+    sec = resolve(
+        {
+            "studies": ["sprag"],
+            "sprag": {
+                "design": "factorial",
+                "parameters": {
+                    "torque": {"min": "100 N*m", "max": "1000 N*m", "num": 12},
+                    "sprags": {"values": [14, 16, 18, 20, 22]},
+                    "sprag_length": {"values": ["12 mm", "16.891 mm", "22 mm"]},
+                },
+            },
+        }
+    )["sprag"]
+    fig = answers.page("sprag", pipeline.run_study(sec))
+    fronts = [ln for ax in fig.axes for ln in ax.get_lines() if ln.get_marker() == "o"]
+    named = [ln for ln in fronts if not ln.get_label().startswith("_")]
+    assert len(fronts) == 12 and len(named) == 9 and named[-1].get_label() == "... 4 more"
+    colours = [mcolors.to_hex(ln.get_color()) for ln in fronts]
+    assert len(set(colours[:8])) == 8 and mcolors.to_hex("tab:blue") not in colours
+    assert set(colours[8:]) == {colours[8]} and colours[8] not in colours[:8]
+    plt.close(fig)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from clutchlab import config, explore, pipeline, report, store, studies, traces
-from clutchlab.report.common import texts_outside, texts_too_small
+from clutchlab.report.common import texts_outside, texts_overprinted, texts_too_small
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -151,6 +151,7 @@ def test_every_page_is_legible_and_shows_the_runs_design(which, tmp_path, monkey
         label = fig.texts[0].get_text()[:60] if fig.texts else fig.axes[0].get_title()[:60]
         assert not texts_too_small(fig), (label, texts_too_small(fig)[:5])
         assert not texts_outside(fig), (label, texts_outside(fig))
+        assert not texts_overprinted(fig), (label, texts_overprinted(fig))
     # the trace pages draw and name the design the run shows, one of its scenarios
     for name in names:
         ds = traces.attach(store.load(files[name]), store.load(trace_files[name]))

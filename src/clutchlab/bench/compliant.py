@@ -267,12 +267,15 @@ def work_precision_figure(rows):
     over its tolerances."""
     import matplotlib.pyplot as plt
 
+    from ..report.common import label_points
+
     variants = [v for v in VARIANTS if any(r["variant"] == v for r in rows)]
     shape = (2, 2) if len(variants) > 2 else (1, max(len(variants), 1))
     fig, axes = plt.subplots(*shape, figsize=(11.69, 8.27), sharey=True, squeeze=False)
     colors = {CLUTCHLAB: "C0", RK45: "C1", DOP853: "C2"}
     for ax in axes.flat[len(variants) :]:
         ax.set_visible(False)
+    labels = {v: [] for v in variants}
     for ax, variant in zip(axes.flat, variants, strict=False):
         label = LABELS[variant]
         for name, marker in ((CLUTCHLAB, "o-"), (RK45, "s-"), (DOP853, "^-")):
@@ -287,14 +290,10 @@ def work_precision_figure(rows):
                 color=colors[name],
                 ms=8 if len(pts) == 1 else 6,
             )
-            for r in pts:
-                ax.annotate(
-                    r["setting"],
-                    (r["seconds_per_scenario"], max(r["max_rel_error"], 1e-16)),
-                    textcoords="offset points",
-                    xytext=(4, 4),
-                    fontsize=8,
-                )
+            labels[variant] += [
+                (r["seconds_per_scenario"], max(r["max_rel_error"], 1e-16), r["setting"])
+                for r in pts
+            ]
         ratios = [x[2] for x in speed_ratios(rows, variant)]
         ax.set_title(
             f"{label}"
@@ -317,6 +316,8 @@ def work_precision_figure(rows):
     )
     fig.legend(loc="lower center", ncol=2, fontsize=8, frameon=False)
     fig.tight_layout(rect=(0, 0.07, 1, 0.95))
+    for ax, variant in zip(axes.flat, variants, strict=False):
+        label_points(ax, labels[variant])
     return fig
 
 

@@ -239,7 +239,10 @@ def work_precision_figure(rows):
     method over its tolerances) from the benchmark's rows; a report page and the benchmark's PNG."""
     import matplotlib.pyplot as plt
 
+    from ..report.common import label_points
+
     fig, ax = plt.subplots(figsize=(11.69, 8.27))
+    labels = []
     for name, marker in ((CLUTCHLAB, "o-"), (RK45, "s-"), (RK45_MAXSTEP, "^-")):
         pts = [r for r in rows if r["method"] == name]
         ax.loglog(
@@ -248,16 +251,15 @@ def work_precision_figure(rows):
             marker,
             label=f"{name} ({int(pts[0]['scenarios']) if pts else 0} scenarios)",
         )
-        for r in pts:
-            if abs(np.log10(r["rtol"]) - round(np.log10(r["rtol"]))) > 1e-9:
-                continue  # label the decades only
-            ax.annotate(
+        labels += [
+            (
+                r["seconds_per_scenario"],
+                max(r["max_lockup_error_s"], 1e-16),
                 f"rtol {r['rtol']:.0e}",
-                (r["seconds_per_scenario"], max(r["max_lockup_error_s"], 1e-16)),
-                textcoords="offset points",
-                xytext=(4, 4),
-                fontsize=8,
             )
+            for r in pts
+            if abs(np.log10(r["rtol"]) - round(np.log10(r["rtol"]))) < 1e-9  # the decades only
+        ]
     for r in rows:
         if r["method"].startswith("clutchlab closed form"):
             ax.axvline(
@@ -286,6 +288,7 @@ def work_precision_figure(rows):
     # below the axes: the curves span the whole plot
     ax.legend(fontsize=9, loc="upper center", bbox_to_anchor=(0.5, -0.09), ncol=2)
     fig.subplots_adjust(bottom=0.22)
+    label_points(ax, labels)
     return fig
 
 

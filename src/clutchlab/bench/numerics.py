@@ -243,9 +243,10 @@ def _setting(r, key) -> str:
 def _wp_figure(rows, error, ours, title, ylabel, label_key):
     import matplotlib.pyplot as plt
 
-    from ..report.common import A4_LANDSCAPE
+    from ..report.common import A4_LANDSCAPE, label_points
 
     fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
+    labels = []
     for j, method in enumerate(dict.fromkeys(r["method"] for r in rows)):
         pts = sorted(
             (r for r in rows if r["method"] == method), key=lambda r: -r[error]
@@ -253,15 +254,11 @@ def _wp_figure(rows, error, ours, title, ylabel, label_key):
         x = [r["seconds_per_scenario"] for r in pts]
         y = [max(r[error], 1e-17) for r in pts]
         ax.loglog(x, y, "o-" if len(pts) > 1 else "o", color=f"C{j}", ms=7, label=method)
-        for r in pts:
-            if _setting(r, label_key):
-                ax.annotate(
-                    _setting(r, label_key)[4:],
-                    (r["seconds_per_scenario"], max(r[error], 1e-17)),
-                    textcoords="offset points",
-                    xytext=(4, 4),
-                    fontsize=8,
-                )
+        labels += [
+            (r["seconds_per_scenario"], max(r[error], 1e-17), _setting(r, label_key)[4:])
+            for r in pts
+            if _setting(r, label_key)
+        ]
     lines = [
         f"vs {r['method']}{_setting(r, label_key)} (error {r[error]:.1e}): {ratio:.0f}x faster"
         for r, _, ratio in _ratios(rows, error, ours)
@@ -283,6 +280,7 @@ def _wp_figure(rows, error, ours, title, ylabel, label_key):
         family="monospace",
     )
     ax.set_title(title, fontsize=10)
+    label_points(ax, labels)
     return fig
 
 

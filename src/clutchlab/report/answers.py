@@ -421,13 +421,15 @@ def _front_panel(ax, ds, ox, oy, feas, rank, within, marks, lines):
             )
         else:
             label = "Pareto front"
+        # a colour each for the first 8 fronts (blue: feasible), one for all the others (under)
         ax.plot(
             x[members],
             y[members],
             "o-" if lines else "o",
             ms=4 if within or not lines else 5,
             label=label,
-            color=plt.cm.tab10((j + 1) % 10) if within else "tab:red",  # (blue: feasible)
+            color=plt.cm.tab10(min(j + 1, 9)) if within else "tab:red",
+            zorder=2.5 if j < 8 else 2.2,
         )
     for i, label, colour in marks:
         if np.isfinite(x[i]) and np.isfinite(y[i]):

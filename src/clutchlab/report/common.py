@@ -542,6 +542,18 @@ def contour_level(ax, x, y, z, level, **kw):
     return ax.contour(x, y, z, levels=[level], **kw)
 
 
+def label_contour(ax, cs, text, height):
+    """Label the contour ``cs`` (of one level) with ``text`` [8 pt] once, where it passes
+    ``height`` (0 bottom to 1 top of the axes): two contours close together are labelled at two
+    heights, not side by side over each other."""
+    points = np.concatenate([p.vertices for p in cs.get_paths() if len(p.vertices)] or [[]])
+    if not len(points):
+        return
+    y0, y1 = ax.get_ylim()
+    at = points[np.argmin(np.abs(points[:, 1] - (y0 + height * (y1 - y0))))]
+    ax.clabel(cs, fmt=text, fontsize=8, manual=[tuple(at)])
+
+
 # above this many designs a sampled map shows binned shares instead of one marker per design
 SCATTER_MAX = 4000
 
@@ -736,6 +748,44 @@ def texts_outside(fig) -> list[str]:
             continue
         if bb.x0 < -1 or bb.y0 < -1 or bb.x1 > width + 1 or bb.y1 > height + 1:
             out.append(t.get_text())
+    return out
+
+
+def label_points(ax, points, fontsize=8.0):
+    """Each point's label beside it: up and right of it, else below right, up left or below
+    left; a label that would overprint a text already in ``ax`` in each of those places is left
+    out (its point stays drawn). ``points``: (x, y, text) in data coordinates. Call once the
+    axes' limits and the figure's layout are final: the places are measured."""
+    ax.get_xlim(), ax.get_ylim()  # (the limits autoscaled now: the labels' places follow them)
+    renderer = ax.figure.canvas.get_renderer()
+    placed = [t.get_window_extent(renderer) for t in ax.texts if t.get_text().strip()]
+    places = ((4, 4, "left"), (4, -11, "left"), (-4, 4, "right"), (-4, -11, "right"))
+    for x, y, text in points:
+        for dx, dy, ha in places:
+            note = ax.annotate(
+                text, (x, y), textcoords="offset points", xytext=(dx, dy), ha=ha, fontsize=fontsize
+            )
+            box = note.get_window_extent(renderer)
+            if not any(box.overlaps(b) for b in placed):
+                placed.append(box)
+                break
+            note.remove()
+
+
+def texts_overprinted(fig) -> list[tuple[str, str]]:
+    """The pairs of texts placed in one axes (point labels, cell numbers, notes) that overprint
+    each other by more than a pixel."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    out = []
+    for ax in fig.axes:
+        boxes = [
+            (t.get_text(), t.get_window_extent(renderer).padded(-1.0))
+            for t in ax.texts
+            if t.get_visible() and t.get_text().strip()
+        ]
+        for i, (a, box_a) in enumerate(boxes):
+            out += [(a, b) for b, box_b in boxes[i + 1 :] if box_a.overlaps(box_b)]
     return out
 
 

@@ -17,6 +17,7 @@ from .common import (
     constraint_limit,
     contour_level,
     fixed_text,
+    label_contour,
     sampled_value_map,
     seed_view,
     shown,
@@ -192,11 +193,11 @@ def reserve_map(ds):
         mesh = ax.pcolormesh(x, y, rf, cmap="RdYlGn", norm=norm, shading="nearest")
         cs = contour_level(ax, x, y, rf, 1.0, colors="k", linewidths=1.2)
         if cs is not None:
-            ax.clabel(cs, fmt="1.0", fontsize=8)
+            label_contour(ax, cs, "1.0", 0.35)
         if limit is not None and limit != 1.0:
             cs = contour_level(ax, x, y, rf, limit, colors="k", linewidths=1.0, linestyles="--")
             if cs is not None:
-                ax.clabel(cs, fmt=f"{limit:g}", fontsize=8)
+                label_contour(ax, cs, f"{limit:g}", 0.65)
         code = p["status"].values
         xx, yy = np.meshgrid(x, y)
         for c, mk in (
