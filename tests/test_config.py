@@ -116,8 +116,11 @@ def test_wrong_dimension(raw):
     [
         ("engine_speed", "5 m", "is a length; this value is a rotational speed (in rad/s"),
         ("damper_stiffness", "5 N*m*s/rad", "this value is a torsional stiffness"),
-        ("ramp_time", "5 s s", "of dimensions [time] ** 2; this value is a time"),
+        ("ramp_time", "5 s s", "of no kind this config uses (its dimensions: [time] ** 2); this"),
         ("ramp_time", "5 foo", "'foo' is not a unit"),
+        ("engine_speed", "2000 U/min", "U is read as the enzyme unit, not a revolution (U/min)"),
+        ("load_torque", "80 kg*m^2/s^2", "not written as a torque: give a force times a length"),
+        ("load_torque", "80 kg*m^2/s^2", "(J, kWh, kg*m^2/s^2) is taken for work and energy"),
     ],
 )
 def test_a_unit_of_the_wrong_kind_is_named_in_words(key, given, fragment):
@@ -541,7 +544,15 @@ def test_a_negative_limit_is_refused_only_on_an_output_that_is_never_negative():
         ("roller", "wedge_angle", 1, ["1 rad", "'1 deg'"]),
         ("roller", "wedge_angle", 11, ["a bare number is in rad"]),
         ("engagement", "ambient_temperature", "5000 K", ["3000 K"]),
+        # an absolute temperature's range in kelvin and degrees Celsius, no "in magnitude"
+        (
+            "engagement",
+            "ambient_temperature",
+            "5000 degC",
+            ["(1 to 3000 K: -272.15 to 2726.85 °C)"],
+        ),
         ("engagement", "driven_inertia", "inf", ["finite"]),
+        ("engagement", "driven_inertia", "1e9 kg*m^2", ["(1e-09 to 100000 kg m^2)"]),
     ],
 )
 def test_implausible_magnitudes_are_refused_naming_the_value_as_given(name, key, given, fragments):
@@ -1109,14 +1120,15 @@ def test_the_sd_of_an_absolute_temperature_is_a_difference(raw, sd, want):
 @pytest.mark.parametrize(
     "sd, fragment",
     [
-        (0.05, "plausible range"),  # 0.05 m: past any cushion travel
+        (0.05, "write the sd's unit too"),  # bare beside bounds in mm: 0.05 m?
         ("50 mm", "plausible range"),
-        (0.01, "wider than the noise's bounds"),  # 10 mm (meant in mm) on a 0.2 mm window
+        (0.01, "write the sd's unit too"),
         ("0.3 mm", "wider than the noise's bounds"),
     ],
 )
 def test_an_sd_wider_than_its_bounds_is_refused(raw, sd, fragment):
-    """sd 0.01 meant in mm is 10 mm on a 0.2 mm window: the normal would be a uniform."""
+    """sd 0.3 mm on a 0.2 mm window: the normal would be a uniform; a bare sd beside bounds in
+    mm is refused before it is read in metres."""
     raw["engagement"]["noise"] = {
         "cushion_travel": {"min": "0.5 mm", "max": "0.7 mm", "dist": "normal", "sd": sd}
     }
@@ -1229,3 +1241,80 @@ def test_the_configs_lower_end_is_the_physics(name, key, value):
 def test_one_plausible_end_set_past_the_built_in_other_says_so():
     raw = _study("sprag", plausible={"youngs_modulus": {"max": "60 MPa"}})
     _expect(raw, "sprag.plausible.youngs_modulus", "the built-in one; give both")
+
+
+def test_the_default_noise_refused_names_the_robust_key_written():
+    """`robust: true` brings the study's own noise (centrifugal: μ ±20 %); a design it scatters
+    past μ's bound is refused at the key the user wrote, naming the noise it brought, not at
+    a noise key the user never wrote. A noise written out is named at its own key."""
+    raw = _study("centrifugal", {"friction_coefficient": 1.9}, robust=True)
+    _expect(
+        raw,
+        "centrifugal.robust",
+        "the study's default noise (friction_coefficient: scatter ±20 %): the scattered value",
+        "change the design's friction_coefficient or write the study's noise key",
+    )
+    raw["centrifugal"]["noise"] = {"friction_coefficient": {"scatter": "±20 %"}}
+    _expect(raw, "centrifugal.noise.friction_coefficient", "the scattered value must be <= 2")
+
+
+@pytest.mark.parametrize("name, accuracy", [("engagement", True), ("roller", False)])
+def test_a_refinement_names_only_the_keys_its_study_has(name, accuracy):
+    """A key a refinement takes from its first stage is refused naming what it takes: the
+    engagement's accuracy, never an accuracy the roller study does not have."""
+    refine = {"design": "refine", "refine": {"from": "no/such/file.h5"}, "samples": 8}
+    raw = {"studies": ["sprag"], "sprag": {"design": "factorial"}, name: refine}
+    raw[name]["parameters"] = {}
+    with pytest.raises(ConfigError) as exc:
+        config.resolve(raw)
+    assert exc.value.key == f"{name}.parameters"
+    assert ("options, accuracy, objectives" in str(exc.value)) == accuracy, str(exc.value)
+
+
+@pytest.mark.parametrize(
+    "noise, key, fragment",
+    [
+        # relative bounds written as factors: +90 % to +100 %, not 0.9 to 1.0 of the value
+        ({"relative": [0.9, 1.0]}, "", "not factors: 0.9 to 1 is +90 % to +100 %"),
+        ({"relative": ["90 %", "100 %"]}, "", "not factors"),
+        ({"relative": [-20, 20]}, "", "percent ('-20 %')"),
+        # a bare sd beside bounds with units would be SI: 1000 times too narrow in N*m vs kN*m
+        (
+            {"min": "40 N*m", "max": "60 N*m", "dist": "normal", "sd": 5e-3},
+            ".sd",
+            "write the sd's unit too",
+        ),
+    ],
+)
+def test_a_noise_written_as_another_convention_is_refused(noise, key, fragment):
+    raw = _study("engagement", robust=True)
+    name = "friction_coefficient" if "relative" in noise else "load_torque"
+    raw["engagement"]["noise"] = {name: noise}
+    _expect(raw, f"engagement.noise.{name}{key}", fragment)
+
+
+def test_a_scatter_in_percent_words_and_a_bare_sd_beside_bare_bounds_are_read():
+    raw = _study("engagement", robust=True)
+    raw["engagement"]["noise"] = {
+        "friction_coefficient": {"scatter": "±20 percent"},
+        "load_torque": {"min": 40, "max": 60, "dist": "normal", "sd": 5},
+    }
+    noise = config.resolve(raw)["engagement"]["robust"]["noise"]
+    assert noise["friction_coefficient"]["max"] == pytest.approx(0.2)
+    assert noise["load_torque"]["sd"] == 5.0
+
+
+@pytest.mark.parametrize(
+    "value, fragment",
+    [
+        (None, "has no value (null, ~ or nothing after the colon): give one, with its unit"),
+        (True, "got the yes/no value true: give a number, with its unit"),
+        ([0.1], "several values of a factor are written {values: [...]}"),
+    ],
+)
+def test_a_parameter_of_the_wrong_yaml_type_is_told_what_to_write(raw, value, fragment):
+    raw["engagement"]["parameters"]["ramp_time"] = value
+    _expect(raw, "engagement.parameters.ramp_time", fragment)
+    with pytest.raises(ConfigError) as exc:
+        config.resolve(raw)
+    assert "schemas" not in str(exc.value) and "None" not in str(exc.value), str(exc.value)

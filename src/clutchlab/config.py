@@ -306,7 +306,28 @@ def validate_schema(cfg: dict) -> None:
         missing = [k for k in error.validator_value if k not in error.instance]
         if missing:
             raise ConfigError(_key(path + [missing[0]]), "required key is missing")
-    raise ConfigError(_key(path), error.message)
+    raise ConfigError(_key(path), _schema_message(error))
+
+
+def _schema_message(error) -> str:
+    """jsonschema's message, with what to write where a value of the wrong type stands (YAML's
+    null, ~ or an empty value; true/false/yes/no; a list where one value belongs)."""
+    value = error.instance
+    parameter = "parameters" in list(error.absolute_path)
+    if value is None:
+        return "has no value (null, ~ or nothing after the colon): " + (
+            "give one, with its unit" if parameter else error.message
+        )
+    if isinstance(value, bool):
+        return f"got the yes/no value {str(value).lower()}: " + (
+            "give a number, with its unit" if parameter else error.message
+        )
+    if parameter and isinstance(value, list) and error.validator in ("anyOf", "oneOf", "type"):
+        return (
+            f"got the list {value!r}: several values of a factor are written "
+            "{values: [...]}; one value alone, without brackets"
+        )
+    return error.message
 
 
 # relative accuracies a study can ask for: below 1e-7 the integrated peak jerk reaches its
@@ -668,10 +689,11 @@ def _resolve_robust(study, section: dict, out: dict, roles: dict) -> dict | None
     own = [f for f in out["factors"] if f not in conditions]
     if out["design"] != "factorial" and not own:
         raise ConfigError(f"{name}.parameters", "a sampled robust design needs a design factor")
-    given = section["noise"] if "noise" in section else study.noise
-    noise = {
-        p: _noise(study, p, spec, out, f"{name}.noise.{p}") for p, spec in (given or {}).items()
-    }
+    if "noise" in section:
+        given = section["noise"] or {}
+        noise = {p: _noise(study, p, spec, out, f"{name}.noise.{p}") for p, spec in given.items()}
+    else:
+        noise = _default_noise(study, out, name)
     samples = DEFAULT_NOISE_SAMPLES if noise else 0
     if "noise_samples" in section:
         samples = _count(section, "noise_samples", f"{name}.noise_samples")
@@ -688,7 +710,27 @@ def _resolve_robust(study, section: dict, out: dict, roles: dict) -> dict | None
     return {**settings, "conditions": conditions, "noise": noise, "noise_samples": samples}
 
 
-_SCATTER = re.compile(r"^\s*(?:±|\+-|\+/-)\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*%\s*$")
+def _default_noise(study, out: dict, name: str) -> dict:
+    """The study's own noise (a robust section written without ``noise``), checked against the
+    design; a refusal names the ``robust`` key the user wrote, and the noise it brought."""
+    noise = {}
+    for p, spec in (study.noise or {}).items():
+        try:
+            noise[p] = _noise(study, p, spec, out, f"{name}.noise.{p}")
+        except ConfigError as exc:
+            brought = ", ".join(f"{k} {v}" for k, v in spec.items())
+            problem = str(exc).split("': ", 1)[1]
+            raise ConfigError(
+                f"{name}.robust",
+                f"the study's default noise ({p}: {brought}): {problem}; change the design's "
+                f"{p} or write the study's noise key",
+            ) from None
+    return noise
+
+
+_SCATTER = re.compile(
+    r"^\s*(?:±|\+-|\+/-)\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(?:%|percent)\s*$"
+)
 _PERCENT = re.compile(r"^\s*([-+]?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(%?)\s*$")
 
 
@@ -735,6 +777,13 @@ def _noise(study, p: str, spec: dict, out: dict, key: str) -> dict:
             )
         lo = _quantity(spec["min"], param, f"{key}.min", finite=True)
         hi = _quantity(spec["max"], param, f"{key}.max", finite=True)
+        bare_sd = "sd" in spec and _bare_number(spec["sd"]) and param.units not in ("1", "K")
+        if bare_sd and not _bare_number(spec["min"]):
+            raise ConfigError(
+                f"{key}.sd",
+                f"a bare number ({spec['sd']!r}) beside bounds written with their unit: write "
+                "the sd's unit too (a bare number is SI)",
+            )
         conv = lambda v, k: _quantity(v, param, k, finite=True)  # noqa: E731
         spread = lambda v, k: _spread(v, param, k)  # noqa: E731
         relative = False
@@ -751,7 +800,16 @@ def _noise(study, p: str, spec: dict, out: dict, key: str) -> dict:
             lo, hi = (_relative(v, f"{key}.relative[{i}]") for i, v in enumerate(spec["relative"]))
         if lo <= -1.0:
             raise ConfigError(
-                key, f"a relative deviation below -100 % (got {lo:.4g}) changes the sign"
+                key,
+                f"a relative deviation below -100 % (got {lo:.4g}) changes the sign (write "
+                "fractions (-0.2) or percent ('-20 %'))",
+            )
+        if lo >= 0.5:  # (bounds written as factors: [0.9, 1.0] would be +90 % to +100 %)
+            raise ConfigError(
+                key,
+                f"relative bounds are deviations from the design's value, not factors: "
+                f"{lo:.4g} to {hi:.4g} is {100 * lo:+.4g} % to {100 * hi:+.4g} %; factors "
+                f"0.9 to 1.1 are written [-0.1, 0.1] or ['-10 %', '10 %']",
             )
         if hi > 1.0:
             raise ConfigError(
@@ -777,6 +835,17 @@ def _noise(study, p: str, spec: dict, out: dict, key: str) -> dict:
         "dist": dist,
         **_shape(spec, dist, lo, hi, conv, spread, key),
     }
+
+
+def _bare_number(value) -> bool:
+    """Whether a config value is a number without a unit (a number, or a number in quotes)."""
+    if isinstance(value, bool):
+        return False
+    try:
+        float(value)
+    except (TypeError, ValueError):
+        return False
+    return True
 
 
 def _spread(value, param, key) -> float:
@@ -1024,12 +1093,13 @@ def stored_study(path, name=None, key="refine.from") -> dict:
 
 def _check_refine_keys(name, section) -> None:
     """A 'design: refine' section has only the keys a refinement reads, and those it needs."""
+    accuracy = " accuracy," if studies.get(name).accuracy is not None else ""
     for key in section:
         if key not in REFINE_KEYS:
             raise ConfigError(
                 f"{name}.{key}",
-                "a 'design: refine' study takes its factors, fixed values, options, "
-                "accuracy, objectives and constraints from the result it refines (refine.from); "
+                f"a 'design: refine' study takes its factors, fixed values, options,{accuracy} "
+                "objectives and constraints from the result it refines (refine.from); "
                 "remove this key",
             )
     for key in ("refine", "samples"):

@@ -33,10 +33,25 @@ import functools
 import math
 import numbers
 import re
+import sys
 
 __all__ = ["UnitError", "to_si", "KINDS"]
 
-_REPLACE = {"·": "*", "⋅": "*", "²": "**2", "³": "**3", "⁴": "**4", "µ": "u", "μ": "u", "°": " deg"}
+_REPLACE = {
+    "⁻¹": "**-1",  # (before ¹, ², ³ alone: m⁻² is m**-2)
+    "⁻²": "**-2",
+    "⁻³": "**-3",
+    "℃": " degC",
+    "℉": " degF",
+    "·": "*",
+    "⋅": "*",
+    "²": "**2",
+    "³": "**3",
+    "⁴": "**4",
+    "µ": "u",
+    "μ": "u",
+    "°": " deg",
+}
 
 #: what a quantity is beyond its SI unit: an absolute temperature or a temperature difference
 #: (SI unit K), a count (a whole number, SI unit 1, no unit accepted)
@@ -75,6 +90,49 @@ _AMBIGUOUS = {
     "horsepower": "a mechanical (745.7 W) or a metric (735.5 W) horsepower? write W or kW",
     "Nm": "Nm is not read as a newton metre: write N*m",
     "kNm": "kNm is not read as a kilonewton metre: write kN*m",
+    "U": "U is read as the enzyme unit, not a revolution (U/min): write rpm or rev/min",
+    "grad": "grad is the gradian (400 to a turn), not a degree (Grad): write deg, or gon for "
+    "the gradian",
+    "Grad": "Grad is read as a gigaradian, not a degree: write deg",
+    "mil": "a thousandth of an inch or an angular mil (pint: 1/6400 of a turn)? write in or mm "
+    "for a length, mrad or deg for an angle",
+    "mils": "a thousandth of an inch or an angular mil? write in or mm, or mrad or deg",
+    "pct": "pct is read as a picocarat (a mass): write %",
+    "u": "µ alone is read as the atomic mass unit: write the unit after its prefix (µm)",
+    "dB": "a logarithmic unit: write a plain number",
+}
+
+# any horsepower, prefixed or not (mhp: a milli-horsepower to pint, a metric one to some)
+_HORSEPOWER = re.compile(r"^[A-Za-z]?(hp|horsepower)$")
+
+# near misses of a unit's spelling, and the spelling meant
+_SPELLINGS = {
+    "nmm": "N*mm",
+    "ncm": "N*cm",
+    "kp": "kgf",
+    "kpm": "kgf*m",
+    "mpa": "MPa",
+    "gpa": "GPa",
+    "kpa": "kPa",
+    "kn": "kN",
+    "kj": "kJ",
+    "kw": "kW",
+    "rpm": "rpm",
+    "degc": "degC",
+    "degf": "degF",
+    "celsius": "degC",
+    "fahrenheit": "degF",
+    "lbft": "lbf*ft",
+    "lbfft": "lbf*ft",
+    "ozin": "ozf*in",
+    "m2": "m^2",
+    "mm2": "mm^2",
+    "cm2": "cm^2",
+    "m3": "m^3",
+    "mm3": "mm^3",
+    "cm3": "cm^3",
+    "ws": "W*s",
+    "nms": "N*m*s",
 }
 
 # temperature units with an offset, and the difference each means inside a difference
@@ -161,9 +219,14 @@ def _split(value: str) -> tuple[float, str]:
             "write e.g. '2.3 mm'"
         )
     match = _NUMBER.fullmatch(text)
+    if match is not None and re.match(r"[eE](\W|$)", text[match.end(1) :]):
+        raise UnitError(f"{value!r}: an exponent needs its digits (2.31e3, 5e-3)")
     if match is None:
         raise UnitError(f"cannot parse quantity {value!r}: expected 'number unit', e.g. '2.3 mm'")
-    return float(match.group(1)), match.group(2)
+    number = float(match.group(1))
+    if number == 0.0 and re.search(r"[1-9]", match.group(1).split("e")[0].split("E")[0]):
+        raise UnitError(f"{value!r}: too small for a double (it would be read as 0)")
+    return number, match.group(2)
 
 
 def _bare(number: float, value, si_unit: str, kind) -> float:
@@ -186,14 +249,17 @@ def _convert(number: float, unit: str, value, si_unit: str, kind) -> float:
     for word in re.findall(r"[A-Za-z_]+", unit):
         if word in _AMBIGUOUS:
             raise UnitError(f"{value!r}: {_AMBIGUOUS[word]}")
+        if _HORSEPOWER.match(word):
+            raise UnitError(f"{value!r}: {_AMBIGUOUS['hp']}")
     given = _parse(ureg, unit, value)
+    _check_no_arithmetic(unit, value)
     names = dict(given._units)
     target = ureg.parse_units("dimensionless" if si_unit == "1" else si_unit)
     if _dims(ureg, given) != _dims(ureg, target):  # (an angle is a ratio to pint: not told here)
         raise UnitError(
             f"{value!r} is {_kind_name(ureg, given)}; this value is "
             f"{_SI_NAMES.get(si_unit) or _kind_name(ureg, target)} (in {si_unit}, or another unit "
-            "of it)"
+            "of it)" + _division_hint(unit)
         )
     _check_speed_coefficient(ureg, given, target, value, si_unit)
     if _is_speed_coefficient(target) and _radians(ureg, given) == -2:
@@ -204,8 +270,10 @@ def _convert(number: float, unit: str, value, si_unit: str, kind) -> float:
         _check_torque(ureg, names, value)
     if si_unit == "K":
         given = _temperature_unit(ureg, names, value, kind)
-    out = float(ureg.Quantity(number, given).to(target).magnitude)
-    return out * factor
+    out = float(ureg.Quantity(number, given).to(target).magnitude) * factor
+    if number != 0.0 and abs(out) < sys.float_info.min and si_unit != "K":  # (0 K: -273.15 degC)
+        raise UnitError(f"{value!r}: too small for a double in {si_unit} (it would be read as 0)")
+    return out
 
 
 # what a unit's dimensions are called (pint's own notation for the others)
@@ -235,7 +303,11 @@ _KIND_NAMES = {
     "[mass] / [time] ** 3 / [temperature]": "a heat transfer coefficient",
     "1 / [temperature]": "a coefficient per temperature",
     "1 / [time] ** 2": "an angular acceleration",
-    "[mass] * [length]": "a mass times a length (a torque is a force times a length: N*m)",
+    "[mass] / [length] ** 3": "a density",
+    "[length] * [time] ** 2 / [mass]": "a volume per work (a specific wear rate)",
+    "[mass] * [length]": (
+        "a mass times a length (a torque is a force times a length: N*m, lbf*ft, kgf*m)"
+    ),
 }
 
 
@@ -253,10 +325,33 @@ _SI_NAMES = {
 }
 
 
+def _check_no_arithmetic(unit: str, value) -> None:
+    """A unit has no number in it but its exponents and the 1 of 1/min (pint would evaluate
+    mm*1.0 or mm*10**0), and ends in a unit, not in punctuation (2.3 mm.)."""
+    rest = re.sub(r"(\*\*|\^)\s*\(?\s*[+-]?\d+(\.\d+)?\s*\)?", "", unit)
+    rest = re.sub(r"(?<![\w.])1\s*/", "", rest)
+    if re.search(r"\d", rest) or re.search(r"[.;:!?]\s*$", unit):
+        raise UnitError(
+            f"cannot read the unit of {value!r}: write one number, then the unit alone, with no "
+            "number in it but its exponents (m^2, 1/min) and nothing after it"
+        )
+
+
+def _division_hint(unit: str) -> str:
+    """A hint where a / is followed by a product without parentheses (W/m^2*K is W*K/m^2)."""
+    after = unit.split("/")[1] if "/" in unit else ""
+    if not after.lstrip().startswith("(") and len(re.findall(r"[A-Za-z_]+", after)) > 1:
+        return (
+            ": a / divides by the next unit only; put what divides in parentheses, e.g. "
+            "W/(m^2*K), cm^3/(kW*h)"
+        )
+    return ""
+
+
 def _kind_name(ureg, unit) -> str:
     """What ``unit``'s dimensions are called ("a length"), or pint's notation for them."""
     dims = str(ureg.Quantity(1, unit).dimensionality)
-    return _KIND_NAMES.get(dims, f"of dimensions {dims}")
+    return _KIND_NAMES.get(dims, f"of no kind this config uses (its dimensions: {dims})")
 
 
 def _parse(ureg, unit: str, value):
@@ -266,14 +361,17 @@ def _parse(ureg, unit: str, value):
     except Exception as exc:  # pint raises several unrelated exception types
         unknown = getattr(exc, "unit_names", None)  # (pint's UndefinedUnitError)
         if unknown:
-            names = ", ".join(repr(u) for u in ([unknown] if isinstance(unknown, str) else unknown))
+            unknown = [unknown] if isinstance(unknown, str) else list(unknown)
+            names = ", ".join(repr(u) for u in unknown)
+            meant = [_SPELLINGS[u.lower()] for u in unknown if u.lower() in _SPELLINGS]
+            hint = f"write {', '.join(meant)}" if meant else "e.g. mm, rpm, deg, MPa, N*m, degC"
             raise UnitError(
-                f"cannot read the unit of {value!r}: {names} is not a unit (the config page lists "
-                "the spellings, e.g. mm, rpm, deg, MPa, N*m, degC)"
+                f"cannot read the unit of {value!r}: {names} is not a unit ({hint}; the config "
+                "page lists the spellings)"
             ) from None
         raise UnitError(
-            f"cannot read the unit of {value!r}: units combine with * and / (e.g. N*m, N*m/rad, "
-            "kg*m^2), not with - or other signs"
+            f"cannot read the unit of {value!r}: write one number, then units joined by * and / "
+            "(e.g. 2.1e6 N*s/m, 2000 rpm, 0.01 1/K, 11.5 deg, 40 degC)"
         ) from None
 
 
@@ -294,7 +392,18 @@ def _angle_factor(ureg, given, target, value, si_unit: str) -> float:
         return 1.0
     time = dict(ureg.get_root_units(target)[1]._units).get("second", 0)
     if have == 0 and want == 1 and time == -1 and len(target._units) <= 2:
-        return 2.0 * math.pi  # Hz, 1/s, 1/min, kHz: revolutions per time
+        if dict(given._units) == {"second": -1}:
+            raise UnitError(
+                f"{value!r}: per second is a rotational frequency n in rev/s (DIN's "
+                "n = 9.5 s^-1) or an angular speed ω in rad/s (ω = 60 s^-1)? write rev/s, rps "
+                "or rad/s (Hz and 1/min are read as revolutions)"
+            )
+        return 2.0 * math.pi  # Hz, 1/min, kHz: revolutions per time
+    if have != 0 and want != 0:
+        raise UnitError(
+            f"{value!r} has an angle to the power {have} in its unit, and this value to the "
+            f"power {want}: write it in {si_unit}, or another unit of it"
+        )
     if want == 0:
         plain = "a plain number" if si_unit == "1" else f"{si_unit}, without an angle"
         raise UnitError(
@@ -340,7 +449,8 @@ def _check_torque(ureg, names: dict, value) -> None:
     if not any(ureg.get_dimensionality(n) == force for n in names):
         raise UnitError(
             f"{value!r} is not written as a torque: give a force times a length (N*m, kN*m, "
-            "lbf*ft); J is an energy (accepted for work and energy, not for a torque)"
+            "lbf*ft); a unit with no force in it (J, kWh, kg*m^2/s^2) is taken for work and "
+            "energy, not for a torque"
         )
 
 
@@ -366,5 +476,8 @@ def _container(names: dict):
 
 def _finite(out: float, value) -> float:
     if not math.isfinite(out):
-        raise UnitError(f"{value!r} is not finite")
+        raise UnitError(
+            f"{value!r} is not finite (beyond a double; write .inf where infinity is meant and "
+            "the parameter takes it)"
+        )
     return out

@@ -175,9 +175,13 @@ class Parameter:
             return None
         what = " of a count" if self.integer else ""
         whose = ", with the config's plausible key" if self.config_range is not None else ""
+        if self.kind == "absolute":  # (positive by its bound: read in °C as well)
+            span = f"{lo:g} to {hi:g} K: {lo - 273.15:g} to {hi - 273.15:g} °C"
+        else:
+            signed = self.minimum is None or self.minimum < 0
+            span = f"{lo:g} to {hi:g}{u}" + (" in magnitude" if signed else "")
         return (
-            f"got {got}, outside the plausible range{what} ({lo:g} to {hi:g}{u} in magnitude"
-            f"{whose}): a typing or unit slip?"
+            f"got {got}, outside the plausible range{what} ({span}{whose}): a typing or unit slip?"
         )
 
     def admissible(self, values) -> np.ndarray:
