@@ -609,3 +609,42 @@ def test_many_fronts_share_one_colour_after_the_eight_named():
     assert len(set(colours[:8])) == 8 and mcolors.to_hex("tab:blue") not in colours
     assert set(colours[8:]) == {colours[8]} and colours[8] not in colours[:8]
     plt.close(fig)
+
+
+def test_the_tradeoff_page_draws_a_colour_per_operating_condition_over_its_noise_draws():
+    """A robust engagement study ranks a front per operating condition and noise draw: the
+    trade-off page draws every draw's front in its condition's colour and names each condition
+    once, in the units engineers read, with its number of draws (it used to name eight draws
+    of the first condition and cycle ten colours over all the others)."""
+    import matplotlib.colors as mcolors
+    import matplotlib.pyplot as plt
+
+    from clutchlab.report import engagement_figures
+
+    sec = resolve(
+        {
+            "studies": ["engagement"],
+            "engagement": {
+                "design": "factorial",
+                "robust": True,
+                "noise_samples": 2,
+                "parameters": {
+                    "ramp_time": {"values": ["0.1 s", "0.2 s", "0.3 s"]},
+                    "friction_coefficient": {"values": [0.35, 0.4]},
+                    "driven_inertia": {"values": ["0.021 kg*m^2", "0.05 kg*m^2"]},
+                },
+            },
+        }
+    )["engagement"]
+    ds = pipeline.run_study(sec)
+    fig = engagement_figures.tradeoff(ds)
+    lines = [ln for ln in fig.axes[0].get_lines() if ln.get_linestyle() == "-"]
+    named = [ln.get_label() for ln in lines if not ln.get_label().startswith("_")]
+    draws = ds.sizes["noise"]
+    assert named == [
+        f"Pareto front at driven_inertia {j} kg·m² ({draws} noise draws' fronts)"
+        for j in ("0.021", "0.05")
+    ]
+    colours = {mcolors.to_hex(ln.get_color()) for ln in lines}
+    assert len(lines) == 2 * draws and len(colours) == 2
+    plt.close(fig)

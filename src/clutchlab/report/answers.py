@@ -669,11 +669,13 @@ def _refined_fronts_panel(ax, first, second, gain, objectives, within, labels):
         ):
             order = np.argsort(xs[members] * sense[0], kind="stable")
             label = f"{which} front" + (f", {labels[j]}" if within else "") if j < 4 else None
+            if j == 4:  # (the groups past the fourth: one colour, named once)
+                label = f"{which} fronts of {gain['group'].size - 4} more groups"
             ax.plot(
                 xs[members][order],
                 ys[members][order],
                 style,
-                color=plt.cm.tab10(j % 10),
+                color=plt.cm.tab10(j if j < 4 else 9),
                 lw=1.2,
                 label=label,
             )

@@ -10,7 +10,7 @@ import numpy as np
 from .. import display
 from .. import status as st
 from ..explore import flat, unique_rows
-from .answers import _marks
+from .answers import _marks, _value_text
 from .common import (
     A4_LANDSCAPE,
     drawn,
@@ -68,28 +68,7 @@ def tradeoff(ds):
     fig.colorbar(sc, ax=ax, label="lock-up time [ms]")
     rank = ds["pareto_rank"] if "pareto_rank" in ds else None
     if rank is not None and rank.attrs["objectives"] == "slip_work:min peak_jerk:min":
-        # the stored fronts (feasible designs only), one per operating condition ranked within
-        within = rank.attrs.get("ranked_within", "").split()
-        front = _flat(ds, "pareto_rank") == 0
-        key = (
-            np.stack([flat(ds, w_) for w_ in within], axis=1)
-            if within
-            else np.zeros((front.size, 0))
-        )
-        for k, combo in enumerate(np.unique(key[front], axis=0)):
-            members = np.flatnonzero(front & (key == combo).all(axis=1))
-            members = members[np.argsort(_flat(ds, "slip_work")[members], kind="stable")]
-            where = ", ".join(f"{w_} {v:.4g}" for w_, v in zip(within, combo, strict=False))
-            ax.plot(
-                _flat(ds, "slip_work")[members] / 1e3,
-                _flat(ds, "peak_jerk")[members],
-                "-",
-                lw=1.5,
-                color=plt.cm.tab10(k % 10) if within else "r",
-                label=(f"Pareto front at {where}" if within else "Pareto front (feasible designs)")
-                if k < 8
-                else None,
-            )
+        _fronts(ax, ds, rank.attrs.get("ranked_within", "").split())
     w_all, j_all = _flat(ds, "slip_work") / 1e3, _flat(ds, "peak_jerk")
     for i, label, colour in _marks(ds):
         if np.isfinite(w_all[i]) and np.isfinite(j_all[i]):
@@ -106,6 +85,38 @@ def tradeoff(ds):
     ax.grid(alpha=0.3, which="both")
     ax.legend(loc="upper right", fontsize=8)
     return fig
+
+
+def _fronts(ax, ds, within):
+    """The stored fronts (feasible designs only), one per operating condition and noise draw
+    ranked within: a colour per operating condition (the first 8; the others share one), named
+    once with its values in display units and the number of its draws' fronts."""
+    front = _flat(ds, "pareto_rank") == 0
+    conditions = [w for w in within if w != "noise"]
+    key = np.stack([flat(ds, w) for w in within], axis=1) if within else np.zeros((front.size, 0))
+    cond = [within.index(c) for c in conditions]
+    groups = np.unique(key[front][:, cond], axis=0)
+    for k, combo in enumerate(groups):
+        draws = np.unique(key[front & (key[:, cond] == combo).all(axis=1)], axis=0)
+        where = ", ".join(_value_text(ds, c, v) for c, v in zip(conditions, combo, strict=True))
+        label = (
+            ("Pareto front" + (f" at {where}" if conditions else " (feasible designs)"))
+            + (f" ({len(draws)} noise draws' fronts)" if "noise" in within else "")
+            if k < 8
+            else (f"... {len(groups) - 8} more operating conditions" if k == 8 else None)
+        )
+        for d, draw in enumerate(draws):
+            members = np.flatnonzero(front & (key == draw).all(axis=1))
+            members = members[np.argsort(_flat(ds, "slip_work")[members], kind="stable")]
+            ax.plot(
+                _flat(ds, "slip_work")[members] / 1e3,
+                _flat(ds, "peak_jerk")[members],
+                "-",
+                lw=1.5 if len(draws) == 1 else 0.8,
+                color=plt.cm.tab10(k if k < 8 else 9) if within else "r",
+                label=label if d == 0 else None,
+                zorder=2.5 if k < 8 else 2.2,
+            )
 
 
 def maps(ds):
