@@ -1276,7 +1276,7 @@ def test_a_refinement_names_only_the_keys_its_study_has(name, accuracy):
     [
         # relative bounds written as factors: +90 % to +100 %, not 0.9 to 1.0 of the value
         ({"relative": [0.9, 1.0]}, "", "not factors: 0.9 to 1 is +90 % to +100 %"),
-        ({"relative": ["90 %", "100 %"]}, "", "not factors"),
+        ({"relative": ["0.9", 1.0]}, "", "not factors"),
         ({"relative": [-20, 20]}, "", "percent ('-20 %')"),
         # a bare sd beside bounds with units would be SI: 1000 times too narrow in N*m vs kN*m
         (
@@ -1297,11 +1297,15 @@ def test_a_scatter_in_percent_words_and_a_bare_sd_beside_bare_bounds_are_read():
     raw = _study("engagement", robust=True)
     raw["engagement"]["noise"] = {
         "friction_coefficient": {"scatter": "±20 percent"},
+        "ambient_temperature": {"min": "20 degC", "max": "60 degC", "dist": "normal", "sd": 5},
+        "specific_wear_rate": {"relative": ["+50 %", "+100 percent"]},
         "load_torque": {"min": 40, "max": 60, "dist": "normal", "sd": 5},
     }
     noise = config.resolve(raw)["engagement"]["robust"]["noise"]
     assert noise["friction_coefficient"]["max"] == pytest.approx(0.2)
     assert noise["load_torque"]["sd"] == 5.0
+    assert noise["ambient_temperature"]["sd"] == 5.0  # (a bare sd of a temperature is in K)
+    assert (noise["specific_wear_rate"]["min"], noise["specific_wear_rate"]["max"]) == (0.5, 1.0)
 
 
 @pytest.mark.parametrize(
@@ -1318,3 +1322,28 @@ def test_a_parameter_of_the_wrong_yaml_type_is_told_what_to_write(raw, value, fr
     with pytest.raises(ConfigError) as exc:
         config.resolve(raw)
     assert "schemas" not in str(exc.value) and "None" not in str(exc.value), str(exc.value)
+
+
+@pytest.mark.parametrize(
+    "section, key",
+    [
+        ({"noise_samples": 4}, "engagement.noise_samples"),
+        (
+            {"parameters": {"driven_inertia": {"values": ["0.02 kg*m^2"], "role": "condition"}}},
+            "engagement.parameters.driven_inertia.role",
+        ),
+    ],
+)
+def test_the_default_noise_is_named_at_the_key_that_made_the_study_robust(section, key):
+    """Robust by its noise_samples or a role (no robust key): a refusal of the default noise
+    names that key; so does the friction table's refusal of a scattered μ."""
+    extra = {k: v for k, v in section.items() if k != "parameters"}
+    raw = _study("engagement", {"friction_coefficient": {"values": [0.35, 1.9]}}, **extra)
+    raw["engagement"]["parameters"].update(section.get("parameters", {}))
+    _expect(raw, key, "the study's default noise (friction_coefficient: scatter ±20 %)")
+    raw["engagement"]["parameters"].pop("friction_coefficient")
+    raw["engagement"]["friction_table"] = {
+        "slip_speed": ["0 rad/s", "400 rad/s"],
+        "friction_coefficient": [0.45, 0.40],
+    }
+    _expect(raw, key, "cannot scatter with a friction_table")

@@ -265,7 +265,10 @@ def test_a_damping_in_kg_per_s_is_read():
         ("0.12 µ", "m", "atomic mass unit"),
         ("1.2 dB", "1", "a logarithmic unit"),
         # no arithmetic and nothing after the unit (pint would drop or evaluate it)
-        ("2.3 mm.", "m", "nothing after it"),
+        ("2.3 mm;", "m", "nothing after it"),
+        ("20 %%", "1", "nothing after it"),
+        ("0.0333 1/ms", "rad/s", "write rev/s, rps or rad/s"),
+        ("2000 r/min", "rad/s", "write rev (r/min is rpm)"),
         ("2.3 mm*1.0", "m", "no number in it but its exponents"),
         ("2.3 mm*10**0", "m", "no number in it but its exponents"),
     ],
@@ -290,6 +293,13 @@ def test_a_unit_an_engineer_may_mean_otherwise_is_refused_saying_what_to_write(
         ("0 mm", "m", None, 0.0),
         ("5.5E3 rpm", "rad/s", None, 5500 * TWO_PI / 60),
         ("5 m^(-2)", "1/m^2", None, 5.0),
+        # the Unicode minus, a leading slash, the ordinal and ring for a degree, in. and ft.
+        ("5 m^(−2)", "1/m^2", None, 5.0),
+        ("−10 °C", "K", "absolute", 263.15),
+        ("1.2e-5 /°C", "1/K", None, 1.2e-5),
+        ("40 ºC", "K", "absolute", 313.15),
+        ("40˚C", "K", "absolute", 313.15),
+        ("0.024 in.", "m", None, 0.0006096),
         ("1 N*m/(1/s)^2", "N m s^2", None, 1.0),
     ],
 )

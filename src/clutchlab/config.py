@@ -531,9 +531,26 @@ def _resolve_study(
     problem = studies.failed_relation(_noise_widened(out), study.relations) or (
         study.check_config(out) if study.check_config is not None else None
     )
+    if problem and problem[0].startswith(f"{name}.noise.") and "noise" not in section:
+        p = problem[0].rsplit(".", 1)[1]  # (the study's default noise: the user wrote none)
+        raise ConfigError(_robust_key(name, section, roles), f"{_brought(study, p)}: {problem[1]}")
     if problem:
         raise ConfigError(*problem)
     return out
+
+
+def _robust_key(name: str, section: dict, roles: dict) -> str:
+    """The key that made a study robust: robust, noise_samples, or a factor's role."""
+    return next(
+        (f"{name}.{k}" for k in ("robust", "noise_samples") if k in section),
+        f"{name}.parameters.{next(iter(roles), '')}.role",
+    )
+
+
+def _brought(study, p: str) -> str:
+    """What the study's default noise of ``p`` is, in words."""
+    spec = ", ".join(f"{k} {v}" for k, v in (study.noise or {}).get(p, {}).items())
+    return f"the study's default noise ({p}: {spec})"
 
 
 def _with_plausible(study, section: dict, name: str):
@@ -692,8 +709,8 @@ def _resolve_robust(study, section: dict, out: dict, roles: dict) -> dict | None
     if "noise" in section:
         given = section["noise"] or {}
         noise = {p: _noise(study, p, spec, out, f"{name}.noise.{p}") for p, spec in given.items()}
-    else:
-        noise = _default_noise(study, out, name)
+    else:  # (named at the key that made the study robust)
+        noise = _default_noise(study, out, _robust_key(name, section, roles))
     samples = DEFAULT_NOISE_SAMPLES if noise else 0
     if "noise_samples" in section:
         samples = _count(section, "noise_samples", f"{name}.noise_samples")
@@ -710,20 +727,20 @@ def _resolve_robust(study, section: dict, out: dict, roles: dict) -> dict | None
     return {**settings, "conditions": conditions, "noise": noise, "noise_samples": samples}
 
 
-def _default_noise(study, out: dict, name: str) -> dict:
+def _default_noise(study, out: dict, asked_by: str) -> dict:
     """The study's own noise (a robust section written without ``noise``), checked against the
-    design; a refusal names the ``robust`` key the user wrote, and the noise it brought."""
+    design; a refusal names the key that made the study robust (``asked_by``: robust,
+    noise_samples or a role) and the noise it brought."""
     noise = {}
     for p, spec in (study.noise or {}).items():
         try:
-            noise[p] = _noise(study, p, spec, out, f"{name}.noise.{p}")
+            noise[p] = _noise(study, p, spec, out, f"{asked_by}.noise.{p}")
         except ConfigError as exc:
-            brought = ", ".join(f"{k} {v}" for k, v in spec.items())
             problem = str(exc).split("': ", 1)[1]
             raise ConfigError(
-                f"{name}.robust",
-                f"the study's default noise ({p}: {brought}): {problem}; change the design's "
-                f"{p} or write the study's noise key",
+                asked_by,
+                f"{_brought(study, p)}: {problem}; change the design's {p} or write the "
+                "study's noise key",
             ) from None
     return noise
 
@@ -731,7 +748,7 @@ def _default_noise(study, out: dict, name: str) -> dict:
 _SCATTER = re.compile(
     r"^\s*(?:±|\+-|\+/-)\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(?:%|percent)\s*$"
 )
-_PERCENT = re.compile(r"^\s*([-+]?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(%?)\s*$")
+_PERCENT = re.compile(r"^\s*([-+−]?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(%|percent)?\s*$")
 
 
 def _relative(value, key) -> float:
@@ -742,7 +759,7 @@ def _relative(value, key) -> float:
         m = _PERCENT.match(value)
         if not m:
             raise ConfigError(key, f"a relative deviation: a fraction or 'N %', got {value!r}")
-        value = float(m.group(1)) / (100.0 if m.group(2) else 1.0)
+        value = float(m.group(1).replace("−", "-")) / (100.0 if m.group(2) else 1.0)
     if not np.isfinite(value):
         raise ConfigError(key, f"must be finite, got {value!r}")
     return float(value)
@@ -777,8 +794,7 @@ def _noise(study, p: str, spec: dict, out: dict, key: str) -> dict:
             )
         lo = _quantity(spec["min"], param, f"{key}.min", finite=True)
         hi = _quantity(spec["max"], param, f"{key}.max", finite=True)
-        bare_sd = "sd" in spec and _bare_number(spec["sd"]) and param.units not in ("1", "K")
-        if bare_sd and not _bare_number(spec["min"]):
+        if _bare_sd_beside_units(spec, param):
             raise ConfigError(
                 f"{key}.sd",
                 f"a bare number ({spec['sd']!r}) beside bounds written with their unit: write "
@@ -804,7 +820,8 @@ def _noise(study, p: str, spec: dict, out: dict, key: str) -> dict:
                 f"a relative deviation below -100 % (got {lo:.4g}) changes the sign (write "
                 "fractions (-0.2) or percent ('-20 %'))",
             )
-        if lo >= 0.5:  # (bounds written as factors: [0.9, 1.0] would be +90 % to +100 %)
+        bare = kinds[0] == "relative" and all(map(_bare_number, spec["relative"]))
+        if bare and lo >= 0.5:  # (bounds written as factors: [0.9, 1.0] would be +90 % to +100 %)
             raise ConfigError(
                 key,
                 f"relative bounds are deviations from the design's value, not factors: "
@@ -837,14 +854,29 @@ def _noise(study, p: str, spec: dict, out: dict, key: str) -> dict:
     }
 
 
+_NUMBER_TEXT = re.compile(r"^\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*$")
+
+
 def _bare_number(value) -> bool:
     """Whether a config value is a number without a unit (a number, or a number in quotes)."""
     if isinstance(value, bool):
         return False
-    try:
-        float(value)
-    except (TypeError, ValueError):
+    return isinstance(value, (int, float)) or bool(
+        isinstance(value, str) and _NUMBER_TEXT.match(value)
+    )
+
+
+def _bare_sd_beside_units(spec: dict, param) -> bool:
+    """Whether a normal noise's sd is a bare number (SI) beside bounds written with a unit that
+    scales it otherwise: any unit but a ratio's, or a temperature's in degF (a bare sd of a
+    temperature, per K or per degC, reads as meant)."""
+    if spec.get("dist") != "normal" or not _bare_number(spec.get("sd")):
         return False
+    bounds = [spec["min"], spec["max"]]
+    if param.units == "1" or all(map(_bare_number, bounds)):
+        return False
+    if re.search(r"\bK\b", param.units):
+        return any(re.search(r"degF|°F|℉|delta_degF", str(b)) for b in bounds)
     return True
 
 

@@ -43,6 +43,9 @@ _REPLACE = {
     "⁻³": "**-3",
     "℃": " degC",
     "℉": " degF",
+    "−": "-",  # (the Unicode minus)
+    "º": "°",  # (the ordinal sign and the ring, written for a degree)
+    "˚": "°",
     "·": "*",
     "⋅": "*",
     "²": "**2",
@@ -50,7 +53,7 @@ _REPLACE = {
     "⁴": "**4",
     "µ": "u",
     "μ": "u",
-    "°": " deg",
+    "°": " deg",  # (after º and ˚: they become °)
 }
 
 #: what a quantity is beyond its SI unit: an absolute temperature or a temperature difference
@@ -132,6 +135,7 @@ _SPELLINGS = {
     "mm3": "mm^3",
     "cm3": "cm^3",
     "ws": "W*s",
+    "r": "rev (r/min is rpm)",
     "nms": "N*m*s",
 }
 
@@ -195,6 +199,8 @@ def to_si(value, si_unit: str, kind: str | None = None) -> float:
             f"expected a number or a 'number unit' string, got {type(value).__name__} {value!r}"
         )
     number, unit = _split(value)
+    if unit.startswith("/"):  # "1.2e-5 /K": per kelvin
+        unit = "1" + unit
     if not unit:  # "3.7": a bare number, SI like 3.7
         return _bare(number, value, si_unit, kind)
     if kind == "count":
@@ -330,7 +336,7 @@ def _check_no_arithmetic(unit: str, value) -> None:
     mm*1.0 or mm*10**0), and ends in a unit, not in punctuation (2.3 mm.)."""
     rest = re.sub(r"(\*\*|\^)\s*\(?\s*[+-]?\d+(\.\d+)?\s*\)?", "", unit)
     rest = re.sub(r"(?<![\w.])1\s*/", "", rest)
-    if re.search(r"\d", rest) or re.search(r"[.;:!?]\s*$", unit):
+    if re.search(r"\d", rest) or re.search(r"[;:!?]\s*$|%\s*[%.]\s*$", unit):
         raise UnitError(
             f"cannot read the unit of {value!r}: write one number, then the unit alone, with no "
             "number in it but its exponents (m^2, 1/min) and nothing after it"
@@ -392,7 +398,11 @@ def _angle_factor(ureg, given, target, value, si_unit: str) -> float:
         return 1.0
     time = dict(ureg.get_root_units(target)[1]._units).get("second", 0)
     if have == 0 and want == 1 and time == -1 and len(target._units) <= 2:
-        if dict(given._units) == {"second": -1}:
+        if (
+            len(given._units) == 1
+            and next(iter(given._units.items()))[1] == -1
+            and next(iter(given._units)).endswith("second")
+        ):  # (1/s, 1/ms, 1/ks: per a time in seconds)
             raise UnitError(
                 f"{value!r}: per second is a rotational frequency n in rev/s (DIN's "
                 "n = 9.5 s^-1) or an angular speed ω in rad/s (ω = 60 s^-1)? write rev/s, rps "
