@@ -264,6 +264,9 @@ def test_a_damping_in_kg_per_s_is_read():
         ("12 pct", "1", "picocarat (a mass): write %"),
         ("0.12 µ", "m", "atomic mass unit"),
         ("1.2 dB", "1", "a logarithmic unit"),
+        ("136 PS", "W", "not a metric horsepower"),
+        ("2.1 k N*s/mm", "N s/m", "Boltzmann's constant"),
+        ("10 MM", "m", "write mm"),
         # no arithmetic and nothing after the unit (pint would drop or evaluate it)
         ("2.3 mm;", "m", "nothing after it"),
         ("20 %%", "1", "nothing after it"),

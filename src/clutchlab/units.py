@@ -103,6 +103,10 @@ _AMBIGUOUS = {
     "pct": "pct is read as a picocarat (a mass): write %",
     "u": "µ alone is read as the atomic mass unit: write the unit after its prefix (µm)",
     "dB": "a logarithmic unit: write a plain number",
+    "PS": "PS is read as petasiemens, not a metric horsepower (735.5 W): write W or kW",
+    "k": "k alone is read as Boltzmann's constant: write the prefix on its unit (kN*s/mm)",
+    "M": "M alone is read as molar: write the prefix on its unit (MPa, MN)",
+    "MM": "MM is read as megamolar: write mm",
 }
 
 # any horsepower, prefixed or not (mhp: a milli-horsepower to pint, a metric one to some)
