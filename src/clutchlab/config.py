@@ -825,8 +825,8 @@ def _noise(study, p: str, spec: dict, out: dict, key: str) -> dict:
             raise ConfigError(
                 key,
                 f"relative bounds are deviations from the design's value, not factors: "
-                f"{lo:.4g} to {hi:.4g} is {100 * lo:+.4g} % to {100 * hi:+.4g} %; factors "
-                f"0.9 to 1.1 are written [-0.1, 0.1] or ['-10 %', '10 %']",
+                f"{lo:.4g} to {hi:.4g} is {100 * lo:+.4g} % to {100 * hi:+.4g} %; as factors "
+                f"they are written [{lo - 1:.4g}, {hi - 1:.4g}], or in percent with their sign",
             )
         if hi > 1.0:
             raise ConfigError(

@@ -9,9 +9,9 @@ pint treats the radian as dimensionless and the joule as a newton metre, so it w
 friction coefficient of "20 deg" as 0.349, a speed of "91.67 Hz" as 91.67 rad/s and a torque of
 "173 J" as 173 N m. :func:`to_si` looks at the unit expression, not only at its dimension:
 
-* an angular speed (SI rad/s) given as a frequency without an angle (Hz, kHz, 1/s, 1/min) is
+* an angular speed (SI rad/s) given as a frequency without an angle (Hz, kHz, 1/min) is
   revolutions per time and multiplied by 2π; rpm, rps, rad/s, deg/s, rev/s, turn/min are read as
-  written;
+  written; per second alone (1/s, 1/ms) is refused: engineers write rev/s and rad/s so alike;
 * an angle unit (deg, rad, rev) on a quantity without an angle is refused, and so is a unit
   without an angle on an angle (an angle given as a bare number is SI, radians) or on another
   quantity with an angle in it (N m/rad, rad/s²);
@@ -24,7 +24,11 @@ friction coefficient of "20 deg" as 0.349, a speed of "91.67 Hz" as 91.67 rad/s 
   degC, K and delta_degC as the same difference and degF as 5/9 K (never an offset); inside a
   compound unit (1/K, W/(m^2 K)) a temperature is always a difference;
 * a dimensionless quantity takes a bare number or a scale such as % (20 % = 0.2), ppm, permille;
-  a count takes a bare whole number only.
+  a count takes a bare whole number only;
+* names pint reads otherwise than engineers mean (U, grad, mil, any horsepower, PS, pct, k, M
+  alone) are refused saying what to write, and so is a number inside the unit (mm*1.0: pint
+  would evaluate it) or punctuation after it; a near miss of a spelling (Nmm, MPA) names the
+  spelling meant.
 """
 
 from __future__ import annotations
@@ -337,7 +341,8 @@ _SI_NAMES = {
 
 def _check_no_arithmetic(unit: str, value) -> None:
     """A unit has no number in it but its exponents and the 1 of 1/min (pint would evaluate
-    mm*1.0 or mm*10**0), and ends in a unit, not in punctuation (2.3 mm.)."""
+    mm*1.0 or mm*10**0), and ends in a unit or its abbreviation's full stop (in.), not in other
+    punctuation (2.3 mm;) or a second % (20 %%: 0.002 to pint)."""
     rest = re.sub(r"(\*\*|\^)\s*\(?\s*[+-]?\d+(\.\d+)?\s*\)?", "", unit)
     rest = re.sub(r"(?<![\w.])1\s*/", "", rest)
     if re.search(r"\d", rest) or re.search(r"[;:!?]\s*$|%\s*[%.]\s*$", unit):
