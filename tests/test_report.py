@@ -361,6 +361,31 @@ def test_sampled_maps_bin_many_designs():
         plt.close(fig)
 
 
+def test_a_binned_value_maps_colour_bar_label_stays_on_the_page():
+    """The heat page's panel of 900 000 designs: the binned map's colour bar names what it
+    shows and its count on two lines, inside the page (on one line it ran off the page)."""
+    import matplotlib.pyplot as plt
+
+    from clutchlab.report.common import (
+        A4_LANDSCAPE,
+        SCATTER_MAX,
+        sampled_value_map,
+        texts_outside,
+    )
+
+    rng = np.random.default_rng(0)
+    n = 200 * SCATTER_MAX
+    fig, axes = plt.subplots(  # (the heat page's layout)
+        2, 2, figsize=A4_LANDSCAPE, gridspec_kw={"hspace": 0.45, "wspace": 0.5, "top": 0.85}
+    )
+    x, y = rng.random(n), rng.random(n)
+    sampled_value_map(axes[1, 0], x, y, 340 + 30 * x, "peak face temperature [°C]")
+    fig.canvas.draw()
+    assert not texts_outside(fig), texts_outside(fig)
+    assert any(f"(median per bin, {n} designs)" in t.get_text() for t in fig.findobj(plt.Text))
+    plt.close(fig)
+
+
 @pytest.mark.parametrize("statistic", ["mean", "median"])
 def test_binned_statistic_as_scipy(statistic):
     """The maps' per-bin mean and median equal scipy.stats.binned_statistic_2d's (equal bins over

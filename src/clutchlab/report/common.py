@@ -883,7 +883,7 @@ def sampled_value_map(ax, x, y, z, label, cmap="viridis", limits=None, bins=30):
             vmax=vmax,
             rasterized=True,
         )
-        label += f" (median per bin, {x.size} designs)"
+        label += f"\n(median per bin, {x.size} designs)"
     ax.figure.colorbar(m, ax=ax, label=label, extend=extend)
     return m
 
