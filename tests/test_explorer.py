@@ -103,7 +103,7 @@ def test_axes_order_roles_and_display_units():
         by["face_temperature"].values[ok], ds["face_temperature"].values[ok] - 273.15
     )
     assert by["face_temperature"].label == "face temperature [°C] (max 150 °C)"
-    assert by["slip_work"].label == "slip work [kJ] (min)"
+    assert by["slip_work"].label == "slip work [kJ] (minimised)"
     assert by["face_temperature"].header == "face_temperature [degC]"
     assert by["profile"].codes == {0: "ramp", 1: "cubic", 2: "quintic"}
 
@@ -167,7 +167,7 @@ def test_page_is_self_contained_and_carries_the_values(tmp_path):
     v = _decode(axis["values"])
     ok = ds["status"].values[rows] == 0
     np.testing.assert_array_equal(v[ok], ds["lockup_time"].values[rows][ok] * 1e3)
-    assert axis["label"] == "lockup time [ms] (min)" and axis["header"] == "lockup_time [ms]"
+    assert axis["label"] == "lockup time [ms] (minimised)" and axis["header"] == "lockup_time [ms]"
 
 
 def test_plotly_bundle_is_the_official_gl2d_bundle_of_plotly_py_version():

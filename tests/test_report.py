@@ -290,7 +290,7 @@ def test_answers_page_projects_three_or_more_objectives(objectives, panels):
     )["centrifugal"]
     fig = answers.page("centrifugal", pipeline.run_study(sec))
     fig.canvas.draw()
-    labelled = [ax for ax in fig.axes if ax.get_xlabel().endswith(("(min)", "(max)"))]
+    labelled = [ax for ax in fig.axes if ax.get_xlabel().endswith(("(minimised)", "(maximised)"))]
     assert len(labelled) == panels
     pairs = {(ax.get_xlabel().split(" [")[0], ax.get_ylabel().split(" [")[0]) for ax in labelled}
     names = [o.split(":")[0] for o in objectives]
@@ -672,4 +672,35 @@ def test_the_tradeoff_page_draws_a_colour_per_operating_condition_over_its_noise
     ]
     colours = {mcolors.to_hex(ln.get_color()) for ln in lines}
     assert len(lines) == 2 * draws and len(colours) == 2
+    plt.close(fig)
+
+
+def test_the_maps_page_shows_no_slip_work_where_an_engagement_never_locks():
+    """A design that never locks has its window's slip work, not an engagement's: the slip-work
+    map leaves it blank, as the lock-up map does (it used to colour it, and set the colour
+    scale's top with it); the clamp force is in kN."""
+    import matplotlib.pyplot as plt
+
+    from clutchlab.report import engagement_figures
+
+    sec = resolve(
+        {
+            "studies": ["engagement"],
+            "engagement": {
+                "design": "factorial",
+                "parameters": {
+                    "sheet_thickness": {"values": ["2.0 mm", "2.3 mm", "2.6 mm"]},
+                    "ramp_time": {"values": ["0.1 s", "0.3 s"]},
+                    "load_torque": "120 N*m",
+                },
+            },
+        }
+    )["engagement"]
+    ds = pipeline.run_study(sec)
+    never = ~np.isfinite(ds["lockup_time"].values)
+    assert never.any() and np.isfinite(ds["slip_work"].values[never]).all()
+    fig = engagement_figures.maps(ds)
+    slip, lock = (np.ma.getmaskarray(ax.collections[0].get_array()) for ax in fig.axes[:2])
+    assert slip.any() and (slip == lock).all()
+    assert fig.axes[0].get_ylabel() == "clamp force from the spring design [kN]"
     plt.close(fig)

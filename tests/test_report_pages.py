@@ -205,7 +205,7 @@ def _check_details(png, files, which):
         ax = next(
             a
             for a in png[f"{name}_answers"].axes
-            if a.get_xlabel().endswith("(min)") or a.get_xlabel().endswith("(max)")
+            if a.get_xlabel().endswith(("(minimised)", "(maximised)"))
         )
         for lim, o in ((ax.get_xlim(), objectives[0]), (ax.get_ylim(), objectives[1])):
             v = display.unit_of(ds, o)(explore.flat(ds, o)[feas])

@@ -504,3 +504,52 @@ def test_the_summary_of_a_robust_study_without_a_robust_design_says_so_once():
     assert "noise samples of friction_coefficient, roller_diameter;" in head
     assert best.startswith("best robust design: none (no design fails in at most 1 % of its")
     assert best.count("no robust design") == 0
+
+
+def test_the_robust_page_names_its_conditions_legibly_and_where_each_design_binds():
+    """Twelve operating conditions: their two-line names would overprint side by side, so one
+    in k is named (the title says so); the front table shows where each design binds, the noise
+    draw on a line of its own where the rows fit (it was cut to "[...]")."""
+    import matplotlib.pyplot as plt
+
+    from clutchlab.report import robust as pages
+    from clutchlab.report.common import texts_outside, texts_outside_cells
+
+    sec = resolve(
+        {
+            "studies": ["engagement"],
+            "engagement": {
+                "design": "factorial",
+                "robust": True,
+                "noise_samples": 2,
+                "parameters": {
+                    "ramp_time": {"values": ["0.08 s", "0.15 s"]},
+                    "friction_coefficient": {"values": [0.38, 0.42]},
+                    "sheet_thickness": "2.45 mm",
+                    "driven_inertia": {"values": ["0.02 kg*m^2", "0.035 kg*m^2", "0.05 kg*m^2"]},
+                    "load_torque": {"values": ["30 N*m", "50 N*m", "70 N*m", "90 N*m"]},
+                },
+            },
+        }
+    )["engagement"]
+    answers = explore.robust(_run(sec))
+    fig = pages.page("engagement", answers)
+    fig.canvas.draw()
+    ax = next(a for a in fig.axes if a.get_title().startswith("best robust design at each"))
+    named = [t.get_text() for t in ax.get_xticklabels() if t.get_text()]
+    k = int(ax.get_title().split("(one in ")[1].split(" ")[0])
+    assert k > 1 and len(named) == -(-12 // k) and "0.02 kg·m²\n30 N·m" in named
+    assert not texts_outside(fig) and not texts_outside_cells(fig), texts_outside_cells(fig)
+    table_ax = next(a for a in fig.axes if a.tables)
+    header, rows = pages.front_rows(answers)
+    for n, lines in ((2, 3), (4, 2), (8, 1)):  # (two rows fit three lines each, four two)
+        ax = fig.add_axes(table_ax.get_position())
+        pages._front_table(ax, header, (rows * 8)[:n])
+        cells = ax.tables[0].get_celld()
+        last = max(col for _, col in cells)
+        texts = [c.get_text().get_text() for (r, col), c in cells.items() if r and col == last]
+        assert all(t.count("\n") == lines - 1 for t in texts), (n, texts)
+        if lines == 3:  # the noise draw whole on its own line
+            assert all(t.endswith("friction_coefficient -20.0 %") for t in texts), texts
+        ax.remove()
+    plt.close(fig)

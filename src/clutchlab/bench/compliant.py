@@ -291,7 +291,12 @@ def work_precision_figure(rows):
                 ms=8 if len(pts) == 1 else 6,
             )
             labels[variant] += [
-                (r["seconds_per_scenario"], max(r["max_rel_error"], 1e-16), r["setting"])
+                (
+                    r["seconds_per_scenario"],
+                    max(r["max_rel_error"], 1e-16),
+                    r["setting"],
+                    colors[name],
+                )
                 for r in pts
             ]
         ratios = [x[2] for x in speed_ratios(rows, variant)]

@@ -243,12 +243,13 @@ def work_precision_figure(rows):
 
     fig, ax = plt.subplots(figsize=(11.69, 8.27))
     labels = []
-    for name, marker in ((CLUTCHLAB, "o-"), (RK45, "s-"), (RK45_MAXSTEP, "^-")):
+    for j, (name, marker) in enumerate(((CLUTCHLAB, "o-"), (RK45, "s-"), (RK45_MAXSTEP, "^-"))):
         pts = [r for r in rows if r["method"] == name]
         ax.loglog(
             [r["seconds_per_scenario"] for r in pts],
             [max(r["max_lockup_error_s"], 1e-16) for r in pts],
             marker,
+            color=f"C{j}",
             label=f"{name} ({int(pts[0]['scenarios']) if pts else 0} scenarios)",
         )
         labels += [
@@ -256,6 +257,7 @@ def work_precision_figure(rows):
                 r["seconds_per_scenario"],
                 max(r["max_lockup_error_s"], 1e-16),
                 f"rtol {r['rtol']:.0e}",
+                f"C{j}",
             )
             for r in pts
             if abs(np.log10(r["rtol"]) - round(np.log10(r["rtol"]))) < 1e-9  # the decades only

@@ -255,7 +255,7 @@ def _wp_figure(rows, error, ours, title, ylabel, label_key):
         y = [max(r[error], 1e-17) for r in pts]
         ax.loglog(x, y, "o-" if len(pts) > 1 else "o", color=f"C{j}", ms=7, label=method)
         labels += [
-            (r["seconds_per_scenario"], max(r[error], 1e-17), _setting(r, label_key)[4:])
+            (r["seconds_per_scenario"], max(r[error], 1e-17), _setting(r, label_key)[4:], f"C{j}")
             for r in pts
             if _setting(r, label_key)
         ]
@@ -267,7 +267,7 @@ def _wp_figure(rows, error, ours, title, ylabel, label_key):
     ax.set_xlabel("time per scenario [s] (this machine, this run)")
     ax.set_ylabel(ylabel)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8, loc="upper right")
+    ax.legend(fontsize=8, loc="best")
     fig.subplots_adjust(bottom=0.27)  # the ratios below the axes, clear of the points
     fig.text(
         0.08,

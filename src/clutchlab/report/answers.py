@@ -15,7 +15,15 @@ from .. import display, studies
 from .. import status as st
 from ..explore import flat as _flat
 from ..explore import front_order, objective_table, pareto_rank, spread
-from .common import A4_LANDSCAPE, constraints, drawn, drawn_note, fitted_table, wrap_name
+from .common import (
+    A4_LANDSCAPE,
+    SENSE_WORDS,
+    constraints,
+    drawn,
+    drawn_note,
+    fitted_table,
+    wrap_name,
+)
 
 MAX_ROWS = 15
 
@@ -288,7 +296,7 @@ def _front_panels(fig, cell_spec, ds, objectives, feas, rank, groups, crossed):
             ax, ds, ox, oy, feas, rank, groups, marks, lines=len(pairs) == 1 and not crossed
         )
         for setter, o in ((ax.set_xlabel, ox), (ax.set_ylabel, oy)):
-            setter(f"{o} [{display.unit_of(ds, o).label}] ({sense[o]})", fontsize=8)
+            setter(f"{o} [{display.unit_of(ds, o).label}] ({SENSE_WORDS[sense[o]]})", fontsize=8)
         ax.tick_params(labelsize=8)
         ax.xaxis.get_offset_text().set_fontsize(8)
         ax.yaxis.get_offset_text().set_fontsize(8)

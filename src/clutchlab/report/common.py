@@ -12,6 +12,9 @@ from .. import status as st
 
 A4_LANDSCAPE = (11.69, 8.27)
 
+# an objective's sense on an axis ("(min)" beside a unit reads as minutes)
+SENSE_WORDS = {"min": "minimised", "max": "maximised"}
+
 
 def with_curves(ds):
     """A sampled result that stores its per-scenario curves for a subset of scenarios (dimension
@@ -753,17 +756,26 @@ def texts_outside(fig) -> list[str]:
 
 def label_points(ax, points, fontsize=8.0):
     """Each point's label beside it: up and right of it, else below right, up left or below
-    left; a label that would overprint a text already in ``ax`` in each of those places is left
-    out (its point stays drawn). ``points``: (x, y, text) in data coordinates. Call once the
-    axes' limits and the figure's layout are final: the places are measured."""
+    left; a label that would overprint a text already in ``ax`` or its legend in each of those
+    places is left out (its point stays drawn). ``points``: (x, y, text) in data coordinates, or
+    (x, y, text, colour) to print it in its line's colour. Call once the axes' limits, legend
+    and the figure's layout are final: the places are measured."""
     ax.get_xlim(), ax.get_ylim()  # (the limits autoscaled now: the labels' places follow them)
     renderer = ax.figure.canvas.get_renderer()
     placed = [t.get_window_extent(renderer) for t in ax.texts if t.get_text().strip()]
+    if ax.get_legend() is not None:
+        placed.append(ax.get_legend().get_window_extent(renderer))
     places = ((4, 4, "left"), (4, -11, "left"), (-4, 4, "right"), (-4, -11, "right"))
-    for x, y, text in points:
+    for x, y, text, *colour in points:
         for dx, dy, ha in places:
             note = ax.annotate(
-                text, (x, y), textcoords="offset points", xytext=(dx, dy), ha=ha, fontsize=fontsize
+                text,
+                (x, y),
+                textcoords="offset points",
+                xytext=(dx, dy),
+                ha=ha,
+                fontsize=fontsize,
+                color=colour[0] if colour else "black",
             )
             box = note.get_window_extent(renderer)
             if not any(box.overlaps(b) for b in placed):

@@ -113,7 +113,7 @@ def _fronts(ax, ds, within):
                 _flat(ds, "peak_jerk")[members],
                 "-",
                 lw=1.5 if len(draws) == 1 else 0.8,
-                color=plt.cm.tab10(k if k < 8 else 9) if within else "r",
+                color=plt.cm.tab10(min(k + 1, 9)) if within else "r",  # (as the answers page)
                 label=label if d == 0 else None,
                 zorder=2.5 if k < 8 else 2.2,
             )
@@ -149,23 +149,24 @@ def maps(ds):
     if extra:
         sub = sub.isel({d: 0 for d in extra})
     sub = sub.transpose("sheet_thickness", "ramp_time")
-    force = sub["clamp_load"].values[:, 0]
+    force = sub["clamp_load"].values[:, 0] / 1e3
     order = np.argsort(force)
     x = sub["ramp_time"].values * 1e3
+    # an engagement that never locks has no slip work of an engagement (only its window's)
+    bad = ~np.isfinite(sub["lockup_time"].values[order])
     for ax, name, scale, unit in (
         (axes[0], "slip_work", 1e-3, "kJ"),
         (axes[1], "lockup_time", 1e3, "ms"),
     ):
-        z = sub[name].values[order] * scale
+        z = np.where(bad, np.nan, sub[name].values[order] * scale)
         m = ax.pcolormesh(x, force[order], z, shading="nearest", cmap="magma_r")
         fig.colorbar(m, ax=ax, label=f"{name.replace('_', ' ')} [{unit}]")
-        bad = ~np.isfinite(z)
         if bad.any():
             xx, yy = np.meshgrid(x, force[order])
             ax.plot(xx[bad], yy[bad], "kx", label="never locks")
             ax.legend(fontsize=8)
         ax.set_xlabel("ramp (engagement) time [ms]")
-        ax.set_ylabel("clamp force from the spring design [N]")
+        ax.set_ylabel("clamp force from the spring design [kN]")
     fixed = fixed_text(sub, list(others))
     fig.suptitle(
         "Slip work and lock-up time over ramp time and clamp force"

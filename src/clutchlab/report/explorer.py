@@ -33,6 +33,7 @@ import numpy as np
 from .. import display, store
 from .. import status as st
 from ..explore import flat
+from .common import SENSE_WORDS
 
 __all__ = [
     "MAX_DESIGNS",
@@ -205,7 +206,7 @@ def axes(ds, rows=None) -> list[Axis]:
         u = display.unit_of(ds, name) if role != "rank" else display.Unit("", "")
         label = display.label(name, u)
         if name in objectives:
-            label += f" ({objectives[name]})"
+            label += f" ({SENSE_WORDS[objectives[name]]})"
         if name in limits:
             label += f" ({limits[name]})"
         out.append(_numeric(name, label, display.column(name, u), role, u(v.astype(float))))

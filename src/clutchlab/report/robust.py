@@ -16,7 +16,7 @@ import numpy as np
 
 from .. import display, explore
 from ..robust import CONFIDENCE, wilson_interval
-from .common import A4_LANDSCAPE, fitted_table, shortened_to
+from .common import A4_LANDSCAPE, SENSE_WORDS, fitted_table, shortened_to
 
 __all__ = ["page", "best_text", "summary_lines", "write_csv", "front_rows"]
 
@@ -243,14 +243,24 @@ def page(name, ra):
 
 def _front_table(ax, header, rows) -> None:
     """The robust front's table (:func:`clutchlab.report.common.fitted_table`): the binding
-    constraint and where it binds in one last column, wider: on two lines where the rows fit
-    the axes so, else on one, each shortened to the column."""
+    constraint and where it binds in one last column, wider: on three lines (the noise draw on
+    the last) or two where the rows fit the axes so, else on one, each shortened to the
+    column."""
     widths = [0.075] * (len(header) - 2) + [0.33]
     share = widths[-1] / sum(widths)
     line_in = 1.2 * TABLE_FONT / 72.0
     room_in = ax.get_position().height * ax.figure.get_figheight() - 4.6 * line_in
-    sep = ":\n" if len(rows) * 2.6 * line_in <= room_in else ": "
-    cells = [r[:-2] + [shortened_to(ax, f"{r[-2]}{sep}{r[-1]}", share, TABLE_FONT)] for r in rows]
+    lines = 3 if len(rows) * 3.6 * line_in <= room_in else 2
+    if len(rows) * 2.6 * line_in > room_in:
+        lines = 1
+
+    def cell(binding, where):
+        if lines == 3:  # (where: the conditions, then the noise draw on a line of its own)
+            where = "\n".join(where.rsplit(", ", 1))
+        sep = ":\n" if lines > 1 else ": "
+        return shortened_to(ax, f"{binding}{sep}{where}", share, TABLE_FONT)
+
+    cells = [r[:-2] + [cell(r[-2], r[-1])] for r in rows]
     fitted_table(ax, header[:-2] + [f"{header[-2]}: {header[-1]}"], cells, widths, TABLE_FONT)
 
 
@@ -295,7 +305,7 @@ def _front_panel(ax, ra) -> None:
         ax.plot(x[j], y[j], "*", color="k", ms=14, label="best robust design")
     for setter, o, s in ((ax.set_xlabel, ox, sx), (ax.set_ylabel, oy, sy)):
         u = display.unit_of(ra, f"{which}_{o}")
-        setter(f"{which} {o.replace('_', ' ')} [{u.label}] ({s})", fontsize=8)
+        setter(f"{which} {o.replace('_', ' ')} [{u.label}] ({SENSE_WORDS[s]})", fontsize=8)
     ax.tick_params(labelsize=8)
     ax.legend(fontsize=8)
     ax.set_title(f"{which}-case objectives over conditions and noise", fontsize=9)
@@ -325,12 +335,16 @@ def _failure_panel(ax, ra) -> None:
     ax.errorbar(range(p.size), p, yerr=err, fmt="none", color="k", capsize=4)
     ax.axhline(100 * ra.attrs.get("max_failure_probability", 0.01), color="tab:red", ls="--",
                label="allowed")  # fmt: skip
-    if sum(len(max(t.split("\n"), key=len)) for t in labels) > 60:  # overprinted side by side
-        ax.set_xticks(range(p.size), labels, fontsize=7, rotation=45, ha="right")
-    else:
-        ax.set_xticks(range(p.size), labels, fontsize=8)
+    # every k-th condition named where all of them would overprint side by side (60 characters)
+    k = -(-sum(len(max(t.split("\n"), key=len)) for t in labels) // 60)
+    ax.set_xticks(range(p.size), [t if i % k == 0 else "" for i, t in enumerate(labels)])
+    if k > 1:
+        ax.set_title(
+            f"best robust design at each operating condition (one in {k} named)", fontsize=9
+        )
     ax.set_xlabel(" / ".join(conds) or "no operating condition", fontsize=8)
     ax.set_ylabel("probability of failure [%] (95 % Wilson interval)", fontsize=8)
-    ax.set_title("best robust design at each operating condition", fontsize=9)
+    if k == 1:
+        ax.set_title("best robust design at each operating condition", fontsize=9)
     ax.legend(fontsize=8)
     ax.tick_params(labelsize=8)
