@@ -539,6 +539,13 @@ def test_the_robust_page_names_its_conditions_legibly_and_where_each_design_bind
     named = [t.get_text() for t in ax.get_xticklabels() if t.get_text()]
     k = int(ax.get_title().split("(one in ")[1].split(" ")[0])
     assert k > 1 and len(named) == -(-12 // k) and "0.02 kg·m²\n30 N·m" in named
+    # every mark its legend names is drawn (robust-feasible: those off the front)
+    front_ax = next(a for a in fig.axes if a.get_xlabel().startswith("worst slip work"))
+    assert all(len(c.get_offsets()) for c in front_ax.collections)
+    names = [t.get_text() for t in front_ax.get_legend().get_texts()]
+    assert ("robust-feasible" in names) == bool(
+        (answers["robust_feasible"] & (answers["robust_rank"] != 0)).any()
+    )
     assert not texts_outside(fig) and not texts_outside_cells(fig), texts_outside_cells(fig)
     table_ax = next(a for a in fig.axes if a.tables)
     header, rows = pages.front_rows(answers)

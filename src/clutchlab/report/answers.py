@@ -402,6 +402,8 @@ def _front_panel(ax, ds, ox, oy, feas, rank, within, marks, lines):
         (~feas, 6, "0.75", "infeasible"),
         (feas & (rank > 0), 8, "tab:blue", "feasible"),
     ):
+        if not mask.any():  # (a mark in the legend only where it is drawn)
+            continue
         show = drawn(mask)
         ax.scatter(
             x[show],

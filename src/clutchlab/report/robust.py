@@ -295,8 +295,12 @@ def _front_panel(ax, ra) -> None:
     y = display.unit_of(ra, f"{which}_{oy}")(_flat(ra, f"{which}_{oy}"))
     feas = _flat(ra, "robust_feasible").astype(bool)
     rank = _flat(ra, "robust_rank")
-    ax.scatter(x[~feas], y[~feas], s=8, color="0.75", label="not robust")
-    ax.scatter(x[feas], y[feas], s=10, color="tab:blue", label="robust-feasible")
+    for mask, size, colour, label in (
+        (~feas, 8, "0.75", "not robust"),
+        (feas & (rank != 0), 10, "tab:blue", "robust-feasible"),  # (the front drawn below)
+    ):
+        if mask.any():  # (a mark in the legend only where it is drawn)
+            ax.scatter(x[mask], y[mask], s=size, color=colour, label=label)
     front = np.flatnonzero(rank == 0)
     front = front[np.argsort(x[front])]
     ax.plot(x[front], y[front], "o-", color="tab:red", ms=4, label="robust front")
