@@ -55,7 +55,7 @@ class ConfigError(ValueError):
     config at all, the file)."""
 
     def __init__(self, key: str, problem: str, what: str = "config key"):
-        self.key = key
+        self.key, self.problem = key, problem
         super().__init__(f"{what} '{key}': {problem}")
 
 
@@ -736,10 +736,9 @@ def _default_noise(study, out: dict, asked_by: str) -> dict:
         try:
             noise[p] = _noise(study, p, spec, out, f"{asked_by}.noise.{p}")
         except ConfigError as exc:
-            problem = str(exc).split("': ", 1)[1]
             raise ConfigError(
                 asked_by,
-                f"{_brought(study, p)}: {problem}; change the design's {p} or write the "
+                f"{_brought(study, p)}: {exc.problem}; change the design's {p} or write the "
                 "study's noise key",
             ) from None
     return noise
@@ -785,64 +784,15 @@ def _noise(study, p: str, spec: dict, out: dict, key: str) -> dict:
     if len(kinds) != 1 or ("min" in spec) != ("max" in spec):
         raise ConfigError(key, "give one of scatter: '±N %', relative: [lo, hi], or min and max")
     dist = spec.get("dist", "uniform")
-    if kinds[0] == "min":
-        if p in out["factors"]:
-            raise ConfigError(
-                key,
-                "absolute bounds make the parameter the noise itself, and it is a factor of the "
-                "design: give its scatter relative to the design's value (scatter or relative)",
-            )
-        lo = _quantity(spec["min"], param, f"{key}.min", finite=True)
-        hi = _quantity(spec["max"], param, f"{key}.max", finite=True)
-        if _bare_sd_beside_units(spec, param):
-            raise ConfigError(
-                f"{key}.sd",
-                f"a bare number ({spec['sd']!r}) beside bounds written with their unit: write "
-                "the sd's unit too (a bare number is SI)",
-            )
+    relative = kinds[0] != "min"
+    if relative:
+        lo, hi = _relative_bounds(spec, kinds[0], param, key)
+        conv = spread = lambda v, k: _relative(v, k)  # noqa: E731
+        _check_relative(param, out, lo, hi, key)
+    else:
+        lo, hi = _absolute_bounds(spec, param, p in out["factors"], key)
         conv = lambda v, k: _quantity(v, param, k, finite=True)  # noqa: E731
         spread = lambda v, k: _spread(v, param, k)  # noqa: E731
-        relative = False
-    else:
-        if kinds[0] == "scatter":
-            text = spec["scatter"]
-            m = _SCATTER.match(text) if isinstance(text, str) else None
-            if not m:
-                raise ConfigError(
-                    f"{key}.scatter", f"write it as '±N %' (e.g. '±20 %'), got {text!r}"
-                )
-            lo, hi = -float(m.group(1)) / 100.0, float(m.group(1)) / 100.0
-        else:
-            lo, hi = (_relative(v, f"{key}.relative[{i}]") for i, v in enumerate(spec["relative"]))
-        if lo <= -1.0:
-            raise ConfigError(
-                key,
-                f"a relative deviation below -100 % (got {lo:.4g}) changes the sign (write "
-                "fractions (-0.2) or percent ('-20 %'))",
-            )
-        bare = kinds[0] == "relative" and all(map(_bare_number, spec["relative"]))
-        if bare and lo >= 0.5:  # (bounds written as factors: [0.9, 1.0] would be +90 % to +100 %)
-            raise ConfigError(
-                key,
-                f"relative bounds are deviations from the design's value, not factors: "
-                f"{lo:.4g} to {hi:.4g} is {100 * lo:+.4g} % to {100 * hi:+.4g} %; as factors "
-                f"they are written [{lo - 1:.4g}, {hi - 1:.4g}], or in percent with their sign",
-            )
-        if hi > 1.0:
-            raise ConfigError(
-                key,
-                f"a relative deviation above +100 % (got {hi:.4g}, i.e. {100 * hi:.4g} %): write "
-                "fractions (0.2) or percent ('20 %'); give min and max for a wider range",
-            )
-        if param.kind == "absolute":
-            raise ConfigError(
-                key,
-                "a relative scatter of an absolute temperature depends on its scale (±20 % of "
-                "313 K is ±63 K, of 40 degC ±8 K): give min and max (e.g. 20 degC and 60 degC)",
-            )
-        conv = spread = lambda v, k: _relative(v, k)  # noqa: E731
-        relative = True
-        _check_relative(param, out, lo, hi, key)
     if not lo < hi:
         raise ConfigError(key, f"the lower bound ({lo:g}) must be below the upper ({hi:g})")
     return {
@@ -852,6 +802,67 @@ def _noise(study, p: str, spec: dict, out: dict, key: str) -> dict:
         "dist": dist,
         **_shape(spec, dist, lo, hi, conv, spread, key),
     }
+
+
+def _absolute_bounds(spec: dict, param, is_factor: bool, key: str) -> tuple[float, float]:
+    """A noise's min and max in SI (not on a design factor; a bare sd beside them refused where
+    their unit scales it otherwise)."""
+    if is_factor:
+        raise ConfigError(
+            key,
+            "absolute bounds make the parameter the noise itself, and it is a factor of the "
+            "design: give its scatter relative to the design's value (scatter or relative)",
+        )
+    lo = _quantity(spec["min"], param, f"{key}.min", finite=True)
+    hi = _quantity(spec["max"], param, f"{key}.max", finite=True)
+    if _bare_sd_beside_units(spec, param):
+        raise ConfigError(
+            f"{key}.sd",
+            f"a bare number ({spec['sd']!r}) beside bounds written with their unit: write "
+            "the sd's unit too (a bare number is SI)",
+        )
+    return lo, hi
+
+
+def _relative_bounds(spec: dict, kind: str, param, key: str) -> tuple[float, float]:
+    """A noise's bounds as fractions of the design's value (``kind`` scatter or relative):
+    within -100 % and +100 %, not factors written as bare numbers, not of an absolute
+    temperature."""
+    if kind == "scatter":
+        text = spec["scatter"]
+        m = _SCATTER.match(text) if isinstance(text, str) else None
+        if not m:
+            raise ConfigError(f"{key}.scatter", f"write it as '±N %' (e.g. '±20 %'), got {text!r}")
+        lo, hi = -float(m.group(1)) / 100.0, float(m.group(1)) / 100.0
+    else:
+        lo, hi = (_relative(v, f"{key}.relative[{i}]") for i, v in enumerate(spec["relative"]))
+    if lo <= -1.0:
+        raise ConfigError(
+            key,
+            f"a relative deviation below -100 % (got {lo:.4g}) changes the sign (write "
+            "fractions (-0.2) or percent ('-20 %'))",
+        )
+    bare = kind == "relative" and all(map(_bare_number, spec["relative"]))
+    if bare and lo >= 0.5:  # (bounds written as factors: [0.9, 1.0] would be +90 % to +100 %)
+        raise ConfigError(
+            key,
+            f"relative bounds are deviations from the design's value, not factors: "
+            f"{lo:.4g} to {hi:.4g} is {100 * lo:+.4g} % to {100 * hi:+.4g} %; as factors "
+            f"they are written [{lo - 1:.4g}, {hi - 1:.4g}], or in percent with their sign",
+        )
+    if hi > 1.0:
+        raise ConfigError(
+            key,
+            f"a relative deviation above +100 % (got {hi:.4g}, i.e. {100 * hi:.4g} %): write "
+            "fractions (0.2) or percent ('20 %'); give min and max for a wider range",
+        )
+    if param.kind == "absolute":
+        raise ConfigError(
+            key,
+            "a relative scatter of an absolute temperature depends on its scale (±20 % of "
+            "313 K is ±63 K, of 40 degC ±8 K): give min and max (e.g. 20 degC and 60 degC)",
+        )
+    return lo, hi
 
 
 _NUMBER_TEXT = re.compile(r"^\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*$")

@@ -94,7 +94,6 @@ _AMBIGUOUS = {
     "tonf": "a short ton-force or a tonne-force? write kN (or tf: tonne-force)",
     "ton_force": "a short ton-force or a tonne-force? write kN (or tf: tonne-force)",
     "hp": "a mechanical (745.7 W) or a metric (735.5 W) horsepower? write W or kW",
-    "horsepower": "a mechanical (745.7 W) or a metric (735.5 W) horsepower? write W or kW",
     "Nm": "Nm is not read as a newton metre: write N*m",
     "kNm": "kNm is not read as a kilonewton metre: write kN*m",
     "U": "U is read as the enzyme unit, not a revolution (U/min): write rpm or rev/min",

@@ -17,11 +17,13 @@ from ..explore import flat as _flat
 from ..explore import front_order, objective_table, pareto_rank, spread
 from .common import (
     A4_LANDSCAPE,
+    FRONTS_NAMED,
     SENSE_WORDS,
     constraints,
     drawn,
     drawn_note,
     fitted_table,
+    front_colour,
     wrap_name,
 )
 
@@ -426,20 +428,19 @@ def _front_panel(ax, ds, ox, oy, feas, rank, within, marks, lines):
         if within:
             label = (
                 ", ".join(_value_text(ds, w, v) for w, v in zip(within, combo, strict=False))
-                if j < 8
-                else (f"... {len(combos) - 8} more" if j == 8 else None)
+                if j < FRONTS_NAMED
+                else (f"... {len(combos) - FRONTS_NAMED} more" if j == FRONTS_NAMED else None)
             )
         else:
             label = "Pareto front"
-        # a colour each for the first 8 fronts (blue: feasible), one for all the others (under)
         ax.plot(
             x[members],
             y[members],
             "o-" if lines else "o",
             ms=4 if within or not lines else 5,
             label=label,
-            color=plt.cm.tab10(min(j + 1, 9)) if within else "tab:red",
-            zorder=2.5 if j < 8 else 2.2,
+            color=front_colour(j) if within else "tab:red",
+            zorder=2.5 if j < FRONTS_NAMED else 2.2,  # (the others' fronts under)
         )
     for i, label, colour in marks:
         if np.isfinite(x[i]) and np.isfinite(y[i]):

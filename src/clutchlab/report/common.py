@@ -15,6 +15,15 @@ A4_LANDSCAPE = (11.69, 8.27)
 # an objective's sense on an axis ("(min)" beside a unit reads as minutes)
 SENSE_WORDS = {"min": "minimised", "max": "maximised"}
 
+FRONTS_NAMED = 8  # fronts (one per operating condition) a legend names, each in a colour of its own
+
+
+def front_colour(j: int):
+    """The colour of the ``j``-th operating condition's front, the same on every page: one of
+    its own for each of the first :data:`FRONTS_NAMED` (not blue: the feasible designs'), one
+    for all the others."""
+    return plt.cm.tab10(min(j + 1, FRONTS_NAMED + 1))
+
 
 def with_curves(ds):
     """A sampled result that stores its per-scenario curves for a subset of scenarios (dimension

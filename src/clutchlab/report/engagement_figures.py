@@ -13,9 +13,11 @@ from ..explore import flat, unique_rows
 from .answers import _marks, _value_text
 from .common import (
     A4_LANDSCAPE,
+    FRONTS_NAMED,
     drawn,
     drawn_note,
     fixed_text,
+    front_colour,
     sampled_value_map,
     shown,
     shown_name,
@@ -89,7 +91,7 @@ def tradeoff(ds):
 
 def _fronts(ax, ds, within):
     """The stored fronts (feasible designs only), one per operating condition and noise draw
-    ranked within: a colour per operating condition (the first 8; the others share one), named
+    ranked within: a colour per operating condition (:func:`front_colour`), named
     once with its values in display units and the number of its draws' fronts."""
     front = _flat(ds, "pareto_rank") == 0
     conditions = [w for w in within if w != "noise"]
@@ -102,8 +104,12 @@ def _fronts(ax, ds, within):
         label = (
             ("Pareto front" + (f" at {where}" if conditions else " (feasible designs)"))
             + (f" ({len(draws)} noise draws' fronts)" if "noise" in within else "")
-            if k < 8
-            else (f"... {len(groups) - 8} more operating conditions" if k == 8 else None)
+            if k < FRONTS_NAMED
+            else (
+                f"... {len(groups) - FRONTS_NAMED} more operating conditions"
+                if k == FRONTS_NAMED
+                else None
+            )
         )
         for d, draw in enumerate(draws):
             members = np.flatnonzero(front & (key == draw).all(axis=1))
@@ -113,9 +119,9 @@ def _fronts(ax, ds, within):
                 _flat(ds, "peak_jerk")[members],
                 "-",
                 lw=1.5 if len(draws) == 1 else 0.8,
-                color=plt.cm.tab10(min(k + 1, 9)) if within else "r",  # (as the answers page)
+                color=front_colour(k) if within else "r",
                 label=label if d == 0 else None,
-                zorder=2.5 if k < 8 else 2.2,
+                zorder=2.5 if k < FRONTS_NAMED else 2.2,
             )
 
 

@@ -250,9 +250,7 @@ def _front_table(ax, header, rows) -> None:
     share = widths[-1] / sum(widths)
     line_in = 1.2 * TABLE_FONT / 72.0
     room_in = ax.get_position().height * ax.figure.get_figheight() - 4.6 * line_in
-    lines = 3 if len(rows) * 3.6 * line_in <= room_in else 2
-    if len(rows) * 2.6 * line_in > room_in:
-        lines = 1
+    lines = next((n for n in (3, 2) if len(rows) * (n + 0.6) * line_in <= room_in), 1)
 
     def cell(binding, where):
         if lines == 3:  # (where: the conditions, then the noise draw on a line of its own)
