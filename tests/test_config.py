@@ -1347,3 +1347,32 @@ def test_the_default_noise_is_named_at_the_key_that_made_the_study_robust(sectio
         "friction_coefficient": [0.45, 0.40],
     }
     _expect(raw, key, "cannot scatter with a friction_table")
+
+
+@pytest.mark.parametrize(
+    "name, bounds, unit",
+    [
+        ("load_torque", ("40 N*m", "50 N*m"), "N m"),
+        ("ambient_temperature", ("20 degC", "50 degC"), "K"),
+    ],
+)
+def test_a_percent_sd_beside_absolute_bounds_is_refused_saying_what_to_write(name, bounds, unit):
+    """`sd: '10 %'` beside min and max in the parameter's unit: a relative spread of an absolute
+    noise (it was told "'10 %' is a ratio, a count or an angle"); told to give sd in the unit."""
+    spec = {"dist": "normal", "sd": "10 %", "min": bounds[0], "max": bounds[1]}
+    raw = {
+        "studies": ["engagement"],
+        "engagement": {
+            "design": "factorial",
+            "parameters": {"ramp_time": {"values": ["0.1 s", "0.2 s"]}},
+            "noise": {name: spec},
+            "noise_samples": 4,
+        },
+    }
+    with pytest.raises(ConfigError) as err:
+        config.resolve(raw)
+    msg = str(err.value)
+    assert f"engagement.noise.{name}.sd" in msg and "relative spread beside absolute bounds" in msg
+    assert f"give sd in {unit}" in msg and "\n" not in msg
+    raw["engagement"]["noise"][name]["sd"] = "2 K" if unit == "K" else "2 N*m"
+    assert config.resolve(raw)["engagement"]["robust"]["noise"][name]["sd"] == pytest.approx(2.0)

@@ -58,7 +58,8 @@ def test_report_pages(tmp_path, design):
         and pdf.count(b"/Type /Page\n") + pdf.count(b"/Type /Page ") >= len(stems) - 1
     )
     rows = list(csv.DictReader(open(tmp_path / "report" / "validation.csv")))
-    assert len(rows) == 14 and all(r["passed"] == "yes" for r in rows)
+    # (the spring, damper, spline and capacity rows; the engagement's are the engagement study's)
+    assert len(rows) == 11 and all(r["passed"] == "yes" for r in rows)
     if design == "lhs":  # built again (elsewhere): the same bytes, the PDF's too
         two = report.build({"diaphragm_spring": spring}, [val], tmp_path / "two")
         assert [p.name for p in two] == [p.name for p in written]
@@ -667,8 +668,7 @@ def test_the_tradeoff_page_draws_a_colour_per_operating_condition_over_its_noise
     named = [ln.get_label() for ln in lines if not ln.get_label().startswith("_")]
     draws = ds.sizes["noise"]
     assert named == [
-        f"Pareto front at driven_inertia {j} kg·m² ({draws} noise draws' fronts)"
-        for j in ("0.021", "0.05")
+        f"Pareto front at driven_inertia {j} kg·m² ({draws} noise draws)" for j in ("0.021", "0.05")
     ]
     colours = {mcolors.to_hex(ln.get_color()) for ln in lines}
     assert len(lines) == 2 * draws and len(colours) == 2
@@ -703,4 +703,87 @@ def test_the_maps_page_shows_no_slip_work_where_an_engagement_never_locks():
     slip, lock = (np.ma.getmaskarray(ax.collections[0].get_array()) for ax in fig.axes[:2])
     assert slip.any() and (slip == lock).all()
     assert fig.axes[0].get_ylabel() == "clamp force from the spring design [kN]"
+    plt.close(fig)
+
+
+def test_an_axis_multiplier_goes_into_its_label():
+    """matplotlib prints a large axis' power of ten as a bare "1e6" at its end; it goes into the
+    axis label (before the unit, or as the unit of a dimensionless or unlabelled one) and the
+    ticks read 1-8. A small axis, an additive offset and an unlabelled axis are left alone."""
+    import matplotlib.pyplot as plt
+
+    from clutchlab.report.common import fold_multipliers
+
+    fig, axes = plt.subplots(1, 4)
+    labels = ("peak_jerk [rad/s³] (minimised)", "ratio [-]", "count", "")
+    for ax, label in zip(axes, labels, strict=True):
+        ax.plot([0, 1], [1e6, 8e6])
+        ax.set_ylabel(label)
+        ax.set_xlabel("time [ms]")
+    axes[2].plot([0, 1], [1e-7, 3e-6])  # (now 0 to 8e6: still a multiplier)
+    fold_multipliers(fig)
+    fig.canvas.draw()
+    assert [ax.get_ylabel() for ax in axes] == [
+        "peak_jerk [10⁶ rad/s³] (minimised)",
+        "ratio [10⁶]",
+        "count [10⁶]",
+        "",  # (no label to carry it: matplotlib's multiplier kept)
+    ]
+    assert all(ax.get_xlabel() == "time [ms]" for ax in axes)  # (0 to 1: none)
+    ticks = [t.get_text() for t in axes[0].get_yticklabels() if t.get_text()]
+    assert "8" in ticks and not axes[0].yaxis.get_offset_text().get_text()
+    assert axes[3].yaxis.get_offset_text().get_text()
+    fig2, ax = plt.subplots()
+    ax.plot([0, 1], [1000.001, 1000.002])  # an additive offset: kept as matplotlib writes it
+    ax.set_ylabel("speed [rpm]")
+    fold_multipliers(fig2)
+    assert ax.get_ylabel() == "speed [rpm]"
+    plt.close(fig)
+    plt.close(fig2)
+
+
+def test_an_answers_page_without_a_feasible_design_lists_the_nearest():
+    """Where no design meets every limit, the answers page's lower half was blank; it lists the
+    designs nearest to feasible (status ok first, then the largest least margin) with their
+    status and every constraint's margin, and its title says so."""
+    import matplotlib.pyplot as plt
+
+    from clutchlab.explore import flat
+    from clutchlab.report import answers
+    from clutchlab.report.common import texts_outside_cells
+
+    sec = resolve(
+        {
+            "studies": ["diaphragm_spring"],
+            "diaphragm_spring": {
+                "design": "factorial",
+                "parameters": {
+                    "sheet_thickness": {"min": "2.25 mm", "max": "2.4 mm", "num": 4},
+                    "cone_height_ratio": {"values": [1.45, 1.5, 1.55]},
+                },
+                "constraints": {"reserve_factor": {"min": 1.6}},
+            },
+        }
+    )["diaphragm_spring"]
+    ds = pipeline.run_study(sec)
+    assert not ds["feasible"].any()
+    order = answers.nearest_order(ds)
+    least = ds["constraint_margin"].min("constraint").values.reshape(-1)[order]
+    assert order.size == 12 and list(least) == sorted(least, reverse=True)
+    assert np.all(flat(ds, "status")[order] == 0)
+    fig = answers.page("diaphragm_spring", ds)
+    assert "table: the " in fig._suptitle.get_text().replace("\n", " ")
+    table = next(a for a in fig.axes if a.tables).tables[0]
+    cells = table.get_celld()
+    rows = 1 + max(r for r, _ in cells)
+    first = [cells[r, 0].get_text().get_text() for r in range(1, rows)]
+    assert first == ["ok"] * (rows - 1) and rows - 1 >= 5
+    head = [
+        cells[0, c].get_text().get_text().replace("\n", "")
+        for c in range(1 + max(c for _, c in cells))
+    ]
+    assert head[-1].startswith("reserve_") and "margin" in head[-1]
+    best = float(cells[1, len(head) - 1].get_text().get_text())
+    assert best == pytest.approx(float(least[0]), rel=1e-3)
+    assert not texts_outside_cells(fig), texts_outside_cells(fig)
     plt.close(fig)

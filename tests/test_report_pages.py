@@ -11,7 +11,13 @@ import numpy as np
 import pytest
 
 from clutchlab import config, explore, pipeline, report, store, studies, traces
-from clutchlab.report.common import texts_outside, texts_overprinted, texts_too_small
+from clutchlab.report.common import (
+    legends_over_data,
+    texts_outside,
+    texts_outside_cells,
+    texts_overprinted,
+    texts_too_small,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -152,6 +158,8 @@ def test_every_page_is_legible_and_shows_the_runs_design(which, tmp_path, monkey
         assert not texts_too_small(fig), (label, texts_too_small(fig)[:5])
         assert not texts_outside(fig), (label, texts_outside(fig))
         assert not texts_overprinted(fig), (label, texts_overprinted(fig))
+        assert not legends_over_data(fig), (label, legends_over_data(fig))
+        assert not texts_outside_cells(fig), (label, texts_outside_cells(fig))
     # the trace pages draw and name the design the run shows, one of its scenarios
     for name in names:
         ds = traces.attach(store.load(files[name]), store.load(trace_files[name]))

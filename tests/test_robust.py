@@ -506,16 +506,10 @@ def test_the_summary_of_a_robust_study_without_a_robust_design_says_so_once():
     assert best.count("no robust design") == 0
 
 
-def test_the_robust_page_names_its_conditions_legibly_and_where_each_design_binds():
-    """Twelve operating conditions: their two-line names would overprint side by side, so one
-    in k is named (the title says so); the front table shows where each design binds, the noise
-    draw on a line of its own where the rows fit (it was cut to "[...]")."""
-    import matplotlib.pyplot as plt
-
-    from clutchlab.report import robust as pages
-    from clutchlab.report.common import texts_outside, texts_outside_cells
-
-    sec = resolve(
+def _twelve_conditions():
+    """A robust engagement study of twelve operating conditions (3 inertias × 4 loads), four
+    designs and two noise samples of μ (with the corners, six draws)."""
+    return resolve(
         {
             "studies": ["engagement"],
             "engagement": {
@@ -532,7 +526,18 @@ def test_the_robust_page_names_its_conditions_legibly_and_where_each_design_bind
             },
         }
     )["engagement"]
-    answers = explore.robust(_run(sec))
+
+
+def test_the_robust_page_names_its_conditions_legibly_and_where_each_design_binds():
+    """Twelve operating conditions: their two-line names would overprint side by side, so one
+    in k is named (the title says so); the front table shows where each design binds, the noise
+    draw on a line of its own where the rows fit (it was cut to "[...]")."""
+    import matplotlib.pyplot as plt
+
+    from clutchlab.report import robust as pages
+    from clutchlab.report.common import texts_outside, texts_outside_cells
+
+    answers = explore.robust(_run(_twelve_conditions()))
     fig = pages.page("engagement", answers)
     fig.canvas.draw()
     ax = next(a for a in fig.axes if a.get_title().startswith("best robust design at each"))
@@ -559,4 +564,49 @@ def test_the_robust_page_names_its_conditions_legibly_and_where_each_design_bind
         if lines == 3:  # the noise draw whole on its own line
             assert all(t.endswith("friction_coefficient -20.0 %") for t in texts), texts
         ax.remove()
+    plt.close(fig)
+
+
+def test_the_answers_page_of_a_robust_study_gives_each_noise_draw_by_its_deviation():
+    """The answers page's front table gave a robust result's noise draw by its index ("noise [-]",
+    0-5: it read as a value); it gives the draw's deviation of μ in % (the CSV the index too).
+    The fronts' legend is beside the panel (inside it hid the fronts), the designs beyond the
+    axes are counted in it (a note on the panel printed over points and the star), the table
+    shows the rows that fit (they were squeezed until their text overprinted), and the jerk axis
+    carries its power of ten in its label (a bare "1e6" at its end)."""
+    import matplotlib.pyplot as plt
+
+    from clutchlab.report import answers as page
+    from clutchlab.report.common import (
+        fold_multipliers,
+        legends_over_data,
+        texts_outside,
+        texts_outside_cells,
+        texts_overprinted,
+    )
+
+    sec = _twelve_conditions()
+    ds = explore.annotate(_run(sec), sec["objectives"], sec["constraints"])
+    header, rows = page.front_rows(ds)
+    i = header.index("noise [-]")
+    assert header[i + 1] == "friction_coefficient_noise [%]"
+    deviation = ds["friction_coefficient_noise"].values
+    assert {round(r[i]) for r in rows} > {0, 1}  # (corners and samples among the front's draws)
+    for r in rows:
+        assert r[i + 1] == pytest.approx(100 * deviation[round(r[i])], rel=1e-12)
+    shown_header, _ = page.front_rows(ds, typeset=True)
+    assert "noise [-]" not in shown_header and "friction_coefficient_noise [%]" in shown_header
+    fig = page.page("engagement", ds)
+    fold_multipliers(fig)
+    front = next(a for a in fig.axes if a.get_xlabel().startswith("slip_work"))
+    assert front.get_legend() is None and not front.texts
+    assert front.get_ylabel().startswith("peak_jerk [10⁶ rad/s³]")
+    assert not front.yaxis.get_offset_text().get_text()
+    table = next(a for a in fig.axes if a.tables)
+    texts = [c.get_text().get_text() for c in table.tables[0].get_celld().values()]
+    assert any("noise" in t and "[%]" in t for t in texts)
+    assert not any(t.startswith("noise") for t in texts)
+    assert not legends_over_data(fig), legends_over_data(fig)
+    assert not texts_outside(fig) and not texts_overprinted(fig)
+    assert not texts_outside_cells(fig), texts_outside_cells(fig)
     plt.close(fig)

@@ -896,6 +896,18 @@ def _spread(value, param, key) -> float:
     temperature as a difference ("5 degC" is 5 K), finite and of plausible magnitude, but not
     held to the parameter's own bounds (an sd of 0.1 for a ratio ≥ 1)."""
     kind = "difference" if param.units == "K" else param.unit_kind
+    if param.units != "1" and isinstance(value, str) and ("%" in value or "percent" in value):
+        other = (
+            " (a temperature difference: K or degC)"
+            if param.units == "K"
+            else " (or another unit of it), or the noise relative (relative: ['-N %', 'N %'] or "
+            "scatter: '±N %') with sd in %"
+        )
+        raise ConfigError(
+            key,
+            f"got {value!r}, a relative spread beside absolute bounds (min and max): give sd in "
+            f"{param.units}{other}",
+        )
     try:
         v = to_si(value, param.units, kind)
     except UnitError as exc:

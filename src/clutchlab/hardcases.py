@@ -76,6 +76,12 @@ def _f(x) -> float:
     return float(np.ravel(x)[0])
 
 
+def _num(x, fmt="g") -> str:
+    """The first value of ``x`` as text, NaN spelled as the pages spell it."""
+    v = _f(x)
+    return "NaN" if np.isnan(v) else format(v, fmt)
+
+
 def engagement_cases() -> list[Case]:
     """The engagement solver's hard cases, each against its right answer.
 
@@ -160,10 +166,10 @@ def _never_locking() -> Case:
     sim = eng.simulate(**dict(SEED, load_torque=300.0), ramp_time=0.15, t_end=0.4)
     return Case(
         "engagement",
-        "never locking (load 300 N m above the 239.3 N m capacity)",
+        "never locking (load 300 N·m above the 239.3 N·m capacity)",
         f"status never_locked, lock-up NaN, slip work ω ∫C dt = {right:.10g} J",
         "analytic (the driven side never moves)",
-        f"{_name(sim['status'])}, lock-up {_f(sim['lockup_time'])}, slip work {_f(sim['slip_work']):.10g} J",
+        f"{_name(sim['status'])}, lock-up {_num(sim['lockup_time'])}, slip work {_f(sim['slip_work']):.10g} J",
         abs(_f(sim["slip_work"]) - right) / right,
         1e-10,
         _name(sim["status"]) == "never_locked" and np.isnan(_f(sim["lockup_time"])),
@@ -187,7 +193,7 @@ def _breakaway_and_relock() -> Case:
     sim = eng.simulate(**SEED, ramp_time=0.5, load_step=150.0, load_step_time=0.35, t_end=1.5)
     return Case(
         "engagement",
-        "break-away after lock-up and re-lock (load step 150 N m at 0.35 s)",
+        "break-away after lock-up and re-lock (load step 150 N·m at 0.35 s)",
         f"break-away at 0.35 s, re-lock at {relock:.12g} s",
         "exact integral of the driven side's equation, brentq at xtol 1e-14",
         f"break-away {_f(sim['breakaway_time']):.12g} s, re-lock {_f(sim['lockup_time']):.12g} s",
@@ -206,7 +212,7 @@ def _tiny_driven_inertia() -> Case:
     sim = eng.simulate(**kw, ramp_time=0.15, t_end=0.3)
     return Case(
         "engagement",
-        "tiny driven inertia (1e-6 kg m²)",
+        "tiny driven inertia (1e-6 kg·m²)",
         f"lock-up {right:.12g} s",
         "closed form",
         f"{_f(sim['lockup_time']):.12g} s in {int(sim['n_steps'])} steps",
@@ -226,7 +232,7 @@ def _zero_initial_slip() -> Case:
         "engagement",
         "zero initial slip (driven at engine speed, full clamp)",
         "stuck from t = 0: lock-up 0 s",
-        "capacity 239.3 N m carries the 44 N m needed (never sign(0))",
+        "capacity 239.3 N·m carries the 44 N·m needed (never sign(0))",
         f"{_f(sim['lockup_time']):g} s, {_name(sim['status'])}",
         abs(_f(sim["lockup_time"])),
         0.0,
@@ -251,7 +257,7 @@ def _held_engine_at_rest() -> Case:
     sim = eng.simulate(t_end=0.5, **kw)
     return Case(
         "engagement",
-        "held engine at rest (0 rad/s, load 5 N m)",
+        "held engine at rest (0 rad/s, load 5 N·m)",
         f"lock-up where C(t) = T_m: {right:.12g} s, slip work 0",
         "analytic",
         f"{_f(sim['lockup_time']):.12g} s, slip work {_f(sim['slip_work']):g} J",
@@ -428,7 +434,7 @@ def centrifugal_cases() -> list[Case]:
                 what,
                 f"status {right}" + (", capacity NaN" if want_nan else ", capacity kept (exact)"),
                 "paper 001 eq. 1: M ∝ 1/(1 - f tan α); friction scatter 25 % (assumed)",
-                f"{_name(code)}, M = {_f(fwd):.6g} N m",
+                f"{_name(code)}, M = {_num(fwd, '.6g')} N·m",
                 np.nan,
                 0.0,
                 _name(code) == right and bool(np.isnan(_f(fwd))) == want_nan,
@@ -450,7 +456,7 @@ def diaphragm_cases() -> list[Case]:
             "monotone spring (H/h = √2)",
             "status monotone_no_hump, no points A/C/D",
             "Almen-László: a hump only for H/h > √2",
-            f"{_name(pts['status'])}, load_A {_f(pts['load_A'])}",
+            f"{_name(pts['status'])}, load_A {_num(pts['load_A'])}",
             np.nan,
             0.0,
             _name(pts["status"]) == "monotone_no_hump" and bool(np.isnan(_f(pts["load_A"]))),
@@ -465,10 +471,10 @@ def sprag_cases() -> list[Case]:
     return [
         Case(
             "sprag",
-            "sprag roll-over (5× compliance, 5000 N m)",
+            "sprag roll-over (5× compliance, 5000 N·m)",
             "status roll_over, no stresses (the loaded races open past the sprag's reach)",
             "paper 002 geometry: no gripping angle solves the deflected contact",
-            f"{_name(r['status'][1])}, V {r['V'][1]}; at 300 N m: {_name(r['status'][0])}",
+            f"{_name(r['status'][1])}, V {_num(r['V'][1])}; at 300 N·m: {_name(r['status'][0])}",
             np.nan,
             0.0,
             _name(r["status"][1]) == "roll_over"

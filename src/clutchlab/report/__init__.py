@@ -25,6 +25,7 @@ from ..robust import front_view as robust_front_view  # noqa: E402
 from ..validation import to_csv  # noqa: E402
 from . import answers  # noqa: E402
 from .common import (  # noqa: E402
+    fold_multipliers,
     hard_case_table,
     summary_layout,
     title_page,
@@ -608,6 +609,7 @@ def _write_pages(pages, outdir, pdf_file, title, dpi) -> None:
             # (a table's figure: its one tall PNG; its PDF pages are figures of their own)
             fig = page.draw()
             _wrap_suptitle(fig)
+            fold_multipliers(fig)
             with store.atomic(outdir / f"{page.stem}.png") as tmp:
                 fig.savefig(tmp, dpi=dpi, metadata={"Software": None}, format="png")
             if page.pdf_pages is None:

@@ -24,6 +24,7 @@ from .common import (
     drawn_note,
     fitted_table,
     front_colour,
+    table_rows_fitting,
     wrap_name,
 )
 
@@ -43,27 +44,38 @@ def _outputs(ds) -> tuple[list[str], list[str]]:
     return objectives, [c for c in constrained if c not in objectives]
 
 
-def front_rows(ds, typeset=False) -> tuple[list[str], list[list]]:
-    """Header and rows of the front's designs (at most ``MAX_ROWS``, spread along the first
+def front_rows(ds, typeset=False, max_rows=MAX_ROWS) -> tuple[list[str], list[list]]:
+    """Header and rows of the front's designs (at most ``max_rows``, spread along the first
     objective, per operating condition where the ranks are): factor values, objectives, the other
     constrained outputs and every constraint's margin, in the units engineers read (the header
     names each column's unit as a config writes it, ``sheet_thickness [mm]``, or typeset for a
-    page, ``N·m``; :mod:`clutchlab.display`); an option drawn per scenario by its choice."""
+    page, ``N·m``; :mod:`clutchlab.display`); an option drawn per scenario by its choice. A robust
+    result's noise draw is given by its deviations (``friction_coefficient_noise [%]``) after the
+    draw's index, which a page leaves out."""
+    return design_rows(ds, spread(front_order(ds), max_rows), typeset)
+
+
+def design_rows(ds, front, typeset=False) -> tuple[list[str], list[list]]:
+    """Header and rows of the designs at flat indices ``front`` (:func:`front_rows`)."""
     objectives, constrained = _outputs(ds)
     names = factors(ds)
     options = {
         o: ds[o].attrs["flag_meanings"].split() for o in ds.attrs.get("option_factors", "").split()
     }
-    front = spread(front_order(ds), MAX_ROWS)
+    draws = _noise_draws(ds)
+    at = names.index("noise") + 1 if draws else len(names)
+    names = names[:at] + list(draws) + names[at:]
+    if typeset and draws:
+        names.remove("noise")
     columns = names + objectives + constrained
-    units = {n: display.unit_of(ds, n) for n in columns}
+    units = {n: draws[n][1] if n in draws else display.unit_of(ds, n) for n in columns}
     header = [
         n
         if n in options
         else (f"{n} [{units[n].label}]" if typeset else display.column(n, units[n]))
         for n in columns
     ]
-    values = {n: _flat(ds, n) for n in columns}
+    values = {n: draws[n][0] if n in draws else _flat(ds, n) for n in columns}
     rows = [
         [
             options[n][int(values[n][i])] if n in options else float(units[n](values[n][i]))
@@ -77,6 +89,21 @@ def front_rows(ds, typeset=False) -> tuple[list[str], list[list]]:
         header += [f"{c}_constraint_margin [-]" for c in ds["constraint"].values]
         rows = [r + [float(m) for m in margins[:, i]] for r, i in zip(rows, front, strict=True)]
     return header, rows
+
+
+def _noise_draws(ds) -> dict:
+    """A robust result's noise deviations: ``<param>_noise`` -> (its value at each flat scenario,
+    SI or relative; its display unit: % where relative); empty without a noise dimension."""
+    if "noise" not in ds.dims:
+        return {}
+    draw = _flat(ds, "noise").astype(np.int64)
+    out = {}
+    for v in ds.data_vars:
+        if v.endswith("_noise") and ds[v].dims == ("noise",):
+            relative = bool(ds[v].attrs.get("relative"))
+            unit = display.Unit("%", "%", 100.0) if relative else display.unit_of(ds, v)
+            out[v] = (ds[v].values[draw], unit)
+    return out
 
 
 def _value_text(ds, name, v) -> str:
@@ -247,7 +274,7 @@ def page(name, ds):
         0.64, top + 0.012, _front_caption(ds, objectives, groups, crossed), fontsize=8,
         ha="center", va="bottom",
     )  # fmt: skip
-    _front_table(ax_t, ds)
+    n_rows = _front_table(ax_t, ds)
     life = life_text(ds)
     if life:  # the best design over its life (wear allowance, lining life, engagement rate)
         fig.text(0.06, 0.925, textwrap.shorten("best design over its life: " + life, 190),
@@ -257,12 +284,14 @@ def page(name, ds):
     title = (
         f"Design answers, study '{name}': {int(feas.sum())} of {n} {what} feasible "
         f"({100 * feas.mean():.0f} %), {int((rank == 0).sum())} on the Pareto front"
-        + (
-            f" (table: up to {MAX_ROWS} spread along it; {name}_pareto.csv)"
-            if (rank == 0).any()
-            else ""
-        )
     )
+    if (rank == 0).any():
+        title += f" (table: {n_rows} spread along it; {name}_pareto.csv)"
+    elif n_rows:
+        title += (
+            f"; table: the {n_rows} nearest to feasible (status ok first, then the largest "
+            "least margin; a margin < 0 fails)"
+        )
     fig.suptitle(textwrap.fill(title, 120), fontsize=11)
     return fig
 
@@ -285,11 +314,14 @@ def _front_panels(fig, cell_spec, ds, objectives, feas, rank, groups, crossed):
     pairs = (
         list(itertools.combinations(outs, 2))[:6] if len(outs) > 2 else [tuple((outs + outs)[:2])]
     )
-    cell = (
-        cell_spec.subgridspec(1, 1)
-        if len(pairs) == 1
-        else cell_spec.subgridspec(2, -(-(len(pairs) + 1) // 2), wspace=0.75, hspace=0.6)
-    )
+    # the legend in a cell of its own: beside the one panel (inside it hid designs, the fronts of
+    # the operating conditions named most), or the free one among the projections
+    beside = len(pairs) == 1
+    if beside:  # (wider where it names the fronts)
+        ratios = [1.75 if groups else 2.6, 1.0]
+        cell = cell_spec.subgridspec(1, 2, width_ratios=ratios, wspace=0.05)
+    else:
+        cell = cell_spec.subgridspec(2, -(-(len(pairs) + 1) // 2), wspace=0.75, hspace=0.6)
     sense = dict(o.split(":") for o in objectives)
     marks = _marks(ds)
     for k, (ox, oy) in enumerate(pairs):
@@ -303,13 +335,14 @@ def _front_panels(fig, cell_spec, ds, objectives, feas, rank, groups, crossed):
         ax.xaxis.get_offset_text().set_fontsize(8)
         ax.yaxis.get_offset_text().set_fontsize(8)
     handles, labels = ax.get_legend_handles_labels()
-    if len(pairs) > 1:  # the legend in the free cell
-        k = len(pairs)
-        lax = fig.add_subplot(cell[k % 2, k // 2])
-        lax.set_axis_off()
-        lax.legend(handles, labels, fontsize=8, loc="center", title="front at" if groups else None)
-    else:
-        ax.legend(fontsize=8, title="front at" if groups else None, title_fontsize=8)
+    k = len(pairs)
+    lax = fig.add_subplot(cell[0, 1] if beside else cell[k % 2, k // 2])
+    lax.set_axis_off()
+    labels = [textwrap.fill(t, 34 if groups else 24) for t in labels] if beside else labels
+    lax.legend(
+        handles, labels, fontsize=8, loc="upper left" if beside else "center",
+        title="front at" if groups else None, title_fontsize=8,
+    )  # fmt: skip
 
 
 def _front_caption(ds, objectives, groups, crossed) -> str:
@@ -342,19 +375,61 @@ def _front_caption(ds, objectives, groups, crossed) -> str:
 
 def _front_table(ax, ds):
     """The front's designs as a table (the first columns of ``<study>_pareto.csv``: factors and
-    objectives, display units), or a sentence where the run has no feasible design."""
+    objectives, display units; as many rows as fit the axes, spread along the front), or a
+    sentence where the run has no feasible design. Returns the rows shown."""
     header, rows = front_rows(ds, typeset=True)
     ax.set_axis_off()
-    objectives, constrained = _outputs(ds)
-    k = len(factors(ds)) + len(objectives)  # the CSV also has the constraints' outputs, margins
+    objectives, _ = _outputs(ds)
+    draws = len(_noise_draws(ds))
+    # the CSV also has the constraints' outputs, margins (and a robust result's draw index)
+    k = len(factors(ds)) + (draws - 1 if draws else 0) + len(objectives)
+    fitting = max(table_rows_fitting(ax, header[:k]), 2)
     if not rows:
-        ax.text(
-            0.5, 0.5, "no feasible design: no front (the bars above say what fails)",
-            ha="center", va="center", fontsize=10, transform=ax.transAxes,
-        )  # fmt: skip
-        return
+        return _nearest_table(ax, ds, fitting - 1)
+    if len(rows) > fitting:
+        header, rows = front_rows(ds, typeset=True, max_rows=fitting)
     cells = [[_text(v, ".4g") for v in r[:k]] for r in rows]
     fitted_table(ax, header[:k], cells)
+    return len(rows)
+
+
+def nearest_order(ds) -> np.ndarray:
+    """Flat indices of the scenarios nearest to feasible, where none is: those whose status is
+    ok first, each group the largest least constraint margin first (the scenarios whose margins
+    are all known). The designs to change, and how far."""
+    if "constraint_margin" not in ds:
+        return np.zeros(0, dtype=np.int64)
+    margins = ds["constraint_margin"].transpose("constraint", *ds["status"].dims).values
+    least = np.min(margins.reshape(margins.shape[0], -1), axis=0)  # (NaN where one is unknown)
+    known = np.flatnonzero(np.isfinite(least))
+    failed = _flat(ds, "status")[known] != st.CODE["ok"]
+    return known[np.lexsort((-least[known], failed))]
+
+
+def _nearest_table(ax, ds, n) -> int:
+    """Where no design is feasible: the ``n`` nearest to it (:func:`nearest_order`) as a table,
+    with their status and every constraint's margin (< 0 where it fails; the page's title says
+    so). Returns the rows shown."""
+    near = nearest_order(ds)[:n]
+    if not near.size:
+        ax.text(
+            0.5, 0.5, "no feasible design, none with every constraint's output known: no front "
+            "(the bars above say what fails)", ha="center", va="center", fontsize=10,
+            transform=ax.transAxes,
+        )  # fmt: skip
+        return 0
+    header, rows = design_rows(ds, near, typeset=True)
+    # factors, objectives and margins (the constrained outputs' values are in the CSV)
+    _, constrained = _outputs(ds)
+    keep = [j for j, h in enumerate(header) if h.split(" [")[0] not in constrained]
+    head = ["status"] + [header[j].replace("_constraint_margin [-]", " margin [-]") for j in keep]
+    codes = _flat(ds, "status")[near]
+    cells = [
+        [st.FLAGS.get(int(c), str(c))] + [_text(r[j], ".4g") for j in keep]
+        for c, r in zip(codes, rows, strict=True)
+    ]
+    fitted_table(ax, head, cells, widths=[1.8] + [1.0] * len(keep))  # (a status is long)
+    return len(rows)
 
 
 def _marks(ds, slice_only=False) -> list:
@@ -400,6 +475,7 @@ def _front_panel(ax, ds, ox, oy, feas, rank, within, marks, lines):
     a projection) and the marked designs."""
     ux, uy = display.unit_of(ds, ox), display.unit_of(ds, oy)
     x, y = ux(_flat(ds, ox)), uy(_flat(ds, oy))
+    dots = {}
     for mask, size, colour, label in (
         (~feas, 6, "0.75", "infeasible"),
         (feas & (rank > 0), 8, "tab:blue", "feasible"),
@@ -407,7 +483,7 @@ def _front_panel(ax, ds, ox, oy, feas, rank, within, marks, lines):
         if not mask.any():  # (a mark in the legend only where it is drawn)
             continue
         show = drawn(mask)
-        ax.scatter(
+        dots[label] = ax.scatter(
             x[show],
             y[show],
             s=size if mask.size < 2000 else 3,
@@ -445,16 +521,20 @@ def _front_panel(ax, ds, ox, oy, feas, rank, within, marks, lines):
     for i, label, colour in marks:
         if np.isfinite(x[i]) and np.isfinite(y[i]):
             ax.plot(x[i], y[i], "*", ms=16 if lines else 11, mfc=colour, mec="k", label=label)
-    _feasible_limits(ax, x, y, feas)
+    out = _feasible_limits(ax, x, y, feas)
+    if out and "infeasible" in dots:  # (said in the legend: a note on the panel hid points)
+        label, beyond = dots["infeasible"].get_label(), f"{out} beyond the axes"
+        label = f"{label[:-1]}; {beyond})" if label.endswith(")") else f"{label} ({beyond})"
+        dots["infeasible"].set_label(label)
     ax.grid(alpha=0.3)
 
 
-def _feasible_limits(ax, x, y, feas):
+def _feasible_limits(ax, x, y, feas) -> int:
     """Axis ranges from the feasible designs (5 % margin), so that a few far infeasible designs do
-    not squeeze the front into a corner; the designs left outside are counted on the panel."""
+    not squeeze the front into a corner. Returns how many designs are left outside."""
     ok = feas & np.isfinite(x) & np.isfinite(y)
     if not ok.any():
-        return
+        return 0
     box = []
     for v, setter, scale in ((x, ax.set_xlim, ax.get_xscale()), (y, ax.set_ylim, ax.get_yscale())):
         lo, hi = float(v[ok].min()), float(v[ok].max())
@@ -462,15 +542,11 @@ def _feasible_limits(ax, x, y, feas):
         if scale == "linear":
             setter(lo - pad, hi + pad)
             box.append((lo - pad, hi + pad))
-    if len(box) == 2:
-        (x0, x1), (y0, y1) = box
-        finite = np.isfinite(x) & np.isfinite(y)
-        out = int((finite & ((x < x0) | (x > x1) | (y < y0) | (y > y1))).sum())
-        if out:
-            ax.text(
-                0.99, 0.01, f"{out} infeasible designs beyond the axes", transform=ax.transAxes,
-                ha="right", va="bottom", fontsize=8, color="0.35",
-            )  # fmt: skip
+    if len(box) < 2:
+        return 0
+    (x0, x1), (y0, y1) = box
+    finite = np.isfinite(x) & np.isfinite(y)
+    return int((finite & ((x < x0) | (x > x1) | (y < y0) | (y > y1))).sum())
 
 
 def sensitivity_page(name, se):

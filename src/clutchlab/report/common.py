@@ -541,7 +541,7 @@ def hard_case_table(ds) -> Table:
         f"Hard cases: {n_pass} of {ds.sizes['case']} pass (computed in this run; hard_cases.csv)",
         cols,
         rows,
-        [0.07, 0.13, 0.16, 0.11, 0.16, 0.065, 0.04, 0.035, 0.19],
+        [0.08, 0.13, 0.16, 0.11, 0.16, 0.065, 0.04, 0.035, 0.18],  # (a study name on one line)
     )
 
 
@@ -614,12 +614,9 @@ def shortened_to(ax, text, share, fontsize) -> str:
     return "\n".join(out)
 
 
-def fitted_table(ax, header, cells, widths=None, fontsize=8.0):
-    """A table across the width of ``ax``, from its top: the column names wrapped to their
-    column (:func:`wrap_name`; ``widths`` relative, default equal), the header row as tall as
-    the most wrapped one, each row its cells' lines of text and 0.6 more, or its share of what
-    is left of the axes — a short table is not stretched over its axes, a long one never runs
-    past them. Returns the matplotlib table."""
+def _table_frame(ax, header, widths, fontsize):
+    """A table's frame on ``ax``: (the axes' height [in], relative column widths, the column
+    names wrapped to their columns, a line's height [in], the header row's height [in])."""
     axes_h = ax.get_position().height * ax.figure.get_figheight()
     widths = np.ones(len(header)) if widths is None else np.asarray(widths, dtype=float)
     widths = widths / widths.sum()
@@ -627,6 +624,23 @@ def fitted_table(ax, header, cells, widths=None, fontsize=8.0):
     labels = [wrap_name(h, n) for h, n in zip(header, chars, strict=True)]
     line_in = 1.2 * fontsize / 72.0
     head_in = (max(label.count("\n") for label in labels) + 1.6) * line_in
+    return axes_h, widths, labels, line_in, head_in
+
+
+def table_rows_fitting(ax, header, widths=None, fontsize=8.0) -> int:
+    """How many rows of one line :func:`fitted_table` draws on ``ax`` at full height (more
+    would be shrunk until their text overprints)."""
+    axes_h, _, _, line_in, head_in = _table_frame(ax, header, widths, fontsize)
+    return max(int((axes_h - head_in) / (1.6 * line_in)), 0)
+
+
+def fitted_table(ax, header, cells, widths=None, fontsize=8.0):
+    """A table across the width of ``ax``, from its top: the column names wrapped to their
+    column (:func:`wrap_name`; ``widths`` relative, default equal), the header row as tall as
+    the most wrapped one, each row its cells' lines of text and 0.6 more, or its share of what
+    is left of the axes — a short table is not stretched over its axes, a long one never runs
+    past them. Returns the matplotlib table."""
+    axes_h, widths, labels, line_in, head_in = _table_frame(ax, header, widths, fontsize)
     # each row as tall as its most wrapped cell, all shrunk alike where they would run past the axes
     rows_in = np.array([(max(str(c).count("\n") for c in row) + 1.6) * line_in for row in cells])
     if rows_in.sum() > axes_h - head_in:
@@ -741,6 +755,7 @@ def texts_outside(fig) -> list[str]:
 
     from matplotlib.text import Text
 
+    fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
     ticks = set()
     for ax in fig.axes:
@@ -926,3 +941,92 @@ def drawn(mask_or_n) -> np.ndarray:
 def drawn_note(n: int) -> str:
     """'' or the page's note that a subset of the designs is drawn."""
     return "" if n <= DRAW_MAX else f" ({DRAW_MAX} of {n} designs drawn, chosen at random)"
+
+
+_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def fold_multipliers(fig) -> None:
+    """Put each labelled linear axis' power-of-ten multiplier into its label: ``peak_jerk
+    [10⁶ rad/s³]`` and ticks 1-8, where matplotlib prints a bare "1e6" at the axis' end, which
+    reads past (or as a tick). An additive offset is left as it is."""
+    import math
+
+    from matplotlib.ticker import FuncFormatter, ScalarFormatter
+
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            fmt, label = axis.get_major_formatter(), axis.get_label_text()
+            if not (label and isinstance(fmt, ScalarFormatter) and axis.get_scale() == "linear"):
+                continue
+            lo, hi = sorted(axis.get_view_interval())
+            locs = [v for v in axis.get_majorticklocs() if lo <= v <= hi and v != 0]
+            fmt.set_locs(locs)
+            if not locs or not fmt.get_offset() or fmt.offset != 0:
+                continue  # (no multiplier, or an additive offset)
+            exp = math.floor(math.log10(max(abs(v) for v in locs)))
+            power = "10" + str(exp).translate(_SUPERSCRIPT)
+            if "[-]" in label:
+                label = label.replace("[-]", f"[{power}]", 1)
+            elif "[" in label:
+                label = label.replace("[", f"[{power} ", 1)
+            else:
+                label = f"{label} [{power}]"
+            axis.set_label_text(label)
+            axis.set_major_formatter(FuncFormatter(lambda v, _, e=exp: f"{v / 10.0**e:g}"))
+
+
+def legend_clear_of_data(fig, ax, most_inside=4) -> None:
+    """The legend of a page's one panel: inside it (upper right) with at most ``most_inside``
+    entries, else under the panel in two columns, the panel shortened to make room (a long
+    legend inside hid the data)."""
+    handles, labels = ax.get_legend_handles_labels()
+    if len(handles) <= most_inside:
+        ax.legend(loc="upper right", fontsize=8)
+        return
+    rows = -(-len(handles) // 2)
+    line = 1.45 * 8 / 72 / fig.get_figheight()  # a legend row, as a share of the page
+    fig.subplots_adjust(bottom=0.1 + rows * line)
+    fig.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 0.01), ncol=2, fontsize=8)
+
+
+def legends_over_data(fig, most=0) -> list[tuple[str, int]]:
+    """The legends of a figure that cover plotted data: (its first entry, how many of the data
+    points drawn under it, of the curves of three points or more and the scattered markers of
+    every axes it overlaps), for each that covers more than ``most``."""
+    import numpy as np
+    from matplotlib.collections import PathCollection
+
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    legends = [a.get_legend() for a in fig.axes if a.get_legend() is not None] + list(fig.legends)
+    out = []
+    for legend in legends:
+        box = legend.get_window_extent(renderer).padded(-2.0)
+        covered = 0
+        for ax in fig.axes:
+            frame = ax.get_window_extent(renderer)
+            if not (ax.get_visible() and ax.axison and frame.overlaps(box)):
+                continue
+            points = [
+                line.get_transform().transform(line.get_xydata())
+                for line in ax.get_lines()
+                if line.get_visible() and len(line.get_xdata()) >= 3
+            ] + [
+                c.get_offset_transform().transform(c.get_offsets())
+                for c in ax.collections
+                if isinstance(c, PathCollection) and c.get_visible() and len(c.get_offsets())
+            ]
+            for xy in points:
+                xy = xy[np.isfinite(xy).all(axis=1)]
+                inside = _within(xy, frame) & _within(xy, box)
+                covered += int(inside.sum())
+        if covered > most:
+            texts = legend.get_texts()
+            out.append((texts[0].get_text() if texts else "", covered))
+    return out
+
+
+def _within(xy, box):
+    """Which display points ``xy`` (n × 2) lie inside the bounding box ``box``."""
+    return (xy[:, 0] >= box.x0) & (xy[:, 0] <= box.x1) & (xy[:, 1] >= box.y0) & (xy[:, 1] <= box.y1)

@@ -18,6 +18,7 @@ from .common import (
     drawn_note,
     fixed_text,
     front_colour,
+    legend_clear_of_data,
     sampled_value_map,
     shown,
     shown_name,
@@ -85,7 +86,7 @@ def tradeoff(ds):
     model = "model: " + ds.attrs.get("model_used", ds.attrs.get("model", ""))
     ax.set_title("\n".join(textwrap.wrap(title, 110) + textwrap.wrap(model, 110)), fontsize=10)
     ax.grid(alpha=0.3, which="both")
-    ax.legend(loc="upper right", fontsize=8)
+    legend_clear_of_data(fig, ax)
     return fig
 
 
@@ -103,7 +104,7 @@ def _fronts(ax, ds, within):
         where = ", ".join(_value_text(ds, c, v) for c, v in zip(conditions, combo, strict=True))
         label = (
             ("Pareto front" + (f" at {where}" if conditions else " (feasible designs)"))
-            + (f" ({len(draws)} noise draws' fronts)" if "noise" in within else "")
+            + (f" ({len(draws)} noise draws)" if "noise" in within else "")
             if k < FRONTS_NAMED
             else (
                 f"... {len(groups) - FRONTS_NAMED} more operating conditions"
@@ -285,11 +286,16 @@ def _heat_traces(ax, ax_seq, ds):
     )
     ax.plot(t, ds["trace_bulk_temperature"].values - 273.15, "k--", label="bulk (lumped)")
     ax2 = ax.twinx()
-    ax2.plot(t, ds["trace_slip_power"].values / 1e3, "b:", lw=1)
+    ax2.plot(t, ds["trace_slip_power"].values / 1e3, "b:", lw=1, label="slip power")
     ax2.set_ylabel("slip power [kW] (dotted)")
     ax.set_xlabel("time [ms]")
     ax.set_ylabel("pressure plate temperature [°C]")
-    ax.legend(fontsize=8, loc="center right")
+    # the legend over a band of headroom above both axes' curves (inside them it hid the curves)
+    for a in (ax, ax2):
+        lo, hi = a.get_ylim()
+        a.set_ylim(lo, hi + 0.3 * (hi - lo))
+    lines = ax.get_lines() + ax2.get_lines()
+    ax.legend(lines, [line.get_label() for line in lines], fontsize=8, loc="upper center", ncol=2)
     ax.set_title(
         "(a) design shown: peak face %.1f °C"
         % (float(ds["trace_peak_surface_temperature"]) - 273.15),

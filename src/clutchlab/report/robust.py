@@ -163,8 +163,9 @@ def summary_lines(ra) -> list[str]:
     ]
 
 
-def front_rows(ra) -> tuple[list[str], list[list[str]]]:
-    """(header, rows) of the robust front designs along the first objective."""
+def front_rows(ra, typeset=False) -> tuple[list[str], list[list[str]]]:
+    """(header, rows) of the robust front designs along the first objective; the header's units
+    as a config writes them (``[rad/s^3]``) or ``typeset`` for a page (``[rad/s³]``)."""
     rank = _flat(ra, "robust_rank")
     front = np.flatnonzero(rank == 0)
     if not front.size:
@@ -172,9 +173,12 @@ def front_rows(ra) -> tuple[list[str], list[list[str]]]:
     first = _objectives(ra)[0][0]
     front = front[np.argsort(_flat(ra, f"{_which(ra)}_{first}")[front], kind="stable")]
     factors = _factors(ra)
-    header = [display.column(f, display.unit_of(ra, f)) for f in factors]
     cols = [f"{w}_{n}" for n, _ in _objectives(ra) for w in ("worst", "quantile")]
-    header += [display.column(c, display.unit_of(ra, c)) for c in cols]
+    units = [display.unit_of(ra, c) for c in factors + cols]
+    header = [
+        f"{c} [{u.label}]" if typeset and u.label else display.column(c, u)
+        for c, u in zip(factors + cols, units, strict=True)
+    ]
     conds = " / ".join([*ra.attrs.get("conditions", "").split(), "noise"])
     binds = "binding constraint" if "constraint" in ra.coords else "objective"
     header += ["P(failure) max [%]", "95 % interval [%]", binds, f"worst at {conds}"]
@@ -213,7 +217,7 @@ def page(name, ra):
     _failure_panel(fig.add_subplot(grid[0, 1]), ra)
     ax = fig.add_subplot(grid[1, :])
     ax.set_axis_off()
-    header, rows = front_rows(ra)
+    header, rows = front_rows(ra, typeset=True)
     shown = [rows[i] for i in explore.spread(np.arange(len(rows)), MAX_ROWS)]
     if rows:
         _front_table(ax, header, shown)

@@ -43,6 +43,8 @@ import xarray as xr
 from .. import diaphragm, engagement, friction, heat, wear
 from .. import status as st
 from ..engagement._fade import SOE_TMAX
+from ..published import DIAPHRAGM_CLUTCH
+from ..validation import Row, to_dataset
 from . import (
     Parameter,
     Relation,
@@ -1205,6 +1207,47 @@ SOURCES = SPRING_SOURCES | {
     ),
 }
 
+
+def validation() -> xr.Dataset:
+    """The source paper (000)'s engagement numbers reproduced, as validation rows.
+
+    :data:`clutchlab.published.DIAPHRAGM_CLUTCH` (lock-up time, speed at lock-up, slip work).
+
+    Returns
+    -------
+    xarray.Dataset
+        Validation rows on dimension ``row`` (:func:`clutchlab.validation.to_dataset`): each
+        published number, clutchlab's value, the relative error and its tolerance, and where the
+        number is printed.
+    """
+    return to_dataset(_engagement_rows(), "paper 000: engagement")
+
+
+def _engagement_rows() -> list[Row]:
+    """Engagement (eqs. 1-2, 11): engine held at 570 rad/s, capacity ramped 0 -> the published
+    239.3 N m (eq. 14 as printed) over 0.15 s, load 44 N m, driven inertia 0.021 kg m² (inferred,
+    not printed)."""
+    pub = DIAPHRAGM_CLUTCH
+    r = engagement.closed_form(
+        engine_speed=570.0,
+        engine_inertia=np.inf,
+        engine_torque=156.0,
+        driven_inertia=0.021,
+        load_torque=44.0,
+        peak_capacity=pub["capacity_eq14_as_printed"].value,
+        ramp_time=0.15,
+    )
+    assumption = (
+        "engine held at 570 rad/s, J_v = 0.021 kg m2 inferred, linear ramp to 239.3 N m "
+        "(eq. 14 as printed)"
+    )
+    return [
+        Row.against(pub["lockup_time"], r["lockup_time"], 0.01, assumption),
+        Row.against(pub["lockup_speed"], r["lockup_speed"], 1e-3),
+        Row.against(pub["slip_work"], r["slip_work"], 0.02),
+    ]
+
+
 STUDY = register(
     Study(
         name="engagement",
@@ -1215,6 +1258,7 @@ STUDY = register(
         parameters=PARAMETERS,
         compute=compute,
         traces=seed_traces,
+        validation=validation,
         model="chosen by options (see model_used): closed form, or DOPRI5 with exact stick-slip events",
         options=OPTIONS,
         outputs={
