@@ -6,7 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from clutchlab import pipeline, report, store
+from clutchlab import pipeline, report, store, traces
 from clutchlab.config import resolve
 from clutchlab.studies import diaphragm_spring
 
@@ -235,11 +235,8 @@ def test_front_table_lists_front_designs_spread_along_it():
         ]
         and len(rows) <= answers.MAX_ROWS
     )
-    assert header[4:] == [
-        "release_margin [-]",
-        "reserve_factor_constraint_margin [-]",
-        "release_margin_constraint_margin [-]",
-    ]
+    # (release_margin min 0 is its own constraint margin: written once)
+    assert header[4:] == ["release_margin [-]", "reserve_factor_constraint_margin [-]"]
     front = ds.where(ds["pareto_rank"] == 0)
     obj = [o.split(":")[0] for o in sec["objectives"]]
     first = np.sort(front[obj[0]].values[np.isfinite(front[obj[0]].values)])
@@ -252,7 +249,7 @@ def test_front_table_lists_front_designs_spread_along_it():
         assert float(pick[obj[1]]) * 1e3 == pytest.approx(r[3], rel=1e-12)
         assert float(pick["release_margin"]) == pytest.approx(r[4], rel=1e-12)
         margins = pick["constraint_margin"].sel(constraint=["reserve_factor", "release_margin"])
-        assert list(margins.values) == r[5:]
+        assert [float(margins.values[0])] == r[5:] and margins.values[1] == r[4]
 
 
 @pytest.mark.parametrize(
@@ -777,7 +774,11 @@ def test_an_answers_page_without_a_feasible_design_lists_the_nearest():
     cells = table.get_celld()
     rows = 1 + max(r for r, _ in cells)
     first = [cells[r, 0].get_text().get_text() for r in range(1, rows)]
-    assert first == ["ok"] * (rows - 1) and rows - 1 >= 5
+    assert [f.removeprefix("★ ") for f in first] == ["ok"] * (rows - 1) and rows - 1 >= 5
+    # the design the pages show (no feasible one: the one nearest the ideal point) starred
+    shown, _ = traces.shown_design(ds)
+    starred = [int(order[r]) for r, f in enumerate(first) if f.startswith("★ ")]
+    assert starred == ([shown] if shown in order[: rows - 1] else [])
     head = [
         cells[0, c].get_text().get_text().replace("\n", "")
         for c in range(1 + max(c for _, c in cells))
@@ -787,3 +788,29 @@ def test_an_answers_page_without_a_feasible_design_lists_the_nearest():
     assert best == pytest.approx(float(least[0]), rel=1e-3)
     assert not texts_outside_cells(fig), texts_outside_cells(fig)
     plt.close(fig)
+
+
+def test_the_roller_overstress_note_counts_every_design_far_above_the_allowable():
+    """The roller pages' note counted only the designs whose status is dynamic_overstress; a
+    design whose static stress fails too has status above_allowable and the highest dynamic
+    stresses, and was left out of the count and the range."""
+    import xarray as xr
+
+    from clutchlab import status as st
+    from clutchlab.report.roller_figures import DYNAMIC_STRESS_FACTOR, overstress_note
+
+    f = DYNAMIC_STRESS_FACTOR
+    codes = [st.CODE["dynamic_overstress"], st.CODE["above_allowable"], st.CODE["ok"], 0]
+    ds = xr.Dataset(
+        {
+            "status": ("run", np.array(codes, dtype=st.DTYPE)),
+            "peak_contact_stress": ("run", np.array([1.2 * f, 2.5 * f, 0.5, np.nan]) * 3e9),
+            "contact_allowable": ("run", np.full(4, 3e9)),
+        }
+    )
+    note = overstress_note(ds)
+    assert note.startswith(
+        f"2 of 4 designs: peak dynamic contact stress {1.2 * f:.1f}-{2.5 * f:.1f}"
+    )
+    assert "1 with status dynamic_overstress, the other 1 fail first as above_allowable" in note
+    assert overstress_note(ds.isel(run=[2, 3])) == ""

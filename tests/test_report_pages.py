@@ -221,7 +221,7 @@ def _check_details(png, files, which):
             assert v.min() - 0.06 * span <= lim[0] and lim[1] <= v.max() + 0.06 * span, (name, o)
     if which == "default":  # every sprag front design at 22 sprags, the top of 14-22
         text = " ".join(" ".join(_texts(png["sprag_answers"])).split())
-        assert "upper edge of sprags's range" in text and "widen the range of sprags" in text
+        assert "upper edge of the sprags range" in text and "widen the range of sprags" in text
 
 
 def _texts(fig):
@@ -316,7 +316,8 @@ def test_validation_table_shows_the_tolerance_it_judged_by():
 
 
 def test_a_noise_draw_is_named_by_its_deviations():
-    """'noise = 1' says which draw: 'friction_coefficient +20 %'."""
+    """A noise draw is named as one, 'noise draw 1' ('noise = 1' read as a value), with its
+    deviations: 'friction_coefficient +20 %'."""
     import xarray as xr
 
     from clutchlab.report.common import fixed_text
@@ -326,5 +327,6 @@ def test_a_noise_draw_is_named_by_its_deviations():
         coords={"noise": 1, "shoes": 3.0},
     )
     assert (
-        fixed_text(sub, ["shoes", "noise"]) == "shoes = 3, noise = 1 (friction_coefficient +20 %)"
+        fixed_text(sub, ["shoes", "noise"])
+        == "shoes = 3, noise draw 1 (friction_coefficient +20 %)"
     )

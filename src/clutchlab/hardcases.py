@@ -27,6 +27,7 @@ COLUMNS = [
     "computed",
     "error",
     "error_kind",
+    "error_unit",
     "tolerance",
     "passed",
     "off_the_shelf",
@@ -58,6 +59,7 @@ class Case:
     relative: bool = (
         False  # error and tolerance relative to the right answer (else absolute, its units)
     )
+    unit: str = ""  # the unit of an absolute error and its tolerance (as the right answer's)
 
     @property
     def error_kind(self) -> str:
@@ -74,6 +76,11 @@ def _name(code) -> str:
 
 def _f(x) -> float:
     return float(np.ravel(x)[0])
+
+
+def _ms(t, fmt=".12g") -> str:
+    """A time [s] as the pages give it: in ms."""
+    return f"{float(t) * 1e3:{fmt}} ms"
 
 
 def _num(x, fmt="g") -> str:
@@ -124,19 +131,20 @@ def _start_of_motion() -> Case:
         t_end=1.0,
     )
     shelf = [
-        f"RK45 rtol {rtol:g}: error {abs(benchmark.rk45_per_scenario(d, i, rtol) - right):.1e} s"
+        f"RK45 rtol {rtol:g}: error {abs(benchmark.rk45_per_scenario(d, i, rtol) - right) * 1e3:.1e} ms"
         for rtol in (1e-6, 1e-9)
     ]
     return Case(
         "engagement",
         "start of motion with zero acceleration (ramp clamp, Stribeck μ; benchmark scenario 5)",
-        f"lock-up {right:.12g} s",
+        f"lock-up {_ms(right)}",
         "DOP853 at rtol 1e-12 from the analytic start of motion (clutchlab.bench.engagement.reference)",
-        f"{_f(sim['lockup_time']):.12g} s ({int(sim['n_steps'])} steps)",
-        abs(_f(sim["lockup_time"]) - right),
-        1e-6,
+        f"{_ms(_f(sim['lockup_time']))} ({int(sim['n_steps'])} steps)",
+        abs(_f(sim["lockup_time"]) - right) * 1e3,
+        1e-3,
         _name(sim["status"]) == "ok",
         "; ".join(shelf) + " (the first steps jump over the start of motion)",
+        unit="ms",
     )
 
 
@@ -149,12 +157,13 @@ def _step_clamp() -> Case:
     return Case(
         "engagement",
         "step clamp (ramp time 0)",
-        f"lock-up J ω/(C - T) = {right:.12g} s",
+        f"lock-up J ω/(C - T) = {_ms(right)}",
         "analytic (constant torques after the step)",
-        f"{_f(sim['lockup_time']):.12g} s",
-        abs(_f(sim["lockup_time"]) - right),
-        1e-12 * right,
+        _ms(_f(sim["lockup_time"])),
+        abs(_f(sim["lockup_time"]) - right) * 1e3,
+        1e-12 * right * 1e3,
         _name(sim["status"]) == "ok",
+        unit="ms",
     )
 
 
@@ -167,9 +176,9 @@ def _never_locking() -> Case:
     return Case(
         "engagement",
         "never locking (load 300 N·m above the 239.3 N·m capacity)",
-        f"status never_locked, lock-up NaN, slip work ω ∫C dt = {right:.10g} J",
+        f"status never_locked, lock-up NaN, slip work ω ∫C dt = {right / 1e3:.10g} kJ",
         "analytic (the driven side never moves)",
-        f"{_name(sim['status'])}, lock-up {_num(sim['lockup_time'])}, slip work {_f(sim['slip_work']):.10g} J",
+        f"{_name(sim['status'])}, lock-up {_num(sim['lockup_time'])}, slip work {_f(sim['slip_work']) / 1e3:.10g} kJ",
         abs(_f(sim["slip_work"]) - right) / right,
         1e-10,
         _name(sim["status"]) == "never_locked" and np.isnan(_f(sim["lockup_time"])),
@@ -194,12 +203,13 @@ def _breakaway_and_relock() -> Case:
     return Case(
         "engagement",
         "break-away after lock-up and re-lock (load step 150 N·m at 0.35 s)",
-        f"break-away at 0.35 s, re-lock at {relock:.12g} s",
+        f"break-away at 350 ms, re-lock at {_ms(relock)}",
         "exact integral of the driven side's equation, brentq at xtol 1e-14",
-        f"break-away {_f(sim['breakaway_time']):.12g} s, re-lock {_f(sim['lockup_time']):.12g} s",
-        max(abs(_f(sim["lockup_time"]) - relock), abs(_f(sim["breakaway_time"]) - 0.35)),
-        1e-9,
+        f"break-away {_ms(_f(sim['breakaway_time']))}, re-lock {_ms(_f(sim['lockup_time']))}",
+        max(abs(_f(sim["lockup_time"]) - relock), abs(_f(sim["breakaway_time"]) - 0.35)) * 1e3,
+        1e-6,
         _name(sim["status"]) == "ok",
+        unit="ms",
     )
 
 
@@ -213,13 +223,14 @@ def _tiny_driven_inertia() -> Case:
     return Case(
         "engagement",
         "tiny driven inertia (1e-6 kg·m²)",
-        f"lock-up {right:.12g} s",
+        f"lock-up {_ms(right)}",
         "closed form",
-        f"{_f(sim['lockup_time']):.12g} s in {int(sim['n_steps'])} steps",
-        abs(_f(sim["lockup_time"]) - right),
-        1e-12,
+        f"{_ms(_f(sim['lockup_time']))} in {int(sim['n_steps'])} steps",
+        abs(_f(sim["lockup_time"]) - right) * 1e3,
+        1e-9,
         _name(sim["status"]) == "ok" and sim["n_steps"] < 200,
         "a regularised (tanh) friction model is stiff as C/(J ε) here and never locks exactly",
+        unit="ms",
     )
 
 
@@ -231,12 +242,13 @@ def _zero_initial_slip() -> Case:
     return Case(
         "engagement",
         "zero initial slip (driven at engine speed, full clamp)",
-        "stuck from t = 0: lock-up 0 s",
+        "stuck from t = 0: lock-up 0 ms",
         "capacity 239.3 N·m carries the 44 N·m needed (never sign(0))",
-        f"{_f(sim['lockup_time']):g} s, {_name(sim['status'])}",
-        abs(_f(sim["lockup_time"])),
+        f"{_ms(_f(sim['lockup_time']), 'g')}, {_name(sim['status'])}",
+        abs(_f(sim["lockup_time"])) * 1e3,
         0.0,
         _name(sim["status"]) == "ok",
+        unit="ms",
     )
 
 
@@ -258,12 +270,13 @@ def _held_engine_at_rest() -> Case:
     return Case(
         "engagement",
         "held engine at rest (0 rad/s, load 5 N·m)",
-        f"lock-up where C(t) = T_m: {right:.12g} s, slip work 0",
+        f"lock-up where C(t) = T_m: {_ms(right)}, slip work 0",
         "analytic",
-        f"{_f(sim['lockup_time']):.12g} s, slip work {_f(sim['slip_work']):g} J",
-        abs(_f(sim["lockup_time"]) - right) + abs(_f(sim["slip_work"])),
-        1e-12 * right,
+        f"{_ms(_f(sim['lockup_time']))}, slip work {_f(sim['slip_work']) / 1e3:g} kJ",
+        abs(_f(sim["lockup_time"]) - right) * 1e3 + abs(_f(sim["slip_work"])) / 1e3,
+        1e-12 * right * 1e3,
         _name(sim["status"]) == "ok",
+        unit="ms, kJ",
     )
 
 
@@ -292,9 +305,9 @@ def _restart_at_an_event() -> Case:
     return Case(
         "engagement",
         "restart at an event (compliant driveline: output unparks, g(t0) = 0)",
-        f"lock-up {ref:.12g} s (not never_locked)",
+        f"lock-up {_ms(ref)} (not never_locked)",
         "clutchlab.reference.compliant: DOP853 per mode at rtol 1e-13",
-        f"{_f(sim['lockup_time']):.12g} s, {_name(sim['status'])}",
+        f"{_ms(_f(sim['lockup_time']))}, {_name(sim['status'])}",
         abs(_f(sim["lockup_time"]) - ref) / ref,
         1e-10,
         _name(sim["status"]) == "ok",
@@ -392,10 +405,12 @@ def contact_cases() -> list[Case]:
         Case(
             "roller",
             "stiff Hertz contact: undamped impact (0.05 kg at 1.5 m/s, d = 10 mm roller)",
-            f"δ_max = (5mv²/4k)^(2/5) = {d_max:.6e} m, contact time 2.9432 δ_max/v = {t_c:.6e} s, "
+            f"δ_max = (5mv²/4k)^(2/5) = {d_max * 1e6:.7g} µm, contact time 2.9432 δ_max/v = "
+            f"{t_c * 1e6:.7g} µs, "
             "restitution 1",
             "Johnson, Contact Mechanics 11.4 (analytic)",
-            f"δ_max {_f(r['max_penetration']):.6e} m, contact {_f(r['contact_time']):.6e} s, "
+            f"δ_max {_f(r['max_penetration']) * 1e6:.7g} µm, contact "
+            f"{_f(r['contact_time']) * 1e6:.7g} µs, "
             f"restitution {_f(r['restitution']):.9f} ({int(_f(r['nfev']))} f evals)",
             err,
             1e-6,
@@ -527,6 +542,7 @@ def to_dataset(cases: list[Case]) -> xr.Dataset:
             "error_kind": text(
                 "error_kind", "error relative to the right answer or absolute (in its units)"
             ),
+            "error_unit": text("unit", "the unit of an absolute error and its tolerance"),
             "tolerance": (
                 "case",
                 [c.tolerance for c in cases],

@@ -86,8 +86,11 @@ def design_rows(ds, front, typeset=False) -> tuple[list[str], list[list]]:
     if "constraint_margin" in ds:
         margins = ds["constraint_margin"].transpose("constraint", *ds["status"].dims).values
         margins = margins.reshape(margins.shape[0], -1)
-        header += [f"{c}_constraint_margin [-]" for c in ds["constraint"].values]
-        rows = [r + [float(m) for m in margins[:, i]] for r, i in zip(rows, front, strict=True)]
+        # (a margin output held ≥ 0 is its own constraint margin: not written twice)
+        same = {c for c, op, limit in constraints(ds) if op == "min" and limit == 0.0}
+        kept = [k for k, c in enumerate(ds["constraint"].values) if str(c) not in same]
+        header += [f"{ds['constraint'].values[k]}_constraint_margin [-]" for k in kept]
+        rows = [r + [float(margins[k, i]) for k in kept] for r, i in zip(rows, front, strict=True)]
     return header, rows
 
 
@@ -189,9 +192,10 @@ def edge_notes(ds, short=False) -> list[str]:
                 notes.append(f"{n} ({end}, {display.text(bound, u)})")
                 continue
             at = int((np.abs(v[front] - bound) <= tol).sum())
+            items = "scenarios" if "noise" in ds.dims else "designs"  # (a robust study's)
             notes.append(
-                f"best design at the {end} edge of {n}'s range ({display.text(lo, u)} to "
-                f"{display.text(hi, u)}; {at} of {front.size} front designs there): widen the "
+                f"best design at the {end} edge of the {n} range ({display.text(lo, u)} to "
+                f"{display.text(hi, u)}; {at} of {front.size} front {items} there): widen the "
                 f"range of {n}"
             )
     return notes
@@ -290,7 +294,7 @@ def page(name, ds):
     elif n_rows:
         title += (
             f"; table: the {n_rows} nearest to feasible (status ok first, then the largest "
-            "least margin; a margin < 0 fails)"
+            "least margin; a margin < 0 fails; ★ the design shown)"
         )
     fig.suptitle(textwrap.fill(title, 120), fontsize=11)
     return fig
@@ -300,7 +304,12 @@ def _failing_panel(ax, ds):
     """The statuses and constraints that fail most, as bars (designs or scenarios failing each)."""
     names, viol, colours = _failing(ds)
     ax.barh(range(len(names)), viol, height=0.6, color=colours)
-    ax.set_yticks(range(len(names)), [wrap_name(n, 18) for n in names], fontsize=8)
+    # (a status on a line of its own after the word: "status\nnever_locked", not "never_\nlocked")
+    labels = [
+        "\n".join(wrap_name(part, 18) for part in n.split(" ", 1)) if len(n) > 18 else n
+        for n in names
+    ]
+    ax.set_yticks(range(len(names)), labels, fontsize=8)
     ax.set_ylim(len(names) - 0.5, -0.5)
     ax.set_xlabel(("scenarios" if "noise" in ds.dims else "designs") + " failing it")
     ax.xaxis.set_major_locator(plt.MaxNLocator(4, integer=True))
@@ -339,10 +348,7 @@ def _front_panels(fig, cell_spec, ds, objectives, feas, rank, groups, crossed):
     lax = fig.add_subplot(cell[0, 1] if beside else cell[k % 2, k // 2])
     lax.set_axis_off()
     labels = [textwrap.fill(t, 34 if groups else 24) for t in labels] if beside else labels
-    lax.legend(
-        handles, labels, fontsize=8, loc="upper left" if beside else "center",
-        title="front at" if groups else None, title_fontsize=8,
-    )  # fmt: skip
+    lax.legend(handles, labels, fontsize=8, loc="upper left" if beside else "center")
 
 
 def _front_caption(ds, objectives, groups, crossed) -> str:
@@ -421,12 +427,15 @@ def _nearest_table(ax, ds, n) -> int:
     header, rows = design_rows(ds, near, typeset=True)
     # factors, objectives and margins (the constrained outputs' values are in the CSV)
     _, constrained = _outputs(ds)
-    keep = [j for j, h in enumerate(header) if h.split(" [")[0] not in constrained]
+    margined = {h.split("_constraint_margin [")[0] for h in header if "_constraint_margin [" in h}
+    keep = [j for j, h in enumerate(header) if h.split(" [")[0] not in set(constrained) & margined]
     head = ["status"] + [header[j].replace("_constraint_margin [-]", " margin [-]") for j in keep]
     codes = _flat(ds, "status")[near]
+    shown = [i for i, _, colour in _marks(ds) if colour == "gold"]  # (the design shown: ★)
     cells = [
-        [st.FLAGS.get(int(c), str(c))] + [_text(r[j], ".4g") for j in keep]
-        for c, r in zip(codes, rows, strict=True)
+        [("★ " if i in shown else "") + st.FLAGS.get(int(c), str(c))]
+        + [_text(r[j], ".4g") for j in keep]
+        for i, c, r in zip(near, codes, rows, strict=True)
     ]
     fitted_table(ax, head, cells, widths=[1.8] + [1.0] * len(keep))  # (a status is long)
     return len(rows)
@@ -445,7 +454,11 @@ def _marks(ds, slice_only=False) -> list:
         i, reason = shown_design(ds)
     marks = []
     if i is not None and i >= 0:
-        label = "best design" if reason.startswith("the run's best") else "design shown"
+        label = (
+            "best robust design, at its binding scenario"
+            if reason.startswith("the run's best robust")
+            else ("best design" if reason.startswith("the run's best") else "design shown")
+        )
         if is_paper_design(ds, i):
             label += ", the source paper's"
         marks.append((i, label, "gold"))
@@ -503,7 +516,8 @@ def _front_panel(ax, ds, ox, oy, feas, rank, within, marks, lines):
         members = members[np.argsort(x[members], kind="stable")]
         if within:
             label = (
-                ", ".join(_value_text(ds, w, v) for w, v in zip(within, combo, strict=False))
+                "front at "
+                + ", ".join(_value_text(ds, w, v) for w, v in zip(within, combo, strict=False))
                 if j < FRONTS_NAMED
                 else (f"... {len(combos) - FRONTS_NAMED} more" if j == FRONTS_NAMED else None)
             )
