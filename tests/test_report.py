@@ -814,3 +814,68 @@ def test_the_roller_overstress_note_counts_every_design_far_above_the_allowable(
     )
     assert "1 with status dynamic_overstress, the other 1 fail first as above_allowable" in note
     assert overstress_note(ds.isel(run=[2, 3])) == ""
+
+
+def test_an_objectives_constraint_limit_is_drawn_where_it_falls_in_the_panel():
+    """The answers page draws a constrained objective's limit as a dashed line (how far the
+    designs are from feasible, where none is) when it falls inside the panel, in display units,
+    and leaves the panel's range as it was."""
+    import matplotlib.pyplot as plt
+    import xarray as xr
+
+    from clutchlab.report.answers import _limit_lines
+
+    ds = xr.Dataset(
+        {"engagement_time": ("run", [1e-4], {"units": "s"}), "y": ("run", [1.0], {"units": "1"})},
+        coords={
+            "constraint": (
+                "constraint",
+                ["engagement_time"],
+                {"limits": "engagement_time:max:0.0005"},
+            )
+        },
+    )
+    fig, ax = plt.subplots()
+    for view, drawn in (((0.0, 1.0), True), ((0.6, 1.0), False)):
+        ax.cla()
+        ax.set_xlim(*view)
+        _limit_lines(ax, ds, "engagement_time", "y")
+        lines = [ln for ln in ax.get_lines() if ln.get_label() == "constraint limit"]
+        assert len(lines) == drawn and ax.get_xlim() == view
+        if drawn:
+            assert lines[0].get_xdata()[0] == pytest.approx(0.5)  # (ms)
+    plt.close(fig)
+
+
+def test_the_tradeoff_page_greys_the_scenarios_a_constraint_fails():
+    """The trade-off page coloured every scenario whose status is ok by its lock-up time, those
+    over the lock-up limit too (they read as answers); those a constraint fails are grey."""
+    import matplotlib.pyplot as plt
+
+    from clutchlab.explore import flat
+    from clutchlab.report import engagement_figures
+
+    sec = resolve(
+        {
+            "studies": ["engagement"],
+            "engagement": {
+                "design": "factorial",
+                "parameters": {
+                    "ramp_time": {"values": ["0.1 s", "0.2 s", "0.3 s"]},
+                    "friction_coefficient": {"values": [0.35, 0.4]},
+                    "driven_inertia": {"values": ["0.021 kg*m^2", "0.05 kg*m^2"]},
+                },
+                "constraints": {"lockup_time": {"max": "250 ms"}},
+            },
+        }
+    )["engagement"]
+    ds = pipeline.run_study(sec)
+    ok = (flat(ds, "status") == 0) & np.isfinite(flat(ds, "peak_jerk"))
+    failing = ok & ~flat(ds, "feasible").astype(bool)
+    assert failing.any() and (ok & ~failing).any()
+    fig = engagement_figures.tradeoff(ds)
+    grey = [c for c in fig.axes[0].collections if c.get_label().startswith("a constraint fails")]
+    assert len(grey) == 1 and len(grey[0].get_offsets()) == failing.sum()
+    coloured = [c for c in fig.axes[0].collections if c.get_array() is not None]
+    assert len(coloured[0].get_offsets()) == (ok & ~failing).sum()
+    plt.close(fig)

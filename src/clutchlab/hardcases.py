@@ -569,4 +569,9 @@ def to_csv(ds: xr.Dataset, path) -> None:
         w = csv.writer(fh)
         w.writerow(COLUMNS)
         for i in range(ds.sizes["case"]):
-            w.writerow([ds["name" if c == "case" else c].values[i] for c in COLUMNS])
+            w.writerow(
+                [
+                    ds["name" if c == "case" else c].values[i] if c in ds or c == "case" else ""
+                    for c in COLUMNS  # (a file of an older version has no error_unit)
+                ]
+            )

@@ -19,6 +19,7 @@ from .common import (
     A4_LANDSCAPE,
     FRONTS_NAMED,
     SENSE_WORDS,
+    constraint_limit,
     constraints,
     drawn,
     drawn_note,
@@ -29,6 +30,7 @@ from .common import (
 )
 
 MAX_ROWS = 15
+MAX_COLUMNS = 10  # columns of an answers page's front table (its constrained outputs beyond)
 
 
 def factors(ds) -> list[str]:
@@ -380,15 +382,17 @@ def _front_caption(ds, objectives, groups, crossed) -> str:
 
 
 def _front_table(ax, ds):
-    """The front's designs as a table (the first columns of ``<study>_pareto.csv``: factors and
-    objectives, display units; as many rows as fit the axes, spread along the front), or a
-    sentence where the run has no feasible design. Returns the rows shown."""
+    """The front's designs as a table (the first columns of ``<study>_pareto.csv``: factors,
+    objectives and, where the page has room, the other constrained outputs, display units; as
+    many rows as fit the axes, spread along the front), or the designs nearest to feasible where
+    the run has none. Returns the rows shown."""
     header, rows = front_rows(ds, typeset=True)
     ax.set_axis_off()
-    objectives, _ = _outputs(ds)
+    objectives, constrained = _outputs(ds)
     draws = len(_noise_draws(ds))
-    # the CSV also has the constraints' outputs, margins (and a robust result's draw index)
+    # the CSV also has the constraints' margins (and a robust result's draw index)
     k = len(factors(ds)) + (draws - 1 if draws else 0) + len(objectives)
+    k += len(constrained) if k + len(constrained) <= MAX_COLUMNS else 0
     fitting = max(table_rows_fitting(ax, header[:k]), 2)
     if not rows:
         return _nearest_table(ax, ds, fitting - 1)
@@ -540,7 +544,31 @@ def _front_panel(ax, ds, ox, oy, feas, rank, within, marks, lines):
         label, beyond = dots["infeasible"].get_label(), f"{out} beyond the axes"
         label = f"{label[:-1]}; {beyond})" if label.endswith(")") else f"{label} ({beyond})"
         dots["infeasible"].set_label(label)
+    missing = int((~(np.isfinite(x) & np.isfinite(y))).sum())
+    if missing:  # (a design without an objective's value is not drawn: counted)
+        noun = "scenarios" if "noise" in ds.dims else "designs"
+        ax.plot([], [], " ", label=f"{missing} {noun} not drawn: {ox} or {oy} NaN")
+    _limit_lines(ax, ds, ox, oy)
     ax.grid(alpha=0.3)
+
+
+def _limit_lines(ax, ds, ox, oy):
+    """The constraint limits on the objectives drawn, as dashed lines where they fall inside the
+    panel (how far the designs are from feasible)."""
+    xlim, ylim = ax.get_xlim(), ax.get_ylim()
+    named = False
+    for name, axis, view in ((ox, "x", xlim), (oy, "y", ylim)):
+        limit = constraint_limit(ds, name)
+        if limit is None:
+            continue
+        v = float(display.unit_of(ds, name)(limit))
+        if not min(view) <= v <= max(view):
+            continue
+        line = ax.axvline if axis == "x" else ax.axhline
+        line(v, color="tab:red", ls="--", lw=1, label=None if named else "constraint limit")
+        named = True
+    ax.set_xlim(xlim)
+    ax.set_ylim(ylim)
 
 
 def _feasible_limits(ax, x, y, feas) -> int:

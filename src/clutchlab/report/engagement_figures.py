@@ -55,8 +55,19 @@ def _status_counts(status, drawn_ok: int) -> str:
 
 def tradeoff(ds):
     ok = (_flat(ds, "status") == st.CODE["ok"]) & np.isfinite(_flat(ds, "peak_jerk"))
-    w, j, t = _flat(ds, "slip_work")[ok], _flat(ds, "peak_jerk")[ok], _flat(ds, "lockup_time")[ok]
+    feasible = _flat(ds, "feasible").astype(bool) if "feasible" in ds else ok
     fig, ax = plt.subplots(figsize=A4_LANDSCAPE)
+    # the scenarios a constraint fails in grey (coloured, they read as answers), the others
+    # coloured by their lock-up time
+    failing = np.flatnonzero(ok & ~feasible)
+    if failing.size:
+        pick = failing[drawn(failing.size)]
+        ax.scatter(
+            _flat(ds, "slip_work")[pick] / 1e3, _flat(ds, "peak_jerk")[pick], s=10, c="0.75",
+            rasterized=True, label="a constraint fails (status ok)",
+        )  # fmt: skip
+    good = np.flatnonzero(ok & feasible)
+    w, j, t = (_flat(ds, n)[good] for n in ("slip_work", "peak_jerk", "lockup_time"))
     show = drawn(w.size)
     sc = ax.scatter(
         w[show] / 1e3,
@@ -68,7 +79,7 @@ def tradeoff(ds):
         linewidth=0.3 if w.size < 2000 else 0,
         rasterized=True,
     )
-    fig.colorbar(sc, ax=ax, label="lock-up time [ms]")
+    fig.colorbar(sc, ax=ax, label="lock-up time [ms] (feasible scenarios)")
     rank = ds["pareto_rank"] if "pareto_rank" in ds else None
     if rank is not None and rank.attrs["objectives"] == "slip_work:min peak_jerk:min":
         _fronts(ax, ds, rank.attrs.get("ranked_within", "").split())
