@@ -879,3 +879,19 @@ def test_the_tradeoff_page_greys_the_scenarios_a_constraint_fails():
     coloured = [c for c in fig.axes[0].collections if c.get_array() is not None]
     assert len(coloured[0].get_offsets()) == (ok & ~failing).sum()
     plt.close(fig)
+
+
+def test_a_title_wraps_into_lines_of_even_length():
+    """A title's last word hung alone on its line ("-20.0 %"); wrapped into the same number of
+    lines, evenly."""
+    from clutchlab.report.common import wrap_even
+
+    text = (
+        "Traces of the run's best robust design at its binding condition: "
+        + "x = 1.0 mm, " * 5
+        + "-20.0 %"
+    )
+    lines = wrap_even(text, 100)
+    assert len(lines) == 2 and " ".join(lines) == text
+    assert max(map(len, lines)) - min(map(len, lines)) <= 12 and lines[-1] != "-20.0 %"
+    assert wrap_even("short", 100) == ["short"]

@@ -30,6 +30,7 @@ from .common import (  # noqa: E402
     summary_layout,
     title_page,
     validation_table,
+    wrap_even,
 )
 
 __all__ = [
@@ -638,10 +639,8 @@ def _wrap_suptitle(fig, width=130):
     """Wrap a figure's title lines to the page (a long fixed-value list ran off both sides)."""
     title = getattr(fig, "_suptitle", None)
     if title is not None:
-        import textwrap
-
         title.set_text(
-            "\n".join(textwrap.fill(line, width) for line in title.get_text().split("\n"))
+            "\n".join("\n".join(wrap_even(line, width)) for line in title.get_text().split("\n"))
         )
 
 

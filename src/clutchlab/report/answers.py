@@ -26,6 +26,7 @@ from .common import (
     fitted_table,
     front_colour,
     table_rows_fitting,
+    wrap_even,
     wrap_name,
 )
 
@@ -298,7 +299,7 @@ def page(name, ds):
             f"; table: the {n_rows} nearest to feasible (status ok first, then the largest "
             "least margin; a margin < 0 fails; ★ the design shown)"
         )
-    fig.suptitle(textwrap.fill(title, 120), fontsize=11)
+    fig.suptitle("\n".join(wrap_even(title, 120)), fontsize=11)
     return fig
 
 

@@ -23,6 +23,7 @@ from .common import (
     shown,
     shown_name,
     with_curves,
+    wrap_even,
 )
 from .common import seed_view as _seed_view
 
@@ -86,7 +87,7 @@ def capacity_curves(ds):
     ax.legend(loc="upper left", fontsize=9)
     ax.set_title(
         "\n".join(
-            textwrap.wrap(f"Capacity curves of {shown_name(ds)}", 130)
+            wrap_even(f"Capacity curves of {shown_name(ds)}", 130)
             + (
                 [
                     f"curves stored for 1 in {int(ds.attrs.get('curve_stride', 0)) or 'N'} designs: "
@@ -289,7 +290,7 @@ def traces(ds):
         ax.legend(fontsize=9)
     fig.suptitle(
         "\n".join(
-            textwrap.wrap(f"Traces of {shown_name(ds)}", 120)
+            wrap_even(f"Traces of {shown_name(ds)}", 120)
             + ["DOP853, lock-up and release located as events; inertias and loads assumed"]
         ),
         fontsize=11,

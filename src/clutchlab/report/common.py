@@ -1046,3 +1046,16 @@ def legends_over_data(fig, most=0) -> list[tuple[str, int]]:
 def _within(xy, box):
     """Which display points ``xy`` (n × 2) lie inside the bounding box ``box``."""
     return (xy[:, 0] >= box.x0) & (xy[:, 0] <= box.x1) & (xy[:, 1] >= box.y0) & (xy[:, 1] <= box.y1)
+
+
+def wrap_even(text, width) -> list[str]:
+    """``text`` wrapped to at most ``width`` characters a line in as few lines as textwrap takes,
+    the lines of even length: a title's last word no longer hangs alone on its line."""
+    lines = textwrap.wrap(text, width)
+    if len(lines) < 2:
+        return lines
+    for w in range(-(-len(text) // len(lines)), width):
+        even = textwrap.wrap(text, w)
+        if len(even) == len(lines):
+            return even
+    return lines

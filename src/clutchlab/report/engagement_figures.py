@@ -22,6 +22,7 @@ from .common import (
     sampled_value_map,
     shown,
     shown_name,
+    wrap_even,
 )
 
 # the source paper's design: where the run shows no design of its own
@@ -95,7 +96,7 @@ def tradeoff(ds):
         drawn_note(int(ok.sum())),
     )
     model = "model: " + ds.attrs.get("model_used", ds.attrs.get("model", ""))
-    ax.set_title("\n".join(textwrap.wrap(title, 110) + textwrap.wrap(model, 110)), fontsize=10)
+    ax.set_title("\n".join(wrap_even(title, 110) + wrap_even(model, 110)), fontsize=10)
     ax.grid(alpha=0.3, which="both")
     legend_clear_of_data(fig, ax)
     return fig
@@ -278,7 +279,7 @@ def heat_page(ds):
                 "Heat: friction face and parts (pressure plate, flywheel: cast iron; linings: "
                 "organic; assumed materials, clutchlab.heat)"
             ]
-            + textwrap.wrap(f"(a), (b): {shown_name(ds)}", 125)
+            + wrap_even(f"(a), (b): {shown_name(ds)}", 125)
         ),
         fontsize=10,
     )

@@ -24,6 +24,7 @@ from .common import (
     shown,
     shown_name,
     status_categories,
+    wrap_even,
 )
 
 SEED = {p.name: p.default for p in PARAMETERS}
@@ -340,7 +341,7 @@ def engagement_trace(ds):
     ax.grid(alpha=0.3)
     ax.set_title(
         "\n".join(
-            textwrap.wrap(f"Engagement from rest of {shown_name(ds)}", 125)
+            wrap_even(f"Engagement from rest of {shown_name(ds)}", 125)
             + textwrap.wrap(
                 "passive load: the driven ring is held at rest until the wedge's torque reaches "
                 "it (cf. the source paper's Figs. 7 and 9); inertias and penetration depth assumed",

@@ -329,40 +329,40 @@ def impact_torque(ds):
     )
     ax = axes[0, 0]
     ax.plot(ds["impact_time"].values, ds["impact_torque"].values, "k-")
-    ax.axhline(float(ds["impact_steady_torque"]), color="b", ls="--", lw=1, label="sqrt(P0 C)")
+    ax.axhline(float(ds["impact_steady_torque"]), color="b", ls="--", lw=1, label="√(P₀·C)")
     ax.set_xlabel("time [s]")
     ax.set_ylabel("torque T [N·m]")
-    ax.set_title("(a) T(t) from the peak T0 at t0", fontsize=10)
+    ax.set_title("(a) T(t) from the peak T₀ at t₀", fontsize=10)
     ax.legend(fontsize=8)
     panels = (
-        ("impact_power", 1e-3, "input power P0 [kW]", "(b)"),
+        ("impact_power", 1e-3, "input power P₀ [kW]", "(b)"),
         ("output_inertia", 1.0, "output inertia J [kg·m²]", "(c)"),
         ("impact_damping", 1.0, "damping C [N·m·s²]", "(d)"),
-        ("initial_speed", 30 / np.pi, "initial speed w0 [rpm]", "(e)"),
+        ("initial_speed", 30 / np.pi, "initial speed ω₀ [rpm]", "(e)"),
     )
     for ax, (name, scale, label, tag) in zip(axes.ravel()[1:], panels, strict=False):
         ax.plot(ds[f"sweep_{name}"].values * scale, ds[f"peak_torque_vs_{name}"].values, "r-")
         ax.set_xlabel(label)
-        ax.set_ylabel("peak torque T0 [N·m]")
-        ax.set_title(f"{tag} T0 against {label.split('[')[0].strip()}", fontsize=10)
+        ax.set_ylabel("peak torque T₀ [N·m]")
+        ax.set_title(f"{tag} T₀ against {label.split('[')[0].strip()}", fontsize=10)
     axes[1, 2].axis("off")
     nominal = {n: value_at_shown(ds, n, SEED[n]) for n in SEED}
     axes[1, 2].text(
         0,
         0.95,
         "Nominal impact (the design shown;\nassumed, not printed in the source paper):\n"
-        f"P0 = {nominal['impact_power'] / 1e3:.4g} kW, C = {nominal['impact_damping']:.4g} N·m·s²,\n"
-        f"J = {nominal['output_inertia']:.4g} kg·m², t0 = {nominal['rise_time'] * 1e3:.4g} ms,\n"
-        f"w0 = {nominal['initial_speed'] * 30 / np.pi:.4g} rpm: sqrt(P0 C) = "
+        f"P₀ = {nominal['impact_power'] / 1e3:.4g} kW, C = {nominal['impact_damping']:.4g} N·m·s²,\n"
+        f"J = {nominal['output_inertia']:.4g} kg·m², t₀ = {nominal['rise_time'] * 1e3:.4g} ms,\n"
+        f"ω₀ = {nominal['initial_speed'] * 30 / np.pi:.4g} rpm: √(P₀·C) = "
         f"{float(ds['impact_steady_torque']):.4g} N·m.\n"
-        "T0 rises with P0, J, C and falls with w0\n(the source paper's Fig. 4 b-e).",
+        "T₀ rises with P₀, J, C and falls with ω₀\n(the source paper's Fig. 4 b-e).",
         va="top",
         fontsize=9,
     )
     for ax in axes.ravel()[:5]:
         ax.grid(alpha=0.3)
     fig.suptitle(
-        "Impact torque of the starter (paper 002 eqs. 1-5, Fig. 4): J w dw/dt + C w^2 = P0, T = P0/w"
+        "Impact torque of the starter (paper 002 eqs. 1-5, Fig. 4): J·ω·dω/dt + C·ω² = P₀, T = P₀/ω"
     )
     return fig
 
