@@ -895,3 +895,69 @@ def test_a_title_wraps_into_lines_of_even_length():
     assert len(lines) == 2 and " ".join(lines) == text
     assert max(map(len, lines)) - min(map(len, lines)) <= 12 and lines[-1] != "-20.0 %"
     assert wrap_even("short", 100) == ["short"]
+
+
+def test_the_maps_page_marks_the_cells_over_a_constraint_limit():
+    """The lock-up map coloured the cells over the study's lock-up limit like the others; they
+    are framed and hatched, named in a legend under the map (on it, it hid a cell)."""
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import Rectangle
+
+    from clutchlab.report import engagement_figures
+
+    sec = resolve(
+        {
+            "studies": ["engagement"],
+            "engagement": {
+                "design": "factorial",
+                "parameters": {
+                    "sheet_thickness": {"values": ["2.2 mm", "2.45 mm"]},
+                    "ramp_time": {"values": ["0.1 s", "0.2 s", "0.3 s"]},
+                },
+                "constraints": {"lockup_time": {"max": "250 ms"}},
+            },
+        }
+    )["engagement"]
+    ds = pipeline.run_study(sec)
+    over = int((ds["lockup_time"] > 0.25).sum())
+    assert 0 < over < ds["lockup_time"].size
+    fig = engagement_figures.maps(ds)
+    framed = [
+        p for p in fig.axes[1].patches if isinstance(p, Rectangle) and p.get_edgecolor()[0] > 0.5
+    ]
+    assert len(framed) == 2 * over  # (a hatch and a frame a cell)
+    legend = fig.axes[1].get_legend()
+    assert "lockup_time max: 250 ms fails" in [t.get_text() for t in legend.get_texts()]
+    assert not fig.axes[0].patches  # (no constraint on the slip work)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    assert not legend.get_window_extent(renderer).overlaps(fig.axes[1].get_window_extent(renderer))
+    plt.close(fig)
+
+
+def test_the_heat_pages_two_temperature_maps_share_their_colours():
+    """(c) the hottest design per grid point and (d) every design were coloured on scales of
+    their own (the same colour read 90 °C on one and 80 °C on the other); one scale."""
+    import matplotlib.pyplot as plt
+
+    from clutchlab.report import engagement_figures
+
+    sec = resolve(
+        {
+            "studies": ["engagement"],
+            "engagement": {
+                "design": "factorial",
+                "parameters": {
+                    "sheet_thickness": {"values": ["2.2 mm", "2.45 mm"]},
+                    "ramp_time": {"values": ["0.1 s", "0.2 s", "0.3 s"]},
+                    "friction_coefficient": {"values": [0.35, 0.4]},
+                },
+            },
+        }
+    )["engagement"]
+    fig = engagement_figures.heat_page(pipeline.run_study(sec))
+    mappables = [
+        c for ax in fig.axes for c in ax.collections if c.get_array() is not None and ax.get_title()
+    ]
+    assert len(mappables) == 2 and mappables[0].get_clim() == mappables[1].get_clim()
+    plt.close(fig)

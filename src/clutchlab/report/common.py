@@ -897,6 +897,16 @@ def robust_limits(z, symmetric=False, cap=None):
     return float(lo), float(hi if hi > lo else lo + 1.0)
 
 
+def colour_extend(z, vmin, vmax) -> str:
+    """A colour bar's ``extend``: towards the ends that values of ``z`` lie beyond."""
+    z = np.asarray(z, dtype=float)
+    z = z[np.isfinite(z)]
+    below, above = bool((z < vmin).any()), bool((z > vmax).any())
+    return {(False, False): "neither", (True, False): "min", (False, True): "max"}.get(
+        (below, above), "both"
+    )
+
+
 def sampled_value_map(ax, x, y, z, label, cmap="viridis", limits=None, bins=30):
     """Map of a sampled design's output over two factors: markers coloured by value for up to
     :data:`SCATTER_MAX` designs, else the median per 2-D bin (an image); colours clipped to
@@ -904,12 +914,7 @@ def sampled_value_map(ax, x, y, z, label, cmap="viridis", limits=None, bins=30):
     x, y, z = (np.asarray(v, dtype=float).reshape(-1) for v in (x, y, z))
     vmin, vmax = limits or robust_limits(z)
     finite = np.isfinite(z)
-    extend = {
-        (False, False): "neither",
-        (True, False): "min",
-        (False, True): "max",
-        (True, True): "both",
-    }[(bool((z[finite] < vmin).any()), bool((z[finite] > vmax).any()))]
+    extend = colour_extend(z, vmin, vmax)
     if x.size <= SCATTER_MAX:
         m = ax.scatter(
             x[finite],
@@ -1059,3 +1064,22 @@ def wrap_even(text, width) -> list[str]:
         if len(even) == len(lines):
             return even
     return lines
+
+
+def hatch_cells(ax, x, y, mask, label) -> int:
+    """Hatch the cells of a map drawn with ``pcolormesh(x, y, z, shading="nearest")`` where
+    ``mask`` (shaped like z: len(y) × len(x)) holds, the first named ``label`` in the legend.
+    Returns how many."""
+    from matplotlib.patches import Rectangle
+
+    xe, ye = _edges(np.asarray(x, float), len(x)), _edges(np.asarray(y, float), len(y))
+    for k, (j, i) in enumerate(zip(*np.nonzero(mask), strict=True)):
+        cell = (xe[i], ye[j]), xe[i + 1] - xe[i], ye[j + 1] - ye[j]
+        # a white hatch (seen on a dark cell) inside a red frame (seen on a light one)
+        ax.add_patch(Rectangle(*cell, fill=False, hatch="///", edgecolor="w", lw=0))
+        ax.add_patch(
+            Rectangle(
+                *cell, fill=False, edgecolor="tab:red", lw=1.5, label=label if k == 0 else None
+            )
+        )
+    return int(np.count_nonzero(mask))

@@ -14,11 +14,15 @@ from .answers import _marks, _value_text
 from .common import (
     A4_LANDSCAPE,
     FRONTS_NAMED,
+    colour_extend,
+    constraints,
     drawn,
     drawn_note,
     fixed_text,
     front_colour,
+    hatch_cells,
     legend_clear_of_data,
+    robust_limits,
     sampled_value_map,
     shown,
     shown_name,
@@ -183,9 +187,17 @@ def maps(ds):
         if bad.any():
             xx, yy = np.meshgrid(x, force[order])
             ax.plot(xx[bad], yy[bad], "kx", label="never locks")
-            ax.legend(fontsize=8)
+        limit = next(((op, v) for n, op, v in constraints(ds) if n == name), None)
+        if limit is not None:  # the cells over the study's limit hatched
+            with np.errstate(invalid="ignore"):
+                over = z > limit[1] * scale if limit[0] == "max" else z < limit[1] * scale
+            shown_limit = f"{limit[1] * scale:.4g} {unit}"
+            hatch_cells(ax, x, force[order], over, f"{name} {limit[0]}: {shown_limit} fails")
+        if ax.get_legend_handles_labels()[0]:  # (under the map: on it, it hid a cell)
+            ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.1))
         ax.set_xlabel("ramp (engagement) time [ms]")
         ax.set_ylabel("clamp force from the spring design [kN]")
+    fig.subplots_adjust(bottom=0.2)
     fixed = fixed_text(sub, list(others))
     fig.suptitle(
         "Slip work and lock-up time over ramp time and clamp force"
@@ -340,7 +352,10 @@ def _heat_map(ax, ds, temp, ok):
         hottest = np.full(len(pairs), -np.inf)
         np.maximum.at(hottest, inverse.ravel(), z)
         x, y, z, note = pairs[:, 0], pairs[:, 1], hottest, "the hottest over the other factors"
-    sampled_value_map(ax, x, y, z, "peak face temperature [°C]", cmap="inferno")
+    # (the colours of (d): the same temperature reads the same on both panels)
+    sampled_value_map(
+        ax, x, y, z, "peak face temperature [°C]", cmap="inferno", limits=robust_limits(temp[ok])
+    )
     ax.set_xlabel("ramp time [ms]")
     ax.set_ylabel("clamp force [kN]")
     ax.set_title(
@@ -353,17 +368,21 @@ def _heat_tradeoff(fig, ax, ds, temp, ok):
     """(d) the specific friction work against the peak jerk, coloured by the peak face
     temperature."""
     show = drawn(ok)
+    vmin, vmax = robust_limits(temp[ok])  # (as (c)'s)
     m = ax.scatter(
         _flat(ds, "specific_friction_work")[show] / 1e3,
         _flat(ds, "peak_jerk")[show],
         c=temp[show],
+        vmin=vmin,
+        vmax=vmax,
         cmap="inferno",
         s=12,
         edgecolors="0.2",  # the hottest colours are pale: an edge keeps them visible on white
         linewidths=0.4,
         rasterized=True,
     )
-    fig.colorbar(m, ax=ax, label="peak friction-face temperature [°C]")
+    extend = colour_extend(temp[ok], vmin, vmax)
+    fig.colorbar(m, ax=ax, label="peak friction-face temperature [°C]", extend=extend)
     ax.set_yscale("log")
     ax.set_xlabel("specific friction work [kJ/m²]")
     ax.set_ylabel("peak output jerk [rad/s³]")
