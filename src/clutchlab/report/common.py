@@ -796,32 +796,42 @@ def texts_outside(fig) -> list[str]:
 
 def label_points(ax, points, fontsize=8.0):
     """Each point's label beside it: up and right of it, else below right, up left or below
-    left; a label that would overprint a text already in ``ax`` or its legend in each of those
-    places is left out (its point stays drawn). ``points``: (x, y, text) in data coordinates, or
-    (x, y, text, colour) to print it in its line's colour. Call once the axes' limits, legend
-    and the figure's layout are final: the places are measured."""
+    left, the first place clear of the texts already in ``ax``, its legend and the drawn points
+    of its lines (else the one over the fewest of those points); a label that would overprint a
+    text in each of those places is left out (its point stays drawn). ``points``: (x, y, text)
+    in data coordinates, or (x, y, text, colour) to print it in its line's colour. Call once the
+    axes' limits, legend and the figure's layout are final: the places are measured."""
     ax.get_xlim(), ax.get_ylim()  # (the limits autoscaled now: the labels' places follow them)
     renderer = ax.figure.canvas.get_renderer()
     placed = [t.get_window_extent(renderer) for t in ax.texts if t.get_text().strip()]
     if ax.get_legend() is not None:
         placed.append(ax.get_legend().get_window_extent(renderer))
+    drawn_xy = [ln.get_transform().transform(ln.get_xydata()) for ln in ax.get_lines()]
+    marks = np.concatenate(drawn_xy) if drawn_xy else np.zeros((0, 2))
     places = ((4, 4, "left"), (4, -11, "left"), (-4, 4, "right"), (-4, -11, "right"))
     for x, y, text, *colour in points:
+        best = None  # (points under it, its place) of the places clear of the texts
         for dx, dy, ha in places:
             note = ax.annotate(
-                text,
-                (x, y),
-                textcoords="offset points",
-                xytext=(dx, dy),
-                ha=ha,
-                fontsize=fontsize,
-                color=colour[0] if colour else "black",
-            )
+                text, (x, y), textcoords="offset points", xytext=(dx, dy), ha=ha,
+                fontsize=fontsize, color=colour[0] if colour else "black",
+            )  # fmt: skip
             box = note.get_window_extent(renderer)
-            if not any(box.overlaps(b) for b in placed):
-                placed.append(box)
-                break
             note.remove()
+            if any(box.overlaps(b) for b in placed):
+                continue
+            under = int(_within(marks, box.padded(2.0)).sum())
+            if best is None or under < best[0]:
+                best = (under, (dx, dy, ha), box)
+            if not under:
+                break
+        if best is not None:
+            (dx, dy, ha), box = best[1], best[2]
+            ax.annotate(
+                text, (x, y), textcoords="offset points", xytext=(dx, dy), ha=ha,
+                fontsize=fontsize, color=colour[0] if colour else "black",
+            )  # fmt: skip
+            placed.append(box)
 
 
 def texts_overprinted(fig) -> list[tuple[str, str]]:
