@@ -847,6 +847,17 @@ def test_an_objectives_constraint_limit_is_drawn_where_it_falls_in_the_panel():
     plt.close(fig)
 
 
+def _engagement_grid(constraints=None, **values) -> dict:
+    """A small factorial engagement study over the given factors' values (and constraints)."""
+    body = {
+        "design": "factorial",
+        "parameters": {k: {"values": v} for k, v in values.items()},
+    }
+    if constraints:
+        body["constraints"] = constraints
+    return resolve({"studies": ["engagement"], "engagement": body})["engagement"]
+
+
 def test_the_tradeoff_page_greys_the_scenarios_a_constraint_fails():
     """The trade-off page coloured every scenario whose status is ok by its lock-up time, those
     over the lock-up limit too (they read as answers); those a constraint fails are grey."""
@@ -855,20 +866,12 @@ def test_the_tradeoff_page_greys_the_scenarios_a_constraint_fails():
     from clutchlab.explore import flat
     from clutchlab.report import engagement_figures
 
-    sec = resolve(
-        {
-            "studies": ["engagement"],
-            "engagement": {
-                "design": "factorial",
-                "parameters": {
-                    "ramp_time": {"values": ["0.1 s", "0.2 s", "0.3 s"]},
-                    "friction_coefficient": {"values": [0.35, 0.4]},
-                    "driven_inertia": {"values": ["0.021 kg*m^2", "0.05 kg*m^2"]},
-                },
-                "constraints": {"lockup_time": {"max": "250 ms"}},
-            },
-        }
-    )["engagement"]
+    sec = _engagement_grid(
+        {"lockup_time": {"max": "250 ms"}},
+        ramp_time=["0.1 s", "0.2 s", "0.3 s"],
+        friction_coefficient=[0.35, 0.4],
+        driven_inertia=["0.021 kg*m^2", "0.05 kg*m^2"],
+    )
     ds = pipeline.run_study(sec)
     ok = (flat(ds, "status") == 0) & np.isfinite(flat(ds, "peak_jerk"))
     failing = ok & ~flat(ds, "feasible").astype(bool)
@@ -905,19 +908,11 @@ def test_the_maps_page_marks_the_cells_over_a_constraint_limit():
 
     from clutchlab.report import engagement_figures
 
-    sec = resolve(
-        {
-            "studies": ["engagement"],
-            "engagement": {
-                "design": "factorial",
-                "parameters": {
-                    "sheet_thickness": {"values": ["2.2 mm", "2.45 mm"]},
-                    "ramp_time": {"values": ["0.1 s", "0.2 s", "0.3 s"]},
-                },
-                "constraints": {"lockup_time": {"max": "250 ms"}},
-            },
-        }
-    )["engagement"]
+    sec = _engagement_grid(
+        {"lockup_time": {"max": "250 ms"}},
+        sheet_thickness=["2.2 mm", "2.45 mm"],
+        ramp_time=["0.1 s", "0.2 s", "0.3 s"],
+    )
     ds = pipeline.run_study(sec)
     over = int((ds["lockup_time"] > 0.25).sum())
     assert 0 < over < ds["lockup_time"].size
@@ -942,19 +937,11 @@ def test_the_heat_pages_two_temperature_maps_share_their_colours():
 
     from clutchlab.report import engagement_figures
 
-    sec = resolve(
-        {
-            "studies": ["engagement"],
-            "engagement": {
-                "design": "factorial",
-                "parameters": {
-                    "sheet_thickness": {"values": ["2.2 mm", "2.45 mm"]},
-                    "ramp_time": {"values": ["0.1 s", "0.2 s", "0.3 s"]},
-                    "friction_coefficient": {"values": [0.35, 0.4]},
-                },
-            },
-        }
-    )["engagement"]
+    sec = _engagement_grid(
+        sheet_thickness=["2.2 mm", "2.45 mm"],
+        ramp_time=["0.1 s", "0.2 s", "0.3 s"],
+        friction_coefficient=[0.35, 0.4],
+    )
     fig = engagement_figures.heat_page(pipeline.run_study(sec))
     mappables = [
         c for ax in fig.axes for c in ax.collections if c.get_array() is not None and ax.get_title()
