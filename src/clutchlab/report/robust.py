@@ -9,6 +9,7 @@ condition and its Wilson interval, and the condition and noise draw where its wo
 
 from __future__ import annotations
 
+import itertools
 import textwrap
 
 import matplotlib.pyplot as plt
@@ -317,6 +318,18 @@ def _front_panel(ax, ra) -> None:
     ax.set_title(f"{which}-case objectives over conditions and noise", fontsize=9)
 
 
+def _named_every(ax, labels) -> int:
+    """Name every k-th of the x ticks' ``labels``, k the least for which the names drawn do not
+    overprint side by side (measured on the page). Returns k."""
+    renderer = ax.figure.canvas.get_renderer()
+    for k in range(1, len(labels) + 1):
+        ax.set_xticks(range(len(labels)), [t if i % k == 0 else "" for i, t in enumerate(labels)])
+        boxes = [t.get_window_extent(renderer) for t in ax.get_xticklabels() if t.get_text()]
+        if not any(a.padded(2.0).overlaps(b) for a, b in itertools.pairwise(boxes)):
+            return k
+    return len(labels)
+
+
 def _failure_panel(ax, ra) -> None:
     j = explore.best_robust(ra)
     conds = ra.attrs.get("conditions", "").split()
@@ -341,9 +354,8 @@ def _failure_panel(ax, ra) -> None:
     ax.errorbar(range(p.size), p, yerr=err, fmt="none", color="k", capsize=4)
     ax.axhline(100 * ra.attrs.get("max_failure_probability", 0.01), color="tab:red", ls="--",
                label="allowed")  # fmt: skip
-    # every k-th condition named where all of them would overprint side by side (60 characters)
-    k = -(-sum(len(max(t.split("\n"), key=len)) for t in labels) // 60)
-    ax.set_xticks(range(p.size), [t if i % k == 0 else "" for i, t in enumerate(labels)])
+    ax.tick_params(labelsize=8)
+    k = _named_every(ax, labels)
     if k > 1:
         ax.set_title(
             f"best robust design at each operating condition (one in {k} named)", fontsize=9
