@@ -648,3 +648,22 @@ def _polynomial_form(poly, monkeypatch):
     lf.fder(ft, i, i + lf.N_FORM, 0.0, 0.0)
     lf.fder(ft, i + lf.N_FORM, i + 2 * lf.N_FORM, 0.0, 0.0)
     return ft, i, lf.FreeResponse(0.5, 4.0, 0.0, 0.0, 0.0), calls
+
+
+def test_the_compliant_model_refuses_an_infinitely_stiff_damper():
+    """compliant=True with the default damper stiffness (inf) spent the whole work budget and said
+    never_locked with NaN slip work and zero peaks, where the clutch locks at 0.150 s: it is the
+    rigid model (compliant=False), so the scenario is refused (invalid_input, NaN), the others of
+    its batch untouched; a compliant flag that is not a bool ("no" read as True) is refused."""
+    kw = dict(
+        engine_speed=570.0, engine_inertia=np.inf, engine_torque=0.0, driven_inertia=0.021,
+        load_torque=44.0, peak_capacity=239.3, ramp_time=0.15,
+    )  # fmt: skip
+    r = eng.simulate(**kw, compliant=True, damper_stiffness=[np.inf, 4498.0])
+    assert r["status"].tolist() == [st.CODE["invalid_input"], st.CODE["ok"]]
+    assert np.isnan(r["lockup_time"][0]) and np.isnan(r["peak_jerk"][0])
+    alone = eng.simulate(**kw, compliant=True, damper_stiffness=4498.0)
+    assert r["lockup_time"][1] == alone["lockup_time"]
+    assert eng.simulate(**kw)["status"] == st.CODE["ok"]  # (the rigid model takes it)
+    with pytest.raises(ValueError, match="compliant"):
+        eng.simulate(**kw, compliant="no", damper_stiffness=4498.0)

@@ -650,3 +650,44 @@ def test_flat_broadcasts_like_xarray():
         np.testing.assert_array_equal(got, expected)
         got[:] = 0  # a new array: the Dataset is untouched
     assert ds["x"].values.sum() == 66.0
+
+
+def _tiny_result():
+    """A 2 × 2 grid of scenarios with two outputs (SI) and statuses, as a study stores it."""
+    return xr.Dataset(
+        {
+            "status": (("a", "b"), np.zeros((2, 2), dtype=st.DTYPE)),
+            "slip_work": (("a", "b"), [[5e3, 6e3], [7e3, 8e3]], {"units": "J"}),
+            "lockup_time": (("a", "b"), [[0.4, 0.3], [0.2, 0.1]], {"units": "s"}),
+        },
+        coords={"a": [1.0, 2.0], "b": [3.0, 4.0]},
+    )
+
+
+@pytest.mark.parametrize(
+    "constraints",
+    [
+        {"slip_work": ("<=", 6e3)},
+        {"slip_work": ("maximum", 6e3)},
+        {"slip_work": ("MAX", 6e3)},
+        {"slip_work": ("max", "6 kJ")},
+        {"slip_work": ("max", np.nan)},
+        {"slip_work": ("max", True)},
+        {"slip_wrk": ("max", 6e3)},
+        {"slip_work": "max"},
+    ],
+)
+def test_a_constraint_that_is_not_one_is_refused_naming_it(constraints):
+    """explore.feasible read any operator but "max" as a minimum ("<=" gave the opposite answer)
+    and failed on a limit written with its unit with a TypeError."""
+    with pytest.raises(ValueError, match="slip_w"):
+        explore.feasible(_tiny_result(), constraints)
+    ok, _ = explore.feasible(_tiny_result(), {"slip_work": ("max", 6e3)})
+    assert ok.tolist() == [[True, True], [False, False]]
+
+
+@pytest.mark.parametrize("objective", ["slip_work:MIN", "slip_work:minimum", "slip_work", "x:min"])
+def test_an_objective_that_is_not_one_is_refused_naming_it(objective):
+    """A typo in an objective's sense ranked it maximised (any sense but "min")."""
+    with pytest.raises(ValueError, match="objective"):
+        explore.annotate(_tiny_result(), [objective, "lockup_time:min"], {})

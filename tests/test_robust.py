@@ -610,3 +610,29 @@ def test_the_answers_page_of_a_robust_study_gives_each_noise_draw_by_its_deviati
     assert not texts_outside(fig) and not texts_overprinted(fig)
     assert not texts_outside_cells(fig), texts_outside_cells(fig)
     plt.close(fig)
+
+
+@pytest.mark.parametrize(
+    "kwargs, word",
+    [
+        ({"conditions": ["nonexistent"]}, "conditions"),
+        ({"conditions": "driven_inertia"}, "conditions"),
+        ({"quantile": "0.9"}, "quantile"),
+        ({"quantile": 1.5}, "quantile"),
+        ({"max_failure_probability": -1}, "max_failure_probability"),
+        ({"objectives": "best"}, "objectives"),
+        ({"objectives": ["lockup_time:mni"]}, "objective"),
+        ({"constraints": {"lockup_time": ("<", 0.3)}}, "constraint"),
+        ({"qantile": 0.9}, "unknown robust setting"),
+    ],
+)
+def test_robust_refuses_a_setting_that_is_not_one(kwargs, word):
+    """explore.robust dropped an unknown condition without a word (its answers then over design ×
+    condition), took "<" for a minimum and a typo in a sense for a maximum, and failed on a text
+    quantile with a numpy error; each is refused naming it. "worst" or "quantile" given as the
+    objectives is the robust setting (it shares the keyword)."""
+    ds = _run(_engagement(noise_samples=2, ramp_time={"values": ["0.1 s", "0.2 s"]}))
+    with pytest.raises(ValueError, match=word):
+        explore.robust(ds, **kwargs)
+    ranked = explore.robust(ds, "quantile")
+    assert ranked["robust_rank"].attrs["robust_objectives"] == "quantile"

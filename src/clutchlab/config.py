@@ -1106,7 +1106,8 @@ def _factorial_range(param, spec, lo, hi, scale, key, name, max_scenarios) -> di
                 "values; give a 'values' list",
             )
     vals = np.geomspace(lo, hi, num) if scale == "log" else np.linspace(lo, hi, num)
-    return {"values": [float(v) for v in vals]}
+    # (to 15 digits: the grid's 0.45, not 0.44999999999999996, so that .sel(x=0.45) finds it)
+    return {"values": [float(f"{v:.15g}") for v in vals]}
 
 
 REFINE_KEYS = ("design", "refine", "samples", "seed", "chunks", "chunk_size", "curves")

@@ -152,6 +152,34 @@ def _dataset_rank(ds, objectives, within):
     return ranked["pareto_rank"]
 
 
+def _check_objectives(ds, objectives) -> None:
+    """ValueError naming an objective that is not "output:min" or "output:max" of ``ds``
+    ("slip_work:MIN" ranked it maximised)."""
+    for o in objectives:
+        name, _, sense = str(o).partition(":")
+        if sense not in ("min", "max") or name not in ds:
+            raise ValueError(
+                f"objective {o!r}: give 'output:min' or 'output:max' of an output of the result"
+            )
+
+
+def _check_constraints(ds, constraints) -> None:
+    """ValueError naming a constraint that is not output -> ("min" or "max", a finite limit in
+    SI) of ``ds`` ("<=" was read as a minimum)."""
+    for output, spec in constraints.items():
+        op, limit = (
+            (tuple(spec) + (None, None))[:2] if isinstance(spec, (tuple, list)) else (spec, None)
+        )
+        number = isinstance(limit, (int, float, np.integer, np.floating)) and not isinstance(
+            limit, (bool, np.bool_)
+        )
+        if output not in ds or op not in ("min", "max") or not (number and np.isfinite(limit)):
+            raise ValueError(
+                f"constraint {output}: {spec!r}: give an output of the result -> ('min' or "
+                "'max', its limit as a finite number in SI)"
+            )
+
+
 def feasible(ds, constraints: dict) -> tuple[np.ndarray, dict]:
     """Feasibility of every scenario of a study Dataset.
 
@@ -173,6 +201,7 @@ def feasible(ds, constraints: dict) -> tuple[np.ndarray, dict]:
     margins : dict of numpy.ndarray
         Output name -> margin [-], shaped like ``status``.
     """
+    _check_constraints(ds, constraints)
     ok = np.asarray(ds["status"].values == st.CODE["ok"])
     margins = {}
     for output, (op, limit) in constraints.items():
@@ -341,6 +370,7 @@ def annotate(ds, objectives, constraints, within=None):
     """
     import xarray as xr
 
+    _check_objectives(ds, objectives)
     dims = ds["status"].dims
     grid_conditions, mixed = condition_factors(ds)
     within = grid_conditions if within is None else list(within)
@@ -889,13 +919,14 @@ def robust(ds, objectives=None, constraints=None, **settings):
     ds : xarray.Dataset
         A stored result of a robust study (a ``noise`` dimension), e.g. ``clutchlab.store.load``
         or a lazily opened file: only the columns the answers need are read.
-    objectives : list of str or None
-        "name:min" / "name:max"; None: the study's stored objectives.
+    objectives : list of str, "worst", "quantile" or None
+        "name:min" / "name:max"; None: the study's stored objectives; "worst" or "quantile": the
+        stored objectives, the robust front ranked on that statistic (the robust setting).
     constraints : dict or None
         Output -> ("max" or "min", limit [SI]); None: the study's stored constraints.
     **settings
         Overrides of the stored robust settings: ``quantile``, ``max_failure_probability``,
-        ``objectives`` ("worst" or "quantile"), ``conditions`` (list of dimensions).
+        ``conditions`` (list of dimensions).
 
     Returns
     -------
@@ -905,7 +936,8 @@ def robust(ds, objectives=None, constraints=None, **settings):
     Raises
     ------
     ValueError
-        ``ds`` is not a crossed result (no ``noise`` dimension).
+        ``ds`` is not a crossed result (no ``noise`` dimension); an objective, constraint or
+        setting that is not one (named).
     """
     import yaml
 
@@ -914,6 +946,13 @@ def robust(ds, objectives=None, constraints=None, **settings):
 
     if rb.NOISE_DIM not in ds.dims or "noise_weight" not in ds:
         raise ValueError("not a robust study result: it has no 'noise' dimension and draws")
+    if objectives in ("worst", "quantile"):  # (the setting, which shares the keyword's name)
+        objectives, settings = None, {**settings, "objectives": objectives}
+    if isinstance(objectives, str):
+        raise ValueError(
+            f"objectives must be a list of 'output:min' / 'output:max', or 'worst' or 'quantile' "
+            f"(what the robust front ranks), got {objectives!r}"
+        )
     section = yaml.safe_load(ds.attrs["config"]) if "config" in ds.attrs else {}
     stored = dict(section.get("robust") or {})
     stored.setdefault("conditions", ds.attrs.get("conditions", "").split())
@@ -924,7 +963,10 @@ def robust(ds, objectives=None, constraints=None, **settings):
         objectives = section.get("objectives") or ds["pareto_rank"].attrs["objectives"].split()
     if constraints is None:
         constraints = section.get("constraints", {})
+    _check_objectives(ds, objectives)
+    _check_constraints(ds, constraints)
     constraints = {k: tuple(v) for k, v in constraints.items()}
+    _check_robust_settings(ds, settings, stored)
     names = ["status", "noise_weight"] + [o.split(":")[0] for o in objectives] + list(constraints)
     names += [v for v in ds.data_vars if ds[v].dims == (rb.NOISE_DIM,)]
     names += ds.attrs.get("design_factors", "").split()  # a sampled design's, on its points
@@ -934,6 +976,26 @@ def robust(ds, objectives=None, constraints=None, **settings):
         if key in ds.attrs:  # the provenance of the result they were asked of
             out.attrs[key] = ds.attrs[key]
     return out
+
+
+def _check_robust_settings(ds, settings, stored) -> None:
+    """ValueError naming a robust setting given to :func:`robust` that is unknown or out of its
+    range (a condition the result has no dimension of was dropped without a word)."""
+    known = {"quantile", "max_failure_probability", "objectives", "conditions"}
+    for key in set(settings) - known:
+        raise ValueError(f"unknown robust setting {key!r}: give one of {sorted(known)}")
+    q, p = stored["quantile"], stored["max_failure_probability"]
+    if not (isinstance(q, (int, float)) and not isinstance(q, bool) and 0.0 < q <= 1.0):
+        raise ValueError(f"quantile must be a number in (0, 1], got {q!r}")
+    if not (isinstance(p, (int, float)) and not isinstance(p, bool) and 0.0 <= p < 1.0):
+        raise ValueError(f"max_failure_probability must be a number in [0, 1), got {p!r}")
+    if stored["objectives"] not in ("worst", "quantile"):
+        raise ValueError(f"objectives must be 'worst' or 'quantile', got {stored['objectives']!r}")
+    conditions = stored["conditions"]
+    if isinstance(conditions, str) or any(c not in ds.dims for c in conditions):
+        raise ValueError(
+            f"conditions must be a list of the result's dimensions {list(ds.dims)}, got {conditions!r}"
+        )
 
 
 def best_robust(answers) -> int | None:

@@ -64,6 +64,9 @@ DOMAIN_SIMULATE = {
     "face_temperature_factor": st.nonnegative_in("K/(W s^0.5)"),
     None: _simulate_relations,
 }
+#: the compliant model's: a finite damper spring (an infinitely stiff one is the rigid model,
+#: ``compliant=False``; the compliant solver would spend its work budget on it)
+DOMAIN_COMPLIANT = {**DOMAIN_SIMULATE, "damper_stiffness": st.positive_in("N m/rad")}
 
 
 def check_solver_options(rtol, atol, max_step, first_step, max_steps, trace_times):

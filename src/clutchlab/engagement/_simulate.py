@@ -14,7 +14,7 @@ import numpy as np
 from .. import status as st
 from . import _layout as lay
 from ._docs import fill
-from ._domain import DOMAIN_SIMULATE, check_solver_options, check_table
+from ._domain import DOMAIN_COMPLIANT, DOMAIN_SIMULATE, check_solver_options, check_table
 from ._driver import simulate_batch
 from ._profile import PROFILES, _check_profile, _invert_profile
 
@@ -119,7 +119,8 @@ def simulate(
         Engine torque versus speed added to ``engine_torque`` (linear; one for all scenarios).
     compliant : bool
         Damper springs between plate hub and output, viscous damping on that mode: a finite output
-        jerk; the rigid model as the stiffness grows.
+        jerk; the rigid model as the stiffness grows (an infinite ``damper_stiffness`` is refused
+        here, status ``invalid_input``: it is the rigid model, ``compliant=False``).
     hub_fraction : array_like [-]
         Share of J_v on the plate hub, the rest on the output (compliant model).
     damper_stiffness : array_like [N m/rad]
@@ -187,9 +188,12 @@ def simulate(
     """
     inputs = dict(locals())  # (first: the arguments only)
     _check_profile(profile)
+    if not isinstance(compliant, (bool, np.bool_)):  # ("no" would read as True)
+        raise ValueError(f"compliant must be True or False, got {compliant!r}")
     check_solver_options(rtol, atol, max_step, first_step, max_steps, trace_times)
     screened, options = ({k: inputs[k] for k in names} for names in (SCREENED, OPTIONS))
-    return st.screened(_simulate, screened, DOMAIN_SIMULATE, extra=options)
+    domain = DOMAIN_COMPLIANT if compliant else DOMAIN_SIMULATE
+    return st.screened(_simulate, screened, domain, extra=options)
 
 
 def _simulate(
