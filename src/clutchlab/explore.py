@@ -946,7 +946,8 @@ def robust(ds, objectives=None, constraints=None, **settings):
 
     if rb.NOISE_DIM not in ds.dims or "noise_weight" not in ds:
         raise ValueError("not a robust study result: it has no 'noise' dimension and draws")
-    if objectives in ("worst", "quantile"):  # (the setting, which shares the keyword's name)
+    if isinstance(objectives, str) and objectives in ("worst", "quantile"):
+        # (the setting, which shares the keyword's name)
         objectives, settings = None, {**settings, "objectives": objectives}
     if isinstance(objectives, str):
         raise ValueError(
