@@ -312,22 +312,30 @@ def test_superscript_minus_and_the_degree_signs_are_read(given, si_unit, kind, e
 
 def test_a_converted_value_is_the_decimal_the_user_wrote():
     """2.6 mm was stored as 0.0026000000000000003 m (the conversion's last digit), and a grid's
-    0.45 as 0.44999999999999996: ``ds.sel(sheet_thickness=2.6e-3)`` raised KeyError. Converted
-    values are kept to 15 digits, so they are the decimal written (near the largest double, as
-    they are)."""
+    0.45 as 0.44999999999999996: ``ds.sel(sheet_thickness=2.6e-3)`` raised KeyError. A value
+    converted by a power of ten is kept to 15 digits, so it is the decimal written (near the
+    largest double, as it is), and so are a grid's points between decimal ends; any other
+    conversion, and a grid's ends, as they are (``np.deg2rad(65)`` finds 65 deg)."""
+    import numpy as np
+
     from clutchlab import config
     from clutchlab.units import to_si
 
     assert to_si("2.6 mm", "m") == 2.6e-3 and to_si("4.48 mm", "m") == 4.48e-3
     assert to_si("18 mm", "m") == 0.018 and to_si("40 degC", "K", "absolute") == 313.15
     assert to_si("1.7976931348623157e+308 m", "m") == 1.7976931348623157e308
+    assert to_si("65 deg", "rad") == np.deg2rad(65)
     sec = config.resolve(
         {
             "studies": ["centrifugal"],
             "centrifugal": {
                 "design": "factorial",
-                "parameters": {"friction_coefficient": {"min": 0.25, "max": 0.6, "num": 8}},
+                "parameters": {
+                    "friction_coefficient": {"min": 0.25, "max": 0.6, "num": 8},
+                    "pressure_angle": {"min": "25 deg", "max": "65 deg", "num": 4},
+                },
             },
         }
     )["centrifugal"]
     assert sec["factors"]["friction_coefficient"]["values"][4] == 0.45
+    assert sec["factors"]["pressure_angle"]["values"][-1] == np.deg2rad(65)

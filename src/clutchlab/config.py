@@ -1106,8 +1106,11 @@ def _factorial_range(param, spec, lo, hi, scale, key, name, max_scenarios) -> di
                 "values; give a 'values' list",
             )
     vals = np.geomspace(lo, hi, num) if scale == "log" else np.linspace(lo, hi, num)
-    # (to 15 digits: the grid's 0.45, not 0.44999999999999996, so that .sel(x=0.45) finds it)
-    return {"values": [float(f"{v:.15g}") for v in vals]}
+    # between ends that are decimals (0.25, 0.6), the points to 15 digits: 0.45, not
+    # 0.44999999999999996, so that .sel(x=0.45) finds it; the ends as given (np.deg2rad(65))
+    decimal = all(float(f"{v:.15g}") == v for v in (lo, hi))
+    inner = [float(f"{v:.15g}") if decimal else float(v) for v in vals[1:-1]]
+    return {"values": [float(lo), *inner, float(hi)]}
 
 
 REFINE_KEYS = ("design", "refine", "samples", "seed", "chunks", "chunk_size", "curves")

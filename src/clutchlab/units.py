@@ -218,7 +218,7 @@ def to_si(value, si_unit: str, kind: str | None = None) -> float:
         raise
     except Exception as exc:  # pint's arithmetic on an absurd unit (m^1e308: OverflowError, ...)
         raise UnitError(f"cannot read the unit of {value!r}: {type(exc).__name__}") from None
-    return _finite(out, value)
+    return _decimal(_finite(out, value), number)
 
 
 def _split(value: str) -> tuple[float, str]:
@@ -493,12 +493,23 @@ def _container(names: dict):
 
 
 def _finite(out: float, value) -> float:
-    """A converted value, finite, to 15 significant digits: the conversion's last-digit noise
-    dropped (2.6 mm is 0.0026 m, not 0.0026000000000000003: ``.sel(x=2.6e-3)`` finds it)."""
     if not math.isfinite(out):
         raise UnitError(
             f"{value!r} is not finite (beyond a double; write .inf where infinity is meant and "
             "the parameter takes it)"
         )
+    return out
+
+
+def _decimal(out: float, number: float) -> float:
+    """A value converted by a power of ten (mm, kN, MPa, ms) to 15 significant digits: the
+    conversion's last-digit noise dropped (2.6 mm is 0.0026 m, not 0.0026000000000000003, so
+    that ``.sel(x=2.6e-3)`` finds it). Any other conversion (deg, rpm, degF) as it is:
+    ``np.deg2rad(65)`` finds 65 deg."""
+    if number == 0.0 or out == 0.0:
+        return out
+    exponent = math.log10(abs(out / number))
+    if abs(exponent - round(exponent)) > 1e-9:
+        return out
     rounded = float(f"{out:.15g}")
     return rounded if math.isfinite(rounded) else out  # (near the largest double: as it is)
