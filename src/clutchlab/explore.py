@@ -983,8 +983,9 @@ def _check_robust_settings(ds, settings, stored) -> None:
     """ValueError naming a robust setting given to :func:`robust` that is unknown or out of its
     range (a condition the result has no dimension of was dropped without a word)."""
     known = {"quantile", "max_failure_probability", "objectives", "conditions"}
-    for key in set(settings) - known:
-        raise ValueError(f"unknown robust setting {key!r}: give one of {sorted(known)}")
+    unknown = sorted(set(settings) - known)
+    if unknown:
+        raise ValueError(f"unknown robust setting {unknown[0]!r}: give one of {sorted(known)}")
     q, p = stored["quantile"], stored["max_failure_probability"]
     if not (isinstance(q, (int, float)) and not isinstance(q, bool) and 0.0 < q <= 1.0):
         raise ValueError(f"quantile must be a number in (0, 1], got {q!r}")

@@ -1025,7 +1025,6 @@ def legends_over_data(fig, most=0) -> list[tuple[str, int]]:
     """The legends of a figure that cover plotted data: (its first entry, how many of the data
     points drawn under it, of the curves of three points or more and the scattered markers of
     every axes it overlaps), for each that covers more than ``most``."""
-    import numpy as np
     from matplotlib.collections import PathCollection
 
     fig.canvas.draw()
